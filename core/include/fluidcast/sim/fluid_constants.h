@@ -1,0 +1,23 @@
+// The constants a simulation derives from its particle spacing and tunables.
+#pragma once
+
+#include "fluidcast/sim/solver_params.h"
+
+namespace fluidcast::sim {
+
+struct FluidConstants {
+  float spacing = 0.0f;        // d, m
+  float kernel_radius = 0.0f;  // h = kernel_ratio · d, m
+  float particle_mass = 0.0f;  // kg
+  float rest_density = 0.0f;   // ρ0, kg/m³
+
+  float particle_radius() const { return 0.5f * spacing; }
+  float rest_volume() const { return particle_mass / rest_density; }
+};
+
+// The mass makes a cubic lattice of spacing d sum to exactly ρ0 with the poly6 kernel, so a scene
+// starts at rest density instead of a few percent off (ρ0·d³ would be, since the discrete kernel
+// sum is not exactly 1/d³).
+FluidConstants derive_fluid_constants(float spacing, const SolverParams& params);
+
+}  // namespace fluidcast::sim

@@ -1,0 +1,77 @@
+// SPH smoothing kernels of Müller, Charypar & Gross (2003), normalised in 3D so that ∫W dV = 1.
+// poly6 for densities, spiky for pressure gradients, viscosity kernel for its Laplacian.
+#pragma once
+
+
+#include <cmath>
+#include <glm/glm.hpp>
+#include <numbers>
+
+namespace fluidcast::sim {
+
+class Kernels {
+ public:
+  explicit Kernels(float radius)
+      : h_(radius),
+        h2_(radius * radius),
+        poly6_(315.0f / (64.0f * std::numbers::pi_v<float> * pow9(radius))),
+        spiky_(15.0f / (std::numbers::pi_v<float> * pow6(radius))),
+        viscosity_laplacian_(45.0f / (std::numbers::pi_v<float> * pow6(radius))) {}
+
+  float radius() const { return h_; }
+  float radius_squared() const { return h2_; }
+
+  // poly6 W(r) from r², so the density loop needs no square root.
+  float poly6(float r2) const {
+    if (r2 >= h2_) return 0.0f;
+    const float x = h2_ - r2;
+    return poly6_ * x * x * x;
+  }
+
+  float spiky(float r) const {
+    if (r >= h_) return 0.0f;
+    const float x = h_ - r;
+    return spiky_ * x * x * x;
+  }
+
+  // ∇W_spiky at offset r_vec = p_i − p_j with |r_vec| = r; zero at r = 0, where its direction is
+  // undefined (coincident particles must not produce a NaN).
+  glm::vec3 spiky_gradient(glm::vec3 r_vec, float r) const {
+    if (r >= h_ || r <= 1e-12f) return glm::vec3(0.0f);
+    const float x = h_ - r;
+    return (-3.0f * spiky_ * x * x / r) * r_vec;
+  }
+
+  // A flat wall at distance s from a particle, with the half-space behind it full of fluid at rest:
+  // wall_volume(s) = ∫ W_poly6 over that half-space (½ at s = 0, 0 at s ≥ h), so the wall adds
+  // ρ0 · wall_volume(s) to the particle's density; wall_area(s) = −d wall_volume / ds, the
+  // integral of W_poly6 over the wall plane. Both in closed form for poly6.
+  float wall_volume(float s) const {
+    if (s >= h_) return 0.0f;
+    s = s > 0.0f ? s : 0.0f;
+    return 0.25f * std::numbers::pi_v<float> * poly6_ * (antiderivative(h_) - antiderivative(s));
+  }
+  float wall_area(float s) const {
+    if (s >= h_) return 0.0f;
+    s = s > 0.0f ? s : 0.0f;
+    const float x = h2_ - s * s;
+    return 0.25f * std::numbers::pi_v<float> * poly6_ * x * x * x * x;
+  }
+
+  // ∇²W_viscosity(r) = 45 / (π h⁶) · (h − r).
+  float viscosity_laplacian(float r) const { return r >= h_ ? 0.0f : viscosity_laplacian_ * (h_ - r); }
+
+ private:
+  // ∫ (h² − z²)⁴ dz
+  float antiderivative(float z) const {
+    const float z2 = z * z, h4 = h2_ * h2_;
+    return z * (h4 * h4 - z2 * (4.0f / 3.0f * h4 * h2_ -
+                                z2 * (6.0f / 5.0f * h4 - z2 * (4.0f / 7.0f * h2_ - z2 / 9.0f))));
+  }
+  static constexpr float pow6(float x) { return x * x * x * x * x * x; }
+  static constexpr float pow9(float x) { return pow6(x) * x * x * x; }
+
+  float h_, h2_, poly6_, spiky_, viscosity_laplacian_;
+};
+
+}  // namespace fluidcast::sim

@@ -1,0 +1,75 @@
+// Uniform grid over the tank, built by counting sort: per-cell count, exclusive prefix sum,
+// scatter. The sort is stable, so the order it produces depends only on the positions.
+// After build(), particles are meant to be reordered by order() (see apply_order), which makes
+// each cell's particles — and a row of three cells along x — contiguous in memory.
+#pragma once
+
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <span>
+#include <vector>
+
+#include "fluidcast/sim/particles.h"
+
+namespace fluidcast::sim {
+
+class NeighbourGrid {
+ public:
+  // Throws std::invalid_argument for a cell size that is not positive and finite, or a grid of
+  // more than kMaxCells cells.
+  NeighbourGrid(const Box& domain, float cell_size);
+
+  static constexpr std::size_t kMaxCells = std::size_t{1} << 26;
+
+  // Sorts particles by cell. Positions outside the domain count in the nearest border cell.
+  void build(std::span<const glm::vec3> positions);
+
+  // order()[k] = index, in the positions given to build(), of the particle at sorted slot k.
+  std::span<const std::uint32_t> order() const { return order_; }
+  // Sorted slots of cell c are [cell_start()[c], cell_start()[c + 1]).
+  std::span<const std::uint32_t> cell_start() const { return cell_start_; }
+
+  glm::ivec3 dims() const { return dims_; }
+  float cell_size() const { return cell_size_; }
+  std::size_t cell_count() const { return cell_start_.size() - 1; }
+  glm::ivec3 cell_coords(glm::vec3 p) const;
+  std::uint32_t cell_index(glm::ivec3 c) const {
+    return static_cast<std::uint32_t>(c.x + dims_.x * (c.y + dims_.y * c.z));
+  }
+
+  // Calls visit(begin, end) for the sorted-slot ranges of the up to 27 cells around p's cell:
+  // one contiguous range for each row of three cells along x.
+  template <class Visit>
+  void for_each_candidate_range(glm::vec3 p, Visit&& visit) const {
+    const glm::ivec3 c = cell_coords(p);
+    const int x0 = c.x > 0 ? c.x - 1 : 0;
+    const int x1 = c.x + 1 < dims_.x ? c.x + 1 : c.x;
+    for (int z = c.z - 1; z <= c.z + 1; ++z) {
+      if (z < 0 || z >= dims_.z) continue;
+      for (int y = c.y - 1; y <= c.y + 1; ++y) {
+        if (y < 0 || y >= dims_.y) continue;
+        visit(cell_start_[cell_index({x0, y, z})], cell_start_[cell_index({x1, y, z}) + 1]);
+      }
+    }
+  }
+
+ private:
+  glm::vec3 origin_;
+  float cell_size_;
+  float inv_cell_size_;
+  glm::ivec3 dims_;
+  std::vector<std::uint32_t> cell_of_particle_;
+  std::vector<std::uint32_t> cell_start_;  // cell_count() + 1 entries
+  std::vector<std::uint32_t> cursor_;
+  std::vector<std::uint32_t> order_;
+};
+
+// data[k] = old[order[k]] for every k: the one way every per-particle array is reordered.
+template <class T>
+void apply_order(std::span<const std::uint32_t> order, std::vector<T>& data, std::vector<T>& scratch) {
+  scratch.resize(data.size());
+  for (std::size_t k = 0; k < order.size(); ++k) scratch[k] = data[order[k]];
+  data.swap(scratch);
+}
+
+}  // namespace fluidcast::sim

@@ -1,0 +1,33 @@
+// For each particle, the indices of the others within a radius, found once per step through the
+// grid and then read by every solver pass (PBF reads them ~2·iterations + 3 times a step).
+#pragma once
+
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <span>
+#include <vector>
+
+#include "fluidcast/sim/fork_join_pool.h"
+#include "fluidcast/sim/neighbour_grid.h"
+
+namespace fluidcast::sim {
+
+class NeighbourList {
+ public:
+  // `positions` must be in the grid's sorted order (after apply_order). A particle is not its
+  // own neighbour. Each list is in increasing index order.
+  void build(ForkJoinPool& pool, const NeighbourGrid& grid, std::span<const glm::vec3> positions,
+             float radius);
+
+  std::span<const std::uint32_t> of(std::size_t i) const { return {begin_[i], count_[i]}; }
+  std::size_t size() const { return count_.size(); }
+
+ private:
+  // One buffer per chunk of the pool, so threads never share a growing vector.
+  std::vector<std::vector<std::uint32_t>> chunk_indices_;
+  std::vector<const std::uint32_t*> begin_;
+  std::vector<std::uint32_t> count_;
+  std::vector<std::size_t> offset_;  // into the chunk's buffer, while building
+};
+
+}  // namespace fluidcast::sim

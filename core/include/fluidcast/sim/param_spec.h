@@ -1,0 +1,69 @@
+// Declares a tunable once — name, unit, description, default and range — so that the CLI, the
+// validation, the protocol and docs/tuning.md all read the same table.
+#pragma once
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+namespace fluidcast::sim {
+
+// A value outside its declared range or not finite. The message names the flag and the range.
+class ParamError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
+template <class Owner>
+struct ParamSpec {
+  std::string_view name;  // the CLI flag without dashes, e.g. "xsph-viscosity"
+  std::string_view unit;  // SI unit, or "1" when dimensionless
+  std::string_view description;
+  std::variant<float Owner::*, int Owner::*> member;
+  double min;
+  double max;
+
+  double get(const Owner& owner) const {
+    return std::visit([&](auto field) { return static_cast<double>(owner.*field); }, member);
+  }
+  bool is_integer() const { return std::holds_alternative<int Owner::*>(member); }
+};
+
+inline std::string format_range(double min, double max) {
+  std::ostringstream out;
+  out << '[' << min << ", " << max << ']';
+  return out.str();
+}
+
+// Throws ParamError("--name: value V ...; accepted range [min, max] unit") for the first bad value.
+template <class Owner>
+void validate(const Owner& owner, const std::vector<ParamSpec<Owner>>& specs) {
+  for (const auto& spec : specs) {
+    const double value = spec.get(owner);
+    if (!std::isfinite(value) || value < spec.min || value > spec.max) {
+      std::ostringstream out;
+      out << "--" << spec.name << ": value " << value
+          << (std::isfinite(value) ? " is out of range" : " is not a finite number")
+          << "; accepted range " << format_range(spec.min, spec.max) << ' ' << spec.unit;
+      throw ParamError(out.str());
+    }
+  }
+}
+
+// A Markdown table of the specs with the defaults of `defaults`: the body of docs/tuning.md.
+template <class Owner>
+std::string describe_markdown(const Owner& defaults, const std::vector<ParamSpec<Owner>>& specs) {
+  std::ostringstream out;
+  out << "| flag | unit | default | range | meaning |\n|---|---|---|---|---|\n";
+  for (const auto& spec : specs) {
+    out << "| `--" << spec.name << "` | " << spec.unit << " | " << spec.get(defaults) << " | "
+        << format_range(spec.min, spec.max) << " | " << spec.description << " |\n";
+  }
+  return out.str();
+}
+
+}  // namespace fluidcast::sim

@@ -1,0 +1,104 @@
+// What every fluid solver offers, CPU or GPU, PBF or SPH: stepping, snapshots, and the inputs a
+// user changes while it runs. Inputs are validated here, once, whatever the solver.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include "fluidcast/sim/fluid_constants.h"
+#include "fluidcast/sim/particles.h"
+#include "fluidcast/sim/scene.h"
+#include "fluidcast/sim/solver_params.h"
+
+namespace fluidcast::sim {
+
+enum class SolverKind { pbf, sph };
+
+const std::vector<std::string_view>& solver_names();
+SolverKind parse_solver(std::string_view name);  // throws ParamError listing the names
+std::string_view to_string(SolverKind kind);
+
+// A moving sphere that pushes the fluid: a finger.
+struct Collider {
+  glm::vec3 centre{0.0f};    // m
+  float radius = 0.05f;      // m
+  glm::vec3 velocity{0.0f};  // m/s
+};
+
+// Input limits: beyond them an input is refused, never clamped.
+inline constexpr float kMaxGravity = 2000.0f;          // m/s², about 200 g
+inline constexpr float kMaxSpeed = 1000.0f;            // m/s, colliders and added particles
+inline constexpr float kMaxColliderRadius = 10.0f;     // m
+inline constexpr std::size_t kMaxColliders = 16;
+
+// Wall-clock milliseconds spent per stage since the last clear.
+struct StageTimes {
+  double grid_ms = 0;      // counting sort, reorder, neighbour lists
+  double predict_ms = 0;   // PBF: forces and prediction; SPH: time integration and collisions
+  double solve_ms = 0;     // PBF: the density iterations; SPH: density, pressure and forces
+  double velocity_ms = 0;  // PBF: velocity update, vorticity, XSPH; SPH: CFL bound
+};
+
+class Solver {
+ public:
+  // Throws ParamError for bad params or a tank smaller than one particle spacing.
+  Solver(Scene scene, const SolverParams& params);
+  virtual ~Solver() = default;
+  Solver(const Solver&) = delete;
+  Solver& operator=(const Solver&) = delete;
+
+  virtual SolverKind kind() const = 0;
+  virtual std::size_t particle_count() const = 0;
+  virtual ParticleSet snapshot() const = 0;
+
+  // Advances the simulation by params().time_step.
+  void step();
+
+  // Inputs. Each throws std::invalid_argument naming what was wrong, and then changes nothing.
+  void set_gravity(glm::vec3 gravity);
+  void set_colliders(std::span<const Collider> colliders);
+  // Adds particles inside the tank; refused as a whole if it would pass params().max_particles.
+  void add_particles(std::span<const glm::vec3> positions, std::span<const glm::vec3> velocities);
+  // Removes the particles within the sphere; returns how many.
+  std::size_t remove_particles_in_sphere(glm::vec3 centre, float radius);
+  // Back to the scene's initial particles at t = 0. Gravity and colliders stay as they are.
+  void reset();
+
+  double time() const { return time_; }
+  std::uint64_t steps() const { return steps_; }
+  glm::vec3 gravity() const { return gravity_; }
+  const std::vector<Collider>& colliders() const { return colliders_; }
+  const Scene& scene() const { return scene_; }
+  const Box& tank() const { return scene_.tank; }
+  const SolverParams& params() const { return params_; }
+  const FluidConstants& fluid() const { return fluid_; }
+  const StageTimes& stage_times() const { return stage_times_; }
+  void clear_stage_times() { stage_times_ = {}; }
+
+ protected:
+  virtual void advance() = 0;
+  virtual void append_particles(std::span<const glm::vec3> positions,
+                                std::span<const glm::vec3> velocities,
+                                std::uint32_t first_id) = 0;
+  virtual std::size_t erase_particles_in_sphere(glm::vec3 centre, float radius) = 0;
+  virtual void load_particles(const ParticleSet& particles) = 0;
+
+  StageTimes stage_times_;
+
+ private:
+  Scene scene_;
+  SolverParams params_;
+  FluidConstants fluid_;
+  glm::vec3 gravity_{0.0f, -9.81f, 0.0f};
+  std::vector<Collider> colliders_;
+  double time_ = 0.0;
+  std::uint64_t steps_ = 0;
+  std::uint32_t next_id_ = 0;
+};
+
+std::unique_ptr<Solver> make_cpu_solver(SolverKind kind, Scene scene, const SolverParams& params);
+
+}  // namespace fluidcast::sim

@@ -1,0 +1,33 @@
+// Aggregate measures of a fluid state, computed from positions and velocities alone (with a
+// neighbour search of its own), so CPU and GPU solvers are measured the same way.
+#pragma once
+
+#include <cstddef>
+#include <glm/glm.hpp>
+#include <vector>
+
+#include "fluidcast/sim/fluid_constants.h"
+#include "fluidcast/sim/particles.h"
+
+namespace fluidcast::sim {
+
+struct FluidStatistics {
+  std::size_t particles = 0;
+  double kinetic_energy = 0;     // J, Σ ½ m |v|²
+  double max_density_error = 0;  // max over particles of max(0, ρ/ρ0 − 1)
+  double avg_density_error = 0;  // mean over particles of max(0, ρ/ρ0 − 1)
+  double front_x = 0;  // m from the tank's left wall: the largest x of a particle within one
+                       // particle diameter of the floor
+  glm::dvec3 centre_of_mass{0.0};  // m
+  double max_speed = 0;            // m/s
+  std::size_t outside_tank = 0;    // particles whose centre is outside the tank
+  std::size_t non_finite = 0;      // particles with a NaN or infinite position or velocity
+};
+
+// ρ_i = m Σ_j W_poly6(|x_i − x_j|) over all particles within h, itself included.
+std::vector<float> measure_densities(const ParticleSet& particles, const FluidConstants& fluid,
+                                     const Box& tank);
+
+FluidStatistics measure(const ParticleSet& particles, const FluidConstants& fluid, const Box& tank);
+
+}  // namespace fluidcast::sim

@@ -1,0 +1,92 @@
+// State and machinery shared by the CPU solvers: the particles, the thread pool, the grid and the
+// neighbour lists, and the boundary handling. Every per-particle array is reordered in sort_by().
+#pragma once
+
+#include <chrono>
+#include <initializer_list>
+
+#include "fluidcast/sim/fork_join_pool.h"
+#include "fluidcast/sim/kernels.h"
+#include "fluidcast/sim/neighbour_grid.h"
+#include "fluidcast/sim/neighbour_list.h"
+#include "fluidcast/sim/solver.h"
+
+namespace fluidcast::sim::cpu {
+
+class CpuSolver : public Solver {
+ public:
+  CpuSolver(Scene scene, const SolverParams& params);
+
+  std::size_t particle_count() const override { return particles_.size(); }
+  ParticleSet snapshot() const override { return particles_; }
+
+ protected:
+  void append_particles(std::span<const glm::vec3> positions, std::span<const glm::vec3> velocities,
+                        std::uint32_t first_id) override;
+  std::size_t erase_particles_in_sphere(glm::vec3 centre, float radius) override;
+  void load_particles(const ParticleSet& particles) override;
+
+  // Sorts the particles by the cells of `key` and reorders particles_ and every array in
+  // `solver_arrays` (which must hold `key` unless key is particles_.position); then finds each
+  // particle's neighbours within h from the reordered `key`.
+  void sort_by(std::vector<glm::vec3>& key,
+               std::initializer_list<std::vector<glm::vec3>*> solver_arrays);
+
+  // What the six tank walls add at p, modelled as fluid at rest behind each wall: the density
+  // ρ0·Σ wall_volume, and its gradient.
+  struct WallContribution {
+    float density = 0.0f;     // kg/m³
+    glm::vec3 gradient{0.0f};  // ∇ of density, pointing into the walls
+  };
+  WallContribution walls(glm::vec3 p) const {
+    WallContribution w;
+    const glm::vec3 near = p - tank().min, far = tank().max - p;
+    for (int axis = 0; axis < 3; ++axis) {
+      w.density += kernels_.wall_volume(near[axis]) + kernels_.wall_volume(far[axis]);
+      w.gradient[axis] = kernels_.wall_area(far[axis]) - kernels_.wall_area(near[axis]);
+    }
+    w.density *= fluid().rest_density;
+    w.gradient *= fluid().rest_density;
+    return w;
+  }
+
+  // The largest |v| over all particles (0 when there are none).
+  float max_speed();
+
+  // Moves p out of every collider and into the tank (shrunk by a particle radius).
+  glm::vec3 constrain_position(glm::vec3 p) const;
+  // The same, and removes the velocity component into the surface it was pushed out of.
+  void constrain_position_and_velocity(glm::vec3& p, glm::vec3& v) const;
+
+  // Adds the wall-clock time of its scope to one StageTimes field.
+  class StageTimer {
+   public:
+    explicit StageTimer(double& total_ms)
+        : total_ms_(total_ms), start_(std::chrono::steady_clock::now()) {}
+    ~StageTimer() {
+      total_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -
+                                                             start_)
+                       .count();
+    }
+    StageTimer(const StageTimer&) = delete;
+    StageTimer& operator=(const StageTimer&) = delete;
+
+   private:
+    double& total_ms_;
+    std::chrono::steady_clock::time_point start_;
+  };
+
+  ParticleSet particles_;
+  ForkJoinPool pool_;
+  Kernels kernels_;
+  NeighbourGrid grid_;
+  NeighbourList neighbours_;
+
+ private:
+  Box inner_tank_;  // the tank shrunk by a particle radius: where particle centres may be
+  std::vector<glm::vec3> reorder_scratch_;
+  std::vector<std::uint32_t> id_scratch_;
+  std::vector<float> chunk_max_;
+};
+
+}  // namespace fluidcast::sim::cpu

@@ -1,0 +1,192 @@
+#include "cpu/pbf_solver.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace fluidcast::sim::cpu {
+namespace {
+
+// Σ_j |∇_j C_i|² + |∇_i C_i|² for a particle inside a cubic lattice of spacing d at rest.
+float rest_gradient_norm(const Kernels& kernels, const FluidConstants& fluid) {
+  const float d = fluid.spacing;
+  const int reach = static_cast<int>(std::ceil(kernels.radius() / d));
+  const float volume = fluid.rest_volume();
+  double sum_squares = 0.0;
+  for (int k = -reach; k <= reach; ++k) {
+    for (int j = -reach; j <= reach; ++j) {
+      for (int i = -reach; i <= reach; ++i) {
+        const glm::vec3 r = glm::vec3(i, j, k) * d;
+        const glm::vec3 g = volume * kernels.spiky_gradient(r, glm::length(r));
+        sum_squares += glm::dot(g, g);
+      }
+    }
+  }
+  return static_cast<float>(sum_squares);  // Σ_j ∇W vanishes by the lattice's symmetry
+}
+
+}  // namespace
+
+PbfSolver::PbfSolver(Scene scene, const SolverParams& params)
+    : CpuSolver(std::move(scene), params) {
+  const float rest_norm = rest_gradient_norm(kernels_, fluid());
+  relaxation_epsilon_ = params.relaxation * rest_norm;
+  scorr_scale_ = params.scorr_strength / rest_norm;
+  const float dq = params.scorr_distance * kernels_.radius();
+  inv_w_dq_ = 1.0f / kernels_.poly6(dq * dq);
+}
+
+void PbfSolver::advance() {
+  const float step = params().time_step;
+  const float speed = max_speed() + glm::length(gravity()) * step;
+  const float travel = speed * step / (params().cfl_number * kernels_.radius());
+  const int substeps = static_cast<int>(
+      std::clamp(std::ceil(travel), 1.0f, static_cast<float>(params().max_substeps)));
+  dt_ = step / static_cast<float>(substeps);
+  for (int s = 0; s < substeps; ++s) substep();
+}
+
+void PbfSolver::substep() {
+  {
+    StageTimer timer(stage_times_.predict_ms);
+    predict();
+  }
+  {
+    StageTimer timer(stage_times_.grid_ms);
+    sort_by(predicted_, {&predicted_});
+  }
+  {
+    StageTimer timer(stage_times_.solve_ms);
+    for (int iteration = 0; iteration < params().iterations; ++iteration) {
+      compute_lambdas();
+      apply_position_corrections();
+    }
+  }
+  StageTimer timer(stage_times_.velocity_ms);
+  update_velocities();
+  if (params().vorticity > 0.0f || params().xsph_viscosity > 0.0f) {
+    compute_vorticity();
+    apply_confinement_and_viscosity();
+  }
+  particles_.position.swap(predicted_);
+}
+
+void PbfSolver::predict() {
+  const std::size_t n = particles_.size();
+  predicted_.resize(n);
+  const float dt = dt_;
+  const glm::vec3 dv = gravity() * dt;
+  pool_.for_each(n, [&](std::size_t i) {
+    particles_.velocity[i] += dv;
+    predicted_[i] = constrain_position(particles_.position[i] + dt * particles_.velocity[i]);
+  });
+}
+
+void PbfSolver::compute_lambdas() {
+  const std::size_t n = particles_.size();
+  lambda_.resize(n);
+  const float mass = fluid().particle_mass;
+  const float inv_rest_density = 1.0f / fluid().rest_density;
+  const float volume = fluid().rest_volume();
+  const float self_density = kernels_.poly6(0.0f);
+  pool_.for_each(n, [&](std::size_t i) {
+    const glm::vec3 p = predicted_[i];
+    float density = self_density;
+    glm::vec3 gradient_i(0.0f);
+    float sum_squares = 0.0f;
+    for (std::uint32_t j : neighbours_.of(i)) {
+      const glm::vec3 r = p - predicted_[j];
+      const float r2 = glm::dot(r, r);
+      density += kernels_.poly6(r2);
+      const glm::vec3 g = volume * kernels_.spiky_gradient(r, std::sqrt(r2));
+      gradient_i += g;
+      sum_squares += glm::dot(g, g);
+    }
+    const auto wall = walls(p);
+    gradient_i += inv_rest_density * wall.gradient;
+    const float constraint =
+        std::max((mass * density + wall.density) * inv_rest_density - 1.0f, 0.0f);
+    lambda_[i] =
+        -constraint / (sum_squares + glm::dot(gradient_i, gradient_i) + relaxation_epsilon_);
+  });
+}
+
+void PbfSolver::apply_position_corrections() {
+  const std::size_t n = particles_.size();
+  corrected_.resize(n);
+  const float volume = fluid().rest_volume();
+  const float inv_rest_density = 1.0f / fluid().rest_density;
+  const float exponent = params().scorr_exponent;
+  const bool exponent_is_four = exponent == 4.0f;
+  pool_.for_each(n, [&](std::size_t i) {
+    const glm::vec3 p = predicted_[i];
+    const float lambda_i = lambda_[i];
+    glm::vec3 delta(0.0f);
+    for (std::uint32_t j : neighbours_.of(i)) {
+      const glm::vec3 r = p - predicted_[j];
+      const float r2 = glm::dot(r, r);
+      const float s = kernels_.poly6(r2) * inv_w_dq_;
+      const float s2 = s * s;
+      const float scorr = -scorr_scale_ * (exponent_is_four ? s2 * s2 : std::pow(s, exponent));
+      delta += (lambda_i + lambda_[j] + scorr) * kernels_.spiky_gradient(r, std::sqrt(r2));
+    }
+    // The walls hold no λ of their own: only this particle's constraint pushes it off them.
+    const glm::vec3 wall_push = lambda_i * inv_rest_density * walls(p).gradient;
+    corrected_[i] = constrain_position(p + volume * delta + wall_push);
+  });
+  predicted_.swap(corrected_);
+}
+
+void PbfSolver::update_velocities() {
+  const float inv_dt = 1.0f / dt_;
+  pool_.for_each(particles_.size(), [&](std::size_t i) {
+    particles_.velocity[i] = (predicted_[i] - particles_.position[i]) * inv_dt;
+  });
+}
+
+// ω_i = Σ_j V (v_j − v_i) × ∇_j W_ij, the SPH estimate of the curl of the velocity.
+void PbfSolver::compute_vorticity() {
+  const std::size_t n = particles_.size();
+  vorticity_.resize(n);
+  const float volume = fluid().rest_volume();
+  const auto& v = particles_.velocity;
+  pool_.for_each(n, [&](std::size_t i) {
+    const glm::vec3 p = predicted_[i];
+    glm::vec3 omega(0.0f);
+    for (std::uint32_t j : neighbours_.of(i)) {
+      const glm::vec3 r = p - predicted_[j];
+      // ∇_j W_ij = −∇_i W_ij
+      omega += glm::cross(v[j] - v[i], -kernels_.spiky_gradient(r, glm::length(r)));
+    }
+    vorticity_[i] = volume * omega;
+  });
+}
+
+// Vorticity confinement a = ε N × ω with N = ∇|ω| / |∇|ω||, then XSPH: v_i += c Σ V (v_j − v_i) W.
+void PbfSolver::apply_confinement_and_viscosity() {
+  const std::size_t n = particles_.size();
+  smoothed_velocity_.resize(n);
+  const float volume = fluid().rest_volume();
+  const float dt = dt_;
+  const float epsilon = params().vorticity;
+  const float xsph = params().xsph_viscosity;
+  const auto& v = particles_.velocity;
+  pool_.for_each(n, [&](std::size_t i) {
+    const glm::vec3 p = predicted_[i];
+    const float omega_i = glm::length(vorticity_[i]);
+    glm::vec3 eta(0.0f);
+    glm::vec3 smoothing(0.0f);
+    for (std::uint32_t j : neighbours_.of(i)) {
+      const glm::vec3 r = p - predicted_[j];
+      const float r2 = glm::dot(r, r);
+      eta += (glm::length(vorticity_[j]) - omega_i) * kernels_.spiky_gradient(r, std::sqrt(r2));
+      smoothing += (v[j] - v[i]) * kernels_.poly6(r2);
+    }
+    glm::vec3 velocity = v[i] + xsph * volume * smoothing;
+    const float eta_length = glm::length(eta);
+    if (eta_length > 1e-12f) velocity += dt * epsilon * glm::cross(eta / eta_length, vorticity_[i]);
+    smoothed_velocity_[i] = velocity;
+  });
+  particles_.velocity.swap(smoothed_velocity_);
+}
+
+}  // namespace fluidcast::sim::cpu

@@ -1,0 +1,40 @@
+// Position Based Fluids: Macklin & Müller, "Position Based Fluids", ACM TOG 32(4), 2013.
+// A step is split into substeps so no particle travels more than cfl·h in one (beyond that it
+// tunnels through its neighbours and the Jacobi solve diverges). A substep: predict → neighbour search on predicted positions (sorted, reordered) → Jacobi
+// iterations of the density constraint (λ, then Δp with s_corr and collisions) → velocity from
+// the displacement → vorticity confinement and XSPH viscosity.
+//
+// Two choices beyond the paper: the density constraint is unilateral, C = max(ρ/ρ0 − 1, 0), so a
+// surface particle with few neighbours is not pulled inwards; and ε and s_corr are scaled by the
+// rest-state Σ|∇C|², which makes them dimensionless and independent of the particle size.
+#pragma once
+
+#include "cpu/cpu_solver.h"
+
+namespace fluidcast::sim::cpu {
+
+class PbfSolver final : public CpuSolver {
+ public:
+  PbfSolver(Scene scene, const SolverParams& params);
+  SolverKind kind() const override { return SolverKind::pbf; }
+
+ private:
+  void advance() override;
+  void substep();
+  void predict();
+  void compute_lambdas();
+  void apply_position_corrections();
+  void update_velocities();
+  void compute_vorticity();
+  void apply_confinement_and_viscosity();
+
+  float relaxation_epsilon_;  // ε, absolute
+  float scorr_scale_;         // k / Σ|∇C|²_rest
+  float inv_w_dq_;            // 1 / W(Δq)
+  float dt_ = 0.0f;           // of the current substep
+  std::vector<glm::vec3> predicted_, corrected_;
+  std::vector<float> lambda_;
+  std::vector<glm::vec3> vorticity_, smoothed_velocity_;
+};
+
+}  // namespace fluidcast::sim::cpu

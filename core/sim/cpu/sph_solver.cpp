@@ -1,0 +1,131 @@
+#include "cpu/sph_solver.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace fluidcast::sim::cpu {
+
+float tait_pressure(float density, const SolverParams& params) {
+  const float stiffness = params.rest_density * params.sound_speed * params.sound_speed /
+                          params.tait_exponent;
+  const float ratio = density / params.rest_density;
+  return std::max(0.0f, stiffness * (std::pow(ratio, params.tait_exponent) - 1.0f));
+}
+
+SphSolver::SphSolver(Scene scene, const SolverParams& params)
+    : CpuSolver(std::move(scene), params),
+      min_substep_(params.time_step / static_cast<float>(params.max_substeps)) {}
+
+void SphSolver::advance() {
+  float remaining = params().time_step;
+  while (remaining > 0.0f) {
+    {
+      StageTimer timer(stage_times_.grid_ms);
+      sort_by(particles_.position, {});
+    }
+    float max_acceleration;
+    {
+      StageTimer timer(stage_times_.solve_ms);
+      compute_densities_and_pressures();
+      max_acceleration = compute_accelerations();
+    }
+    float dt;
+    {
+      StageTimer timer(stage_times_.velocity_ms);
+      dt = std::min(remaining, stable_substep(max_acceleration));
+      // Split what is left evenly rather than end on a sliver of a substep.
+      if (dt < remaining && remaining < 2.0f * dt) dt = 0.5f * remaining;
+    }
+    StageTimer timer(stage_times_.predict_ms);
+    integrate(dt);
+    remaining -= dt;
+  }
+}
+
+void SphSolver::compute_densities_and_pressures() {
+  const std::size_t n = particles_.size();
+  density_.resize(n);
+  pressure_.resize(n);
+  const float mass = fluid().particle_mass;
+  const float self = kernels_.poly6(0.0f);
+  const auto& x = particles_.position;
+  pool_.for_each(n, [&](std::size_t i) {
+    float sum = self;
+    for (std::uint32_t j : neighbours_.of(i)) {
+      const glm::vec3 r = x[i] - x[j];
+      sum += kernels_.poly6(glm::dot(r, r));
+    }
+    density_[i] = mass * sum + walls(x[i]).density;
+    pressure_[i] = tait_pressure(density_[i], params());
+  });
+}
+
+float SphSolver::compute_accelerations() {
+  const std::size_t n = particles_.size();
+  acceleration_.resize(n);
+  chunk_max_acceleration_.assign(pool_.size(), 0.0f);
+  const float mass = fluid().particle_mass;
+  const float viscosity = params().sph_viscosity;
+  // Monaghan (1992): Π_ij = −ν (v_ij·x_ij) / (|x_ij|² + 0.01 h²) for approaching pairs,
+  // ν = 2 α h c / (ρ_i + ρ_j), with h here the kernel's support radius.
+  const float artificial = 2.0f * params().artificial_viscosity * kernels_.radius() *
+                           params().sound_speed;
+  const float softening = 0.01f * kernels_.radius_squared();
+  const glm::vec3 g = gravity();
+  const auto& x = particles_.position;
+  const auto& v = particles_.velocity;
+  pool_.for_chunks(n, [&](unsigned chunk, std::size_t begin, std::size_t end) {
+    float largest = 0.0f;
+    for (std::size_t i = begin; i < end; ++i) {
+      glm::vec3 pressure_force(0.0f), viscous_force(0.0f);
+      for (std::uint32_t j : neighbours_.of(i)) {
+        const glm::vec3 r = x[i] - x[j];
+        const float distance = glm::length(r);
+        const float inv_density_j = 1.0f / density_[j];
+        const glm::vec3 gradient = kernels_.spiky_gradient(r, distance);
+        float pair_pressure = 0.5f * (pressure_[i] + pressure_[j]) * inv_density_j;
+        const float approach = glm::dot(v[i] - v[j], r);
+        if (approach < 0.0f) {
+          // Π_ij · ρ_i, so that the common factor m/ρ_i below applies to it as well.
+          pair_pressure -= density_[i] * artificial / (density_[i] + density_[j]) * approach /
+                           (distance * distance + softening);
+        }
+        pressure_force -= pair_pressure * gradient;
+        viscous_force += (v[j] - v[i]) * (inv_density_j * kernels_.viscosity_laplacian(distance));
+      }
+      // The walls push back like fluid at rest with this particle's pressure behind them.
+      const glm::vec3 wall_force =
+          -(pressure_[i] / fluid().rest_density) * walls(x[i]).gradient / mass;
+      const glm::vec3 a = g + (mass / density_[i]) *
+                                  (pressure_force + wall_force + viscosity * viscous_force);
+      acceleration_[i] = a;
+      largest = std::max(largest, glm::length(a));
+    }
+    chunk_max_acceleration_[chunk] = largest;
+  });
+  return *std::max_element(chunk_max_acceleration_.begin(), chunk_max_acceleration_.end());
+}
+
+float SphSolver::stable_substep(float max_acceleration) {
+  const float h = kernels_.radius();
+  float dt = params().cfl_number * h / (params().sound_speed + max_speed());
+  if (max_acceleration > 0.0f) dt = std::min(dt, 0.25f * std::sqrt(h / max_acceleration));
+  if (params().sph_viscosity > 0.0f) {
+    const float kinematic_viscosity = params().sph_viscosity / params().rest_density;
+    dt = std::min(dt, 0.125f * h * h / kinematic_viscosity);
+  }
+  return std::max(dt, min_substep_);
+}
+
+// Symplectic Euler, then the boundaries.
+void SphSolver::integrate(float dt) {
+  pool_.for_each(particles_.size(), [&](std::size_t i) {
+    glm::vec3& v = particles_.velocity[i];
+    glm::vec3& x = particles_.position[i];
+    v += dt * acceleration_[i];
+    x += dt * v;
+    constrain_position_and_velocity(x, v);
+  });
+}
+
+}  // namespace fluidcast::sim::cpu

@@ -1,0 +1,29 @@
+#include "fluidcast/sim/fluid_constants.h"
+
+#include <cmath>
+
+#include "fluidcast/sim/kernels.h"
+
+namespace fluidcast::sim {
+
+FluidConstants derive_fluid_constants(float spacing, const SolverParams& params) {
+  FluidConstants c;
+  c.spacing = spacing;
+  c.kernel_radius = params.kernel_ratio * spacing;
+  c.rest_density = params.rest_density;
+  const Kernels kernels(c.kernel_radius);
+  const int reach = static_cast<int>(std::ceil(params.kernel_ratio));
+  double lattice_sum = 0.0;
+  for (int k = -reach; k <= reach; ++k) {
+    for (int j = -reach; j <= reach; ++j) {
+      for (int i = -reach; i <= reach; ++i) {
+        const float r2 = static_cast<float>(i * i + j * j + k * k) * spacing * spacing;
+        lattice_sum += kernels.poly6(r2);
+      }
+    }
+  }
+  c.particle_mass = static_cast<float>(params.rest_density / lattice_sum);
+  return c;
+}
+
+}  // namespace fluidcast::sim

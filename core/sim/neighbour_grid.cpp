@@ -1,0 +1,58 @@
+#include "fluidcast/sim/neighbour_grid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace fluidcast::sim {
+
+NeighbourGrid::NeighbourGrid(const Box& domain, float cell_size) : origin_(domain.min) {
+  if (!std::isfinite(cell_size) || cell_size <= 0.0f) {
+    throw std::invalid_argument("neighbour grid: cell size must be positive and finite, got " +
+                                std::to_string(cell_size));
+  }
+  cell_size_ = cell_size;
+  inv_cell_size_ = 1.0f / cell_size;
+  const glm::vec3 cells = glm::max(glm::ceil(domain.size() * inv_cell_size_), glm::vec3(1.0f));
+  const double total = static_cast<double>(cells.x) * cells.y * cells.z;
+  if (!(total <= static_cast<double>(kMaxCells))) {
+    throw std::invalid_argument("neighbour grid: " + std::to_string(total) +
+                                " cells exceed the limit of " + std::to_string(kMaxCells) +
+                                "; use fewer particles or a smaller tank");
+  }
+  dims_ = glm::ivec3(cells);
+  cell_start_.assign(static_cast<std::size_t>(total) + 1, 0);
+}
+
+glm::ivec3 NeighbourGrid::cell_coords(glm::vec3 p) const {
+  const glm::vec3 f = glm::floor((p - origin_) * inv_cell_size_);
+  // Clamp in float first: a far-away (or non-finite) position must not overflow the int cast.
+  const glm::vec3 clamped = glm::clamp(f, glm::vec3(0.0f), glm::vec3(dims_ - 1));
+  return glm::ivec3(std::isnan(clamped.x) ? 0.0f : clamped.x,
+                    std::isnan(clamped.y) ? 0.0f : clamped.y,
+                    std::isnan(clamped.z) ? 0.0f : clamped.z);
+}
+
+void NeighbourGrid::build(std::span<const glm::vec3> positions) {
+  const std::size_t n = positions.size();
+  cell_of_particle_.resize(n);
+  std::fill(cell_start_.begin(), cell_start_.end(), 0u);
+
+  // Count: cell_start_[c + 1] holds the count of cell c.
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t c = cell_index(cell_coords(positions[i]));
+    cell_of_particle_[i] = c;
+    ++cell_start_[c + 1];
+  }
+  // Exclusive prefix sum over cells.
+  for (std::size_t c = 1; c < cell_start_.size(); ++c) cell_start_[c] += cell_start_[c - 1];
+  // Scatter, in particle order within each cell (stable).
+  cursor_.assign(cell_start_.begin(), cell_start_.end() - 1);
+  order_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    order_[cursor_[cell_of_particle_[i]]++] = static_cast<std::uint32_t>(i);
+  }
+}
+
+}  // namespace fluidcast::sim

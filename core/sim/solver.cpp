@@ -1,0 +1,128 @@
+#include "fluidcast/sim/solver.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <string>
+
+namespace fluidcast::sim {
+namespace {
+
+bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+std::string str(glm::vec3 v) {
+  std::ostringstream out;
+  out << '(' << v.x << ", " << v.y << ", " << v.z << ')';
+  return out.str();
+}
+
+void require(bool ok, const std::string& message) {
+  if (!ok) throw std::invalid_argument(message);
+}
+
+}  // namespace
+
+const std::vector<std::string_view>& solver_names() {
+  static const std::vector<std::string_view> names = {"pbf", "sph"};
+  return names;
+}
+
+std::string_view to_string(SolverKind kind) { return solver_names()[static_cast<int>(kind)]; }
+
+SolverKind parse_solver(std::string_view name) {
+  const auto& names = solver_names();
+  const auto it = std::find(names.begin(), names.end(), name);
+  if (it == names.end()) {
+    throw ParamError("--solver: unknown solver '" + std::string(name) + "'; expected pbf or sph");
+  }
+  return static_cast<SolverKind>(it - names.begin());
+}
+
+Solver::Solver(Scene scene, const SolverParams& params)
+    : scene_(std::move(scene)), params_(params) {
+  validate(params_);
+  fluid_ = derive_fluid_constants(scene_.spacing, params_);
+  const glm::vec3 size = scene_.tank.size();
+  if (std::min({size.x, size.y, size.z}) < fluid_.spacing) {
+    throw ParamError("tank " + str(size) + " m is thinner than one particle spacing (" +
+                     std::to_string(fluid_.spacing) + " m) in some direction; use more particles "
+                     "or a larger tank");
+  }
+  if (scene_.particles.size() > static_cast<std::size_t>(params_.max_particles)) {
+    throw ParamError("--particles: the scene has " + std::to_string(scene_.particles.size()) +
+                     " particles, more than --max-particles " +
+                     std::to_string(params_.max_particles));
+  }
+  next_id_ = static_cast<std::uint32_t>(scene_.particles.size());
+}
+
+void Solver::step() {
+  advance();
+  ++steps_;
+  time_ += params_.time_step;
+}
+
+void Solver::set_gravity(glm::vec3 gravity) {
+  require(finite(gravity), "gravity: every component must be finite, got " + str(gravity));
+  require(glm::length(gravity) <= kMaxGravity,
+          "gravity: magnitude " + std::to_string(glm::length(gravity)) + " m/s² exceeds " +
+              std::to_string(kMaxGravity) + " m/s²");
+  gravity_ = gravity;
+}
+
+void Solver::set_colliders(std::span<const Collider> colliders) {
+  require(colliders.size() <= kMaxColliders, "colliders: " + std::to_string(colliders.size()) +
+                                                 " given, at most " +
+                                                 std::to_string(kMaxColliders) + " allowed");
+  for (std::size_t i = 0; i < colliders.size(); ++i) {
+    const Collider& c = colliders[i];
+    const std::string name = "collider " + std::to_string(i);
+    require(finite(c.centre), name + ": centre must be finite, got " + str(c.centre));
+    require(std::isfinite(c.radius) && c.radius > 0.0f && c.radius <= kMaxColliderRadius,
+            name + ": radius must be in (0, " + std::to_string(kMaxColliderRadius) + "] m, got " +
+                std::to_string(c.radius));
+    require(finite(c.velocity) && glm::length(c.velocity) <= kMaxSpeed,
+            name + ": velocity must be finite with magnitude at most " +
+                std::to_string(kMaxSpeed) + " m/s, got " + str(c.velocity));
+  }
+  colliders_.assign(colliders.begin(), colliders.end());
+}
+
+void Solver::add_particles(std::span<const glm::vec3> positions,
+                           std::span<const glm::vec3> velocities) {
+  require(positions.size() == velocities.size(),
+          "add_particles: " + std::to_string(positions.size()) + " positions but " +
+              std::to_string(velocities.size()) + " velocities");
+  const std::size_t total = particle_count() + positions.size();
+  require(total <= static_cast<std::size_t>(params_.max_particles),
+          "add_particles: " + std::to_string(positions.size()) + " more would make " +
+              std::to_string(total) + " particles; the limit is " +
+              std::to_string(params_.max_particles) + " (--max-particles)");
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    require(finite(positions[i]) && scene_.tank.contains(positions[i]),
+            "add_particles: position " + std::to_string(i) + " " + str(positions[i]) +
+                " is not inside the tank " + str(scene_.tank.min) + "–" + str(scene_.tank.max));
+    require(finite(velocities[i]) && glm::length(velocities[i]) <= kMaxSpeed,
+            "add_particles: velocity " + std::to_string(i) + " " + str(velocities[i]) +
+                " must be finite with magnitude at most " + std::to_string(kMaxSpeed) + " m/s");
+  }
+  append_particles(positions, velocities, next_id_);
+  next_id_ += static_cast<std::uint32_t>(positions.size());
+}
+
+std::size_t Solver::remove_particles_in_sphere(glm::vec3 centre, float radius) {
+  require(finite(centre), "remove_particles: centre must be finite, got " + str(centre));
+  require(std::isfinite(radius) && radius >= 0.0f,
+          "remove_particles: radius must be finite and not negative, got " +
+              std::to_string(radius));
+  return erase_particles_in_sphere(centre, radius);
+}
+
+void Solver::reset() {
+  load_particles(scene_.particles);
+  time_ = 0.0;
+  steps_ = 0;
+  next_id_ = static_cast<std::uint32_t>(scene_.particles.size());
+}
+
+}  // namespace fluidcast::sim

@@ -1,0 +1,52 @@
+#include "fluidcast/sim/solver_params.h"
+
+namespace fluidcast::sim {
+
+const std::vector<ParamSpec<SolverParams>>& solver_param_specs() {
+  using P = SolverParams;
+  static const std::vector<ParamSpec<P>> specs = {
+      {"time-step", "s", "Simulated time advanced by one step", &P::time_step, 1e-5, 0.05},
+      {"rest-density", "kg/m³", "Rest density ρ0 of the fluid", &P::rest_density, 100, 20000},
+      {"kernel-ratio", "1",
+       "Kernel radius h over particle spacing d; 2 gives about 33 neighbours at rest",
+       &P::kernel_ratio, 1.5, 4},
+      {"max-particles", "1", "Most particles a simulation may hold (add_particles refuses more)",
+       &P::max_particles, 1, 1 << 24},
+      {"threads", "1", "Worker threads; 0 means one per core", &P::threads, 0, 256},
+      {"cfl-number", "1",
+       "Substeps keep a particle's travel per substep ≤ cfl·h (PBF: |v|max·Δt; SPH: "
+       "(c+|v|max)·Δt, plus force and viscosity bounds)",
+       &P::cfl_number, 0.05, 1},
+      {"max-substeps", "1",
+       "Most substeps one step may take; past it the CFL bound is exceeded rather than the "
+       "step slowed further",
+       &P::max_substeps, 1, 100000},
+      {"iterations", "1", "PBF: Jacobi iterations of the density constraint per step",
+       &P::iterations, 1, 100},
+      {"relaxation", "1",
+       "PBF: constraint force mixing ε, as a fraction of Σ|∇C|² of a particle at rest",
+       &P::relaxation, 0, 10},
+      {"scorr-strength", "1", "PBF: artificial pressure k (s_corr), against clustering",
+       &P::scorr_strength, 0, 1},
+      {"scorr-exponent", "1", "PBF: artificial pressure exponent n", &P::scorr_exponent, 1, 8},
+      {"scorr-distance", "1", "PBF: artificial pressure reference distance Δq, as a fraction of h",
+       &P::scorr_distance, 0.01, 0.9},
+      {"vorticity", "m/s", "PBF: vorticity confinement strength ε (acceleration ε·N×ω)",
+       &P::vorticity, 0, 1},
+      {"xsph-viscosity", "1", "PBF: XSPH velocity smoothing c", &P::xsph_viscosity, 0, 1},
+      {"sound-speed", "m/s", "SPH: numerical speed of sound; stiffness B = ρ0 c²/γ",
+       &P::sound_speed, 1, 500},
+      {"tait-exponent", "1", "SPH: exponent γ of the Tait equation of state", &P::tait_exponent,
+       1, 7},
+      {"sph-viscosity", "Pa·s", "SPH: dynamic viscosity μ (Müller 2003 viscosity kernel)",
+       &P::sph_viscosity, 0, 100},
+      {"artificial-viscosity", "1",
+       "SPH: Monaghan's artificial viscosity α, which damps the pressure waves of a stiff fluid",
+       &P::artificial_viscosity, 0, 1},
+  };
+  return specs;
+}
+
+void validate(const SolverParams& params) { validate(params, solver_param_specs()); }
+
+}  // namespace fluidcast::sim

@@ -1,0 +1,73 @@
+#include "fluidcast/sim/statistics.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "fluidcast/sim/kernels.h"
+#include "fluidcast/sim/neighbour_grid.h"
+
+namespace fluidcast::sim {
+namespace {
+bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+}  // namespace
+
+std::vector<float> measure_densities(const ParticleSet& particles, const FluidConstants& fluid,
+                                     const Box& tank) {
+  const Kernels kernels(fluid.kernel_radius);
+  NeighbourGrid grid(tank, fluid.kernel_radius);
+  grid.build(particles.position);
+  std::vector<glm::vec3> sorted(particles.size());
+  const auto order = grid.order();
+  for (std::size_t k = 0; k < order.size(); ++k) sorted[k] = particles.position[order[k]];
+
+  std::vector<float> density(particles.size());
+  for (std::size_t k = 0; k < sorted.size(); ++k) {
+    double sum = 0.0;
+    grid.for_each_candidate_range(sorted[k], [&](std::uint32_t begin, std::uint32_t end) {
+      for (std::uint32_t j = begin; j < end; ++j) {
+        const glm::vec3 r = sorted[k] - sorted[j];
+        sum += kernels.poly6(glm::dot(r, r));
+      }
+    });
+    density[order[k]] = static_cast<float>(fluid.particle_mass * sum);
+  }
+  return density;
+}
+
+FluidStatistics measure(const ParticleSet& particles, const FluidConstants& fluid,
+                        const Box& tank) {
+  FluidStatistics s;
+  s.particles = particles.size();
+  if (particles.size() == 0) return s;
+  const std::vector<float> density = measure_densities(particles, fluid, tank);
+  const float floor_band = tank.min.y + fluid.spacing;
+  double front = 0.0;
+  double error_sum = 0.0;
+  glm::dvec3 position_sum(0.0);
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    const glm::vec3 x = particles.position[i];
+    const glm::vec3 v = particles.velocity[i];
+    if (!finite(x) || !finite(v)) {
+      ++s.non_finite;
+      continue;
+    }
+    if (!tank.contains(x)) ++s.outside_tank;
+    const double speed2 = glm::dot(v, v);
+    s.kinetic_energy += 0.5 * fluid.particle_mass * speed2;
+    s.max_speed = std::max(s.max_speed, std::sqrt(speed2));
+    const double error = std::max(0.0, density[i] / double(fluid.rest_density) - 1.0);
+    s.max_density_error = std::max(s.max_density_error, error);
+    error_sum += error;
+    position_sum += glm::dvec3(x);
+    if (x.y <= floor_band) front = std::max(front, double(x.x - tank.min.x));
+  }
+  const double counted = double(particles.size() - s.non_finite);
+  if (counted > 0) {
+    s.avg_density_error = error_sum / counted;
+    s.centre_of_mass = position_sum / counted;
+  }
+  s.front_x = front;
+  return s;
+}
+
+}  // namespace fluidcast::sim

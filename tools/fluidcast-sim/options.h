@@ -1,0 +1,33 @@
+// fluidcast-sim's command line: every scene and solver tunable comes from its ParamSpec table.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "fluidcast/sim/scene.h"
+#include "fluidcast/sim/solver.h"
+
+namespace fluidcast::tools {
+
+struct SimOptions {
+  sim::SceneParams scene;
+  sim::SolverParams solver;
+  sim::SolverKind solver_kind = sim::SolverKind::pbf;
+  std::int64_t steps = 0;  // resolved from --steps or --until
+  std::string stats_path;
+  std::int64_t dump_every = 0;
+  std::string dump_dir = "dumps";
+  bool progress = false;
+};
+
+// What parsing decided: run with options, or exit with a code (help printed, or a bad flag
+// reported on stderr in one line).
+struct ParseOutcome {
+  std::optional<SimOptions> options;
+  int exit_code = 0;
+};
+
+ParseOutcome parse_sim_options(int argc, char** argv);
+
+}  // namespace fluidcast::tools
