@@ -14,21 +14,22 @@ float volume(const Box& box) {
   return s.x * s.y * s.z;
 }
 
-// Fills `count` lattice sites of spacing d in `block`, layer by layer from the bottom, so a block
-// holds an exact count and its top layer may be partly filled.
+// Fills `count` sites of a lattice that spans the block exactly in x and z, layer by layer from
+// the bottom, so a block holds an exact count and its top layer may be partly filled. The x and z
+// spacings are the block's size over a whole number of sites nearest to d; the y spacing keeps
+// the volume per particle d³, so the water's volume — and its mass — is what was asked.
 void fill_block(const Box& block, float d, int count, ParticleSet& out) {
   const glm::vec3 size = block.size();
   const int nx = std::max(1, static_cast<int>(std::lround(size.x / d)));
   const int nz = std::max(1, static_cast<int>(std::lround(size.z / d)));
-  // Centre the lattice in x and z, so rounding leaves equal gaps on both sides.
-  const float x0 = block.min.x + 0.5f * (size.x - static_cast<float>(nx) * d) + 0.5f * d;
-  const float z0 = block.min.z + 0.5f * (size.z - static_cast<float>(nz) * d) + 0.5f * d;
+  const float dx = size.x / static_cast<float>(nx), dz = size.z / static_cast<float>(nz);
+  const float dy = d * d * d / (dx * dz);
   for (int k = 0; k < count; ++k) {
     const int layer = k / (nx * nz);
     const int in_layer = k % (nx * nz);
-    const glm::vec3 p{x0 + static_cast<float>(in_layer % nx) * d,
-                      block.min.y + (static_cast<float>(layer) + 0.5f) * d,
-                      z0 + static_cast<float>(in_layer / nx) * d};
+    const glm::vec3 p{block.min.x + (static_cast<float>(in_layer % nx) + 0.5f) * dx,
+                      block.min.y + (static_cast<float>(layer) + 0.5f) * dy,
+                      block.min.z + (static_cast<float>(in_layer / nx) + 0.5f) * dz};
     out.append(p, glm::vec3(0.0f), static_cast<std::uint32_t>(out.size()));
   }
 }

@@ -41,12 +41,35 @@ SolverKind parse_solver(std::string_view name) {
 Solver::Solver(Scene scene, const SolverParams& params)
     : scene_(std::move(scene)), params_(params) {
   validate(params_);
+  const ParticleSet& p = scene_.particles;
+  if (!std::isfinite(scene_.spacing) || scene_.spacing <= 0.0f) {
+    throw ParamError("scene: particle spacing must be positive and finite, got " +
+                     std::to_string(scene_.spacing));
+  }
+  if (p.velocity.size() != p.size() || p.id.size() != p.size()) {
+    throw ParamError("scene: positions, velocities and ids differ in count");
+  }
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (!finite(p.position[i]) || !finite(p.velocity[i]) || !scene_.tank.contains(p.position[i])) {
+      throw ParamError("scene: particle " + std::to_string(i) + " at " + str(p.position[i]) +
+                       " is not finite or not inside the tank");
+    }
+  }
   fluid_ = derive_fluid_constants(scene_.spacing, params_);
   const glm::vec3 size = scene_.tank.size();
   if (std::min({size.x, size.y, size.z}) < fluid_.spacing) {
-    throw ParamError("tank " + str(size) + " m is thinner than one particle spacing (" +
-                     std::to_string(fluid_.spacing) + " m) in some direction; use more particles "
-                     "or a larger tank");
+    throw ParamError("--particles, --tank-length, --tank-height, --depth: the tank " + str(size) +
+                     " m is thinner than one particle spacing (" + std::to_string(fluid_.spacing) +
+                     " m) in some direction; use more particles or a larger tank");
+  }
+  const glm::vec3 cells = glm::ceil(size / fluid_.kernel_radius);
+  const double cell_count = double(cells.x) * cells.y * cells.z;
+  if (cell_count > double(kMaxGridCells)) {
+    throw ParamError("--particles, --tank-length, --tank-height, --depth: the neighbour grid would "
+                     "need " + std::to_string(static_cast<long long>(cell_count)) +
+                     " cells of the kernel radius " + std::to_string(fluid_.kernel_radius) +
+                     " m, over the limit of " + std::to_string(kMaxGridCells) +
+                     "; use fewer particles or a smaller tank");
   }
   if (scene_.particles.size() > static_cast<std::size_t>(params_.max_particles)) {
     throw ParamError("--particles: the scene has " + std::to_string(scene_.particles.size()) +
@@ -58,6 +81,7 @@ Solver::Solver(Scene scene, const SolverParams& params)
 
 void Solver::step() {
   advance();
+  for (Collider& c : colliders_) c.centre += c.velocity * params_.time_step;
   ++steps_;
   time_ += params_.time_step;
 }

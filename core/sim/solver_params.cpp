@@ -25,7 +25,7 @@ const std::vector<ParamSpec<SolverParams>>& solver_param_specs() {
        &P::iterations, 1, 100},
       {"relaxation", "1",
        "PBF: constraint force mixing ε, as a fraction of Σ|∇C|² of a particle at rest",
-       &P::relaxation, 0, 10},
+       &P::relaxation, 1e-6, 10},
       {"scorr-strength", "1", "PBF: artificial pressure k (s_corr), against clustering",
        &P::scorr_strength, 0, 1},
       {"scorr-exponent", "1", "PBF: artificial pressure exponent n", &P::scorr_exponent, 1, 8},

@@ -77,11 +77,16 @@ ParseOutcome parse_sim_options(int argc, char** argv) {
       if (!std::isfinite(*until) || *until <= 0 || *until > 1e6)
         throw sim::ParamError("--until: value " + std::to_string(*until) +
                               " is out of range; accepted range (0, 1e6] s");
-      o.steps = static_cast<std::int64_t>(std::ceil(*until / o.solver.time_step - 1e-6));
+      const double step_count = std::ceil(*until / o.solver.time_step - 1e-6);
+      if (step_count < 1 || step_count > 100'000'000)
+        throw sim::ParamError("--until: " + std::to_string(*until) + " s is " +
+                              std::to_string(step_count) + " steps of --time-step; accepted " +
+                              "range [1, 100000000] steps");
+      o.steps = static_cast<std::int64_t>(step_count);
     }
     if (o.dump_every < 0)
       throw sim::ParamError("--dump-every: value " + std::to_string(o.dump_every) +
-                            " is negative; accepted range [0, steps], 0 for no dumps");
+                            " is negative; 0 means no dumps");
   } catch (const sim::ParamError& e) {
     std::cerr << "fluidcast-sim: " << e.what() << '\n';
     return {std::nullopt, kBadInput};

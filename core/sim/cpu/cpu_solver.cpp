@@ -69,17 +69,18 @@ namespace {
 
 // Moves p onto the surface of each collider it is inside, calling on_contact(normal, collider).
 template <class OnContact>
-glm::vec3 push_out_of_colliders(glm::vec3 p, std::span<const Collider> colliders,
+glm::vec3 push_out_of_colliders(glm::vec3 p, std::span<const Collider> colliders, float time,
                                 float particle_radius, OnContact&& on_contact) {
   for (const Collider& c : colliders) {
-    const glm::vec3 d = p - c.centre;
+    const glm::vec3 centre = c.centre + time * c.velocity;
+    const glm::vec3 d = p - centre;
     const float reach = c.radius + particle_radius;
     const float dist2 = glm::dot(d, d);
-    if (dist2 >= reach * reach) continue;
+    if (!(dist2 < reach * reach)) continue;  // NaN stays NaN, to be counted, not hidden
     const float dist = std::sqrt(dist2);
     // A particle at the very centre has no direction out: send it up.
     const glm::vec3 normal = dist > 1e-6f * reach ? d / dist : glm::vec3(0, 1, 0);
-    p = c.centre + normal * reach;
+    p = centre + normal * reach;
     on_contact(normal, c);
   }
   return p;
@@ -87,14 +88,20 @@ glm::vec3 push_out_of_colliders(glm::vec3 p, std::span<const Collider> colliders
 
 }  // namespace
 
+float CpuSolver::max_collider_speed() const {
+  float fastest = 0.0f;
+  for (const Collider& c : colliders()) fastest = std::max(fastest, glm::length(c.velocity));
+  return fastest;
+}
+
 glm::vec3 CpuSolver::constrain_position(glm::vec3 p) const {
-  p = push_out_of_colliders(p, colliders(), fluid().particle_radius(),
+  p = push_out_of_colliders(p, colliders(), time_into_step_, fluid().particle_radius(),
                             [](glm::vec3, const Collider&) {});
   return glm::clamp(p, inner_tank_.min, inner_tank_.max);
 }
 
 void CpuSolver::constrain_position_and_velocity(glm::vec3& p, glm::vec3& v) const {
-  p = push_out_of_colliders(p, colliders(), fluid().particle_radius(),
+  p = push_out_of_colliders(p, colliders(), time_into_step_, fluid().particle_radius(),
                             [&](glm::vec3 normal, const Collider& c) {
                               const float approach = glm::dot(v - c.velocity, normal);
                               if (approach < 0.0f) v -= approach * normal;

@@ -33,7 +33,8 @@ class CpuSolver : public Solver {
                std::initializer_list<std::vector<glm::vec3>*> solver_arrays);
 
   // What the six tank walls add at p, modelled as fluid at rest behind each wall: the density
-  // ρ0·Σ wall_volume, and its gradient.
+  // ρ0·Σ wall_volume, and its gradient. Along edges and in corners the half-spaces of two or three
+  // walls overlap and are counted twice, which pushes the fluid slightly off the tank's edges.
   struct WallContribution {
     float density = 0.0f;     // kg/m³
     glm::vec3 gradient{0.0f};  // ∇ of density, pointing into the walls
@@ -43,7 +44,7 @@ class CpuSolver : public Solver {
     const glm::vec3 near = p - tank().min, far = tank().max - p;
     for (int axis = 0; axis < 3; ++axis) {
       w.density += kernels_.wall_volume(near[axis]) + kernels_.wall_volume(far[axis]);
-      w.gradient[axis] = kernels_.wall_area(far[axis]) - kernels_.wall_area(near[axis]);
+      w.gradient[axis] = kernels_.wall_gradient(far[axis]) - kernels_.wall_gradient(near[axis]);
     }
     w.density *= fluid().rest_density;
     w.gradient *= fluid().rest_density;
@@ -52,6 +53,10 @@ class CpuSolver : public Solver {
 
   // The largest |v| over all particles (0 when there are none).
   float max_speed();
+
+  // Seconds into the current step, for where the colliders are now.
+  void set_time_into_step(float seconds) { time_into_step_ = seconds; }
+  float max_collider_speed() const;
 
   // Moves p out of every collider and into the tank (shrunk by a particle radius).
   glm::vec3 constrain_position(glm::vec3 p) const;
@@ -83,7 +88,8 @@ class CpuSolver : public Solver {
   NeighbourList neighbours_;
 
  private:
-  Box inner_tank_;  // the tank shrunk by a particle radius: where particle centres may be
+  Box inner_tank_;
+  float time_into_step_ = 0.0f;  // the tank shrunk by a particle radius: where particle centres may be
   std::vector<glm::vec3> reorder_scratch_;
   std::vector<std::uint32_t> id_scratch_;
   std::vector<float> chunk_max_;

@@ -37,12 +37,16 @@ PbfSolver::PbfSolver(Scene scene, const SolverParams& params)
 
 void PbfSolver::advance() {
   const float step = params().time_step;
-  const float speed = max_speed() + glm::length(gravity()) * step;
+  // A collider moving faster than the fluid sets the pace too: it must not jump over particles.
+  const float speed = std::max(max_speed() + glm::length(gravity()) * step, max_collider_speed());
   const float travel = speed * step / (params().cfl_number * kernels_.radius());
   const int substeps = static_cast<int>(
       std::clamp(std::ceil(travel), 1.0f, static_cast<float>(params().max_substeps)));
   dt_ = step / static_cast<float>(substeps);
-  for (int s = 0; s < substeps; ++s) substep();
+  for (int s = 0; s < substeps; ++s) {
+    set_time_into_step(static_cast<float>(s + 1) * dt_);  // predicted positions are at its end
+    substep();
+  }
 }
 
 void PbfSolver::substep() {
@@ -105,8 +109,9 @@ void PbfSolver::compute_lambdas() {
     gradient_i += inv_rest_density * wall.gradient;
     const float constraint =
         std::max((mass * density + wall.density) * inv_rest_density - 1.0f, 0.0f);
-    lambda_[i] =
-        -constraint / (sum_squares + glm::dot(gradient_i, gradient_i) + relaxation_epsilon_);
+    lambda_[i] = constraint == 0.0f ? 0.0f
+                                    : -constraint / (sum_squares + glm::dot(gradient_i, gradient_i) +
+                                                     relaxation_epsilon_);
   });
 }
 

@@ -37,6 +37,7 @@ void SphSolver::advance() {
       if (dt < remaining && remaining < 2.0f * dt) dt = 0.5f * remaining;
     }
     StageTimer timer(stage_times_.predict_ms);
+    set_time_into_step(params().time_step - remaining + dt);
     integrate(dt);
     remaining -= dt;
   }
@@ -60,16 +61,18 @@ void SphSolver::compute_densities_and_pressures() {
   });
 }
 
+// a_i = g − Σ_j m (p_i/ρ_i² + p_j/ρ_j² + Π_ij) ∇W_ij + μ/ρ_i Σ_j m (v_j − v_i)/ρ_j ∇²W_ij + walls.
+// The pressure term is the momentum-conserving form of Becker & Teschner; Müller's
+// (p_i + p_j)/(2ρ_j) gives only half of ∇p inside the fluid, which then settles at twice the
+// hydrostatic pressure. Π_ij is Monaghan's (1992) artificial viscosity for approaching pairs.
 float SphSolver::compute_accelerations() {
   const std::size_t n = particles_.size();
   acceleration_.resize(n);
   chunk_max_acceleration_.assign(pool_.size(), 0.0f);
   const float mass = fluid().particle_mass;
   const float viscosity = params().sph_viscosity;
-  // Monaghan (1992): Π_ij = −ν (v_ij·x_ij) / (|x_ij|² + 0.01 h²) for approaching pairs,
-  // ν = 2 α h c / (ρ_i + ρ_j), with h here the kernel's support radius.
   const float artificial = 2.0f * params().artificial_viscosity * kernels_.radius() *
-                           params().sound_speed;
+                           params().sound_speed;  // ν (ρ_i + ρ_j), h the support radius
   const float softening = 0.01f * kernels_.radius_squared();
   const glm::vec3 g = gravity();
   const auto& x = particles_.position;
@@ -77,27 +80,24 @@ float SphSolver::compute_accelerations() {
   pool_.for_chunks(n, [&](unsigned chunk, std::size_t begin, std::size_t end) {
     float largest = 0.0f;
     for (std::size_t i = begin; i < end; ++i) {
-      glm::vec3 pressure_force(0.0f), viscous_force(0.0f);
+      const float pressure_term_i = pressure_[i] / (density_[i] * density_[i]);
+      glm::vec3 pressure_acceleration(0.0f), viscous_sum(0.0f);
       for (std::uint32_t j : neighbours_.of(i)) {
         const glm::vec3 r = x[i] - x[j];
         const float distance = glm::length(r);
-        const float inv_density_j = 1.0f / density_[j];
-        const glm::vec3 gradient = kernels_.spiky_gradient(r, distance);
-        float pair_pressure = 0.5f * (pressure_[i] + pressure_[j]) * inv_density_j;
+        float pair = pressure_term_i + pressure_[j] / (density_[j] * density_[j]);
         const float approach = glm::dot(v[i] - v[j], r);
         if (approach < 0.0f) {
-          // Π_ij · ρ_i, so that the common factor m/ρ_i below applies to it as well.
-          pair_pressure -= density_[i] * artificial / (density_[i] + density_[j]) * approach /
-                           (distance * distance + softening);
+          pair -= artificial / (density_[i] + density_[j]) * approach /
+                  (distance * distance + softening);
         }
-        pressure_force -= pair_pressure * gradient;
-        viscous_force += (v[j] - v[i]) * (inv_density_j * kernels_.viscosity_laplacian(distance));
+        pressure_acceleration -= pair * kernels_.spiky_gradient(r, distance);
+        viscous_sum += (v[j] - v[i]) * (kernels_.viscosity_laplacian(distance) / density_[j]);
       }
-      // The walls push back like fluid at rest with this particle's pressure behind them.
-      const glm::vec3 wall_force =
-          -(pressure_[i] / fluid().rest_density) * walls(x[i]).gradient / mass;
-      const glm::vec3 a = g + (mass / density_[i]) *
-                                  (pressure_force + wall_force + viscosity * viscous_force);
+      // The walls act as the missing fluid, mirrored: same pressure and density as particle i.
+      const glm::vec3 wall_acceleration = -2.0f * pressure_term_i * walls(x[i]).gradient;
+      const glm::vec3 a = g + mass * pressure_acceleration + wall_acceleration +
+                          (viscosity * mass / density_[i]) * viscous_sum;
       acceleration_[i] = a;
       largest = std::max(largest, glm::length(a));
     }

@@ -1,7 +1,7 @@
-// Weakly compressible SPH: the kernels and forces of Müller, Charypar & Gross, "Particle-based
-// fluid simulation for interactive applications", SCA 2003, with the Tait equation of state of
-// Becker & Teschner, "Weakly compressible SPH for free surface flows", SCA 2007, in place of the
-// ideal-gas law. Each step is split into substeps bounded by the CFL condition, the largest
+// Weakly compressible SPH: the kernels and viscosity of Müller, Charypar & Gross, "Particle-based
+// fluid simulation for interactive applications", SCA 2003, with the Tait equation of state and
+// symmetric pressure force of Becker & Teschner, "Weakly compressible SPH for free surface flows",
+// SCA 2007, and Monaghan's artificial viscosity. Each step is split into substeps bounded by the CFL condition, the largest
 // acceleration and the viscous diffusion limit.
 #pragma once
 

@@ -5,6 +5,8 @@
 
 #include <atomic>
 #include <cstddef>
+#include <exception>
+#include <mutex>
 #include <thread>
 #include <vector>
 
@@ -21,7 +23,8 @@ class ForkJoinPool {
   unsigned size() const { return static_cast<unsigned>(workers_.size()) + 1; }
 
   // Calls body(chunk, begin, end) for each chunk of [0, n); chunk < size(). Small ranges use fewer
-  // chunks, since waking a thread costs more than a few hundred particles of work.
+  // chunks, since waking a thread costs more than a few hundred particles of work. If a chunk
+  // throws, the others still finish and the first exception is rethrown here.
   template <class Body>
   void for_chunks(std::size_t n, Body&& body) {
     run(n, &body, [](void* b, unsigned chunk, std::size_t begin, std::size_t end) {
@@ -46,7 +49,9 @@ class ForkJoinPool {
  private:
   using Trampoline = void (*)(void*, unsigned, std::size_t, std::size_t);
   void run(std::size_t n, void* body, Trampoline trampoline);
+  void run_chunk(unsigned chunk) noexcept;
   void worker_loop(unsigned chunk, std::stop_token stop);
+  void stop_workers() noexcept;
 
   std::vector<std::jthread> workers_;
   // The current job, published by bumping generation_.
@@ -56,6 +61,8 @@ class ForkJoinPool {
   unsigned chunks_ = 0;
   std::atomic<unsigned> generation_{0};
   std::atomic<unsigned> pending_{0};
+  std::mutex error_mutex_;
+  std::exception_ptr error_;
 };
 
 }  // namespace fluidcast::sim

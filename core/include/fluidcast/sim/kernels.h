@@ -23,13 +23,13 @@ class Kernels {
 
   // poly6 W(r) from r², so the density loop needs no square root.
   float poly6(float r2) const {
-    if (r2 >= h2_) return 0.0f;
+    if (!(r2 < h2_)) return 0.0f;  // also for NaN
     const float x = h2_ - r2;
     return poly6_ * x * x * x;
   }
 
   float spiky(float r) const {
-    if (r >= h_) return 0.0f;
+    if (!(r < h_)) return 0.0f;
     const float x = h_ - r;
     return spiky_ * x * x * x;
   }
@@ -37,25 +37,27 @@ class Kernels {
   // ∇W_spiky at offset r_vec = p_i − p_j with |r_vec| = r; zero at r = 0, where its direction is
   // undefined (coincident particles must not produce a NaN).
   glm::vec3 spiky_gradient(glm::vec3 r_vec, float r) const {
-    if (r >= h_ || r <= 1e-12f) return glm::vec3(0.0f);
+    if (!(r < h_) || r <= 1e-12f) return glm::vec3(0.0f);
     const float x = h_ - r;
     return (-3.0f * spiky_ * x * x / r) * r_vec;
   }
 
-  // A flat wall at distance s from a particle, with the half-space behind it full of fluid at rest:
-  // wall_volume(s) = ∫ W_poly6 over that half-space (½ at s = 0, 0 at s ≥ h), so the wall adds
-  // ρ0 · wall_volume(s) to the particle's density; wall_area(s) = −d wall_volume / ds, the
-  // integral of W_poly6 over the wall plane. Both in closed form for poly6.
+  // A flat wall at distance s from a particle, with the half-space behind it full of fluid at rest.
+  // wall_volume(s) = ∫ W_poly6 over that half-space (½ at s = 0, 0 at s ≥ h): the wall adds
+  // ρ0 · wall_volume(s) to the particle's density. wall_gradient(s) = ∫ W_spiky over the wall plane
+  // = |∫ ∇W_spiky| over the half-space: the magnitude of the gradient that the pressure terms, which
+  // use spiky gradients between particles, see from the wall. Closed forms:
+  // π K6/4 ∫_s^h (h² − z²)⁴ dz and 1.5 (h − s)⁴ (h + 4s) / h⁶.
   float wall_volume(float s) const {
-    if (s >= h_) return 0.0f;
+    if (!(s < h_)) return 0.0f;
     s = s > 0.0f ? s : 0.0f;
     return 0.25f * std::numbers::pi_v<float> * poly6_ * (antiderivative(h_) - antiderivative(s));
   }
-  float wall_area(float s) const {
-    if (s >= h_) return 0.0f;
+  float wall_gradient(float s) const {
+    if (!(s < h_)) return 0.0f;
     s = s > 0.0f ? s : 0.0f;
-    const float x = h2_ - s * s;
-    return 0.25f * std::numbers::pi_v<float> * poly6_ * x * x * x * x;
+    const float x = h_ - s;
+    return 1.5f * x * x * x * x * (h_ + 4.0f * s) / pow6(h_);
   }
 
   // ∇²W_viscosity(r) = 45 / (π h⁶) · (h − r).

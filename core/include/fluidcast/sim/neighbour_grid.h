@@ -19,7 +19,7 @@ class NeighbourGrid {
   // more than kMaxCells cells.
   NeighbourGrid(const Box& domain, float cell_size);
 
-  static constexpr std::size_t kMaxCells = std::size_t{1} << 26;
+  static constexpr std::size_t kMaxCells = std::size_t{1} << 26;  // = kMaxGridCells of solver.h
 
   // Sorts particles by cell. Positions outside the domain count in the nearest border cell.
   void build(std::span<const glm::vec3> positions);

@@ -21,7 +21,8 @@ const std::vector<std::string_view>& solver_names();
 SolverKind parse_solver(std::string_view name);  // throws ParamError listing the names
 std::string_view to_string(SolverKind kind);
 
-// A moving sphere that pushes the fluid: a finger.
+// A moving sphere that pushes the fluid: a finger. It moves on at its velocity, through each step,
+// until the next set_colliders().
 struct Collider {
   glm::vec3 centre{0.0f};    // m
   float radius = 0.05f;      // m
@@ -33,6 +34,7 @@ inline constexpr float kMaxGravity = 2000.0f;          // m/s², about 200 g
 inline constexpr float kMaxSpeed = 1000.0f;            // m/s, colliders and added particles
 inline constexpr float kMaxColliderRadius = 10.0f;     // m
 inline constexpr std::size_t kMaxColliders = 16;
+inline constexpr std::size_t kMaxGridCells = std::size_t{1} << 26;  // cells of side h in the tank
 
 // Wall-clock milliseconds spent per stage since the last clear.
 struct StageTimes {
@@ -54,7 +56,7 @@ class Solver {
   virtual std::size_t particle_count() const = 0;
   virtual ParticleSet snapshot() const = 0;
 
-  // Advances the simulation by params().time_step.
+  // Advances the simulation by params().time_step, colliders included.
   void step();
 
   // Inputs. Each throws std::invalid_argument naming what was wrong, and then changes nothing.

@@ -30,7 +30,7 @@ struct SolverParams {
   float sound_speed = 20.0f;      // m/s, sets the stiffness B = ρ0 c² / γ
   float tait_exponent = 7.0f;     // γ
   float sph_viscosity = 0.05f;    // dynamic viscosity μ, Pa·s
-  float artificial_viscosity = 0.1f;  // α of Monaghan's artificial viscosity
+  float artificial_viscosity = 0.25f;  // α of Monaghan's artificial viscosity
 };
 
 const std::vector<ParamSpec<SolverParams>>& solver_param_specs();

@@ -1,0 +1,133 @@
+#include "fluidcast/sim/kernels.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+namespace fluidcast::sim {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr float kH = 0.05f;
+
+// ∫ 4π r² f(r) dr over [0, h], midpoint rule.
+template <class F>
+double radial_integral(F f, double h, int n = 20000) {
+  double sum = 0.0;
+  for (int k = 0; k < n; ++k) {
+    const double r = (k + 0.5) * h / n;
+    sum += 4.0 * kPi * r * r * f(r);
+  }
+  return sum * h / n;
+}
+
+// Müller 2003's viscosity kernel itself; only its Laplacian is in Kernels.
+double viscosity_kernel(double r, double h) {
+  if (r >= h) return 0.0;
+  return 15.0 / (2.0 * kPi * h * h * h) *
+         (-r * r * r / (2 * h * h * h) + r * r / (h * h) + h / (2 * r) - 1.0);
+}
+
+TEST(Kernels, Poly6IntegratesToOne) {
+  const Kernels k(kH);
+  EXPECT_NEAR(radial_integral([&](double r) { return k.poly6(float(r * r)); }, kH), 1.0, 1e-4);
+}
+
+TEST(Kernels, SpikyIntegratesToOne) {
+  const Kernels k(kH);
+  EXPECT_NEAR(radial_integral([&](double r) { return k.spiky(float(r)); }, kH), 1.0, 1e-4);
+}
+
+TEST(Kernels, ViscosityKernelIntegratesToOne) {
+  EXPECT_NEAR(radial_integral([](double r) { return viscosity_kernel(r, kH); }, kH), 1.0, 1e-4);
+}
+
+TEST(Kernels, VanishOutsideTheSupport) {
+  const Kernels k(kH);
+  EXPECT_EQ(k.poly6(kH * kH), 0.0f);
+  EXPECT_EQ(k.spiky(kH), 0.0f);
+  EXPECT_EQ(k.spiky_gradient(glm::vec3(kH, 0, 0), kH), glm::vec3(0.0f));
+  EXPECT_EQ(k.viscosity_laplacian(1.5f * kH), 0.0f);
+}
+
+TEST(Kernels, SpikyGradientMatchesFiniteDifferences) {
+  const Kernels k(kH);
+  const double step = 1e-6;
+  for (const glm::dvec3 x : {glm::dvec3(0.01, 0.02, -0.005), glm::dvec3(-0.03, 0.001, 0.02),
+                             glm::dvec3(0.0, 0.0, 0.045)}) {
+    const glm::vec3 analytic = k.spiky_gradient(glm::vec3(x), float(glm::length(x)));
+    for (int axis = 0; axis < 3; ++axis) {
+      glm::dvec3 plus = x, minus = x;
+      plus[axis] += step;
+      minus[axis] -= step;
+      const double numeric =
+          (k.spiky(float(glm::length(plus))) - k.spiky(float(glm::length(minus)))) / (2 * step);
+      EXPECT_NEAR(analytic[axis], numeric, 2e-3 * std::abs(k.spiky(0.0f)) / kH)
+          << "axis " << axis;
+    }
+  }
+}
+
+TEST(Kernels, SpikyGradientIsZeroForCoincidentParticles) {
+  const Kernels k(kH);
+  const glm::vec3 g = k.spiky_gradient(glm::vec3(0.0f), 0.0f);
+  EXPECT_EQ(g, glm::vec3(0.0f));
+}
+
+TEST(Kernels, ViscosityLaplacianMatchesFiniteDifferences) {
+  const Kernels k(kH);
+  // ∇²W = W'' + 2 W' / r for a radial function.
+  const double step = 1e-5;
+  for (double r : {0.01, 0.02, 0.035, 0.045}) {
+    const double w0 = viscosity_kernel(r, kH), wp = viscosity_kernel(r + step, kH),
+                 wm = viscosity_kernel(r - step, kH);
+    const double laplacian = (wp - 2 * w0 + wm) / (step * step) + (wp - wm) / (step * r);
+    EXPECT_NEAR(k.viscosity_laplacian(float(r)), laplacian, 1e-3 * k.viscosity_laplacian(0.0f))
+        << "r = " << r;
+  }
+}
+
+// ∫ f(√(ρ² + z²)) over the plane at distance z, in polar coordinates.
+template <class F>
+double plane_integral(F f, double z, double h, int m = 2000) {
+  const double reach = std::sqrt(h * h - z * z);
+  double sum = 0.0;
+  for (int j = 0; j < m; ++j) {
+    const double rho = (j + 0.5) * reach / m;
+    sum += 2 * kPi * rho * f(std::sqrt(rho * rho + z * z)) * reach / m;
+  }
+  return sum;
+}
+
+TEST(Kernels, WallTermsVanishAtTheKernelRadius) {
+  const Kernels k(kH);
+  EXPECT_NEAR(k.wall_volume(0.0f), 0.5f, 1e-5f);
+  EXPECT_EQ(k.wall_volume(kH), 0.0f);
+  EXPECT_EQ(k.wall_gradient(kH), 0.0f);
+}
+
+TEST(Kernels, WallVolumeIsPoly6IntegratedOverTheHalfSpace) {
+  const Kernels k(kH);
+  for (float s : {0.0f, 0.005f, 0.02f, 0.04f}) {
+    const int n = 2000;
+    double volume = 0.0;
+    for (int i = 0; i < n; ++i) {
+      const double z = s + (i + 0.5) * (kH - s) / n;
+      volume += plane_integral([&](double r) { return k.poly6(float(r * r)); }, z, kH, 400) *
+                (kH - s) / n;
+    }
+    EXPECT_NEAR(k.wall_volume(s), volume, 1e-4) << "s = " << s;
+  }
+}
+
+TEST(Kernels, WallGradientIsSpikyIntegratedOverThePlane) {
+  const Kernels k(kH);
+  for (float s : {0.0f, 0.005f, 0.02f, 0.04f}) {
+    const double expected = plane_integral([&](double r) { return k.spiky(float(r)); }, s, kH);
+    EXPECT_NEAR(k.wall_gradient(s), expected, 1e-3 * k.wall_gradient(0.0f)) << "s = " << s;
+  }
+}
+
+}  // namespace
+}  // namespace fluidcast::sim

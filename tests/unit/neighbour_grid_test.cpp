@@ -1,0 +1,138 @@
+// The counting-sort grid and the neighbour lists built from it, against brute force.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <numeric>
+#include <random>
+#include <set>
+
+#include "fluidcast/sim/neighbour_grid.h"
+#include "fluidcast/sim/neighbour_list.h"
+
+namespace fluidcast::sim {
+namespace {
+
+const Box kDomain{{0, 0, 0}, {1.0f, 0.6f, 0.4f}};
+constexpr float kRadius = 0.1f;
+
+using Pairs = std::set<std::pair<std::uint32_t, std::uint32_t>>;
+
+// Pairs (by original index) within the radius, every pair in both orders.
+Pairs brute_force(const std::vector<glm::vec3>& p, float radius) {
+  Pairs pairs;
+  for (std::uint32_t i = 0; i < p.size(); ++i) {
+    for (std::uint32_t j = 0; j < p.size(); ++j) {
+      const glm::vec3 d = p[i] - p[j];
+      if (i != j && glm::dot(d, d) < radius * radius) pairs.insert({i, j});
+    }
+  }
+  return pairs;
+}
+
+Pairs through_grid(const std::vector<glm::vec3>& original, float radius, unsigned threads) {
+  NeighbourGrid grid(kDomain, radius);
+  grid.build(original);
+  std::vector<glm::vec3> sorted = original, scratch;
+  apply_order(grid.order(), sorted, scratch);
+  ForkJoinPool pool(threads);
+  NeighbourList list;
+  list.build(pool, grid, sorted, radius);
+  Pairs pairs;
+  const auto order = grid.order();
+  for (std::size_t k = 0; k < sorted.size(); ++k) {
+    const auto neighbours = list.of(k);
+    EXPECT_TRUE(std::is_sorted(neighbours.begin(), neighbours.end()));
+    for (std::uint32_t j : neighbours) pairs.insert({order[k], order[j]});
+  }
+  return pairs;
+}
+
+std::vector<glm::vec3> random_points(std::size_t n, const Box& box, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<glm::vec3> p(n);
+  for (auto& x : p) x = box.min + glm::vec3(u(rng), u(rng), u(rng)) * box.size();
+  return p;
+}
+
+void expect_matches_brute_force(const std::vector<glm::vec3>& p) {
+  const Pairs expected = brute_force(p, kRadius);
+  for (unsigned threads : {1u, 2u, 3u}) {
+    EXPECT_EQ(through_grid(p, kRadius, threads), expected) << threads << " threads";
+  }
+}
+
+TEST(NeighbourGrid, EmptySet) {
+  expect_matches_brute_force({});
+  NeighbourGrid grid(kDomain, kRadius);
+  grid.build(std::vector<glm::vec3>{});
+  EXPECT_TRUE(grid.order().empty());
+  EXPECT_EQ(grid.cell_start().back(), 0u);
+}
+
+TEST(NeighbourGrid, OneParticle) { expect_matches_brute_force({{0.5f, 0.3f, 0.2f}}); }
+
+TEST(NeighbourGrid, RandomSetsMatchBruteForce) {
+  for (unsigned seed = 1; seed <= 5; ++seed) {
+    expect_matches_brute_force(random_points(300 * seed, kDomain, seed));
+  }
+}
+
+TEST(NeighbourGrid, AllParticlesInOneCell) {
+  expect_matches_brute_force(random_points(700, Box{{0.31f, 0.31f, 0.11f}, {0.39f, 0.39f, 0.19f}}, 7));
+}
+
+TEST(NeighbourGrid, ParticlesExactlyOnCellBorders) {
+  std::vector<glm::vec3> p;
+  for (int i = 0; i <= 10; ++i)
+    for (int j = 0; j <= 6; ++j)
+      for (int k = 0; k <= 4; ++k) p.push_back(glm::vec3(i, j, k) * kRadius);
+  // Spacing equal to the radius: only the exact-distance pairs sit on the boundary, and the
+  // half-spacing copies make many pairs just inside it.
+  const std::size_t n = p.size();
+  for (std::size_t i = 0; i < n; ++i) p.push_back(p[i] + glm::vec3(0.5f * kRadius));
+  expect_matches_brute_force(p);
+}
+
+TEST(NeighbourGrid, PositionsOutsideTheDomainLandInBorderCells) {
+  std::vector<glm::vec3> p = random_points(200, kDomain, 11);
+  p.push_back({-5.0f, 0.3f, 0.2f});
+  p.push_back({0.5f, 99.0f, 0.2f});
+  p.push_back({1e30f, -1e30f, 0.2f});
+  expect_matches_brute_force(p);
+}
+
+TEST(NeighbourGrid, OrderIsAStablePermutationSortedByCell) {
+  const auto p = random_points(2000, kDomain, 3);
+  NeighbourGrid grid(kDomain, kRadius);
+  grid.build(p);
+  const auto order = grid.order();
+  std::vector<std::uint32_t> sorted(order.begin(), order.end());
+  std::sort(sorted.begin(), sorted.end());
+  std::vector<std::uint32_t> identity(p.size());
+  std::iota(identity.begin(), identity.end(), 0u);
+  EXPECT_EQ(sorted, identity);
+  for (std::size_t k = 1; k < order.size(); ++k) {
+    const auto a = grid.cell_index(grid.cell_coords(p[order[k - 1]]));
+    const auto b = grid.cell_index(grid.cell_coords(p[order[k]]));
+    ASSERT_TRUE(a < b || (a == b && order[k - 1] < order[k])) << "slot " << k;
+  }
+  const auto start = grid.cell_start();
+  EXPECT_EQ(start.front(), 0u);
+  EXPECT_EQ(start.back(), p.size());
+  for (std::size_t c = 0; c < grid.cell_count(); ++c) {
+    for (auto k = start[c]; k < start[c + 1]; ++k) {
+      ASSERT_EQ(grid.cell_index(grid.cell_coords(p[order[k]])), c);
+    }
+  }
+}
+
+TEST(NeighbourGrid, RefusesBadCellSizes) {
+  EXPECT_THROW(NeighbourGrid(kDomain, 0.0f), std::invalid_argument);
+  EXPECT_THROW(NeighbourGrid(kDomain, -1.0f), std::invalid_argument);
+  EXPECT_THROW(NeighbourGrid(kDomain, std::nanf("")), std::invalid_argument);
+  EXPECT_THROW(NeighbourGrid(Box{{0, 0, 0}, {100, 100, 100}}, 1e-4f), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace fluidcast::sim

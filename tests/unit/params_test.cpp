@@ -1,0 +1,74 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+
+#include "fluidcast/sim/scene.h"
+#include "fluidcast/sim/solver.h"
+
+namespace fluidcast::sim {
+namespace {
+
+std::string error_of(const SolverParams& p) {
+  try {
+    validate(p);
+  } catch (const ParamError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(SolverParams, DefaultsAreValid) { EXPECT_NO_THROW(validate(SolverParams{})); }
+
+TEST(SolverParams, EveryDefaultLiesInItsRangeAndEveryNameIsUnique) {
+  std::set<std::string_view> names;
+  for (const auto& spec : solver_param_specs()) {
+    const double value = spec.get(SolverParams{});
+    EXPECT_GE(value, spec.min) << spec.name;
+    EXPECT_LE(value, spec.max) << spec.name;
+    EXPECT_FALSE(spec.description.empty()) << spec.name;
+    EXPECT_TRUE(names.insert(spec.name).second) << spec.name;
+  }
+  for (const auto& spec : scene_param_specs()) EXPECT_TRUE(names.insert(spec.name).second);
+}
+
+TEST(SolverParams, OutOfRangeNamesTheFlagAndRange) {
+  SolverParams p;
+  p.xsph_viscosity = 3.0f;
+  EXPECT_EQ(error_of(p), "--xsph-viscosity: value 3 is out of range; accepted range [0, 1] 1");
+  p = SolverParams{};
+  p.iterations = 0;
+  EXPECT_NE(error_of(p).find("--iterations"), std::string::npos);
+}
+
+TEST(SolverParams, NonFiniteIsRefused) {
+  SolverParams p;
+  p.time_step = std::nanf("");
+  EXPECT_NE(error_of(p).find("--time-step: value nan is not a finite number"), std::string::npos);
+  p = SolverParams{};
+  p.rest_density = INFINITY;
+  EXPECT_NE(error_of(p).find("--rest-density"), std::string::npos);
+}
+
+TEST(Names, UnknownSceneAndSolverListTheChoices) {
+  EXPECT_EQ(parse_scene("drop"), SceneKind::drop);
+  EXPECT_EQ(parse_solver("sph"), SolverKind::sph);
+  try {
+    parse_scene("tsunami");
+    FAIL();
+  } catch (const ParamError& e) {
+    EXPECT_NE(std::string(e.what()).find("dam_break, double_dam_break, drop, pool"),
+              std::string::npos);
+  }
+  EXPECT_THROW(parse_solver("flip"), ParamError);
+}
+
+TEST(Docs, TuningMarkdownListsEveryFlag) {
+  const std::string md = describe_markdown(SolverParams{}, solver_param_specs());
+  for (const auto& spec : solver_param_specs()) {
+    EXPECT_NE(md.find("`--" + std::string(spec.name) + "`"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace fluidcast::sim

@@ -1,0 +1,90 @@
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "fluidcast/sim/scene.h"
+
+namespace fluidcast::sim {
+namespace {
+
+Box bounds(const ParticleSet& p) {
+  Box b{p.position[0], p.position[0]};
+  for (const auto& x : p.position) {
+    b.min = glm::min(b.min, x);
+    b.max = glm::max(b.max, x);
+  }
+  return b;
+}
+
+TEST(Scene, EverySceneHasExactlyTheRequestedCountInsideTheTank) {
+  for (auto name : scene_names()) {
+    for (int n : {1, 10, 999, 5000}) {
+      SceneParams p;
+      p.kind = parse_scene(name);
+      p.particles = n;
+      const Scene s = build_scene(p);
+      ASSERT_EQ(s.particles.size(), std::size_t(n)) << name;
+      std::set<std::uint32_t> ids(s.particles.id.begin(), s.particles.id.end());
+      EXPECT_EQ(ids.size(), std::size_t(n));
+      for (const auto& x : s.particles.position) ASSERT_TRUE(s.tank.contains(x)) << name;
+    }
+  }
+}
+
+TEST(Scene, DamBreakColumnStandsAgainstTheLeftWallAndFillsTheDepth) {
+  SceneParams p;
+  p.particles = 20000;
+  const Scene s = build_scene(p);
+  const Box b = bounds(s.particles);
+  const float d = s.spacing;
+  // Half a lattice spacing (within 10 % of d) from each wall it touches.
+  EXPECT_NEAR(b.min.x, 0.5f * d, 0.05f * d);
+  EXPECT_NEAR(p.column_width - b.max.x, 0.5f * d, 0.05f * d);
+  EXPECT_NEAR(b.min.z, 0.5f * d, 0.05f * d);
+  EXPECT_NEAR(p.depth - b.max.z, 0.5f * d, 0.05f * d);
+  EXPECT_NEAR(b.min.y, 0.5f * d, 0.05f * d);
+  EXPECT_NEAR(b.max.y, p.column_height, d);
+  EXPECT_NEAR(d * d * d * 20000, p.column_width * p.column_height * p.depth, 1e-6);
+}
+
+TEST(Scene, DoubleDamBreakHasAColumnAtEachEnd) {
+  SceneParams p;
+  p.kind = SceneKind::double_dam_break;
+  p.particles = 4000;
+  const Scene s = build_scene(p);
+  int left = 0, right = 0;
+  for (const auto& x : s.particles.position) {
+    if (x.x < p.column_width) ++left;
+    if (x.x > p.tank_length - p.column_width) ++right;
+  }
+  EXPECT_EQ(left + right, 4000);
+  EXPECT_EQ(left, 2000);
+}
+
+TEST(Scene, DropHasABallAboveThePool) {
+  SceneParams p;
+  p.kind = SceneKind::drop;
+  p.particles = 8000;
+  const Scene s = build_scene(p);
+  int above = 0;
+  for (const auto& x : s.particles.position) above += x.y > p.pool_height;
+  const float ball = 4.0f / 3.0f * 3.14159f * std::pow(p.drop_radius, 3.0f);
+  const float pool = p.tank_length * p.depth * p.pool_height;
+  EXPECT_NEAR(above, 8000 * ball / (ball + pool), 0.1 * 8000 * ball / (ball + pool));
+}
+
+TEST(Scene, GeometryThatDoesNotFitIsRefused) {
+  SceneParams p;
+  p.column_width = 2.0f;
+  EXPECT_THROW(build_scene(p), ParamError);
+  p = SceneParams{};
+  p.kind = SceneKind::drop;
+  p.drop_height = 0.35f;
+  EXPECT_THROW(build_scene(p), ParamError);
+  p = SceneParams{};
+  p.particles = -5;
+  EXPECT_THROW(build_scene(p), ParamError);
+}
+
+}  // namespace
+}  // namespace fluidcast::sim
