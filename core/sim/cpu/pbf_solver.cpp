@@ -16,7 +16,7 @@ float rest_gradient_norm(const Kernels& kernels, const FluidConstants& fluid) {
     for (int j = -reach; j <= reach; ++j) {
       for (int i = -reach; i <= reach; ++i) {
         const glm::vec3 r = glm::vec3(i, j, k) * d;
-        const glm::vec3 g = volume * kernels.spiky_gradient(r, glm::length(r));
+        const glm::vec3 g = volume * kernels.spiky_gradient(r, glm::dot(r, r));
         sum_squares += glm::dot(g, g);
       }
     }
@@ -50,6 +50,7 @@ void PbfSolver::advance() {
 }
 
 void PbfSolver::substep() {
+  ++stage_times_.substeps;
   {
     StageTimer timer(stage_times_.predict_ms);
     predict();
@@ -92,16 +93,21 @@ void PbfSolver::compute_lambdas() {
   const float inv_rest_density = 1.0f / fluid().rest_density;
   const float volume = fluid().rest_volume();
   const float self_density = kernels_.poly6(0.0f);
+  pair_kernels_.resize(neighbours_.pair_count());
   pool_.for_each(n, [&](std::size_t i) {
     const glm::vec3 p = predicted_[i];
     float density = self_density;
     glm::vec3 gradient_i(0.0f);
     float sum_squares = 0.0f;
+    PairKernel* pair = pair_kernels_.data() + neighbours_.first_pair(i);
     for (std::uint32_t j : neighbours_.of(i)) {
       const glm::vec3 r = p - predicted_[j];
       const float r2 = glm::dot(r, r);
-      density += kernels_.poly6(r2);
-      const glm::vec3 g = volume * kernels_.spiky_gradient(r, std::sqrt(r2));
+      const float w = kernels_.poly6(r2);
+      const glm::vec3 spiky = kernels_.spiky_gradient(r, r2);
+      *pair++ = {spiky, w};
+      density += w;
+      const glm::vec3 g = volume * spiky;
       gradient_i += g;
       sum_squares += glm::dot(g, g);
     }
@@ -126,13 +132,13 @@ void PbfSolver::apply_position_corrections() {
     const glm::vec3 p = predicted_[i];
     const float lambda_i = lambda_[i];
     glm::vec3 delta(0.0f);
+    const PairKernel* pair = pair_kernels_.data() + neighbours_.first_pair(i);
     for (std::uint32_t j : neighbours_.of(i)) {
-      const glm::vec3 r = p - predicted_[j];
-      const float r2 = glm::dot(r, r);
-      const float s = kernels_.poly6(r2) * inv_w_dq_;
+      const float s = pair->poly6 * inv_w_dq_;
       const float s2 = s * s;
       const float scorr = -scorr_scale_ * (exponent_is_four ? s2 * s2 : std::pow(s, exponent));
-      delta += (lambda_i + lambda_[j] + scorr) * kernels_.spiky_gradient(r, std::sqrt(r2));
+      delta += (lambda_i + lambda_[j] + scorr) * pair->gradient;
+      ++pair;
     }
     // The walls hold no λ of their own: only this particle's constraint pushes it off them.
     const glm::vec3 wall_push = lambda_i * inv_rest_density * walls(p).gradient;
@@ -152,17 +158,24 @@ void PbfSolver::update_velocities() {
 void PbfSolver::compute_vorticity() {
   const std::size_t n = particles_.size();
   vorticity_.resize(n);
+  vorticity_norm_.resize(n);
+  pair_kernels_.resize(neighbours_.pair_count());
   const float volume = fluid().rest_volume();
   const auto& v = particles_.velocity;
   pool_.for_each(n, [&](std::size_t i) {
     const glm::vec3 p = predicted_[i];
     glm::vec3 omega(0.0f);
+    PairKernel* pair = pair_kernels_.data() + neighbours_.first_pair(i);
     for (std::uint32_t j : neighbours_.of(i)) {
       const glm::vec3 r = p - predicted_[j];
+      const float r2 = glm::dot(r, r);
+      const glm::vec3 spiky = kernels_.spiky_gradient(r, r2);
+      *pair++ = {spiky, kernels_.poly6(r2)};
       // ∇_j W_ij = −∇_i W_ij
-      omega += glm::cross(v[j] - v[i], -kernels_.spiky_gradient(r, glm::length(r)));
+      omega += glm::cross(v[j] - v[i], -spiky);
     }
     vorticity_[i] = volume * omega;
+    vorticity_norm_[i] = glm::length(vorticity_[i]);
   });
 }
 
@@ -176,15 +189,14 @@ void PbfSolver::apply_confinement_and_viscosity() {
   const float xsph = params().xsph_viscosity;
   const auto& v = particles_.velocity;
   pool_.for_each(n, [&](std::size_t i) {
-    const glm::vec3 p = predicted_[i];
-    const float omega_i = glm::length(vorticity_[i]);
+    const float omega_i = vorticity_norm_[i];
     glm::vec3 eta(0.0f);
     glm::vec3 smoothing(0.0f);
+    const PairKernel* pair = pair_kernels_.data() + neighbours_.first_pair(i);
     for (std::uint32_t j : neighbours_.of(i)) {
-      const glm::vec3 r = p - predicted_[j];
-      const float r2 = glm::dot(r, r);
-      eta += (glm::length(vorticity_[j]) - omega_i) * kernels_.spiky_gradient(r, std::sqrt(r2));
-      smoothing += (v[j] - v[i]) * kernels_.poly6(r2);
+      eta += (vorticity_norm_[j] - omega_i) * pair->gradient;
+      smoothing += (v[j] - v[i]) * pair->poly6;
+      ++pair;
     }
     glm::vec3 velocity = v[i] + xsph * volume * smoothing;
     const float eta_length = glm::length(eta);

@@ -35,6 +35,14 @@ class PbfSolver final : public CpuSolver {
   std::vector<glm::vec3> predicted_, corrected_;
   std::vector<float> lambda_;
   std::vector<glm::vec3> vorticity_, smoothed_velocity_;
+  std::vector<float> vorticity_norm_;
+  // Per neighbour pair: ∇W_spiky and W_poly6, computed by compute_lambdas (and compute_vorticity)
+  // and reused by the pass after it, which sees the same positions.
+  struct PairKernel {
+    glm::vec3 gradient;
+    float poly6;
+  };
+  std::vector<PairKernel> pair_kernels_;
 };
 
 }  // namespace fluidcast::sim::cpu

@@ -19,6 +19,7 @@ SphSolver::SphSolver(Scene scene, const SolverParams& params)
 void SphSolver::advance() {
   float remaining = params().time_step;
   while (remaining > 0.0f) {
+    ++stage_times_.substeps;
     {
       StageTimer timer(stage_times_.grid_ms);
       sort_by(particles_.position, {});
@@ -84,14 +85,15 @@ float SphSolver::compute_accelerations() {
       glm::vec3 pressure_acceleration(0.0f), viscous_sum(0.0f);
       for (std::uint32_t j : neighbours_.of(i)) {
         const glm::vec3 r = x[i] - x[j];
-        const float distance = glm::length(r);
+        const float r2 = glm::dot(r, r);
+        const float distance = std::sqrt(r2);
         float pair = pressure_term_i + pressure_[j] / (density_[j] * density_[j]);
         const float approach = glm::dot(v[i] - v[j], r);
         if (approach < 0.0f) {
           pair -= artificial / (density_[i] + density_[j]) * approach /
                   (distance * distance + softening);
         }
-        pressure_acceleration -= pair * kernels_.spiky_gradient(r, distance);
+        pressure_acceleration -= pair * kernels_.spiky_gradient(r, r2);
         viscous_sum += (v[j] - v[i]) * (kernels_.viscosity_laplacian(distance) / density_[j]);
       }
       // The walls act as the missing fluid, mirrored: same pressure and density as particle i.

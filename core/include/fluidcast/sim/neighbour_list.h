@@ -22,12 +22,22 @@ class NeighbourList {
   std::span<const std::uint32_t> of(std::size_t i) const { return {begin_[i], count_[i]}; }
   std::size_t size() const { return count_.size(); }
 
+  // Every (i, j) entry has an index in [0, pair_count()): of(i)[k] is pair first_pair(i) + k.
+  // Solvers keep per-pair values (kernel gradients) in arrays of this size.
+  std::size_t pair_count() const { return pair_count_; }
+  std::size_t first_pair(std::size_t i) const { return first_pair_[i]; }
+
  private:
   // One buffer per chunk of the pool, so threads never share a growing vector.
   std::vector<std::vector<std::uint32_t>> chunk_indices_;
+  std::vector<std::vector<std::uint8_t>> chunk_hits_;
+  std::vector<float> xs_, ys_, zs_;
   std::vector<const std::uint32_t*> begin_;
   std::vector<std::uint32_t> count_;
   std::vector<std::size_t> offset_;  // into the chunk's buffer, while building
+  std::vector<std::size_t> chunk_used_;
+  std::vector<std::size_t> first_pair_;
+  std::size_t pair_count_ = 0;
 };
 
 }  // namespace fluidcast::sim

@@ -42,6 +42,7 @@ struct StageTimes {
   double predict_ms = 0;   // PBF: forces and prediction; SPH: time integration and collisions
   double solve_ms = 0;     // PBF: the density iterations; SPH: density, pressure and forces
   double velocity_ms = 0;  // PBF: velocity update, vorticity, XSPH; SPH: CFL bound
+  std::uint64_t substeps = 0;
 };
 
 class Solver {
