@@ -14,7 +14,7 @@ build: deps
 
 # Until the server exists, the main job is the dam break on the CPU solver, printing progress.
 run: build
-	$(BIN)/fluidcast-sim --scene dam_break --solver pbf --particles 20000 --iterations 4 --until 10 --progress
+	$(BIN)/fluidcast-sim --scene dam_break --solver pbf --particles 20000 --iterations 4 --until 5 --progress
 
 test: build
 	ctest --preset $(PRESET) -j $(JOBS)

@@ -7,13 +7,13 @@
 
 namespace fluidcast::sim {
 
-NeighbourGrid::NeighbourGrid(const Box& domain, float cell_size) : origin_(domain.min) {
-  if (!std::isfinite(cell_size) || cell_size <= 0.0f) {
-    throw std::invalid_argument("neighbour grid: cell size must be positive and finite, got " +
-                                std::to_string(cell_size));
+NeighbourGrid::NeighbourGrid(const Box& domain, float search_radius) : origin_(domain.min) {
+  if (!std::isfinite(search_radius) || search_radius <= 0.0f) {
+    throw std::invalid_argument("neighbour grid: search radius must be positive and finite, got " +
+                                std::to_string(search_radius));
   }
-  cell_size_ = cell_size;
-  inv_cell_size_ = 1.0f / cell_size;
+  cell_size_ = search_radius / kCellsPerRadius;
+  inv_cell_size_ = 1.0f / cell_size_;
   const glm::vec3 cells = glm::max(glm::ceil(domain.size() * inv_cell_size_), glm::vec3(1.0f));
   const double total = static_cast<double>(cells.x) * cells.y * cells.z;
   if (!(total <= static_cast<double>(kMaxCells))) {

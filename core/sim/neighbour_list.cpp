@@ -26,7 +26,7 @@ void NeighbourList::build(ForkJoinPool& pool, const NeighbourGrid& grid,
   first_pair_.resize(n);
   pool.for_chunks(n, [&](unsigned chunk, std::size_t first, std::size_t last) {
     std::vector<std::uint32_t>& out = chunk_indices_[chunk];
-    std::vector<std::uint8_t>& hits = chunk_hits_[chunk];
+    std::vector<std::uint32_t>& hits = chunk_hits_[chunk];
     // Offsets first: `out` may reallocate while it grows.
     std::size_t used = 0;
     for (std::size_t i = first; i < last; ++i) {
@@ -40,7 +40,7 @@ void NeighbourList::build(ForkJoinPool& pool, const NeighbourGrid& grid,
         const float* x = xs_.data() + begin;
         const float* y = ys_.data() + begin;
         const float* z = zs_.data() + begin;
-        std::uint8_t* hit = hits.data();
+        std::uint32_t* hit = hits.data();
         for (std::uint32_t k = 0; k < length; ++k) {
           const float dx = p.x - x[k], dy = p.y - y[k], dz = p.z - z[k];
           hit[k] = dx * dx + dy * dy + dz * dz < r2;

@@ -1,5 +1,7 @@
 #include "fluidcast/sim/solver.h"
 
+#include "fluidcast/sim/neighbour_grid.h"
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -62,12 +64,12 @@ Solver::Solver(Scene scene, const SolverParams& params)
                      " m is thinner than one particle spacing (" + std::to_string(fluid_.spacing) +
                      " m) in some direction; use more particles or a larger tank");
   }
-  const glm::vec3 cells = glm::ceil(size / fluid_.kernel_radius);
+  const glm::vec3 cells = glm::ceil(size * (NeighbourGrid::kCellsPerRadius / fluid_.kernel_radius));
   const double cell_count = double(cells.x) * cells.y * cells.z;
   if (cell_count > double(kMaxGridCells)) {
     throw ParamError("--particles, --tank-length, --tank-height, --depth: the neighbour grid would "
                      "need " + std::to_string(static_cast<long long>(cell_count)) +
-                     " cells of the kernel radius " + std::to_string(fluid_.kernel_radius) +
+                     " cells of half the kernel radius " + std::to_string(fluid_.kernel_radius) +
                      " m, over the limit of " + std::to_string(kMaxGridCells) +
                      "; use fewer particles or a smaller tank");
   }

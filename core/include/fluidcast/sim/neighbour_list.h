@@ -30,7 +30,7 @@ class NeighbourList {
  private:
   // One buffer per chunk of the pool, so threads never share a growing vector.
   std::vector<std::vector<std::uint32_t>> chunk_indices_;
-  std::vector<std::vector<std::uint8_t>> chunk_hits_;
+  std::vector<std::vector<std::uint32_t>> chunk_hits_;  // not uint8_t: a char store may alias the coordinates and blocks vectorisation
   std::vector<float> xs_, ys_, zs_;
   std::vector<const std::uint32_t*> begin_;
   std::vector<std::uint32_t> count_;
