@@ -61,6 +61,7 @@ class ForkJoinPool {
   unsigned chunks_ = 0;
   std::atomic<unsigned> generation_{0};
   std::atomic<unsigned> pending_{0};
+  bool spin_ = true;  // waits spin before blocking; off when threads outnumber cores
   std::mutex error_mutex_;
   std::exception_ptr error_;
 };
