@@ -58,14 +58,7 @@ const std::vector<std::string_view>& scene_names() {
 std::string_view to_string(SceneKind kind) { return scene_names()[static_cast<int>(kind)]; }
 
 SceneKind parse_scene(std::string_view name) {
-  const auto& names = scene_names();
-  const auto it = std::find(names.begin(), names.end(), name);
-  if (it == names.end()) {
-    std::string list;
-    for (auto n : names) list += (list.empty() ? "" : ", ") + std::string(n);
-    throw ParamError("--scene: unknown scene '" + std::string(name) + "'; expected one of " + list);
-  }
-  return static_cast<SceneKind>(it - names.begin());
+  return static_cast<SceneKind>(index_of_name(scene_names(), name, "scene", "scene"));
 }
 
 const std::vector<ParamSpec<SceneParams>>& scene_param_specs() {

@@ -32,12 +32,7 @@ const std::vector<std::string_view>& solver_names() {
 std::string_view to_string(SolverKind kind) { return solver_names()[static_cast<int>(kind)]; }
 
 SolverKind parse_solver(std::string_view name) {
-  const auto& names = solver_names();
-  const auto it = std::find(names.begin(), names.end(), name);
-  if (it == names.end()) {
-    throw ParamError("--solver: unknown solver '" + std::string(name) + "'; expected pbf or sph");
-  }
-  return static_cast<SolverKind>(it - names.begin());
+  return static_cast<SolverKind>(index_of_name(solver_names(), name, "solver", "solver"));
 }
 
 Solver::Solver(Scene scene, const SolverParams& params)

@@ -54,6 +54,19 @@ void validate(const Owner& owner, const std::vector<ParamSpec<Owner>>& specs) {
   }
 }
 
+// The index of `name` in `names`; otherwise throws
+// ParamError("--flag: unknown <what> 'name'; expected one of a, b, c").
+inline std::size_t index_of_name(const std::vector<std::string_view>& names, std::string_view name,
+                                 std::string_view flag, std::string_view what) {
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (names[i] == name) return i;
+  }
+  std::string list;
+  for (auto n : names) list += (list.empty() ? "" : ", ") + std::string(n);
+  throw ParamError("--" + std::string(flag) + ": unknown " + std::string(what) + " '" +
+                   std::string(name) + "'; expected one of " + list);
+}
+
 // A Markdown table of the specs with the defaults of `defaults`: the body of docs/tuning.md.
 template <class Owner>
 std::string describe_markdown(const Owner& defaults, const std::vector<ParamSpec<Owner>>& specs) {
