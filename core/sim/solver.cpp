@@ -61,11 +61,11 @@ Solver::Solver(Scene scene, const SolverParams& params)
   }
   const glm::vec3 cells = glm::ceil(size * (NeighbourGrid::kCellsPerRadius / fluid_.kernel_radius));
   const double cell_count = double(cells.x) * cells.y * cells.z;
-  if (cell_count > double(kMaxGridCells)) {
+  if (cell_count > double(NeighbourGrid::kMaxCells)) {
     throw ParamError("--particles, --tank-length, --tank-height, --depth: the neighbour grid would "
                      "need " + std::to_string(static_cast<long long>(cell_count)) +
                      " cells of half the kernel radius " + std::to_string(fluid_.kernel_radius) +
-                     " m, over the limit of " + std::to_string(kMaxGridCells) +
+                     " m, over the limit of " + std::to_string(NeighbourGrid::kMaxCells) +
                      "; use fewer particles or a smaller tank");
   }
   if (scene_.particles.size() > static_cast<std::size_t>(params_.max_particles)) {

@@ -23,7 +23,7 @@ class NeighbourGrid {
 
   static constexpr int kCellsPerRadius = 2;
 
-  static constexpr std::size_t kMaxCells = std::size_t{1} << 26;  // = kMaxGridCells of solver.h
+  static constexpr std::size_t kMaxCells = std::size_t{1} << 26;
 
   // Sorts particles by cell. Positions outside the domain count in the nearest border cell.
   void build(std::span<const glm::vec3> positions);

@@ -34,7 +34,6 @@ inline constexpr float kMaxGravity = 2000.0f;          // m/s², about 200 g
 inline constexpr float kMaxSpeed = 1000.0f;            // m/s, colliders and added particles
 inline constexpr float kMaxColliderRadius = 10.0f;     // m
 inline constexpr std::size_t kMaxColliders = 16;
-inline constexpr std::size_t kMaxGridCells = std::size_t{1} << 26;  // cells of side h/2 in the tank
 
 // Wall-clock milliseconds spent per stage since the last clear.
 struct StageTimes {
