@@ -10,7 +10,6 @@
 namespace fluidcast::sim {
 namespace {
 
-bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 std::string str(glm::vec3 v) {
   std::ostringstream out;
@@ -47,7 +46,7 @@ Solver::Solver(Scene scene, const SolverParams& params)
     throw ParamError("scene: positions, velocities and ids differ in count");
   }
   for (std::size_t i = 0; i < p.size(); ++i) {
-    if (!finite(p.position[i]) || !finite(p.velocity[i]) || !scene_.tank.contains(p.position[i])) {
+    if (!is_finite(p.position[i]) || !is_finite(p.velocity[i]) || !scene_.tank.contains(p.position[i])) {
       throw ParamError("scene: particle " + std::to_string(i) + " at " + str(p.position[i]) +
                        " is not finite or not inside the tank");
     }
@@ -84,7 +83,7 @@ void Solver::step() {
 }
 
 void Solver::set_gravity(glm::vec3 gravity) {
-  require(finite(gravity), "gravity: every component must be finite, got " + str(gravity));
+  require(is_finite(gravity), "gravity: every component must be finite, got " + str(gravity));
   require(glm::length(gravity) <= kMaxGravity,
           "gravity: magnitude " + std::to_string(glm::length(gravity)) + " m/s² exceeds " +
               std::to_string(kMaxGravity) + " m/s²");
@@ -98,11 +97,11 @@ void Solver::set_colliders(std::span<const Collider> colliders) {
   for (std::size_t i = 0; i < colliders.size(); ++i) {
     const Collider& c = colliders[i];
     const std::string name = "collider " + std::to_string(i);
-    require(finite(c.centre), name + ": centre must be finite, got " + str(c.centre));
+    require(is_finite(c.centre), name + ": centre must be finite, got " + str(c.centre));
     require(std::isfinite(c.radius) && c.radius > 0.0f && c.radius <= kMaxColliderRadius,
             name + ": radius must be in (0, " + std::to_string(kMaxColliderRadius) + "] m, got " +
                 std::to_string(c.radius));
-    require(finite(c.velocity) && glm::length(c.velocity) <= kMaxSpeed,
+    require(is_finite(c.velocity) && glm::length(c.velocity) <= kMaxSpeed,
             name + ": velocity must be finite with magnitude at most " +
                 std::to_string(kMaxSpeed) + " m/s, got " + str(c.velocity));
   }
@@ -120,10 +119,10 @@ void Solver::add_particles(std::span<const glm::vec3> positions,
               std::to_string(total) + " particles; the limit is " +
               std::to_string(params_.max_particles) + " (--max-particles)");
   for (std::size_t i = 0; i < positions.size(); ++i) {
-    require(finite(positions[i]) && scene_.tank.contains(positions[i]),
+    require(is_finite(positions[i]) && scene_.tank.contains(positions[i]),
             "add_particles: position " + std::to_string(i) + " " + str(positions[i]) +
                 " is not inside the tank " + str(scene_.tank.min) + "–" + str(scene_.tank.max));
-    require(finite(velocities[i]) && glm::length(velocities[i]) <= kMaxSpeed,
+    require(is_finite(velocities[i]) && glm::length(velocities[i]) <= kMaxSpeed,
             "add_particles: velocity " + std::to_string(i) + " " + str(velocities[i]) +
                 " must be finite with magnitude at most " + std::to_string(kMaxSpeed) + " m/s");
   }
@@ -132,7 +131,7 @@ void Solver::add_particles(std::span<const glm::vec3> positions,
 }
 
 std::size_t Solver::remove_particles_in_sphere(glm::vec3 centre, float radius) {
-  require(finite(centre), "remove_particles: centre must be finite, got " + str(centre));
+  require(is_finite(centre), "remove_particles: centre must be finite, got " + str(centre));
   require(std::isfinite(radius) && radius >= 0.0f,
           "remove_particles: radius must be finite and not negative, got " +
               std::to_string(radius));

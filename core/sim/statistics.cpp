@@ -7,10 +7,6 @@
 #include "fluidcast/sim/neighbour_grid.h"
 
 namespace fluidcast::sim {
-namespace {
-bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-}  // namespace
-
 std::vector<float> measure_densities(const ParticleSet& particles, const FluidConstants& fluid,
                                      const Box& tank) {
   const Kernels kernels(fluid.kernel_radius);
@@ -47,7 +43,7 @@ FluidStatistics measure(const ParticleSet& particles, const FluidConstants& flui
   for (std::size_t i = 0; i < particles.size(); ++i) {
     const glm::vec3 x = particles.position[i];
     const glm::vec3 v = particles.velocity[i];
-    if (!finite(x) || !finite(v)) {
+    if (!is_finite(x) || !is_finite(v)) {
       ++s.non_finite;
       continue;
     }

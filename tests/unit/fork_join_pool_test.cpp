@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
+#include <thread>
 #include <stdexcept>
 #include <vector>
 
@@ -64,8 +66,8 @@ TEST(ForkJoinPool, AnExceptionInAnyChunkReachesTheCallerAfterAllChunksFinish) {
 }
 
 TEST(ForkJoinPool, ZeroMeansOnePerCore) {
-  ForkJoinPool pool(0);
-  EXPECT_GE(pool.size(), 1u);
+  EXPECT_EQ(ForkJoinPool(0).size(), std::max(1u, std::thread::hardware_concurrency()));
+  EXPECT_EQ(ForkJoinPool(3).size(), 3u);
 }
 
 }  // namespace

@@ -34,7 +34,6 @@ class NeighbourGrid {
   std::span<const std::uint32_t> cell_start() const { return cell_start_; }
 
   glm::ivec3 dims() const { return dims_; }
-  float cell_size() const { return cell_size_; }
   std::size_t cell_count() const { return cell_start_.size() - 1; }
   glm::ivec3 cell_coords(glm::vec3 p) const;
   std::uint32_t cell_index(glm::ivec3 c) const {

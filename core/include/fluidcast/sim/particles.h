@@ -1,6 +1,7 @@
 // Particle state as structure-of-arrays, and the axis-aligned box the fluid lives in.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <glm/glm.hpp>
@@ -17,6 +18,10 @@ struct Box {
            p.z <= max.z;
   }
 };
+
+inline bool is_finite(glm::vec3 v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 
 // Everything that survives a step. `id` follows a particle through every reordering.
 struct ParticleSet {
