@@ -8,6 +8,10 @@ packages=(
   g++ cmake ninja-build make pkg-config git
   # libraries the code links or includes
   libglm-dev libcli11-dev
+  # Vulkan: loader and headers, Mesa's lavapipe (the CPU device CI runs on), validation layer
+  libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
+  # shaders: compiled and validated at build time
+  glslang-tools spirv-tools
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
 )

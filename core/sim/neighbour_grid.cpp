@@ -7,28 +7,29 @@
 
 namespace fluidcast::sim {
 
-NeighbourGrid::NeighbourGrid(const Box& domain, float search_radius) : origin_(domain.min) {
+GridGeometry::GridGeometry(const Box& domain, float search_radius) : origin(domain.min) {
   if (!std::isfinite(search_radius) || search_radius <= 0.0f) {
     throw std::invalid_argument("neighbour grid: search radius must be positive and finite, got " +
                                 std::to_string(search_radius));
   }
-  cell_size_ = search_radius / kCellsPerRadius;
-  inv_cell_size_ = 1.0f / cell_size_;
-  const glm::vec3 cells = glm::max(glm::ceil(domain.size() * inv_cell_size_), glm::vec3(1.0f));
+  inv_cell_size = 1.0f / (search_radius / kCellsPerRadius);
+  const glm::vec3 cells = glm::max(glm::ceil(domain.size() * inv_cell_size), glm::vec3(1.0f));
   const double total = static_cast<double>(cells.x) * cells.y * cells.z;
   if (!(total <= static_cast<double>(kMaxCells))) {
     throw std::invalid_argument("neighbour grid: " + std::to_string(total) +
                                 " cells exceed the limit of " + std::to_string(kMaxCells) +
                                 "; use fewer particles or a smaller tank");
   }
-  dims_ = glm::ivec3(cells);
-  cell_start_.assign(static_cast<std::size_t>(total) + 1, 0);
+  dims = glm::ivec3(cells);
 }
 
-glm::ivec3 NeighbourGrid::cell_coords(glm::vec3 p) const {
-  const glm::vec3 f = glm::floor((p - origin_) * inv_cell_size_);
+NeighbourGrid::NeighbourGrid(const Box& domain, float search_radius)
+    : geometry_(domain, search_radius), cell_start_(geometry_.cell_count() + 1, 0) {}
+
+glm::ivec3 GridGeometry::cell_coords(glm::vec3 p) const {
+  const glm::vec3 f = glm::floor((p - origin) * inv_cell_size);
   // Clamp in float first: a far-away (or non-finite) position must not overflow the int cast.
-  const glm::vec3 clamped = glm::clamp(f, glm::vec3(0.0f), glm::vec3(dims_ - 1));
+  const glm::vec3 clamped = glm::clamp(f, glm::vec3(0.0f), glm::vec3(dims - 1));
   return glm::ivec3(std::isnan(clamped.x) ? 0.0f : clamped.x,
                     std::isnan(clamped.y) ? 0.0f : clamped.y,
                     std::isnan(clamped.z) ? 0.0f : clamped.z);

@@ -15,15 +15,37 @@
 
 namespace fluidcast::sim {
 
-class NeighbourGrid {
- public:
+// Where the cells are: shared by the CPU grid and the GPU one, which must sort identically.
+struct GridGeometry {
+  static constexpr int kCellsPerRadius = 2;
+  static constexpr std::size_t kMaxCells = std::size_t{1} << 26;
+
   // Throws std::invalid_argument for a search radius that is not positive and finite, or a grid
   // of more than kMaxCells cells.
+  GridGeometry(const Box& domain, float search_radius);
+
+  // The cell of p. Positions outside the domain count in the nearest border cell; NaN in cell 0.
+  glm::ivec3 cell_coords(glm::vec3 p) const;
+  std::uint32_t cell_index(glm::ivec3 c) const {
+    return static_cast<std::uint32_t>(c.x + dims.x * (c.y + dims.y * c.z));
+  }
+  std::size_t cell_count() const {
+    return static_cast<std::size_t>(dims.x) * static_cast<std::size_t>(dims.y) *
+           static_cast<std::size_t>(dims.z);
+  }
+
+  glm::vec3 origin;
+  float inv_cell_size;
+  glm::ivec3 dims;
+};
+
+class NeighbourGrid {
+ public:
+  // Throws as GridGeometry does.
   NeighbourGrid(const Box& domain, float search_radius);
 
-  static constexpr int kCellsPerRadius = 2;
-
-  static constexpr std::size_t kMaxCells = std::size_t{1} << 26;
+  static constexpr int kCellsPerRadius = GridGeometry::kCellsPerRadius;
+  static constexpr std::size_t kMaxCells = GridGeometry::kMaxCells;
 
   // Sorts particles by cell. Positions outside the domain count in the nearest border cell.
   void build(std::span<const glm::vec3> positions);
@@ -33,12 +55,11 @@ class NeighbourGrid {
   // Sorted slots of cell c are [cell_start()[c], cell_start()[c + 1]).
   std::span<const std::uint32_t> cell_start() const { return cell_start_; }
 
-  glm::ivec3 dims() const { return dims_; }
+  const GridGeometry& geometry() const { return geometry_; }
+  glm::ivec3 dims() const { return geometry_.dims; }
   std::size_t cell_count() const { return cell_start_.size() - 1; }
-  glm::ivec3 cell_coords(glm::vec3 p) const;
-  std::uint32_t cell_index(glm::ivec3 c) const {
-    return static_cast<std::uint32_t>(c.x + dims_.x * (c.y + dims_.y * c.z));
-  }
+  glm::ivec3 cell_coords(glm::vec3 p) const { return geometry_.cell_coords(p); }
+  std::uint32_t cell_index(glm::ivec3 c) const { return geometry_.cell_index(c); }
 
   // Calls visit(begin, end) for the sorted-slot ranges of the cells within the search radius of
   // p's cell: one contiguous range for each row of cells along x, in increasing slot order.
@@ -46,22 +67,20 @@ class NeighbourGrid {
   void for_each_candidate_range(glm::vec3 p, Visit&& visit) const {
     constexpr int reach = kCellsPerRadius;
     const glm::ivec3 c = cell_coords(p);
+    const glm::ivec3 dims = geometry_.dims;
     const int x0 = c.x - reach > 0 ? c.x - reach : 0;
-    const int x1 = c.x + reach < dims_.x ? c.x + reach : dims_.x - 1;
+    const int x1 = c.x + reach < dims.x ? c.x + reach : dims.x - 1;
     for (int z = c.z - reach; z <= c.z + reach; ++z) {
-      if (z < 0 || z >= dims_.z) continue;
+      if (z < 0 || z >= dims.z) continue;
       for (int y = c.y - reach; y <= c.y + reach; ++y) {
-        if (y < 0 || y >= dims_.y) continue;
+        if (y < 0 || y >= dims.y) continue;
         visit(cell_start_[cell_index({x0, y, z})], cell_start_[cell_index({x1, y, z}) + 1]);
       }
     }
   }
 
  private:
-  glm::vec3 origin_;
-  float cell_size_;
-  float inv_cell_size_;
-  glm::ivec3 dims_;
+  GridGeometry geometry_;
   std::vector<std::uint32_t> cell_of_particle_;
   std::vector<std::uint32_t> cell_start_;  // cell_count() + 1 entries
   std::vector<std::uint32_t> cursor_;

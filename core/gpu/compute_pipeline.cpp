@@ -1,0 +1,74 @@
+#include "fluidcast/gpu/compute_pipeline.h"
+
+#include <stdexcept>
+#include <string>
+
+#include "fluidcast/gpu/vk_check.h"
+
+namespace fluidcast::gpu {
+
+ComputePipeline::ComputePipeline(Context& context, std::span<const std::uint32_t> spirv,
+                                 std::uint32_t push_constant_bytes, std::uint32_t group_size)
+    : push_constant_bytes_(push_constant_bytes),
+      group_size_(group_size),
+      max_groups_x_(context.limits().maxComputeWorkGroupCount[0]),
+      max_groups_y_(context.limits().maxComputeWorkGroupCount[1]) {
+  if (group_size == 0 || group_size > context.limits().maxComputeWorkGroupSize[0] ||
+      group_size > context.limits().maxComputeWorkGroupInvocations) {
+    throw std::invalid_argument("compute pipeline: workgroup size " + std::to_string(group_size) +
+                                " is beyond the device's limit of " +
+                                std::to_string(context.limits().maxComputeWorkGroupInvocations));
+  }
+  const VkDevice device = context.device();
+  VkShaderModuleCreateInfo module_info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+  module_info.codeSize = spirv.size_bytes();
+  module_info.pCode = spirv.data();
+  VkShaderModule raw_module;
+  FLUIDCAST_VK_CHECK(vkCreateShaderModule(device, &module_info, nullptr, &raw_module));
+  const UniqueShaderModule module(device, raw_module);
+
+  VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_constant_bytes};
+  VkPipelineLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+  layout_info.pushConstantRangeCount = push_constant_bytes > 0 ? 1 : 0;
+  layout_info.pPushConstantRanges = &range;
+  VkPipelineLayout raw_layout;
+  FLUIDCAST_VK_CHECK(vkCreatePipelineLayout(device, &layout_info, nullptr, &raw_layout));
+  layout_ = UniquePipelineLayout(device, raw_layout);
+
+  const VkSpecializationMapEntry entry{0, 0, sizeof(std::uint32_t)};
+  VkSpecializationInfo specialization{1, &entry, sizeof(group_size), &group_size};
+  VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+  info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+  info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+  info.stage.module = module.get();
+  info.stage.pName = "main";
+  info.stage.pSpecializationInfo = &specialization;
+  info.layout = raw_layout;
+  VkPipeline raw_pipeline;
+  FLUIDCAST_VK_CHECK(
+      vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &info, nullptr, &raw_pipeline));
+  pipeline_ = UniquePipeline(device, raw_pipeline);
+}
+
+void ComputePipeline::dispatch_bytes(VkCommandBuffer commands, const void* push,
+                                     std::uint32_t bytes, std::uint64_t items) const {
+  if (bytes != push_constant_bytes_) {
+    throw std::logic_error("compute pipeline: push constants of " + std::to_string(bytes) +
+                           " bytes for a layout of " + std::to_string(push_constant_bytes_));
+  }
+  if (items == 0) return;
+  const std::uint64_t groups = (items + group_size_ - 1) / group_size_;
+  const std::uint64_t x = groups < max_groups_x_ ? groups : max_groups_x_;
+  const std::uint64_t y = (groups + x - 1) / x;
+  if (y > max_groups_y_) {
+    throw std::invalid_argument("compute pipeline: " + std::to_string(items) +
+                                " invocations exceed the device's workgroup-count limits");
+  }
+  vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.get());
+  if (bytes > 0) {
+    vkCmdPushConstants(commands, layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, bytes, push);
+  }
+  vkCmdDispatch(commands, static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y), 1);
+}
+
+}  // namespace fluidcast::gpu

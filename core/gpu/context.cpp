@@ -1,0 +1,346 @@
+#include "fluidcast/gpu/context.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <cstring>
+#include <iostream>
+
+#include "fluidcast/gpu/handle.h"
+#include "fluidcast/gpu/memory.h"
+#include "fluidcast/gpu/vk_check.h"
+
+namespace fluidcast::gpu {
+namespace {
+
+constexpr std::uint32_t kRequiredApi = VK_API_VERSION_1_2;
+constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
+constexpr const char* kInstallDriver =
+    "no Vulkan driver found: install mesa-vulkan-drivers (lavapipe, which runs on the CPU) or your "
+    "GPU's Vulkan driver (for NVIDIA, nvidia-driver with its Vulkan ICD)";
+
+std::string version_string(std::uint32_t v) {
+  return std::to_string(VK_API_VERSION_MAJOR(v)) + "." + std::to_string(VK_API_VERSION_MINOR(v)) +
+         "." + std::to_string(VK_API_VERSION_PATCH(v));
+}
+
+const char* type_name(VkPhysicalDeviceType type) {
+  switch (type) {
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete";
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated";
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual";
+    case VK_PHYSICAL_DEVICE_TYPE_CPU: return "cpu";
+    default: return "other";
+  }
+}
+
+int type_rank(VkPhysicalDeviceType type) {
+  switch (type) {
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 4;
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 3;
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
+    case VK_PHYSICAL_DEVICE_TYPE_CPU: return 1;
+    default: return 0;
+  }
+}
+
+// The family the context uses: graphics and compute together when there is one (the renderer
+// reads the solver's buffers in place), else compute alone.
+std::optional<std::uint32_t> pick_queue_family(VkPhysicalDevice device) {
+  std::uint32_t count = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(device, &count, nullptr);
+  std::vector<VkQueueFamilyProperties> families(count);
+  vkGetPhysicalDeviceQueueFamilyProperties(device, &count, families.data());
+  std::optional<std::uint32_t> compute_only;
+  for (std::uint32_t i = 0; i < count; ++i) {
+    const auto flags = families[i].queueFlags;
+    if ((flags & VK_QUEUE_COMPUTE_BIT) == 0) continue;
+    if (flags & VK_QUEUE_GRAPHICS_BIT) return i;
+    if (!compute_only) compute_only = i;
+  }
+  return compute_only;
+}
+
+std::uint32_t timestamp_bits(VkPhysicalDevice device, std::uint32_t family) {
+  std::uint32_t count = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(device, &count, nullptr);
+  std::vector<VkQueueFamilyProperties> families(count);
+  vkGetPhysicalDeviceQueueFamilyProperties(device, &count, families.data());
+  return families[family].timestampValidBits;
+}
+
+DeviceInfo describe_device(VkPhysicalDevice device, std::uint32_t index) {
+  VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+  VkPhysicalDeviceProperties2 properties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+  vkGetPhysicalDeviceProperties(device, &properties.properties);
+  const bool has_driver_properties = properties.properties.apiVersion >= VK_API_VERSION_1_2;
+  if (has_driver_properties) {
+    properties.pNext = &driver;
+    vkGetPhysicalDeviceProperties2(device, &properties);
+  }
+  const auto& p = properties.properties;
+  DeviceInfo info;
+  info.index = index;
+  info.name = p.deviceName;
+  info.type = type_name(p.deviceType);
+  info.api_version = version_string(p.apiVersion);
+  info.driver = has_driver_properties
+                    ? std::string(driver.driverName) + " " + driver.driverInfo
+                    : "driver version " + std::to_string(p.driverVersion);
+
+  VkPhysicalDeviceMemoryProperties memory;
+  vkGetPhysicalDeviceMemoryProperties(device, &memory);
+  for (std::uint32_t h = 0; h < memory.memoryHeapCount; ++h) {
+    if (memory.memoryHeaps[h].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT) {
+      info.device_local_bytes = std::max<std::uint64_t>(info.device_local_bytes,
+                                                        memory.memoryHeaps[h].size);
+    }
+  }
+
+  if (p.apiVersion < kRequiredApi) {
+    info.rejected_because.push_back("supports Vulkan " + info.api_version + "; 1.2 is needed");
+  } else {
+    VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+    VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &v12};
+    vkGetPhysicalDeviceFeatures2(device, &features);
+    if (!v12.bufferDeviceAddress) info.rejected_because.push_back("no bufferDeviceAddress feature");
+  }
+  if (!pick_queue_family(device)) info.rejected_because.push_back("no compute queue");
+  return info;
+}
+
+bool layer_installed(const char* name) {
+  std::uint32_t count = 0;
+  vkEnumerateInstanceLayerProperties(&count, nullptr);
+  std::vector<VkLayerProperties> layers(count);
+  vkEnumerateInstanceLayerProperties(&count, layers.data());
+  return std::any_of(layers.begin(), layers.end(),
+                     [&](const VkLayerProperties& l) { return std::strcmp(l.layerName, name) == 0; });
+}
+
+VkInstance create_instance(bool validation) {
+  VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+  app.pApplicationName = "fluidcast";
+  app.apiVersion = kRequiredApi;
+  std::vector<const char*> layers, extensions;
+  if (validation) {
+    layers.push_back(kValidationLayer);
+    extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+  }
+  VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+  info.pApplicationInfo = &app;
+  info.enabledLayerCount = static_cast<std::uint32_t>(layers.size());
+  info.ppEnabledLayerNames = layers.data();
+  info.enabledExtensionCount = static_cast<std::uint32_t>(extensions.size());
+  info.ppEnabledExtensionNames = extensions.data();
+  VkInstance instance = VK_NULL_HANDLE;
+  const VkResult result = vkCreateInstance(&info, nullptr, &instance);
+  if (result == VK_ERROR_INCOMPATIBLE_DRIVER) throw GpuUnavailable(kInstallDriver);
+  FLUIDCAST_VK_CHECK(result);
+  return instance;
+}
+
+std::vector<VkPhysicalDevice> physical_devices(VkInstance instance) {
+  std::uint32_t count = 0;
+  FLUIDCAST_VK_CHECK(vkEnumeratePhysicalDevices(instance, &count, nullptr));
+  std::vector<VkPhysicalDevice> devices(count);
+  FLUIDCAST_VK_CHECK(vkEnumeratePhysicalDevices(instance, &count, devices.data()));
+  if (devices.empty()) throw GpuUnavailable(kInstallDriver);
+  return devices;
+}
+
+std::string list_for_error(const std::vector<DeviceInfo>& devices) {
+  std::string text;
+  for (const auto& d : devices) text += "\n  " + d.describe();
+  return text;
+}
+
+}  // namespace
+
+std::string DeviceInfo::describe() const {
+  std::string line = std::to_string(index) + ": " + name + " (" + type + ", Vulkan " +
+                     api_version + ", " + driver + ", " +
+                     std::to_string(device_local_bytes >> 20) + " MiB device-local)";
+  for (const auto& reason : rejected_because) line += "; unusable: " + reason;
+  return line;
+}
+
+ContextOptions options_from_environment(ContextOptions defaults) {
+  if (const char* device = std::getenv("FLUIDCAST_DEVICE"); device && *device) {
+    char* end = nullptr;
+    const unsigned long index = std::strtoul(device, &end, 10);
+    if (*end != '\0' || device[0] == '-') {
+      throw GpuUnavailable(std::string("FLUIDCAST_DEVICE must be a device index, got '") + device +
+                           "'");
+    }
+    defaults.device_index = static_cast<std::uint32_t>(index);
+  }
+  if (const char* validation = std::getenv("FLUIDCAST_VALIDATION"); validation && *validation) {
+    defaults.validation = std::strcmp(validation, "0") != 0;
+  }
+  return defaults;
+}
+
+std::vector<DeviceInfo> list_devices() {
+  const VkInstance instance = create_instance(false);
+  std::vector<DeviceInfo> devices;
+  try {
+    const auto physical = physical_devices(instance);
+    for (std::uint32_t i = 0; i < physical.size(); ++i) {
+      devices.push_back(describe_device(physical[i], i));
+    }
+  } catch (...) {
+    vkDestroyInstance(instance, nullptr);
+    throw;
+  }
+  vkDestroyInstance(instance, nullptr);
+  return devices;
+}
+
+Context::Context(ContextOptions options) {
+  const auto log = options.log ? options.log
+                               : [](const std::string& line) { std::cerr << line << '\n'; };
+  const bool validation = options.validation && layer_installed(kValidationLayer);
+  if (options.validation && !validation) {
+    log("gpu: validation requested but " + std::string(kValidationLayer) +
+        " is not installed (package vulkan-validationlayers); running without it");
+  }
+  instance_ = create_instance(validation);
+  try {
+    if (validation) {
+      VkDebugUtilsMessengerCreateInfoEXT info{
+          VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
+      info.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
+                             VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+      info.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                         VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
+      info.pfnUserCallback = &Context::on_validation_message;
+      info.pUserData = this;
+      auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+          vkGetInstanceProcAddr(instance_, "vkCreateDebugUtilsMessengerEXT"));
+      FLUIDCAST_VK_CHECK(create(instance_, &info, nullptr, &messenger_));
+    }
+
+    const auto physical = physical_devices(instance_);
+    std::vector<DeviceInfo> infos;
+    for (std::uint32_t i = 0; i < physical.size(); ++i) {
+      infos.push_back(describe_device(physical[i], i));
+    }
+    std::optional<std::uint32_t> chosen;
+    if (options.device_index) {
+      const std::uint32_t wanted = *options.device_index;
+      if (wanted >= infos.size()) {
+        throw GpuUnavailable("there is no Vulkan device " + std::to_string(wanted) +
+                             "; the devices are:" + list_for_error(infos));
+      }
+      if (!infos[wanted].rejected_because.empty()) {
+        throw GpuUnavailable("Vulkan device " + infos[wanted].describe());
+      }
+      chosen = wanted;
+    } else {
+      for (const auto& d : infos) {
+        if (!d.rejected_because.empty()) continue;
+        VkPhysicalDeviceProperties p;
+        vkGetPhysicalDeviceProperties(physical[d.index], &p);
+        const auto better = [&](std::uint32_t other) {
+          VkPhysicalDeviceProperties q;
+          vkGetPhysicalDeviceProperties(physical[other], &q);
+          if (type_rank(p.deviceType) != type_rank(q.deviceType)) {
+            return type_rank(p.deviceType) > type_rank(q.deviceType);
+          }
+          return d.device_local_bytes > infos[other].device_local_bytes;
+        };
+        if (!chosen || better(*chosen)) chosen = d.index;
+      }
+      if (!chosen) throw GpuUnavailable("no usable Vulkan device:" + list_for_error(infos));
+    }
+    physical_device_ = physical[*chosen];
+    info_ = infos[*chosen];
+    vkGetPhysicalDeviceProperties(physical_device_, &properties_);
+    queue_family_ = *pick_queue_family(physical_device_);
+    timestamp_valid_bits_ = timestamp_bits(physical_device_, queue_family_);
+
+    const float priority = 1.0f;
+    VkDeviceQueueCreateInfo queue_info{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+    queue_info.queueFamilyIndex = queue_family_;
+    queue_info.queueCount = 1;
+    queue_info.pQueuePriorities = &priority;
+    VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+    v12.bufferDeviceAddress = VK_TRUE;
+    VkDeviceCreateInfo device_info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &v12};
+    device_info.queueCreateInfoCount = 1;
+    device_info.pQueueCreateInfos = &queue_info;
+    FLUIDCAST_VK_CHECK(vkCreateDevice(physical_device_, &device_info, nullptr, &device_));
+    vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
+    memory_ = std::make_unique<MemoryAllocator>(device_, physical_device_);
+    log("gpu: using device " + info_.describe() + (validation ? ", validation on" : ""));
+  } catch (...) {
+    release();
+    throw;
+  }
+}
+
+Context::~Context() { release(); }
+
+void Context::release() {
+  memory_.reset();
+  if (device_) vkDestroyDevice(std::exchange(device_, VK_NULL_HANDLE), nullptr);
+  if (messenger_) {
+    auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
+        vkGetInstanceProcAddr(instance_, "vkDestroyDebugUtilsMessengerEXT"));
+    destroy(instance_, std::exchange(messenger_, VK_NULL_HANDLE), nullptr);
+  }
+  if (instance_) vkDestroyInstance(std::exchange(instance_, VK_NULL_HANDLE), nullptr);
+}
+
+void Context::run_now(const std::function<void(VkCommandBuffer)>& record) {
+  VkCommandPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+  pool_info.flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT;
+  pool_info.queueFamilyIndex = queue_family_;
+  VkCommandPool raw_pool;
+  FLUIDCAST_VK_CHECK(vkCreateCommandPool(device_, &pool_info, nullptr, &raw_pool));
+  const UniqueCommandPool pool(device_, raw_pool);
+
+  VkCommandBufferAllocateInfo allocate{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  allocate.commandPool = pool.get();
+  allocate.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  allocate.commandBufferCount = 1;
+  VkCommandBuffer command_buffer;
+  FLUIDCAST_VK_CHECK(vkAllocateCommandBuffers(device_, &allocate, &command_buffer));
+  VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  FLUIDCAST_VK_CHECK(vkBeginCommandBuffer(command_buffer, &begin));
+  record(command_buffer);
+  FLUIDCAST_VK_CHECK(vkEndCommandBuffer(command_buffer));
+
+  VkFenceCreateInfo fence_info{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+  VkFence raw_fence;
+  FLUIDCAST_VK_CHECK(vkCreateFence(device_, &fence_info, nullptr, &raw_fence));
+  const UniqueFence fence(device_, raw_fence);
+  VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+  submit.commandBufferCount = 1;
+  submit.pCommandBuffers = &command_buffer;
+  FLUIDCAST_VK_CHECK(vkQueueSubmit(queue_, 1, &submit, fence.get()));
+  FLUIDCAST_VK_CHECK(vkWaitForFences(device_, 1, &raw_fence, VK_TRUE, UINT64_MAX));
+}
+
+std::vector<std::string> Context::validation_errors() const {
+  std::lock_guard lock(validation_mutex_);
+  return validation_errors_;
+}
+
+VkBool32 Context::on_validation_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                        VkDebugUtilsMessageTypeFlagsEXT,
+                                        const VkDebugUtilsMessengerCallbackDataEXT* data,
+                                        void* user) {
+  auto* context = static_cast<Context*>(user);
+  const std::string message =
+      std::string(severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT ? "error: "
+                                                                             : "warning: ") +
+      (data->pMessage ? data->pMessage : "");
+  std::cerr << "vulkan validation " << message << '\n';
+  std::lock_guard lock(context->validation_mutex_);
+  context->validation_errors_.push_back(message);
+  return VK_FALSE;
+}
+
+}  // namespace fluidcast::gpu

@@ -1,0 +1,51 @@
+// A command buffer that is recorded, submitted, and recorded again once its fence says the GPU is
+// done with it. A ring of these keeps the host recording one step while the GPU runs another.
+#pragma once
+
+#include "fluidcast/gpu/context.h"
+#include "fluidcast/gpu/handle.h"
+
+namespace fluidcast::gpu {
+
+class CommandSlot {
+ public:
+  explicit CommandSlot(Context& context);
+
+  // Waits for the last submission of this slot, then starts recording afresh.
+  VkCommandBuffer begin();
+  void submit();
+  void wait() const;
+  bool busy() const;  // submitted and not yet finished
+
+ private:
+  Context* context_;
+  UniqueCommandPool pool_;
+  VkCommandBuffer commands_ = VK_NULL_HANDLE;
+  UniqueFence fence_;
+  bool submitted_ = false;
+};
+
+// GPU timestamps written between stages of a command buffer, read once its fence has signalled.
+class TimestampQueries {
+ public:
+  TimestampQueries(Context& context, std::uint32_t capacity);
+
+  // Resets the pool; recorded before the first mark() of a submission.
+  void reset(VkCommandBuffer commands);
+  // Writes the next timestamp when all earlier commands are done; returns its index.
+  std::uint32_t mark(VkCommandBuffer commands);
+  std::uint32_t marks() const { return used_; }
+  // Milliseconds between marks `from` and `to` of the finished submission; 0 without timestamps.
+  double elapsed_ms(std::uint32_t from, std::uint32_t to);
+  // Fetches the finished submission's timestamps; call once after its fence.
+  void fetch();
+
+ private:
+  Context* context_;
+  UniqueQueryPool pool_;
+  std::uint32_t capacity_;
+  std::uint32_t used_ = 0;
+  std::vector<std::uint64_t> ticks_;
+};
+
+}  // namespace fluidcast::gpu

@@ -1,0 +1,42 @@
+// One compute shader, ready to dispatch: the pipeline and its layout. Shaders take everything
+// through push constants (buffer device addresses and counts), so there are no descriptor sets.
+// The workgroup size is specialisation constant 0, set here, so C++ and GLSL cannot disagree.
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include "fluidcast/gpu/context.h"
+#include "fluidcast/gpu/handle.h"
+
+namespace fluidcast::gpu {
+
+class ComputePipeline {
+ public:
+  ComputePipeline(Context& context, std::span<const std::uint32_t> spirv,
+                  std::uint32_t push_constant_bytes, std::uint32_t group_size);
+
+  std::uint32_t group_size() const { return group_size_; }
+
+  // Binds the pipeline and dispatches enough workgroups for `items` invocations (none for 0).
+  // Beyond the device's workgroup-count limit in x the groups spill into y; shaders compute their
+  // linear group index as gl_WorkGroupID.x + gl_NumWorkGroups.x * gl_WorkGroupID.y.
+  template <class Push>
+  void dispatch(VkCommandBuffer commands, const Push& push, std::uint64_t items) const {
+    static_assert(sizeof(Push) <= 128, "push constants beyond the guaranteed 128 bytes");
+    dispatch_bytes(commands, &push, sizeof(Push), items);
+  }
+
+ private:
+  void dispatch_bytes(VkCommandBuffer commands, const void* push, std::uint32_t bytes,
+                      std::uint64_t items) const;
+
+  UniquePipelineLayout layout_;
+  UniquePipeline pipeline_;
+  std::uint32_t push_constant_bytes_;
+  std::uint32_t group_size_;
+  std::uint32_t max_groups_x_;
+  std::uint32_t max_groups_y_;
+};
+
+}  // namespace fluidcast::gpu

@@ -1,0 +1,88 @@
+// Device memory, sub-allocated from large blocks (one vkAllocateMemory per block, not per buffer),
+// chosen by what the memory is for rather than by raw property flags.
+#pragma once
+
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <vector>
+
+#include "fluidcast/gpu/handle.h"
+#include "fluidcast/gpu/range_allocator.h"
+
+namespace fluidcast::gpu {
+
+enum class MemoryDomain {
+  device,    // GPU only: particles, grids, scratch
+  upload,    // host writes, GPU reads: staging for uploads; mapped
+  readback,  // GPU writes, host reads: snapshots, statistics, frames; mapped and cached if possible
+};
+
+class MemoryAllocator;
+
+// One sub-allocated range; returns itself to its block when destroyed.
+class Allocation {
+ public:
+  Allocation() = default;
+  ~Allocation() { release(); }
+  Allocation(Allocation&& other) noexcept { *this = std::move(other); }
+  Allocation& operator=(Allocation&& other) noexcept;
+  Allocation(const Allocation&) = delete;
+  Allocation& operator=(const Allocation&) = delete;
+
+  VkDeviceMemory memory() const { return memory_; }
+  VkDeviceSize offset() const { return offset_; }
+  VkDeviceSize size() const { return size_; }
+  // The host address of the range in the mapped domains, nullptr in the device domain.
+  void* mapped() const { return mapped_; }
+
+ private:
+  friend class MemoryAllocator;
+  void release();
+
+  MemoryAllocator* owner_ = nullptr;
+  std::size_t block_ = 0;
+  VkDeviceMemory memory_ = VK_NULL_HANDLE;
+  VkDeviceSize offset_ = 0;
+  VkDeviceSize size_ = 0;
+  void* mapped_ = nullptr;
+};
+
+class MemoryAllocator {
+ public:
+  static constexpr VkDeviceSize kBlockSize = VkDeviceSize{64} << 20;
+
+  MemoryAllocator(VkDevice device, VkPhysicalDevice physical_device);
+  ~MemoryAllocator();
+  MemoryAllocator(const MemoryAllocator&) = delete;
+  MemoryAllocator& operator=(const MemoryAllocator&) = delete;
+
+  // Requests larger than a block get a block of their own. Every block allows buffer device
+  // addresses. Throws VulkanError (VK_ERROR_OUT_OF_DEVICE_MEMORY and the like) when memory runs out.
+  Allocation allocate(const VkMemoryRequirements& requirements, MemoryDomain domain);
+
+  // Bytes in blocks of device memory now, and how many blocks.
+  VkDeviceSize device_bytes() const;
+  std::size_t block_count() const;
+
+ private:
+  friend class Allocation;
+  struct Block {
+    UniqueMemory memory;
+    std::uint32_t type = 0;
+    bool device_local = false;
+    void* mapped = nullptr;
+    std::unique_ptr<RangeAllocator> ranges;  // null once the block is freed
+  };
+  std::uint32_t pick_type(std::uint32_t allowed_types, MemoryDomain domain) const;
+  void free(std::size_t block, VkDeviceSize offset);
+
+  VkDevice device_;
+  VkPhysicalDeviceMemoryProperties properties_{};
+  mutable std::mutex mutex_;
+  std::vector<Block> blocks_;
+};
+
+}  // namespace fluidcast::gpu

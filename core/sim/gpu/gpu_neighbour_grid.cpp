@@ -1,0 +1,116 @@
+#include "gpu/gpu_neighbour_grid.h"
+
+#include <cstddef>
+#include <glm/glm.hpp>
+
+#include "fluidcast_shaders/fluidcast_sim.h"
+
+namespace fluidcast::sim::gpu_solver {
+namespace {
+
+// Mirrors shaders/common/grid_pass.glsl (std430 push constants).
+struct GridPass {
+  VkDeviceAddress key, cell_of, rank, cell_start, order;
+  alignas(16) glm::vec4 origin;  // w: 1 / cell size
+  glm::ivec4 dims;
+  std::uint32_t particle_count;
+};
+static_assert(offsetof(GridPass, order) == 32);
+static_assert(offsetof(GridPass, origin) == 48);
+static_assert(offsetof(GridPass, dims) == 64);
+static_assert(offsetof(GridPass, particle_count) == 80);
+
+// Mirrors shaders/common/scan_pass.glsl.
+struct ScanPass {
+  VkDeviceAddress data, block_sums;
+  std::uint32_t count;
+  std::uint32_t write_block_sums;
+};
+static_assert(offsetof(ScanPass, count) == 16 && offsetof(ScanPass, write_block_sums) == 20);
+
+std::uint32_t blocks(std::uint32_t count) {
+  return (count + GpuNeighbourGrid::kScanBlock - 1) / GpuNeighbourGrid::kScanBlock;
+}
+
+}  // namespace
+
+std::uint64_t GpuNeighbourGrid::bytes_for_cells(std::size_t cells) {
+  // cell_start plus the block totals of every level (a geometric series below cells / 1023).
+  return (cells + 1 + cells / (kScanBlock - 1) + 16) * sizeof(std::uint32_t);
+}
+
+GpuNeighbourGrid::GpuNeighbourGrid(gpu::Context& context, const GridGeometry& geometry,
+                                   std::size_t capacity)
+    : context_(&context),
+      geometry_(geometry),
+      count_(context, shaders::sim_grid_count_comp, sizeof(GridPass), kGroupSize),
+      scan_(context, shaders::sim_grid_scan_comp, sizeof(ScanPass), kScanGroupSize),
+      scan_add_(context, shaders::sim_grid_scan_add_comp, sizeof(ScanPass), kScanGroupSize),
+      scatter_(context, shaders::sim_grid_scatter_comp, sizeof(GridPass), kGroupSize) {
+  const auto cells = static_cast<std::uint32_t>(geometry.cell_count());
+  cell_start_ = gpu::Buffer(context, (std::uint64_t{cells} + 1) * sizeof(std::uint32_t),
+                            gpu::MemoryDomain::device);
+  // Level k holds level_counts_[k] elements; its block totals are level k + 1.
+  level_counts_.push_back(cells + 1);
+  while (level_counts_.back() > kScanBlock) {
+    const std::uint32_t totals = blocks(level_counts_.back());
+    block_sums_.emplace_back(context, std::uint64_t{totals} * sizeof(std::uint32_t),
+                             gpu::MemoryDomain::device);
+    level_counts_.push_back(totals);
+  }
+  reserve(capacity);
+}
+
+void GpuNeighbourGrid::reserve(std::size_t capacity) {
+  if (capacity <= capacity_ && cell_of_) return;
+  capacity_ = std::max(capacity, capacity_);
+  const std::uint64_t bytes = std::uint64_t{capacity_} * sizeof(std::uint32_t);
+  cell_of_ = gpu::Buffer(*context_, bytes, gpu::MemoryDomain::device);
+  rank_ = gpu::Buffer(*context_, bytes, gpu::MemoryDomain::device);
+  order_ = gpu::Buffer(*context_, bytes, gpu::MemoryDomain::device);
+}
+
+void GpuNeighbourGrid::record_build(VkCommandBuffer commands, VkDeviceAddress key,
+                                    std::uint32_t count) const {
+  gpu::compute_to_transfer_barrier(commands);
+  vkCmdFillBuffer(commands, cell_start_.get(), 0, VK_WHOLE_SIZE, 0);
+  gpu::transfer_to_compute_barrier(commands);
+
+  GridPass pass{};
+  pass.key = key;
+  pass.cell_of = cell_of_.address();
+  pass.rank = rank_.address();
+  pass.cell_start = cell_start_.address();
+  pass.order = order_.address();
+  pass.origin = glm::vec4(geometry_.origin, geometry_.inv_cell_size);
+  pass.dims = glm::ivec4(geometry_.dims, 0);
+  pass.particle_count = count;
+  count_.dispatch(commands, pass, count);
+  gpu::compute_barrier(commands);
+
+  // Up the levels: scan each in place, writing its block totals into the next.
+  const std::size_t levels = level_counts_.size();
+  for (std::size_t k = 0; k < levels; ++k) {
+    ScanPass scan{};
+    scan.data = k == 0 ? cell_start_.address() : block_sums_[k - 1].address();
+    scan.block_sums = k + 1 < levels ? block_sums_[k].address() : 0;
+    scan.count = level_counts_[k];
+    scan.write_block_sums = k + 1 < levels ? 1 : 0;
+    scan_.dispatch(commands, scan, std::uint64_t{blocks(scan.count)} * kScanGroupSize);
+    gpu::compute_barrier(commands);
+  }
+  // Down again: add each block's scanned total to its elements.
+  for (std::size_t k = levels - 1; k-- > 0;) {
+    ScanPass add{};
+    add.data = k == 0 ? cell_start_.address() : block_sums_[k - 1].address();
+    add.block_sums = block_sums_[k].address();
+    add.count = level_counts_[k];
+    scan_add_.dispatch(commands, add, add.count);
+    gpu::compute_barrier(commands);
+  }
+
+  scatter_.dispatch(commands, pass, count);
+  gpu::compute_barrier(commands);
+}
+
+}  // namespace fluidcast::sim::gpu_solver

@@ -1,0 +1,52 @@
+// The neighbour grid on the GPU, by counting sort as the talk builds it: an atomic count per cell
+// that also gives each particle its rank in the cell, a work-efficient multi-level exclusive prefix
+// sum over the cells, and a scatter that writes each particle's sorted slot. About seven dispatches
+// for the whole build. Cell geometry is the CPU grid's (GridGeometry), so both put every particle in
+// the same cell and give the same cell ranges; within a cell the order follows the atomics.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "fluidcast/gpu/buffer.h"
+#include "fluidcast/gpu/compute_pipeline.h"
+#include "fluidcast/sim/neighbour_grid.h"
+
+namespace fluidcast::sim::gpu_solver {
+
+class GpuNeighbourGrid {
+ public:
+  static constexpr std::uint32_t kGroupSize = 128;
+  static constexpr std::uint32_t kScanGroupSize = 256;
+  static constexpr std::uint32_t kScanItemsPerInvocation = 4;  // SCAN_ITEMS_PER_INVOCATION
+  static constexpr std::uint32_t kScanBlock = kScanGroupSize * kScanItemsPerInvocation;
+
+  // GPU memory the grid needs, for the up-front check of a particle count.
+  static std::uint64_t bytes_per_particle() { return 3 * sizeof(std::uint32_t); }
+  static std::uint64_t bytes_for_cells(std::size_t cells);
+
+  GpuNeighbourGrid(gpu::Context& context, const GridGeometry& geometry, std::size_t capacity);
+
+  // Makes room for `capacity` particles (never shrinks).
+  void reserve(std::size_t capacity);
+
+  // Records the build for the first `count` positions (vec4) at `key`, then a compute barrier.
+  void record_build(VkCommandBuffer commands, VkDeviceAddress key, std::uint32_t count) const;
+
+  const GridGeometry& geometry() const { return geometry_; }
+  // Sorted slot → particle index; cell c's slots are [cell_start[c], cell_start[c + 1]).
+  const gpu::Buffer& order() const { return order_; }
+  const gpu::Buffer& cell_start() const { return cell_start_; }
+
+ private:
+  gpu::Context* context_;
+  GridGeometry geometry_;
+  gpu::ComputePipeline count_, scan_, scan_add_, scatter_;
+  std::size_t capacity_ = 0;
+  gpu::Buffer cell_of_, rank_, order_;
+  gpu::Buffer cell_start_;
+  std::vector<std::uint32_t> level_counts_;  // elements at each level of the prefix sum
+  std::vector<gpu::Buffer> block_sums_;      // block totals of level k, scanned as level k + 1
+};
+
+}  // namespace fluidcast::sim::gpu_solver
