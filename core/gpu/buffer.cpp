@@ -57,7 +57,9 @@ void transfer_to_compute_barrier(VkCommandBuffer commands) {
 }
 
 void compute_to_transfer_barrier(VkCommandBuffer commands) {
-  memory_barrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, kShaderAccess,
+  // Earlier transfers too: a copy out of a buffer that a fill then clears.
+  memory_barrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                 VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
                  VK_PIPELINE_STAGE_TRANSFER_BIT, kTransferAccess);
 }
 

@@ -1,4 +1,4 @@
-// fluidcast-sim: runs a scene headless with the CPU solver; prints the geometry, optionally
+// fluidcast-sim: runs a scene headless on the CPU or GPU solver; prints the geometry, optionally
 // progress, writes statistics CSV and PLY dumps. Bad flags: one line on stderr, exit code 2.
 #include <chrono>
 #include <cstdio>
@@ -6,6 +6,7 @@
 #include <iostream>
 #include <optional>
 
+#include "fluidcast/gpu/context.h"
 #include "fluidcast/sim/statistics.h"
 #include "options.h"
 #include "outputs.h"
@@ -42,7 +43,16 @@ void print_geometry(const tools::SimOptions& o, const sim::Solver& solver) {
 }
 
 int run(const tools::SimOptions& o) {
-  auto solver = sim::make_cpu_solver(o.solver_kind, sim::build_scene(o.scene), o.solver);
+  std::unique_ptr<gpu::Context> context;  // outlives the solver
+  std::unique_ptr<sim::Solver> solver;
+  if (o.backend == tools::Backend::gpu) {
+    gpu::ContextOptions options = gpu::options_from_environment();
+    if (o.device) options.device_index = o.device;
+    context = std::make_unique<gpu::Context>(options);
+    solver = sim::make_gpu_solver(o.solver_kind, *context, sim::build_scene(o.scene), o.solver);
+  } else {
+    solver = sim::make_cpu_solver(o.solver_kind, sim::build_scene(o.scene), o.solver);
+  }
   print_geometry(o, *solver);
 
   std::optional<tools::StatsCsv> csv;
@@ -82,6 +92,9 @@ int run(const tools::SimOptions& o) {
       steps_at_report = solver->steps();
     }
   }
+  const auto before_sync = Clock::now();
+  solver->synchronize();  // a GPU solver may still be running the last steps
+  stepping_seconds += std::chrono::duration<double>(Clock::now() - before_sync).count();
   const double wall = std::chrono::duration<double>(Clock::now() - start).count();
   const auto stats = sim::measure(solver->snapshot(), solver->fluid(), solver->tank());
   std::printf(
@@ -100,6 +113,9 @@ int main(int argc, char** argv) {
   try {
     return run(*parsed.options);
   } catch (const fluidcast::sim::ParamError& e) {
+    std::cerr << "fluidcast-sim: " << e.what() << '\n';
+    return 2;
+  } catch (const fluidcast::gpu::GpuUnavailable& e) {
     std::cerr << "fluidcast-sim: " << e.what() << '\n';
     return 2;
   } catch (const std::exception& e) {

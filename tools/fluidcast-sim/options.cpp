@@ -41,6 +41,10 @@ ParseOutcome parse_sim_options(int argc, char** argv) {
   app.add_option("--scene", scene_name, "dam_break, double_dam_break, drop or pool")
       ->capture_default_str();
   app.add_option("--solver", solver_name, "pbf or sph")->capture_default_str();
+  std::string backend_name = "cpu";
+  app.add_option("--backend", backend_name, "cpu, or gpu (Vulkan compute)")->capture_default_str();
+  app.add_option("--device", o.device,
+                 "Vulkan device index for --backend gpu (default: FLUIDCAST_DEVICE, else the best)");
   auto* steps_opt = app.add_option("--steps", steps, "Number of steps to run");
   auto* until_opt = app.add_option("--until", until, "Simulated seconds to run");
   steps_opt->excludes(until_opt);
@@ -68,6 +72,13 @@ ParseOutcome parse_sim_options(int argc, char** argv) {
   try {
     o.scene.kind = sim::parse_scene(scene_name);
     o.solver_kind = sim::parse_solver(solver_name);
+    if (backend_name != "cpu" && backend_name != "gpu") {
+      throw sim::ParamError("--backend: '" + backend_name + "' is not a backend; use cpu or gpu");
+    }
+    o.backend = backend_name == "gpu" ? Backend::gpu : Backend::cpu;
+    if (o.device && o.backend != Backend::gpu) {
+      throw sim::ParamError("--device: only with --backend gpu");
+    }
     sim::validate(o.scene);
     sim::validate(o.solver);
     if (!steps && !until) throw sim::ParamError("--steps or --until: one of them is required");

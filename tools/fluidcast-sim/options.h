@@ -10,10 +10,14 @@
 
 namespace fluidcast::tools {
 
+enum class Backend { cpu, gpu };
+
 struct SimOptions {
   sim::SceneParams scene;
   sim::SolverParams solver;
   sim::SolverKind solver_kind = sim::SolverKind::pbf;
+  Backend backend = Backend::cpu;
+  std::optional<std::uint32_t> device;  // --device; else FLUIDCAST_DEVICE, else the best
   std::int64_t steps = 0;  // resolved from --steps or --until
   std::string stats_path;
   std::int64_t dump_every = 0;

@@ -3,46 +3,23 @@
 #include <algorithm>
 #include <cmath>
 
+#include "pbf_constants.h"
+#include "substeps.h"
+
 namespace fluidcast::sim::cpu {
-namespace {
-
-// Σ_j |∇_j C_i|² + |∇_i C_i|² for a particle inside a cubic lattice of spacing d at rest.
-float rest_gradient_norm(const Kernels& kernels, const FluidConstants& fluid) {
-  const float d = fluid.spacing;
-  const int reach = static_cast<int>(std::ceil(kernels.radius() / d));
-  const float volume = fluid.rest_volume();
-  double sum_squares = 0.0;
-  for (int k = -reach; k <= reach; ++k) {
-    for (int j = -reach; j <= reach; ++j) {
-      for (int i = -reach; i <= reach; ++i) {
-        const glm::vec3 r = glm::vec3(i, j, k) * d;
-        const glm::vec3 g = volume * kernels.spiky_gradient(r, glm::dot(r, r));
-        sum_squares += glm::dot(g, g);
-      }
-    }
-  }
-  return static_cast<float>(sum_squares);  // Σ_j ∇W vanishes by the lattice's symmetry
-}
-
-}  // namespace
 
 PbfSolver::PbfSolver(Scene scene, const SolverParams& params)
     : CpuSolver(std::move(scene), params) {
-  const float rest_norm = rest_gradient_norm(kernels_, fluid());
-  relaxation_epsilon_ = params.relaxation * rest_norm;
-  scorr_scale_ = params.scorr_strength / rest_norm;
-  const float dq = params.scorr_distance * kernels_.radius();
-  inv_w_dq_ = 1.0f / kernels_.poly6(dq * dq);
+  const PbfConstants constants = derive_pbf_constants(params, fluid());
+  relaxation_epsilon_ = constants.relaxation_epsilon;
+  scorr_scale_ = constants.scorr_scale;
+  inv_w_dq_ = constants.inv_w_dq;
 }
 
 void PbfSolver::advance() {
-  const float step = params().time_step;
-  // A collider moving faster than the fluid sets the pace too: it must not jump over particles.
-  const float speed = std::max(max_speed() + glm::length(gravity()) * step, max_collider_speed());
-  const float travel = speed * step / (params().cfl_number * kernels_.radius());
-  const int substeps = static_cast<int>(
-      std::clamp(std::ceil(travel), 1.0f, static_cast<float>(params().max_substeps)));
-  dt_ = step / static_cast<float>(substeps);
+  const int substeps = pbf_substep_count(max_speed(), max_collider_speed(), glm::length(gravity()),
+                                         params(), kernels_.radius());
+  dt_ = params().time_step / static_cast<float>(substeps);
   for (int s = 0; s < substeps; ++s) {
     set_time_into_step(static_cast<float>(s + 1) * dt_);  // predicted positions are at its end
     substep();
@@ -59,17 +36,24 @@ void PbfSolver::substep() {
     StageTimer timer(stage_times_.grid_ms);
     sort_by(predicted_, {&predicted_});
   }
-  {
-    StageTimer timer(stage_times_.solve_ms);
-    for (int iteration = 0; iteration < params().iterations; ++iteration) {
+  stage_times_.iteration_ms.resize(static_cast<std::size_t>(params().iterations));
+  for (int iteration = 0; iteration < params().iterations; ++iteration) {
+    double& iteration_ms = stage_times_.iteration_ms[static_cast<std::size_t>(iteration)];
+    const double before = iteration_ms;
+    {
+      StageTimer timer(iteration_ms);
       compute_lambdas();
       apply_position_corrections();
     }
+    stage_times_.solve_ms += iteration_ms - before;
   }
-  StageTimer timer(stage_times_.velocity_ms);
-  update_velocities();
+  {
+    StageTimer timer(stage_times_.velocity_ms);
+    update_velocities();
+    if (params().vorticity > 0.0f || params().xsph_viscosity > 0.0f) compute_vorticity();
+  }
   if (params().vorticity > 0.0f || params().xsph_viscosity > 0.0f) {
-    compute_vorticity();
+    StageTimer timer(stage_times_.viscosity_ms);
     apply_confinement_and_viscosity();
   }
   particles_.position.swap(predicted_);

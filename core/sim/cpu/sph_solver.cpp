@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "substeps.h"
+
 namespace fluidcast::sim::cpu {
 
 float tait_pressure(float density, const SolverParams& params) {
@@ -109,14 +111,8 @@ float SphSolver::compute_accelerations() {
 }
 
 float SphSolver::stable_substep(float max_acceleration) {
-  const float h = kernels_.radius();
-  float dt = params().cfl_number * h / (params().sound_speed + max_speed());
-  if (max_acceleration > 0.0f) dt = std::min(dt, 0.25f * std::sqrt(h / max_acceleration));
-  if (params().sph_viscosity > 0.0f) {
-    const float kinematic_viscosity = params().sph_viscosity / params().rest_density;
-    dt = std::min(dt, 0.125f * h * h / kinematic_viscosity);
-  }
-  return std::max(dt, min_substep_);
+  return std::max(sph_stable_substep(max_speed(), max_acceleration, params(), kernels_.radius()),
+                  min_substep_);
 }
 
 // Symplectic Euler, then the boundaries.

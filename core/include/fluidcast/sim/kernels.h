@@ -34,6 +34,10 @@ class Kernels {
 
   float radius() const { return h_; }
   float radius_squared() const { return h2_; }
+  // The normalisation constants, for the GPU solvers' copy of these formulas.
+  float poly6_coefficient() const { return poly6_; }
+  float spiky_coefficient() const { return spiky_; }
+  float viscosity_laplacian_coefficient() const { return viscosity_laplacian_; }
 
   // poly6 W(r) from r², so the density loop needs no square root.
   float poly6(float r2) const {

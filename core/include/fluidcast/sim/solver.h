@@ -13,6 +13,10 @@
 #include "fluidcast/sim/scene.h"
 #include "fluidcast/sim/solver_params.h"
 
+namespace fluidcast::gpu {
+class Context;
+}
+
 namespace fluidcast::sim {
 
 enum class SolverKind { pbf, sph };
@@ -35,12 +39,15 @@ inline constexpr float kMaxSpeed = 1000.0f;            // m/s, colliders and add
 inline constexpr float kMaxColliderRadius = 10.0f;     // m
 inline constexpr std::size_t kMaxColliders = 16;
 
-// Wall-clock milliseconds spent per stage since the last clear.
+// Milliseconds spent per stage since the last clear: wall-clock on the CPU, GPU time (from
+// timestamps) on the GPU, where a step counts once it has finished (see synchronize()).
 struct StageTimes {
-  double grid_ms = 0;      // counting sort, reorder, neighbour lists
-  double predict_ms = 0;   // PBF: forces and prediction; SPH: time integration and collisions
-  double solve_ms = 0;     // PBF: the density iterations; SPH: density, pressure and forces
-  double velocity_ms = 0;  // PBF: velocity update, vorticity, XSPH; SPH: CFL bound
+  double grid_ms = 0;       // counting sort, reorder, neighbour lists
+  double predict_ms = 0;    // PBF: forces and prediction; SPH: time integration and collisions
+  double solve_ms = 0;      // PBF: the density iterations; SPH: density, pressure and forces
+  double velocity_ms = 0;   // PBF: velocity update and vorticity; SPH (CPU): CFL bound
+  double viscosity_ms = 0;  // PBF: vorticity confinement and XSPH viscosity
+  std::vector<double> iteration_ms;  // PBF: each density iteration, summed over substeps
   std::uint64_t substeps = 0;
 };
 
@@ -56,8 +63,11 @@ class Solver {
   virtual std::size_t particle_count() const = 0;
   virtual ParticleSet snapshot() const = 0;
 
-  // Advances the simulation by params().time_step, colliders included.
+  // Advances the simulation by params().time_step, colliders included. A GPU solver may return
+  // before the GPU has finished the step; snapshot() and synchronize() wait for it.
   void step();
+  // Waits until every step so far has finished and its stage times are counted.
+  virtual void synchronize() {}
 
   // Inputs. Each throws std::invalid_argument naming what was wrong, and then changes nothing.
   void set_gravity(glm::vec3 gravity);
@@ -102,5 +112,9 @@ class Solver {
 };
 
 std::unique_ptr<Solver> make_cpu_solver(SolverKind kind, Scene scene, const SolverParams& params);
+// The same solver in Vulkan compute on the context's device. Throws ParamError also when the
+// particles would not fit in the device's memory.
+std::unique_ptr<Solver> make_gpu_solver(SolverKind kind, gpu::Context& context, Scene scene,
+                                        const SolverParams& params);
 
 }  // namespace fluidcast::sim

@@ -1,0 +1,59 @@
+// C++ mirror of shaders/common/sim_params.glsl (std430): the parameter block of the GPU solvers
+// and the push constants of each pass. The static_asserts pin every offset to the GLSL layout.
+#pragma once
+
+#include <vulkan/vulkan.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <glm/glm.hpp>
+
+#include "fluidcast/sim/solver.h"
+
+namespace fluidcast::sim::gpu_solver {
+
+inline constexpr std::uint32_t kSolverPbf = 0;  // SOLVER_PBF
+inline constexpr std::uint32_t kSolverSph = 1;  // SOLVER_SPH
+static_assert(kMaxColliders == 16, "MAX_COLLIDERS in sim_params.glsl");
+
+struct SimParams {
+  VkDeviceAddress position, velocity, id;
+  VkDeviceAddress sorted_position, sorted_velocity, sorted_id;
+  VkDeviceAddress predicted, iterate0, iterate1, lambda, vorticity;
+  VkDeviceAddress density, acceleration;
+  VkDeviceAddress order, cell_start, stats;
+
+  glm::vec4 tank_min, tank_max, inner_min, inner_max, gravity, grid_origin;
+  glm::ivec4 grid_dims;
+
+  std::uint32_t solver, particle_count, collider_count;
+  float h, h2, poly6, spiky, viscosity_laplacian, mass, rest_density, inv_rest_density,
+      rest_volume, particle_radius;
+  float relaxation_epsilon, scorr_scale, inv_w_dq, scorr_exponent, vorticity_epsilon, xsph;
+  float tait_stiffness, tait_exponent, sph_viscosity, artificial_viscosity, softening;
+
+  alignas(16) glm::vec4 collider_sphere[kMaxColliders];
+  glm::vec4 collider_velocity[kMaxColliders];
+};
+static_assert(offsetof(SimParams, stats) == 15 * 8);
+static_assert(offsetof(SimParams, tank_min) == 128);
+static_assert(offsetof(SimParams, grid_dims) == 128 + 6 * 16);
+static_assert(offsetof(SimParams, solver) == 128 + 7 * 16);
+static_assert(offsetof(SimParams, h) == 128 + 7 * 16 + 12);
+static_assert(offsetof(SimParams, relaxation_epsilon) == 128 + 7 * 16 + 13 * 4);
+static_assert(offsetof(SimParams, softening) == 128 + 7 * 16 + 23 * 4);
+static_assert(offsetof(SimParams, collider_sphere) == 128 + 7 * 16 + 24 * 4);
+static_assert(offsetof(SimParams, collider_velocity) ==
+              offsetof(SimParams, collider_sphere) + kMaxColliders * 16);
+static_assert(sizeof(SimParams) % 4 == 0, "vkCmdUpdateBuffer takes whole words");
+
+// Mirrors the SimPass push constants.
+struct SimPass {
+  VkDeviceAddress params;
+  float dt;
+  float time_into_step;
+  std::uint32_t parity;
+};
+static_assert(offsetof(SimPass, dt) == 8 && offsetof(SimPass, parity) == 16);
+
+}  // namespace fluidcast::sim::gpu_solver

@@ -1,0 +1,414 @@
+#include "gpu/gpu_solver.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "fluidcast/gpu/transfer.h"
+#include "fluidcast/gpu/vk_check.h"
+#include "fluidcast/sim/kernels.h"
+#include "fluidcast_shaders/fluidcast_sim.h"
+#include "pbf_constants.h"
+#include "substeps.h"
+
+namespace fluidcast::sim::gpu_solver {
+namespace {
+
+constexpr std::uint32_t kGroup = GpuNeighbourGrid::kGroupSize;
+constexpr std::uint32_t kTimestampCapacity = 4096;
+// Of the device-local heap, what a simulation may plan to use: the driver and other work need some.
+constexpr double kUsableMemoryShare = 0.9;
+
+std::uint64_t bytes_per_particle(SolverKind kind) {
+  constexpr std::uint64_t state = 2 * (16 + 16 + 4);     // position, velocity, id; sorted copies
+  constexpr std::uint64_t pbf = 16 + 16 + 16 + 4 + 16;  // predicted, two iterates, λ, ω
+  constexpr std::uint64_t sph = 8 + 16;                 // density and pressure, acceleration
+  return state + (kind == SolverKind::pbf ? pbf : sph) + GpuNeighbourGrid::bytes_per_particle();
+}
+
+float float_from_bits(std::uint32_t bits) {
+  float value;
+  std::memcpy(&value, &bits, sizeof value);
+  return value;
+}
+
+}  // namespace
+
+GpuSolver::InFlight::InFlight(gpu::Context& context)
+    : commands(context),
+      stats(context, 2 * sizeof(std::uint32_t), gpu::MemoryDomain::readback),
+      timestamps(context, kTimestampCapacity) {}
+
+GpuSolver::Pipelines::Pipelines(gpu::Context& c)
+    : predict(c, shaders::sim_predict_comp, sizeof(SimPass), kGroup),
+      reorder(c, shaders::sim_reorder_comp, sizeof(SimPass), kGroup),
+      pbf_lambda(c, shaders::sim_pbf_lambda_comp, sizeof(SimPass), kGroup),
+      pbf_correct(c, shaders::sim_pbf_correct_comp, sizeof(SimPass), kGroup),
+      pbf_velocity(c, shaders::sim_pbf_velocity_comp, sizeof(SimPass), kGroup),
+      pbf_vorticity(c, shaders::sim_pbf_vorticity_comp, sizeof(SimPass), kGroup),
+      pbf_finish(c, shaders::sim_pbf_finish_comp, sizeof(SimPass), kGroup),
+      sph_density(c, shaders::sim_sph_density_comp, sizeof(SimPass), kGroup),
+      sph_force(c, shaders::sim_sph_force_comp, sizeof(SimPass), kGroup),
+      sph_integrate(c, shaders::sim_sph_integrate_comp, sizeof(SimPass), kGroup) {}
+
+GpuSolver::GpuSolver(SolverKind kind, gpu::Context& context, Scene scene,
+                     const SolverParams& params)
+    : Solver(std::move(scene), params),
+      kind_(kind),
+      context_(&context),
+      grid_(context, GridGeometry(tank(), fluid().kernel_radius), 0),
+      pipelines_(context),
+      params_buffer_(context, sizeof(SimParams), gpu::MemoryDomain::device),
+      stats_buffer_(context, 2 * sizeof(std::uint32_t), gpu::MemoryDomain::device),
+      in_flight_{InFlight(context), InFlight(context)} {
+  const PbfConstants pbf = derive_pbf_constants(params, fluid());
+  relaxation_epsilon_ = pbf.relaxation_epsilon;
+  scorr_scale_ = pbf.scorr_scale;
+  inv_w_dq_ = pbf.inv_w_dq;
+  load_particles(this->scene().particles);
+}
+
+GpuSolver::~GpuSolver() {
+  for (auto& slot : in_flight_) {
+    try {
+      slot.commands.wait();
+    } catch (const gpu::VulkanError&) {
+      // A lost device has nothing left to wait for; the handles are destroyed all the same.
+    }
+  }
+}
+
+std::uint64_t GpuSolver::bytes_needed(std::size_t particles) const {
+  return particles * bytes_per_particle(kind_) +
+         GpuNeighbourGrid::bytes_for_cells(grid_.geometry().cell_count());
+}
+
+std::size_t GpuSolver::particles_that_fit() const {
+  const std::uint64_t grid_bytes = bytes_needed(0);
+  const std::uint64_t usable = usable_bytes();
+  return usable > grid_bytes ? (usable - grid_bytes) / bytes_per_particle(kind_) : 0;
+}
+
+std::uint64_t GpuSolver::usable_bytes() const {
+  return static_cast<std::uint64_t>(kUsableMemoryShare *
+                                    static_cast<double>(context_->info().device_local_bytes));
+}
+
+void GpuSolver::allocate(std::size_t capacity) {
+  const std::uint64_t need = bytes_needed(capacity);
+  const std::uint64_t usable = usable_bytes();
+  if (capacity > particles_that_fit()) {
+    const std::size_t fits = particles_that_fit();
+    throw ParamError("--particles: " + std::to_string(capacity) + " particles need " +
+                     std::to_string(need >> 20) + " MiB of GPU memory, over the " +
+                     std::to_string(usable >> 20) + " MiB usable on " + context_->info().name +
+                     " (" + std::to_string(fits) + " particles would fit in this tank)");
+  }
+  const auto bytes = [&](std::uint64_t each) { return std::uint64_t{capacity} * each; };
+  const auto device = [&](std::uint64_t each) {
+    return gpu::Buffer(*context_, bytes(each), gpu::MemoryDomain::device);
+  };
+  Buffers b;
+  b.position = device(16);
+  b.velocity = device(16);
+  b.id = device(4);
+  b.sorted_position = device(16);
+  b.sorted_velocity = device(16);
+  b.sorted_id = device(4);
+  const bool pbf = kind_ == SolverKind::pbf;
+  b.predicted = device(pbf ? 16 : 0);
+  b.iterate0 = device(pbf ? 16 : 0);
+  b.iterate1 = device(pbf ? 16 : 0);
+  b.lambda = device(pbf ? 4 : 0);
+  b.vorticity = device(pbf ? 16 : 0);
+  b.density = device(pbf ? 0 : 8);
+  b.acceleration = device(pbf ? 0 : 16);
+  buffers_ = std::move(b);
+  grid_.reserve(capacity);
+  capacity_ = capacity;
+}
+
+void GpuSolver::load_particles(const ParticleSet& particles) {
+  synchronize();
+  const std::size_t n = particles.size();
+  if (n > capacity_ || !buffers_.position) {
+    // Room to grow, so that adding a few particles at a time does not reallocate every time.
+    const std::size_t grown =
+        std::min({2 * capacity_, static_cast<std::size_t>(params().max_particles), particles_that_fit()});
+    allocate(std::max(n, grown));
+  }
+  std::vector<glm::vec4> positions(n), velocities(n);
+  float largest_speed2 = 0.0f;
+  for (std::size_t i = 0; i < n; ++i) {
+    positions[i] = glm::vec4(particles.position[i], 0.0f);
+    velocities[i] = glm::vec4(particles.velocity[i], 0.0f);
+    largest_speed2 = std::max(largest_speed2, glm::dot(particles.velocity[i], particles.velocity[i]));
+  }
+  gpu::upload<glm::vec4>(*context_, buffers_.position, positions);
+  gpu::upload<glm::vec4>(*context_, buffers_.velocity, velocities);
+  gpu::upload<std::uint32_t>(*context_, buffers_.id, particles.id);
+  count_ = n;
+  largest_speed_ = std::sqrt(largest_speed2);
+  largest_acceleration_ = 0.0f;
+}
+
+ParticleSet GpuSolver::snapshot() const {
+  // Queue order puts the copy after every submitted step.
+  const auto positions = gpu::download<glm::vec4>(*context_, buffers_.position, count_);
+  const auto velocities = gpu::download<glm::vec4>(*context_, buffers_.velocity, count_);
+  ParticleSet set;
+  set.id = gpu::download<std::uint32_t>(*context_, buffers_.id, count_);
+  set.position.resize(count_);
+  set.velocity.resize(count_);
+  for (std::size_t i = 0; i < count_; ++i) {
+    set.position[i] = glm::vec3(positions[i]);
+    set.velocity[i] = glm::vec3(velocities[i]);
+  }
+  return set;
+}
+
+void GpuSolver::append_particles(std::span<const glm::vec3> positions,
+                                 std::span<const glm::vec3> velocities, std::uint32_t first_id) {
+  ParticleSet set = snapshot();
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    set.append(positions[i], velocities[i], first_id + static_cast<std::uint32_t>(i));
+  }
+  load_particles(set);
+}
+
+std::size_t GpuSolver::erase_particles_in_sphere(glm::vec3 centre, float radius) {
+  const ParticleSet all = snapshot();
+  ParticleSet kept;
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    const glm::vec3 d = all.position[i] - centre;
+    if (glm::dot(d, d) > radius * radius) kept.append(all.position[i], all.velocity[i], all.id[i]);
+  }
+  load_particles(kept);
+  return all.size() - kept.size();
+}
+
+void GpuSolver::synchronize() {
+  for (auto& slot : in_flight_) {
+    slot.commands.wait();
+  }
+  // Older first, so that the newest step's figures are the ones kept.
+  harvest(in_flight_[next_slot_]);
+  harvest(in_flight_[next_slot_ ^ 1]);
+}
+
+void GpuSolver::harvest(InFlight& slot) {
+  if (slot.harvested) return;
+  slot.harvested = true;
+  const auto stats = slot.stats.mapped<std::uint32_t>();
+  largest_speed_ = std::sqrt(float_from_bits(stats[0]));
+  largest_acceleration_ = float_from_bits(stats[1]);
+  if (slot.marks.empty()) return;
+  slot.timestamps.fetch();
+  for (std::uint32_t k = 0; k < slot.marks.size(); ++k) {
+    const double ms = slot.timestamps.elapsed_ms(k, k + 1);
+    const auto [stage, index] = slot.marks[k];
+    switch (stage) {
+      case Stage::grid: stage_times_.grid_ms += ms; break;
+      case Stage::predict: stage_times_.predict_ms += ms; break;
+      case Stage::iteration:
+        stage_times_.iteration_ms.resize(std::max<std::size_t>(stage_times_.iteration_ms.size(),
+                                                               static_cast<std::size_t>(index) + 1));
+        stage_times_.iteration_ms[static_cast<std::size_t>(index)] += ms;
+        stage_times_.solve_ms += ms;
+        break;
+      case Stage::solve: stage_times_.solve_ms += ms; break;
+      case Stage::velocity: stage_times_.velocity_ms += ms; break;
+      case Stage::viscosity: stage_times_.viscosity_ms += ms; break;
+    }
+  }
+}
+
+SimParams GpuSolver::step_params() const {
+  const Kernels kernels(fluid().kernel_radius);
+  const float radius = fluid().particle_radius();
+  const GridGeometry& grid = grid_.geometry();
+  SimParams p{};
+  p.position = buffers_.position.address();
+  p.velocity = buffers_.velocity.address();
+  p.id = buffers_.id.address();
+  p.sorted_position = buffers_.sorted_position.address();
+  p.sorted_velocity = buffers_.sorted_velocity.address();
+  p.sorted_id = buffers_.sorted_id.address();
+  p.predicted = buffers_.predicted.address();
+  p.iterate0 = buffers_.iterate0.address();
+  p.iterate1 = buffers_.iterate1.address();
+  p.lambda = buffers_.lambda.address();
+  p.vorticity = buffers_.vorticity.address();
+  p.density = buffers_.density.address();
+  p.acceleration = buffers_.acceleration.address();
+  p.order = grid_.order().address();
+  p.cell_start = grid_.cell_start().address();
+  p.stats = stats_buffer_.address();
+
+  p.tank_min = glm::vec4(tank().min, 0.0f);
+  p.tank_max = glm::vec4(tank().max, 0.0f);
+  p.inner_min = glm::vec4(tank().min + radius, 0.0f);
+  p.inner_max = glm::vec4(tank().max - radius, 0.0f);
+  p.gravity = glm::vec4(gravity(), 0.0f);
+  p.grid_origin = glm::vec4(grid.origin, grid.inv_cell_size);
+  p.grid_dims = glm::ivec4(grid.dims, 0);
+
+  p.solver = kind_ == SolverKind::pbf ? kSolverPbf : kSolverSph;
+  p.particle_count = static_cast<std::uint32_t>(count_);
+  p.collider_count = static_cast<std::uint32_t>(colliders().size());
+  p.h = kernels.radius();
+  p.h2 = kernels.radius_squared();
+  p.poly6 = kernels.poly6_coefficient();
+  p.spiky = kernels.spiky_coefficient();
+  p.viscosity_laplacian = kernels.viscosity_laplacian_coefficient();
+  p.mass = fluid().particle_mass;
+  p.rest_density = fluid().rest_density;
+  p.inv_rest_density = 1.0f / fluid().rest_density;
+  p.rest_volume = fluid().rest_volume();
+  p.particle_radius = radius;
+  p.relaxation_epsilon = relaxation_epsilon_;
+  p.scorr_scale = scorr_scale_;
+  p.inv_w_dq = inv_w_dq_;
+  p.scorr_exponent = params().scorr_exponent;
+  p.vorticity_epsilon = params().vorticity;
+  p.xsph = params().xsph_viscosity;
+  p.tait_stiffness =
+      params().rest_density * params().sound_speed * params().sound_speed / params().tait_exponent;
+  p.tait_exponent = params().tait_exponent;
+  p.sph_viscosity = params().sph_viscosity;
+  p.artificial_viscosity =
+      2.0f * params().artificial_viscosity * kernels.radius() * params().sound_speed;
+  p.softening = 0.01f * kernels.radius_squared();
+  for (std::size_t c = 0; c < colliders().size(); ++c) {
+    p.collider_sphere[c] = glm::vec4(colliders()[c].centre, colliders()[c].radius);
+    p.collider_velocity[c] = glm::vec4(colliders()[c].velocity, 0.0f);
+  }
+  return p;
+}
+
+int GpuSolver::substeps_for_next_step() const {
+  float largest_collider_speed = 0.0f;
+  for (const Collider& c : colliders()) {
+    largest_collider_speed = std::max(largest_collider_speed, glm::length(c.velocity));
+  }
+  const float h = fluid().kernel_radius;
+  // When the previous step is still running, the figures are one step older: allow for what
+  // gravity adds over that step too.
+  const bool previous_running = in_flight_[next_slot_ ^ 1].commands.busy();
+  const float g = glm::length(gravity());
+  const float speed = largest_speed_ + (previous_running ? g * params().time_step : 0.0f);
+  if (kind_ == SolverKind::pbf) {
+    return pbf_substep_count(speed, largest_collider_speed, g, params(), h);
+  }
+  const float step = params().time_step;
+  const float dt = sph_stable_substep(speed, largest_acceleration_, params(), h);
+  if (!std::isfinite(dt) || dt <= 0.0f) return params().max_substeps;
+  return static_cast<int>(
+      std::clamp(std::ceil(step / dt), 1.0f, static_cast<float>(params().max_substeps)));
+}
+
+void GpuSolver::mark(VkCommandBuffer commands, InFlight& slot, Stage stage, int index) {
+  if (!slot.timed) return;
+  slot.timestamps.mark(commands);
+  slot.marks.emplace_back(stage, index);
+}
+
+void GpuSolver::advance() {
+  InFlight& slot = in_flight_[next_slot_];
+  slot.commands.wait();
+  harvest(slot);
+  if (!in_flight_[next_slot_ ^ 1].commands.busy()) harvest(in_flight_[next_slot_ ^ 1]);
+
+  const int substeps = substeps_for_next_step();
+  const float dt = params().time_step / static_cast<float>(substeps);
+  const int marks_per_substep = kind_ == SolverKind::pbf ? 4 + params().iterations : 3;
+  const bool timed = context_->timestamps_supported() &&
+                     1 + substeps * marks_per_substep <= static_cast<int>(kTimestampCapacity);
+
+  const VkCommandBuffer commands = slot.commands.begin();
+  slot.marks.clear();
+  slot.timed = timed;
+  slot.timestamps.reset(commands);
+  if (timed) slot.timestamps.mark(commands);
+  const SimParams params_block = step_params();
+  gpu::compute_to_transfer_barrier(commands);
+  vkCmdUpdateBuffer(commands, params_buffer_.get(), 0, sizeof(SimParams), &params_block);
+  vkCmdFillBuffer(commands, stats_buffer_.get(), 0, VK_WHOLE_SIZE, 0);
+  gpu::transfer_to_compute_barrier(commands);
+  for (int s = 0; s < substeps; ++s) {
+    const SimPass pass{params_buffer_.address(), dt, static_cast<float>(s + 1) * dt, 0};
+    if (kind_ == SolverKind::pbf) {
+      record_pbf_substep(commands, slot, pass);
+    } else {
+      record_sph_substep(commands, slot, pass);
+    }
+  }
+  gpu::compute_to_transfer_barrier(commands);
+  const VkBufferCopy region{0, 0, 2 * sizeof(std::uint32_t)};
+  vkCmdCopyBuffer(commands, stats_buffer_.get(), slot.stats.get(), 1, &region);
+  gpu::to_host_barrier(commands);
+  slot.commands.submit();
+  slot.harvested = false;
+  stage_times_.substeps += static_cast<std::uint64_t>(substeps);
+  next_slot_ ^= 1;
+}
+
+void GpuSolver::record_pbf_substep(VkCommandBuffer commands, InFlight& slot, const SimPass& pass) {
+  const std::uint32_t n = static_cast<std::uint32_t>(count_);
+  pipelines_.predict.dispatch(commands, pass, n);
+  gpu::compute_barrier(commands);
+  mark(commands, slot, Stage::predict);
+
+  grid_.record_build(commands, buffers_.predicted.address(), n);
+  pipelines_.reorder.dispatch(commands, pass, n);
+  gpu::compute_barrier(commands);
+  mark(commands, slot, Stage::grid);
+
+  SimPass iteration = pass;
+  for (int k = 0; k < params().iterations; ++k) {
+    pipelines_.pbf_lambda.dispatch(commands, iteration, n);
+    gpu::compute_barrier(commands);
+    pipelines_.pbf_correct.dispatch(commands, iteration, n);
+    gpu::compute_barrier(commands);
+    iteration.parity ^= 1;
+    mark(commands, slot, Stage::iteration, k);
+  }
+
+  pipelines_.pbf_velocity.dispatch(commands, iteration, n);
+  gpu::compute_barrier(commands);
+  if (params().vorticity > 0.0f) {
+    pipelines_.pbf_vorticity.dispatch(commands, iteration, n);
+    gpu::compute_barrier(commands);
+  }
+  mark(commands, slot, Stage::velocity);
+  pipelines_.pbf_finish.dispatch(commands, iteration, n);
+  gpu::compute_barrier(commands);
+  mark(commands, slot, Stage::viscosity);
+}
+
+void GpuSolver::record_sph_substep(VkCommandBuffer commands, InFlight& slot, const SimPass& pass) {
+  const std::uint32_t n = static_cast<std::uint32_t>(count_);
+  grid_.record_build(commands, buffers_.position.address(), n);
+  pipelines_.reorder.dispatch(commands, pass, n);
+  gpu::compute_barrier(commands);
+  mark(commands, slot, Stage::grid);
+  pipelines_.sph_density.dispatch(commands, pass, n);
+  gpu::compute_barrier(commands);
+  pipelines_.sph_force.dispatch(commands, pass, n);
+  gpu::compute_barrier(commands);
+  mark(commands, slot, Stage::solve);
+  pipelines_.sph_integrate.dispatch(commands, pass, n);
+  gpu::compute_barrier(commands);
+  mark(commands, slot, Stage::predict);
+}
+
+}  // namespace fluidcast::sim::gpu_solver
+
+namespace fluidcast::sim {
+
+std::unique_ptr<Solver> make_gpu_solver(SolverKind kind, gpu::Context& context, Scene scene,
+                                        const SolverParams& params) {
+  return std::make_unique<gpu_solver::GpuSolver>(kind, context, std::move(scene), params);
+}
+
+}  // namespace fluidcast::sim

@@ -1,0 +1,93 @@
+// PBF and SPH entirely in Vulkan compute. The particles stay on the GPU: each step is one command
+// buffer (parameters, then every substep's grid build, reorder and solver passes), and the host
+// reads positions and velocities back only for a snapshot. Two steps may be in flight; the
+// substep count of a step comes from the largest speed (and, for SPH, acceleration) of the newest
+// finished step, which the GPU records with one atomic per workgroup.
+// The formulas are the CPU solvers' (cpu/pbf_solver.cpp, cpu/sph_solver.cpp): see there for the
+// papers. One difference: SPH substeps are equal within a step, as their count is recorded up
+// front, where the CPU solver adapts each substep to the state it has just computed.
+#pragma once
+
+#include <array>
+#include <optional>
+
+#include "fluidcast/gpu/command_slot.h"
+#include "fluidcast/gpu/compute_pipeline.h"
+#include "fluidcast/sim/solver.h"
+#include "gpu/gpu_neighbour_grid.h"
+#include "gpu/gpu_sim_params.h"
+
+namespace fluidcast::sim::gpu_solver {
+
+class GpuSolver final : public Solver {
+ public:
+  // Throws ParamError as Solver does, and ParamError when the particles would not fit in the
+  // device's memory (naming the limit).
+  GpuSolver(SolverKind kind, gpu::Context& context, Scene scene, const SolverParams& params);
+  ~GpuSolver() override;
+
+  SolverKind kind() const override { return kind_; }
+  std::size_t particle_count() const override { return count_; }
+  ParticleSet snapshot() const override;
+  void synchronize() override;
+
+  // GPU memory needed for `particles`, and how many fit in what this device has.
+  std::uint64_t bytes_needed(std::size_t particles) const;
+  std::size_t particles_that_fit() const;
+
+ protected:
+  void advance() override;
+  void append_particles(std::span<const glm::vec3> positions, std::span<const glm::vec3> velocities,
+                        std::uint32_t first_id) override;
+  std::size_t erase_particles_in_sphere(glm::vec3 centre, float radius) override;
+  void load_particles(const ParticleSet& particles) override;
+
+ private:
+  enum class Stage { grid, predict, iteration, velocity, viscosity, solve };
+  struct InFlight {
+    explicit InFlight(gpu::Context& context);
+    gpu::CommandSlot commands;
+    gpu::Buffer stats;  // readback: {largest |v|² bits, largest |a| bits}
+    gpu::TimestampQueries timestamps;
+    std::vector<std::pair<Stage, int>> marks;  // what ended at each timestamp after the first
+    bool harvested = true;
+    bool timed = false;
+  };
+  struct Pipelines {
+    explicit Pipelines(gpu::Context& context);
+    gpu::ComputePipeline predict, reorder, pbf_lambda, pbf_correct, pbf_velocity, pbf_vorticity,
+        pbf_finish, sph_density, sph_force, sph_integrate;
+  };
+
+  std::uint64_t usable_bytes() const;
+  void allocate(std::size_t capacity);
+  SimParams step_params() const;
+  int substeps_for_next_step() const;
+  void record_pbf_substep(VkCommandBuffer commands, InFlight& slot, const SimPass& pass);
+  void record_sph_substep(VkCommandBuffer commands, InFlight& slot, const SimPass& pass);
+  void mark(VkCommandBuffer commands, InFlight& slot, Stage stage, int index = 0);
+  // Reads the stats and timestamps of a finished slot, once.
+  void harvest(InFlight& slot);
+
+  SolverKind kind_;
+  gpu::Context* context_;
+  GpuNeighbourGrid grid_;
+  Pipelines pipelines_;
+  std::size_t count_ = 0;
+  std::size_t capacity_ = 0;
+  struct Buffers {
+    gpu::Buffer position, velocity, id, sorted_position, sorted_velocity, sorted_id;
+    gpu::Buffer predicted, iterate0, iterate1, lambda, vorticity;  // PBF
+    gpu::Buffer density, acceleration;                             // SPH
+  } buffers_;
+  gpu::Buffer params_buffer_, stats_buffer_;
+  std::array<InFlight, 2> in_flight_;
+  std::size_t next_slot_ = 0;
+  // From the newest finished step (or the loaded particles).
+  float largest_speed_ = 0.0f;
+  float largest_acceleration_ = 0.0f;
+  // PBF constants, derived as the CPU solver does.
+  float relaxation_epsilon_ = 0.0f, scorr_scale_ = 0.0f, inv_w_dq_ = 0.0f;
+};
+
+}  // namespace fluidcast::sim::gpu_solver

@@ -1,0 +1,20 @@
+// Constants of the PBF density constraint, derived once from the tunables and the particle
+// spacing, and shared by the CPU and GPU solvers.
+#pragma once
+
+#include "fluidcast/sim/fluid_constants.h"
+#include "fluidcast/sim/solver_params.h"
+
+namespace fluidcast::sim {
+
+struct PbfConstants {
+  float relaxation_epsilon = 0.0f;  // ε, absolute: relaxation × Σ|∇C|² at rest
+  float scorr_scale = 0.0f;         // k / Σ|∇C|² at rest
+  float inv_w_dq = 0.0f;            // 1 / W(Δq)
+};
+
+// ε and k are given relative to Σ_j |∇_j C_i|² of a particle inside the cubic lattice at rest, so
+// that they mean the same at every particle spacing.
+PbfConstants derive_pbf_constants(const SolverParams& params, const FluidConstants& fluid);
+
+}  // namespace fluidcast::sim

@@ -1,0 +1,117 @@
+// Kernels, walls, boundaries and the neighbour loop, as the CPU solvers have them (kernels.h,
+// cpu_solver.h): the same formulas, so that the two backends agree.
+// Vectors behind a buffer reference are always loaded whole, never one component through the
+// reference: Mesa 22.3's lavapipe reads a single component (P.grid_origin.w) as 0.
+#include "common/grid.glsl"
+
+ivec3 grid_dims() {
+  const ivec4 dims = P.grid_dims;
+  return dims.xyz;
+}
+
+float poly6(float r2) {
+  if (!(r2 < P.h2)) return 0.0;
+  const float x = P.h2 - r2;
+  return P.poly6 * x * x * x;
+}
+
+vec3 spiky_gradient(vec3 r, float r2) {
+  if (!(r2 < P.h2) || r2 <= 1e-24) return vec3(0.0);
+  const float inv_r = inversesqrt(r2);
+  const float x = P.h - r2 * inv_r;
+  return (-3.0 * P.spiky * x * x * inv_r) * r;
+}
+
+float viscosity_laplacian(float r) { return r >= P.h ? 0.0 : P.viscosity_laplacian * (P.h - r); }
+
+float wall_antiderivative(float z) {
+  const float z2 = z * z, h2 = P.h2, h4 = h2 * h2;
+  return z * (h4 * h4 - z2 * (4.0 / 3.0 * h4 * h2 -
+                              z2 * (6.0 / 5.0 * h4 - z2 * (4.0 / 7.0 * h2 - z2 / 9.0))));
+}
+
+float wall_volume(float s) {
+  if (!(s < P.h)) return 0.0;
+  s = max(s, 0.0);
+  return 0.25 * 3.14159265358979 * P.poly6 * (wall_antiderivative(P.h) - wall_antiderivative(s));
+}
+
+float wall_gradient(float s) {
+  if (!(s < P.h)) return 0.0;
+  s = max(s, 0.0);
+  const float x = P.h - s;
+  const float h3 = P.h2 * P.h;
+  return 1.5 * x * x * x * x * (P.h + 4.0 * s) / (h3 * h3);
+}
+
+// What the six walls add at p: density ρ0 Σ wall_volume (x) and its gradient (yzw).
+vec4 walls(vec3 p) {
+  const vec3 near = p - P.tank_min.xyz, far = P.tank_max.xyz - p;
+  float density = 0.0;
+  vec3 gradient;
+  for (int axis = 0; axis < 3; ++axis) {
+    density += wall_volume(near[axis]) + wall_volume(far[axis]);
+    gradient[axis] = wall_gradient(far[axis]) - wall_gradient(near[axis]);
+  }
+  return P.rest_density * vec4(density, gradient);
+}
+
+// Moves p out of every collider (at time_into_step) and into the tank; when `velocity` is given
+// (SPH), removes its component into each surface p was pushed out of.
+vec3 constrain(vec3 p, inout vec3 v, bool adjust_velocity) {
+  for (uint c = 0; c < P.collider_count; ++c) {
+    const vec4 sphere = P.collider_sphere[c];
+    const vec3 centre = sphere.xyz + pass.time_into_step * P.collider_velocity[c].xyz;
+    const vec3 d = p - centre;
+    const float reach = sphere.w + P.particle_radius;
+    const float dist2 = dot(d, d);
+    if (!(dist2 < reach * reach)) continue;
+    const float dist = sqrt(dist2);
+    const vec3 normal = dist > 1e-6 * reach ? d / dist : vec3(0, 1, 0);
+    p = centre + normal * reach;
+    if (adjust_velocity) {
+      const float approach = dot(v - P.collider_velocity[c].xyz, normal);
+      if (approach < 0.0) v -= approach * normal;
+    }
+  }
+  const vec4 inner_min = P.inner_min, inner_max = P.inner_max;
+  if (adjust_velocity) {
+    for (int axis = 0; axis < 3; ++axis) {
+      if (p[axis] < inner_min[axis]) {
+        p[axis] = inner_min[axis];
+        v[axis] = max(v[axis], 0.0);
+      } else if (p[axis] > inner_max[axis]) {
+        p[axis] = inner_max[axis];
+        v[axis] = min(v[axis], 0.0);
+      }
+    }
+    return p;
+  }
+  return clamp(p, inner_min.xyz, inner_max.xyz);
+}
+
+ivec3 cell_of(vec3 p) {
+  const vec4 origin = P.grid_origin;  // w: 1 / cell size
+  return grid_cell_coords(p, origin.xyz, origin.w, grid_dims());
+}
+
+// for every sorted slot j in the 5×5 rows of 5 cells around `cell` (a contiguous range per row):
+//   FOR_EACH_CANDIDATE(cell, j) { ... }
+#define FOR_EACH_CANDIDATE(cell, j)                                                              \
+  for (int z_ = max(cell.z - 2, 0); z_ <= min(cell.z + 2, grid_dims().z - 1); ++z_)                \
+    for (int y_ = max(cell.y - 2, 0); y_ <= min(cell.y + 2, grid_dims().y - 1); ++y_)              \
+      for (uint j = P.cell_start.v[grid_cell_index(ivec3(max(cell.x - 2, 0), y_, z_), grid_dims())], \
+                end_ = P.cell_start.v[grid_cell_index(ivec3(min(cell.x + 2, grid_dims().x - 1), y_, z_), \
+                                                      grid_dims()) + 1];                       \
+           j < end_; ++j)
+
+// The largest value over the dispatch, into P.stats.v[slot]: one global atomic per workgroup.
+// Every invocation must call it (no early return before).
+shared uint group_largest;
+void record_largest(uint slot, float value) {
+  if (gl_LocalInvocationIndex == 0) group_largest = 0u;
+  barrier();
+  atomicMax(group_largest, floatBitsToUint(value));  // value ≥ 0; NaN sorts above +inf
+  barrier();
+  if (gl_LocalInvocationIndex == 0) atomicMax(P.stats.v[slot], group_largest);
+}

@@ -1,0 +1,72 @@
+// The solver's parameter block, written once per step into a device buffer; mirrored by SimParams
+// in core/sim/gpu/gpu_sim_params.h, whose offsets are checked at compile time. Every pass of the
+// solvers receives it, with the substep's timing, in its push constants (SimPass).
+#define SOLVER_PBF 0u
+#define SOLVER_SPH 1u
+#define MAX_COLLIDERS 16
+
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer SimParams {
+  // Particle state in the order of the latest sort (w unused).
+  Vec4s position;
+  Vec4s velocity;
+  Uints id;
+  // The same, gathered into this substep's sorted order.
+  Vec4s sorted_position;
+  Vec4s sorted_velocity;
+  Uints sorted_id;
+  Vec4s predicted;     // PBF: predicted positions in state order (the sort key)
+  Vec4s iterate0;      // PBF: predicted positions in sorted order, ping-pong over the iterations
+  Vec4s iterate1;
+  Floats lambda;       // PBF
+  Vec4s vorticity;     // PBF: ω, and |ω| in w
+  Vec2s density;       // SPH: density and pressure
+  Vec4s acceleration;  // SPH
+  Uints order;         // the grid: sorted slot → particle
+  Uints cell_start;    // the grid: first sorted slot of each cell, and one past the last
+  Uints stats;         // [0] bits of the largest |v|², [1] of the largest |a|
+
+  vec4 tank_min;
+  vec4 tank_max;
+  vec4 inner_min;      // the tank shrunk by a particle radius: where centres may be
+  vec4 inner_max;
+  vec4 gravity;
+  vec4 grid_origin;    // w: 1 / cell size
+  ivec4 grid_dims;
+
+  uint solver;
+  uint particle_count;
+  uint collider_count;
+  float h;
+  float h2;
+  float poly6;         // kernel constants, as in Kernels
+  float spiky;
+  float viscosity_laplacian;
+  float mass;
+  float rest_density;
+  float inv_rest_density;
+  float rest_volume;
+  float particle_radius;
+  float relaxation_epsilon;  // PBF: ε, scaled as the CPU solver does
+  float scorr_scale;
+  float inv_w_dq;
+  float scorr_exponent;
+  float vorticity_epsilon;
+  float xsph;
+  float tait_stiffness;      // SPH
+  float tait_exponent;
+  float sph_viscosity;
+  float artificial_viscosity;  // 2 α h c, as the CPU solver's prefactor
+  float softening;
+
+  vec4 collider_sphere[MAX_COLLIDERS];    // centre at the step's start, radius in w
+  vec4 collider_velocity[MAX_COLLIDERS];
+};
+
+layout(push_constant, std430) uniform SimPass {
+  SimParams params;
+  float dt;              // this substep's length, s
+  float time_into_step;  // where the colliders are: seconds into the step
+  uint parity;           // PBF: which iterate buffer holds the current positions
+} pass;
+
+#define P pass.params

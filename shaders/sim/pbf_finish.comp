@@ -1,0 +1,45 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// PBF, last pass of a substep: vorticity confinement (a = ε N × ω) and XSPH viscosity on the
+// velocity, then the particles written back as state (sorted order becomes state order), and the
+// largest |v|² recorded for the next step's substep count.
+#include "common/core.glsl"
+#include "common/sim_params.glsl"
+#include "common/sim_kernels.glsl"
+
+void main() {
+  const uint k = invocation();
+  float speed2 = 0.0;
+  if (k < P.particle_count) {
+    Vec4s x = pass.parity == 0u ? P.iterate0 : P.iterate1;
+    const vec3 p = x.v[k].xyz;
+    const vec3 v = P.sorted_velocity.v[k].xyz;
+    vec3 velocity = v;
+    if (P.vorticity_epsilon > 0.0 || P.xsph > 0.0) {
+      const bool confine = P.vorticity_epsilon > 0.0;
+      const vec4 omega = confine ? P.vorticity.v[k] : vec4(0.0);
+      vec3 eta = vec3(0.0), smoothing = vec3(0.0);
+      const ivec3 cell = cell_of(p);
+      FOR_EACH_CANDIDATE(cell, j) {
+        const vec3 r = p - x.v[j].xyz;
+        const float r2 = dot(r, r);
+        if (!(r2 < P.h2) || j == k) continue;
+        if (confine) {
+          const vec4 omega_j = P.vorticity.v[j];
+          eta += (omega_j.w - omega.w) * spiky_gradient(r, r2);
+        }
+        smoothing += (P.sorted_velocity.v[j].xyz - v) * poly6(r2);
+      }
+      velocity += P.xsph * P.rest_volume * smoothing;
+      const float eta_length = length(eta);
+      if (confine && eta_length > 1e-12) {
+        velocity += pass.dt * P.vorticity_epsilon * cross(eta / eta_length, omega.xyz);
+      }
+    }
+    P.position.v[k] = vec4(p, 0.0);
+    P.velocity.v[k] = vec4(velocity, 0.0);
+    P.id.v[k] = P.sorted_id.v[k];
+    speed2 = dot(velocity, velocity);
+  }
+  record_largest(0u, speed2);
+}

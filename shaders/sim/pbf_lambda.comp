@@ -1,0 +1,32 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// PBF: the density constraint's λ (Macklin & Müller 2013), unilateral (only compression), with
+// the walls as fluid at rest; as PbfSolver::compute_lambdas.
+#include "common/core.glsl"
+#include "common/sim_params.glsl"
+#include "common/sim_kernels.glsl"
+
+void main() {
+  const uint k = invocation();
+  if (k >= P.particle_count) return;
+  Vec4s x = pass.parity == 0u ? P.iterate0 : P.iterate1;
+  const vec3 p = x.v[k].xyz;
+  float density = poly6(0.0);
+  vec3 gradient_i = vec3(0.0);
+  float sum_squares = 0.0;
+  const ivec3 cell = cell_of(p);
+  FOR_EACH_CANDIDATE(cell, j) {
+    const vec3 r = p - x.v[j].xyz;
+    const float r2 = dot(r, r);
+    if (!(r2 < P.h2) || j == k) continue;
+    density += poly6(r2);
+    const vec3 g = P.rest_volume * spiky_gradient(r, r2);
+    gradient_i += g;
+    sum_squares += dot(g, g);
+  }
+  const vec4 wall = walls(p);
+  gradient_i += P.inv_rest_density * wall.yzw;
+  const float constraint = max((P.mass * density + wall.x) * P.inv_rest_density - 1.0, 0.0);
+  P.lambda.v[k] = constraint == 0.0 ? 0.0
+      : -constraint / (sum_squares + dot(gradient_i, gradient_i) + P.relaxation_epsilon);
+}

@@ -1,0 +1,25 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// SPH: density (poly6, walls as fluid at rest) and Tait pressure, clamped at 0; as
+// SphSolver::compute_densities_and_pressures.
+#include "common/core.glsl"
+#include "common/sim_params.glsl"
+#include "common/sim_kernels.glsl"
+
+void main() {
+  const uint k = invocation();
+  if (k >= P.particle_count) return;
+  const vec3 p = P.sorted_position.v[k].xyz;
+  float sum = poly6(0.0);
+  const ivec3 cell = cell_of(p);
+  FOR_EACH_CANDIDATE(cell, j) {
+    const vec3 r = p - P.sorted_position.v[j].xyz;
+    const float r2 = dot(r, r);
+    if (!(r2 < P.h2) || j == k) continue;
+    sum += poly6(r2);
+  }
+  const float density = P.mass * sum + walls(p).x;
+  const float pressure =
+      max(0.0, P.tait_stiffness * (pow(density / P.rest_density, P.tait_exponent) - 1.0));
+  P.density.v[k] = vec2(density, pressure);
+}

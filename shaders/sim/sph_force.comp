@@ -1,0 +1,41 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// SPH: a_i = g − Σ m (p_i/ρ_i² + p_j/ρ_j² + Π_ij) ∇W + μ/ρ_i Σ m (v_j − v_i)/ρ_j ∇²W + walls,
+// as SphSolver::compute_accelerations; records the largest |a| for the next step's substeps.
+#include "common/core.glsl"
+#include "common/sim_params.glsl"
+#include "common/sim_kernels.glsl"
+
+void main() {
+  const uint k = invocation();
+  float largest = 0.0;
+  if (k < P.particle_count) {
+    const vec3 p = P.sorted_position.v[k].xyz;
+    const vec3 v = P.sorted_velocity.v[k].xyz;
+    const vec2 own = P.density.v[k];
+    const float pressure_term_i = own.y / (own.x * own.x);
+    vec3 pressure_acceleration = vec3(0.0), viscous_sum = vec3(0.0);
+    const ivec3 cell = cell_of(p);
+    FOR_EACH_CANDIDATE(cell, j) {
+      const vec3 r = p - P.sorted_position.v[j].xyz;
+      const float r2 = dot(r, r);
+      if (!(r2 < P.h2) || j == k) continue;
+      const float distance = sqrt(r2);
+      const vec2 other = P.density.v[j];
+      const vec3 vj = P.sorted_velocity.v[j].xyz;
+      float pair = pressure_term_i + other.y / (other.x * other.x);
+      const float approach = dot(v - vj, r);
+      if (approach < 0.0) {
+        pair -= P.artificial_viscosity / (own.x + other.x) * approach / (distance * distance + P.softening);
+      }
+      pressure_acceleration -= pair * spiky_gradient(r, r2);
+      viscous_sum += (vj - v) * (viscosity_laplacian(distance) / other.x);
+    }
+    const vec3 wall_acceleration = -2.0 * pressure_term_i * walls(p).yzw;
+    const vec3 a = P.gravity.xyz + P.mass * pressure_acceleration + wall_acceleration +
+                   (P.sph_viscosity * P.mass / own.x) * viscous_sum;
+    P.acceleration.v[k] = vec4(a, 0.0);
+    largest = length(a);
+  }
+  record_largest(1u, largest);
+}
