@@ -4,44 +4,58 @@
 // reference: Mesa 22.3's lavapipe reads a single component (P.grid_origin.w) as 0.
 #include "common/grid.glsl"
 
-ivec3 grid_dims() {
+// What the inner loops read, loaded once per invocation by load_constants() (first thing in
+// main), so that the loops do not reload it through the parameter block's reference.
+float K_h, K_h2, K_poly6, K_spiky, K_viscosity_laplacian;
+vec4 K_grid_origin;
+ivec3 K_grid_dims;
+Uints K_cell_start;
+
+void load_constants() {
+  K_h = P.h;
+  K_h2 = P.h2;
+  K_poly6 = P.poly6;
+  K_spiky = P.spiky;
+  K_viscosity_laplacian = P.viscosity_laplacian;
+  K_grid_origin = P.grid_origin;
   const ivec4 dims = P.grid_dims;
-  return dims.xyz;
+  K_grid_dims = dims.xyz;
+  K_cell_start = P.cell_start;
 }
 
 float poly6(float r2) {
-  if (!(r2 < P.h2)) return 0.0;
-  const float x = P.h2 - r2;
-  return P.poly6 * x * x * x;
+  if (!(r2 < K_h2)) return 0.0;
+  const float x = K_h2 - r2;
+  return K_poly6 * x * x * x;
 }
 
 vec3 spiky_gradient(vec3 r, float r2) {
-  if (!(r2 < P.h2) || r2 <= 1e-24) return vec3(0.0);
+  if (!(r2 < K_h2) || r2 <= 1e-24) return vec3(0.0);
   const float inv_r = inversesqrt(r2);
-  const float x = P.h - r2 * inv_r;
-  return (-3.0 * P.spiky * x * x * inv_r) * r;
+  const float x = K_h - r2 * inv_r;
+  return (-3.0 * K_spiky * x * x * inv_r) * r;
 }
 
-float viscosity_laplacian(float r) { return r >= P.h ? 0.0 : P.viscosity_laplacian * (P.h - r); }
+float viscosity_laplacian(float r) { return r >= K_h ? 0.0 : K_viscosity_laplacian * (K_h - r); }
 
 float wall_antiderivative(float z) {
-  const float z2 = z * z, h2 = P.h2, h4 = h2 * h2;
+  const float z2 = z * z, h2 = K_h2, h4 = h2 * h2;
   return z * (h4 * h4 - z2 * (4.0 / 3.0 * h4 * h2 -
                               z2 * (6.0 / 5.0 * h4 - z2 * (4.0 / 7.0 * h2 - z2 / 9.0))));
 }
 
 float wall_volume(float s) {
-  if (!(s < P.h)) return 0.0;
+  if (!(s < K_h)) return 0.0;
   s = max(s, 0.0);
-  return 0.25 * 3.14159265358979 * P.poly6 * (wall_antiderivative(P.h) - wall_antiderivative(s));
+  return 0.25 * 3.14159265358979 * K_poly6 * (wall_antiderivative(K_h) - wall_antiderivative(s));
 }
 
 float wall_gradient(float s) {
-  if (!(s < P.h)) return 0.0;
+  if (!(s < K_h)) return 0.0;
   s = max(s, 0.0);
-  const float x = P.h - s;
-  const float h3 = P.h2 * P.h;
-  return 1.5 * x * x * x * x * (P.h + 4.0 * s) / (h3 * h3);
+  const float x = K_h - s;
+  const float h3 = K_h2 * K_h;
+  return 1.5 * x * x * x * x * (K_h + 4.0 * s) / (h3 * h3);
 }
 
 // What the six walls add at p: density ρ0 Σ wall_volume (x) and its gradient (yzw).
@@ -91,18 +105,17 @@ vec3 constrain(vec3 p, inout vec3 v, bool adjust_velocity) {
 }
 
 ivec3 cell_of(vec3 p) {
-  const vec4 origin = P.grid_origin;  // w: 1 / cell size
-  return grid_cell_coords(p, origin.xyz, origin.w, grid_dims());
+  return grid_cell_coords(p, K_grid_origin.xyz, K_grid_origin.w, K_grid_dims);
 }
 
 // for every sorted slot j in the 5×5 rows of 5 cells around `cell` (a contiguous range per row):
 //   FOR_EACH_CANDIDATE(cell, j) { ... }
 #define FOR_EACH_CANDIDATE(cell, j)                                                              \
-  for (int z_ = max(cell.z - 2, 0); z_ <= min(cell.z + 2, grid_dims().z - 1); ++z_)                \
-    for (int y_ = max(cell.y - 2, 0); y_ <= min(cell.y + 2, grid_dims().y - 1); ++y_)              \
-      for (uint j = P.cell_start.v[grid_cell_index(ivec3(max(cell.x - 2, 0), y_, z_), grid_dims())], \
-                end_ = P.cell_start.v[grid_cell_index(ivec3(min(cell.x + 2, grid_dims().x - 1), y_, z_), \
-                                                      grid_dims()) + 1];                       \
+  for (int z_ = max(cell.z - 2, 0); z_ <= min(cell.z + 2, K_grid_dims.z - 1); ++z_)                \
+    for (int y_ = max(cell.y - 2, 0); y_ <= min(cell.y + 2, K_grid_dims.y - 1); ++y_)              \
+      for (uint j = K_cell_start.v[grid_cell_index(ivec3(max(cell.x - 2, 0), y_, z_), K_grid_dims)], \
+                end_ = K_cell_start.v[grid_cell_index(ivec3(min(cell.x + 2, K_grid_dims.x - 1), y_, z_), \
+                                                      K_grid_dims) + 1];                       \
            j < end_; ++j)
 
 // The largest value over the dispatch, into P.stats.v[slot]: one global atomic per workgroup.

@@ -7,23 +7,26 @@
 #include "common/sim_kernels.glsl"
 
 void main() {
+  load_constants();
   const uint k = invocation();
   if (k >= P.particle_count) return;
   Vec4s x = pass.parity == 0u ? P.iterate0 : P.iterate1;
   Vec4s corrected = pass.parity == 0u ? P.iterate1 : P.iterate0;
   const vec3 p = x.v[k].xyz;
-  const float lambda_i = P.lambda.v[k];
-  const bool exponent_is_four = P.scorr_exponent == 4.0;
+  Floats lambda = P.lambda;
+  const float lambda_i = lambda.v[k];
+  const float scorr_scale = P.scorr_scale, inv_w_dq = P.inv_w_dq, exponent = P.scorr_exponent;
+  const bool exponent_is_four = exponent == 4.0;
   vec3 delta = vec3(0.0);
   const ivec3 cell = cell_of(p);
   FOR_EACH_CANDIDATE(cell, j) {
     const vec3 r = p - x.v[j].xyz;
     const float r2 = dot(r, r);
-    if (!(r2 < P.h2) || j == k) continue;
-    const float s = poly6(r2) * P.inv_w_dq;
+    if (!(r2 < K_h2) || j == k) continue;
+    const float s = poly6(r2) * inv_w_dq;
     const float s2 = s * s;
-    const float scorr = -P.scorr_scale * (exponent_is_four ? s2 * s2 : pow(s, P.scorr_exponent));
-    delta += (lambda_i + P.lambda.v[j] + scorr) * spiky_gradient(r, r2);
+    const float scorr = -scorr_scale * (exponent_is_four ? s2 * s2 : pow(s, exponent));
+    delta += (lambda_i + lambda.v[j] + scorr) * spiky_gradient(r, r2);
   }
   const vec3 wall_push = lambda_i * P.inv_rest_density * walls(p).yzw;
   vec3 unused;

@@ -8,27 +8,29 @@
 #include "common/sim_kernels.glsl"
 
 void main() {
+  load_constants();
   const uint k = invocation();
   float speed2 = 0.0;
   if (k < P.particle_count) {
     Vec4s x = pass.parity == 0u ? P.iterate0 : P.iterate1;
     const vec3 p = x.v[k].xyz;
-    const vec3 v = P.sorted_velocity.v[k].xyz;
+    Vec4s velocities = P.sorted_velocity, vorticity = P.vorticity;
+    const vec3 v = velocities.v[k].xyz;
     vec3 velocity = v;
     if (P.vorticity_epsilon > 0.0 || P.xsph > 0.0) {
       const bool confine = P.vorticity_epsilon > 0.0;
-      const vec4 omega = confine ? P.vorticity.v[k] : vec4(0.0);
+      const vec4 omega = confine ? vorticity.v[k] : vec4(0.0);
       vec3 eta = vec3(0.0), smoothing = vec3(0.0);
       const ivec3 cell = cell_of(p);
       FOR_EACH_CANDIDATE(cell, j) {
         const vec3 r = p - x.v[j].xyz;
         const float r2 = dot(r, r);
-        if (!(r2 < P.h2) || j == k) continue;
+        if (!(r2 < K_h2) || j == k) continue;
         if (confine) {
-          const vec4 omega_j = P.vorticity.v[j];
+          const vec4 omega_j = vorticity.v[j];
           eta += (omega_j.w - omega.w) * spiky_gradient(r, r2);
         }
-        smoothing += (P.sorted_velocity.v[j].xyz - v) * poly6(r2);
+        smoothing += (velocities.v[j].xyz - v) * poly6(r2);
       }
       velocity += P.xsph * P.rest_volume * smoothing;
       const float eta_length = length(eta);

@@ -7,10 +7,12 @@
 #include "common/sim_kernels.glsl"
 
 void main() {
+  load_constants();
   const uint k = invocation();
   if (k >= P.particle_count) return;
   Vec4s x = pass.parity == 0u ? P.iterate0 : P.iterate1;
   const vec3 p = x.v[k].xyz;
+  const float rest_volume = P.rest_volume;
   float density = poly6(0.0);
   vec3 gradient_i = vec3(0.0);
   float sum_squares = 0.0;
@@ -18,9 +20,9 @@ void main() {
   FOR_EACH_CANDIDATE(cell, j) {
     const vec3 r = p - x.v[j].xyz;
     const float r2 = dot(r, r);
-    if (!(r2 < P.h2) || j == k) continue;
+    if (!(r2 < K_h2) || j == k) continue;
     density += poly6(r2);
-    const vec3 g = P.rest_volume * spiky_gradient(r, r2);
+    const vec3 g = rest_volume * spiky_gradient(r, r2);
     gradient_i += g;
     sum_squares += dot(g, g);
   }

@@ -6,6 +6,7 @@
 #include "common/sim_kernels.glsl"
 
 void main() {
+  load_constants();
   const uint i = invocation();
   if (i >= P.particle_count) return;
   vec3 v = P.velocity.v[i].xyz + pass.dt * P.gravity.xyz;

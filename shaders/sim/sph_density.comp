@@ -7,15 +7,17 @@
 #include "common/sim_kernels.glsl"
 
 void main() {
+  load_constants();
   const uint k = invocation();
   if (k >= P.particle_count) return;
-  const vec3 p = P.sorted_position.v[k].xyz;
+  Vec4s x = P.sorted_position;
+  const vec3 p = x.v[k].xyz;
   float sum = poly6(0.0);
   const ivec3 cell = cell_of(p);
   FOR_EACH_CANDIDATE(cell, j) {
-    const vec3 r = p - P.sorted_position.v[j].xyz;
+    const vec3 r = p - x.v[j].xyz;
     const float r2 = dot(r, r);
-    if (!(r2 < P.h2) || j == k) continue;
+    if (!(r2 < K_h2) || j == k) continue;
     sum += poly6(r2);
   }
   const float density = P.mass * sum + walls(p).x;

@@ -7,26 +7,30 @@
 #include "common/sim_kernels.glsl"
 
 void main() {
+  load_constants();
   const uint k = invocation();
   float largest = 0.0;
   if (k < P.particle_count) {
-    const vec3 p = P.sorted_position.v[k].xyz;
-    const vec3 v = P.sorted_velocity.v[k].xyz;
-    const vec2 own = P.density.v[k];
+    Vec4s x = P.sorted_position, velocity = P.sorted_velocity;
+    Vec2s density = P.density;
+    const float artificial_viscosity = P.artificial_viscosity, softening = P.softening;
+    const vec3 p = x.v[k].xyz;
+    const vec3 v = velocity.v[k].xyz;
+    const vec2 own = density.v[k];
     const float pressure_term_i = own.y / (own.x * own.x);
     vec3 pressure_acceleration = vec3(0.0), viscous_sum = vec3(0.0);
     const ivec3 cell = cell_of(p);
     FOR_EACH_CANDIDATE(cell, j) {
-      const vec3 r = p - P.sorted_position.v[j].xyz;
+      const vec3 r = p - x.v[j].xyz;
       const float r2 = dot(r, r);
-      if (!(r2 < P.h2) || j == k) continue;
+      if (!(r2 < K_h2) || j == k) continue;
       const float distance = sqrt(r2);
-      const vec2 other = P.density.v[j];
-      const vec3 vj = P.sorted_velocity.v[j].xyz;
+      const vec2 other = density.v[j];
+      const vec3 vj = velocity.v[j].xyz;
       float pair = pressure_term_i + other.y / (other.x * other.x);
       const float approach = dot(v - vj, r);
       if (approach < 0.0) {
-        pair -= P.artificial_viscosity / (own.x + other.x) * approach / (distance * distance + P.softening);
+        pair -= artificial_viscosity / (own.x + other.x) * approach / (distance * distance + softening);
       }
       pressure_acceleration -= pair * spiky_gradient(r, r2);
       viscous_sum += (vj - v) * (viscosity_laplacian(distance) / other.x);

@@ -7,6 +7,7 @@
 #include "common/sim_kernels.glsl"
 
 void main() {
+  load_constants();
   const uint k = invocation();
   float speed2 = 0.0;
   if (k < P.particle_count) {

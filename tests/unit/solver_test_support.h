@@ -6,16 +6,23 @@
 
 #include <cmath>
 
+#include "../gpu/gpu_test_support.h"
 #include "fluidcast/sim/solver.h"
 #include "fluidcast/sim/statistics.h"
 
 namespace fluidcast::sim::testing {
 
+enum class Backend { cpu, gpu };
+
 inline std::unique_ptr<Solver> make_solver(SolverKind kind, SceneKind scene, int particles,
-                                           SolverParams params = {}) {
+                                           SolverParams params = {},
+                                           Backend backend = Backend::cpu) {
   SceneParams s;
   s.kind = scene;
   s.particles = particles;
+  if (backend == Backend::gpu) {
+    return make_gpu_solver(kind, fluidcast::testing::test_context(), build_scene(s), params);
+  }
   if (params.threads == 0) params.threads = 2;
   return make_cpu_solver(kind, build_scene(s), params);
 }
