@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 
 #include "fluidcast/gpu/transfer.h"
@@ -52,10 +53,15 @@ GpuSolver::Pipelines::Pipelines(gpu::Context& c)
       sph_integrate(c, shaders::sim_sph_integrate_comp, sizeof(SimPass), kGroup) {}
 
 GpuSolver::GpuSolver(SolverKind kind, gpu::Context& context, Scene scene,
-                     const SolverParams& params)
+                     const SolverParams& params, std::uint64_t memory_budget_bytes)
     : Solver(std::move(scene), params),
       kind_(kind),
       context_(&context),
+      memory_budget_(memory_budget_bytes > 0
+                         ? memory_budget_bytes
+                         : static_cast<std::uint64_t>(
+                               kUsableMemoryShare *
+                               static_cast<double>(context.info().device_local_bytes))),
       grid_(context, GridGeometry(tank(), fluid().kernel_radius), 0),
       pipelines_(context),
       params_buffer_(context, sizeof(SimParams), gpu::MemoryDomain::device),
@@ -85,24 +91,20 @@ std::uint64_t GpuSolver::bytes_needed(std::size_t particles) const {
 
 std::size_t GpuSolver::particles_that_fit() const {
   const std::uint64_t grid_bytes = bytes_needed(0);
-  const std::uint64_t usable = usable_bytes();
-  return usable > grid_bytes ? (usable - grid_bytes) / bytes_per_particle(kind_) : 0;
-}
-
-std::uint64_t GpuSolver::usable_bytes() const {
-  return static_cast<std::uint64_t>(kUsableMemoryShare *
-                                    static_cast<double>(context_->info().device_local_bytes));
+  return memory_budget_ > grid_bytes ? (memory_budget_ - grid_bytes) / bytes_per_particle(kind_) : 0;
 }
 
 void GpuSolver::allocate(std::size_t capacity) {
-  const std::uint64_t need = bytes_needed(capacity);
-  const std::uint64_t usable = usable_bytes();
   if (capacity > particles_that_fit()) {
-    const std::size_t fits = particles_that_fit();
+    const auto mib = [](std::uint64_t bytes) {
+      char text[32];
+      std::snprintf(text, sizeof text, "%.1f MiB", static_cast<double>(bytes) / (1 << 20));
+      return std::string(text);
+    };
     throw ParamError("--particles: " + std::to_string(capacity) + " particles need " +
-                     std::to_string(need >> 20) + " MiB of GPU memory, over the " +
-                     std::to_string(usable >> 20) + " MiB usable on " + context_->info().name +
-                     " (" + std::to_string(fits) + " particles would fit in this tank)");
+                     mib(bytes_needed(capacity)) + " of GPU memory, over the budget of " +
+                     mib(memory_budget_) + " on " + context_->info().name + " (" +
+                     std::to_string(particles_that_fit()) + " particles would fit in this tank)");
   }
   const auto bytes = [&](std::uint64_t each) { return std::uint64_t{capacity} * each; };
   const auto device = [&](std::uint64_t each) {

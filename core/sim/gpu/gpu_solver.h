@@ -22,8 +22,10 @@ namespace fluidcast::sim::gpu_solver {
 class GpuSolver final : public Solver {
  public:
   // Throws ParamError as Solver does, and ParamError when the particles would not fit in the
-  // device's memory (naming the limit).
-  GpuSolver(SolverKind kind, gpu::Context& context, Scene scene, const SolverParams& params);
+  // memory budget (naming it): 90 % of the device's local memory unless one is given, for an
+  // operator who runs several simulations on one device.
+  GpuSolver(SolverKind kind, gpu::Context& context, Scene scene, const SolverParams& params,
+            std::uint64_t memory_budget_bytes = 0);
   ~GpuSolver() override;
 
   SolverKind kind() const override { return kind_; }
@@ -31,7 +33,7 @@ class GpuSolver final : public Solver {
   ParticleSet snapshot() const override;
   void synchronize() override;
 
-  // GPU memory needed for `particles`, and how many fit in what this device has.
+  // GPU memory needed for `particles`, and how many fit in the budget.
   std::uint64_t bytes_needed(std::size_t particles) const;
   std::size_t particles_that_fit() const;
 
@@ -59,7 +61,6 @@ class GpuSolver final : public Solver {
         pbf_finish, sph_density, sph_force, sph_integrate;
   };
 
-  std::uint64_t usable_bytes() const;
   void allocate(std::size_t capacity);
   SimParams step_params() const;
   int substeps_for_next_step() const;
@@ -71,6 +72,7 @@ class GpuSolver final : public Solver {
 
   SolverKind kind_;
   gpu::Context* context_;
+  std::uint64_t memory_budget_;
   GpuNeighbourGrid grid_;
   Pipelines pipelines_;
   std::size_t count_ = 0;

@@ -1,0 +1,106 @@
+// The headless context: device choice and its errors, memory sub-allocation, buffers, and the
+// validation layer actually reporting.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <numeric>
+
+#include "fluidcast/gpu/memory.h"
+#include "fluidcast/gpu/transfer.h"
+#include "fluidcast/gpu/vk_check.h"
+#include "gpu_test_support.h"
+
+namespace fluidcast::gpu {
+namespace {
+
+using fluidcast::testing::GpuTest;
+
+class GpuContextTest : public GpuTest {};
+
+TEST_F(GpuContextTest, ChoosesAUsableListedDevice) {
+  const auto devices = list_devices();
+  ASSERT_FALSE(devices.empty());
+  const DeviceInfo& chosen = context().info();
+  ASSERT_LT(chosen.index, devices.size());
+  EXPECT_EQ(devices[chosen.index].name, chosen.name);
+  EXPECT_TRUE(chosen.rejected_because.empty());
+}
+
+TEST_F(GpuContextTest, AMissingDeviceIsAnErrorListingTheDevices) {
+  ContextOptions options;
+  options.device_index = 99;
+  options.validation = false;
+  try {
+    Context missing(options);
+    ADD_FAILURE() << "no error";
+  } catch (const GpuUnavailable& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("there is no Vulkan device 99"), std::string::npos) << what;
+    EXPECT_NE(what.find(context().info().name), std::string::npos) << what;
+  }
+}
+
+TEST_F(GpuContextTest, DeviceFromTheEnvironmentMustBeANumber) {
+  ::setenv("FLUIDCAST_DEVICE", "first", 1);
+  EXPECT_THROW(options_from_environment(), GpuUnavailable);
+  ::setenv("FLUIDCAST_DEVICE", "0", 1);
+  EXPECT_EQ(options_from_environment().device_index, 0u);
+  ::unsetenv("FLUIDCAST_DEVICE");
+  EXPECT_FALSE(options_from_environment().device_index.has_value());
+}
+
+TEST_F(GpuContextTest, BuffersRoundTripThroughTheDevice) {
+  std::vector<std::uint32_t> values(100'000);
+  std::iota(values.begin(), values.end(), 7u);
+  const Buffer buffer(context(), values.size() * 4, MemoryDomain::device);
+  upload<std::uint32_t>(context(), buffer, values);
+  EXPECT_EQ(download<std::uint32_t>(context(), buffer, values.size()), values);
+  EXPECT_NE(buffer.address(), 0u);
+  EXPECT_THROW(upload<std::uint32_t>(context(), buffer, std::vector<std::uint32_t>(100'001)),
+               std::out_of_range);
+}
+
+TEST_F(GpuContextTest, SmallBuffersShareABlockAndLargeOnesGetTheirOwn) {
+  MemoryAllocator& memory = context().memory();
+  const std::size_t blocks_before = memory.block_count();
+  {
+    std::vector<Buffer> small;
+    for (int k = 0; k < 200; ++k) small.emplace_back(context(), 4096, MemoryDomain::device);
+    EXPECT_LE(memory.block_count(), blocks_before + 1);
+    const Buffer large(context(), MemoryAllocator::kBlockSize + 1, MemoryDomain::device);
+    EXPECT_LE(memory.block_count(), blocks_before + 2);
+    EXPECT_GE(large.size(), MemoryAllocator::kBlockSize + 1);
+  }
+  EXPECT_EQ(memory.block_count(), blocks_before);  // empty blocks go back to the driver
+}
+
+TEST_F(GpuContextTest, ValidationErrorsAreCollected) {
+  if (!context().validation_enabled()) GTEST_SKIP() << "vulkan-validationlayers is not installed";
+  const std::size_t before = context().validation_errors().size();
+  // A buffer of size 0 breaks a valid-usage rule (VUID-VkBufferCreateInfo-size-00912).
+  VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+  info.size = 0;
+  info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  VkBuffer buffer = VK_NULL_HANDLE;
+  const VkResult result = vkCreateBuffer(context().device(), &info, nullptr, &buffer);
+  if (result == VK_SUCCESS && buffer != VK_NULL_HANDLE) vkDestroyBuffer(context().device(), buffer, nullptr);
+  const auto errors = context().validation_errors();
+  ASSERT_GT(errors.size(), before);
+  EXPECT_NE(errors.back().find("00912"), std::string::npos) << errors.back();
+  forget_validation_messages();  // this test made them on purpose
+}
+
+TEST(VulkanCheck, NamesTheCallTheResultAndThePlace) {
+  try {
+    FLUIDCAST_VK_CHECK(VK_ERROR_OUT_OF_DEVICE_MEMORY);
+    ADD_FAILURE() << "no throw";
+  } catch (const VulkanError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("VK_ERROR_OUT_OF_DEVICE_MEMORY"), std::string::npos) << what;
+    EXPECT_NE(what.find("gpu_context_test.cpp"), std::string::npos) << what;
+  }
+  EXPECT_THROW(FLUIDCAST_VK_CHECK(VK_ERROR_DEVICE_LOST), DeviceLostError);
+}
+
+}  // namespace
+}  // namespace fluidcast::gpu
