@@ -148,9 +148,10 @@ std::vector<VkPhysicalDevice> physical_devices(VkInstance instance) {
   return devices;
 }
 
+// One line, so that a command-line tool can print it as its one line of error.
 std::string list_for_error(const std::vector<DeviceInfo>& devices) {
   std::string text;
-  for (const auto& d : devices) text += "\n  " + d.describe();
+  for (const auto& d : devices) text += (text.empty() ? " " : "; ") + d.describe();
   return text;
 }
 

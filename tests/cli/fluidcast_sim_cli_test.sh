@@ -38,6 +38,16 @@ expect_bad "--until" --until -1
 expect_bad "--iterations" --iterations 0 --steps 1
 expect_bad "--column-width" --column-width 5 --steps 1
 expect_bad "unknown-flag" --unknown-flag 3 --steps 1
+expect_bad "--backend: 'tpu' is not a backend" --backend tpu --steps 1
+expect_bad "--device: only with --backend gpu or auto" --device 0 --steps 1
+expect_bad "there is no Vulkan device 99; the devices are: 0: " --backend gpu --device 99 --steps 1
+
+# The GPU backend writes the same statistics.
+"$sim" --backend gpu --scene dam_break --particles 300 --steps 3 --stats "$work/gpu.csv" \
+  > "$work/gpu.txt" 2> "$work/gpu.err" || fail "GPU run exited $?: $(cat "$work/gpu.err")"
+[[ "$(head -1 "$work/gpu.csv")" == "$(head -1 "$work/stats.csv")" ]] || fail "GPU CSV header differs"
+[[ $(wc -l < "$work/gpu.csv") -eq 5 ]] || fail "GPU CSV should have a header and 4 rows"
+grep -q "gpu: using device" "$work/gpu.err" || fail "the chosen device is not logged"
 
 "$sim" --help > /dev/null || fail "--help exited $?"
 if ((failures)); then echo "$failures failed"; exit 1; fi

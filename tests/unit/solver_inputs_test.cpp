@@ -67,16 +67,17 @@ TEST_P(SolverInputs, BadCollidersAreRefusedAndChangeNothing) {
 
 TEST_P(SolverInputs, AddRemoveAndReset) {
   auto s = small();
-  const auto ball = ball_of_particles({1.0f, 0.5f, 0.15f}, 0.08f, s->fluid().spacing, s->tank());
+  const float spacing = s->fluid().spacing;
+  const auto ball = ball_of_particles({1.0f, 0.4f, 0.15f}, 2.2f * spacing, spacing, s->tank());
   ASSERT_GT(ball.size(), 10u);
   s->add_particles(ball, std::vector<glm::vec3>(ball.size(), glm::vec3(0, -1, 0)));
-  EXPECT_EQ(s->particle_count(), 1000 + ball.size());
+  EXPECT_EQ(s->particle_count(), n_ + ball.size());
   run_for(*s, 0.05);
   testing::expect_sound(*s, n_ + ball.size());
 
   const std::size_t removed = s->remove_particles_in_sphere({0.0f, 0.0f, 0.0f}, 0.2f);
   EXPECT_GT(removed, 0u);
-  EXPECT_EQ(s->particle_count(), 1000 + ball.size() - removed);
+  EXPECT_EQ(s->particle_count(), n_ + ball.size() - removed);
 
   s->reset();
   EXPECT_EQ(s->particle_count(), n_);

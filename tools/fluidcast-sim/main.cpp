@@ -1,6 +1,7 @@
 // fluidcast-sim: runs a scene headless on the CPU or GPU solver; prints the geometry, optionally
 // progress, writes statistics CSV and PLY dumps. Bad flags: one line on stderr, exit code 2.
 #include <chrono>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -42,10 +43,27 @@ void print_geometry(const tools::SimOptions& o, const sim::Solver& solver) {
   std::fflush(stdout);
 }
 
+// For --backend auto: a GPU that is hardware (or one asked for by index) runs the GPU solver.
+bool hardware_gpu_present(const tools::SimOptions& o) {
+  if (o.device || std::getenv("FLUIDCAST_DEVICE")) return true;
+  try {
+    for (const auto& device : gpu::list_devices()) {
+      if (device.rejected_because.empty() && device.type != "cpu") return true;
+    }
+  } catch (const gpu::GpuUnavailable&) {
+  }
+  return false;
+}
+
 int run(const tools::SimOptions& o) {
   std::unique_ptr<gpu::Context> context;  // outlives the solver
   std::unique_ptr<sim::Solver> solver;
-  if (o.backend == tools::Backend::gpu) {
+  const bool on_gpu = o.backend == tools::Backend::gpu ||
+                      (o.backend == tools::Backend::automatic && hardware_gpu_present(o));
+  if (o.backend == tools::Backend::automatic) {
+    std::printf("backend auto: %s\n", on_gpu ? "gpu" : "cpu (no hardware Vulkan device)");
+  }
+  if (on_gpu) {
     gpu::ContextOptions options = gpu::options_from_environment();
     if (o.device) options.device_index = o.device;
     context = std::make_unique<gpu::Context>(options);

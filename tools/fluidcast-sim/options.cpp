@@ -42,7 +42,9 @@ ParseOutcome parse_sim_options(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--solver", solver_name, "pbf or sph")->capture_default_str();
   std::string backend_name = "cpu";
-  app.add_option("--backend", backend_name, "cpu, or gpu (Vulkan compute)")->capture_default_str();
+  app.add_option("--backend", backend_name,
+                 "cpu, gpu (Vulkan compute), or auto (gpu on a hardware Vulkan device, else cpu)")
+      ->capture_default_str();
   app.add_option("--device", o.device,
                  "Vulkan device index for --backend gpu (default: FLUIDCAST_DEVICE, else the best)");
   auto* steps_opt = app.add_option("--steps", steps, "Number of steps to run");
@@ -72,12 +74,18 @@ ParseOutcome parse_sim_options(int argc, char** argv) {
   try {
     o.scene.kind = sim::parse_scene(scene_name);
     o.solver_kind = sim::parse_solver(solver_name);
-    if (backend_name != "cpu" && backend_name != "gpu") {
-      throw sim::ParamError("--backend: '" + backend_name + "' is not a backend; use cpu or gpu");
+    if (backend_name == "cpu") {
+      o.backend = Backend::cpu;
+    } else if (backend_name == "gpu") {
+      o.backend = Backend::gpu;
+    } else if (backend_name == "auto") {
+      o.backend = Backend::automatic;
+    } else {
+      throw sim::ParamError("--backend: '" + backend_name +
+                            "' is not a backend; use cpu, gpu or auto");
     }
-    o.backend = backend_name == "gpu" ? Backend::gpu : Backend::cpu;
-    if (o.device && o.backend != Backend::gpu) {
-      throw sim::ParamError("--device: only with --backend gpu");
+    if (o.device && o.backend == Backend::cpu) {
+      throw sim::ParamError("--device: only with --backend gpu or auto");
     }
     sim::validate(o.scene);
     sim::validate(o.solver);

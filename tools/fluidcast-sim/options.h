@@ -10,7 +10,9 @@
 
 namespace fluidcast::tools {
 
-enum class Backend { cpu, gpu };
+// auto: the GPU solver on a hardware Vulkan device, else the CPU solver (faster than the GPU
+// solver on lavapipe, Mesa's CPU implementation of Vulkan).
+enum class Backend { cpu, gpu, automatic };
 
 struct SimOptions {
   sim::SceneParams scene;

@@ -1,0 +1,126 @@
+// GPU solver throughput on the dam break: steps/s (wall clock, the GPU kept busy with two steps in
+// flight) and GPU milliseconds per stage per step from timestamps: grid build (counting sort and
+// reorder), predict, each density iteration, velocity (with vorticity), viscosity (confinement and
+// XSPH). Sizes are the talk's table (27k–216k) and beyond, up to 2M; 2 and 6 iterations; a fixed
+// dt of 1 ms, as the talk steps, with CFL substeps where the flow needs them (the `substeps`
+// column). `--smoke` runs one small case (for CI, on lavapipe); `--device N` picks the device;
+// other flags go to Google Benchmark (e.g. --benchmark_filter=Pbf).
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <cstring>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "fluidcast/gpu/context.h"
+#include "fluidcast/sim/solver.h"
+
+namespace {
+
+using namespace fluidcast;
+using namespace fluidcast::sim;
+
+gpu::Context* g_context = nullptr;
+
+// Steps timed per benchmark iteration, after `kWarmUpSteps` untimed ones from t = 0.
+constexpr int kWarmUpSteps = 5;
+
+void run_dam_break(benchmark::State& state, SolverKind kind, int steps_per_iteration) {
+  SceneParams scene;
+  scene.particles = static_cast<int>(state.range(0));
+  SolverParams params;
+  params.iterations = static_cast<int>(state.range(1));
+  params.time_step = 1e-3f;
+  params.max_particles = std::max(params.max_particles, scene.particles);
+  auto solver = make_gpu_solver(kind, *g_context, build_scene(scene), params);
+  for (int k = 0; k < kWarmUpSteps; ++k) solver->step();
+  solver->synchronize();
+  solver->clear_stage_times();
+
+  double seconds = 0.0;
+  for (auto _ : state) {
+    const auto start = std::chrono::steady_clock::now();
+    for (int k = 0; k < steps_per_iteration; ++k) solver->step();
+    solver->synchronize();
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    state.SetIterationTime(elapsed);
+    seconds += elapsed;
+  }
+
+  const StageTimes& t = solver->stage_times();
+  const double steps = static_cast<double>(state.iterations()) * steps_per_iteration;
+  state.counters["steps_per_s"] = steps / seconds;
+  state.counters["substeps"] = static_cast<double>(t.substeps) / steps;
+  state.counters["grid_ms"] = t.grid_ms / steps;
+  state.counters["predict_ms"] = t.predict_ms / steps;
+  state.counters["solve_ms"] = t.solve_ms / steps;
+  for (std::size_t k = 0; k < t.iteration_ms.size(); ++k) {
+    state.counters["iteration" + std::to_string(k + 1) + "_ms"] = t.iteration_ms[k] / steps;
+  }
+  state.counters["velocity_ms"] = t.velocity_ms / steps;
+  state.counters["viscosity_ms"] = t.viscosity_ms / steps;
+  state.counters["gpu_ms"] =
+      (t.grid_ms + t.predict_ms + t.solve_ms + t.velocity_ms + t.viscosity_ms) / steps;
+}
+
+void add(const char* name, SolverKind kind, int particles, int iterations, int steps) {
+  benchmark::RegisterBenchmark(name, run_dam_break, kind, steps)
+      ->Args({particles, iterations})
+      ->ArgNames({"particles", "iterations"})
+      ->Iterations(1)
+      ->UseManualTime()
+      ->Unit(benchmark::kMillisecond);
+}
+
+void register_cases(bool smoke) {
+  if (smoke) {
+    add("Pbf/dam_break", SolverKind::pbf, 4000, 2, 3);
+    add("Sph/dam_break", SolverKind::sph, 4000, 1, 1);
+    return;
+  }
+  for (int iterations : {2, 6}) {
+    for (int particles : {27000, 64000, 125000, 216000, 500000, 1000000, 2000000}) {
+      add("Pbf/dam_break", SolverKind::pbf, particles, iterations, 200);
+    }
+  }
+  for (int particles : {27000, 216000, 1000000}) {
+    add("Sph/dam_break", SolverKind::sph, particles, 1, 20);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<char*> args;
+  bool smoke = false;
+  gpu::ContextOptions options = gpu::options_from_environment();
+  options.validation = false;
+  for (int i = 0; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--smoke") == 0) {
+      smoke = true;
+    } else if (std::strcmp(argv[i], "--device") == 0 && i + 1 < argc) {
+      options.device_index = static_cast<std::uint32_t>(std::stoul(argv[++i]));
+    } else {
+      args.push_back(argv[i]);
+    }
+  }
+  std::unique_ptr<gpu::Context> context;
+  try {
+    context = std::make_unique<gpu::Context>(options);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "fluidcast-bench-gpu: %s\n", e.what());
+    return 2;
+  }
+  g_context = context.get();
+  benchmark::AddCustomContext("device", context->info().describe());
+  int count = static_cast<int>(args.size());
+  register_cases(smoke);
+  benchmark::Initialize(&count, args.data());
+  if (benchmark::ReportUnrecognizedArguments(count, args.data())) return 2;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
