@@ -1,19 +1,40 @@
 #!/usr/bin/env python3
-"""Turns fluidcast-bench-cpu's JSON (--benchmark_out) into the Markdown table of bench/results."""
+"""Turns fluidcast-bench-cpu's or fluidcast-bench-gpu's JSON (--benchmark_out) into the Markdown
+table of bench/results."""
 import json
 import sys
 
 runs = json.load(open(sys.argv[1]))["benchmarks"]
-print("| solver | particles | iterations | dt (ms) | substeps/step | steps/s | grid ms | predict ms | solve ms | velocity ms |")
-print("|---|---|---|---|---|---|---|---|---|---|")
-for r in runs:
-    name = r["name"].split("/")
+
+
+def fields_of(run):
     fields = {}
-    for p in name[2:]:
-        if ":" in p:
-            k, v = p.split(":")
-            fields.setdefault(k, v)  # the first "iterations:" is ours, the second Google Benchmark's
-    solver = name[0]
-    print(f"| {solver} | {fields['particles']} | {fields['iterations'] if solver == 'Pbf' else '–'} | "
-          f"{int(fields['dt_us']) / 1000:g} | {r['substeps']:.2f} | {r['steps_per_s']:.1f} | "
-          f"{r['grid_ms']:.2f} | {r['predict_ms']:.2f} | {r['solve_ms']:.2f} | {r['velocity_ms']:.2f} |")
+    for part in run["name"].split("/")[2:]:
+        if ":" in part:
+            key, value = part.split(":")
+            fields.setdefault(key, value)  # the first "iterations:" is ours, the second Google Benchmark's
+    return fields
+
+
+if runs and "gpu_ms" in runs[0]:
+    print("| solver | particles | iterations | substeps/step | steps/s | GPU ms/step | grid | predict | "
+          "iterations (each) | velocity | viscosity |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    for r in runs:
+        f = fields_of(r)
+        solver = r["name"].split("/")[0]
+        solve = f"{r['solve_ms']:.3f} (density, pressure, forces)"
+        each = " / ".join(f"{r[k]:.3f}" for k in sorted((k for k in r if k.startswith("iteration") and k.endswith("_ms")), key=lambda k: int(k[9:-3])))
+        print(f"| {solver} | {f['particles']} | {f['iterations'] if solver == 'Pbf' else '–'} | "
+              f"{r['substeps']:.2f} | {r['steps_per_s']:.1f} | {r['gpu_ms']:.3f} | {r['grid_ms']:.3f} | "
+              f"{r['predict_ms']:.3f} | {each or solve} | "
+              f"{r['velocity_ms']:.3f} | {r['viscosity_ms']:.3f} |")
+else:
+    print("| solver | particles | iterations | dt (ms) | substeps/step | steps/s | grid ms | predict ms | solve ms | velocity ms |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for r in runs:
+        f = fields_of(r)
+        solver = r["name"].split("/")[0]
+        print(f"| {solver} | {f['particles']} | {f['iterations'] if solver == 'Pbf' else '–'} | "
+              f"{int(f['dt_us']) / 1000:g} | {r['substeps']:.2f} | {r['steps_per_s']:.1f} | "
+              f"{r['grid_ms']:.2f} | {r['predict_ms']:.2f} | {r['solve_ms']:.2f} | {r['velocity_ms']:.2f} |")
