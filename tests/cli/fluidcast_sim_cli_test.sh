@@ -41,6 +41,8 @@ expect_bad "unknown-flag" --unknown-flag 3 --steps 1
 expect_bad "--backend: 'tpu' is not a backend" --backend tpu --steps 1
 expect_bad "--device: only with --backend gpu or auto" --device 0 --steps 1
 expect_bad "there is no Vulkan device 99; the devices are: 0: " --backend gpu --device 99 --steps 1
+# No driver at all (the loader finds no ICD): one sentence naming the package.
+VK_ICD_FILENAMES=/nonexistent/icd.json expect_bad "install mesa-vulkan-drivers" --backend gpu --steps 1
 
 # The GPU backend writes the same statistics.
 "$sim" --backend gpu --scene dam_break --particles 300 --steps 3 --stats "$work/gpu.csv" \
