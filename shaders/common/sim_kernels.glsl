@@ -1,15 +1,15 @@
 // Kernels, walls, boundaries and the neighbour loop, as the CPU solvers have them (kernels.h,
 // cpu_solver.h): the same formulas, so that the two backends agree.
 // Vectors behind a buffer reference are always loaded whole, never one component through the
-// reference: Mesa 22.3's lavapipe reads a single component (P.grid_origin.w) as 0.
+// reference: Mesa 22.3's lavapipe read the .w of a vec4 member of the parameter block as 0.
 #include "common/grid.glsl"
 
 // What the inner loops read, loaded once per invocation by load_constants() (first thing in
 // main), so that the loops do not reload it through the parameter block's reference.
 float K_h, K_h2, K_poly6, K_spiky, K_viscosity_laplacian;
-vec4 K_grid_origin;
 ivec3 K_grid_dims;
 Uints K_cell_start;
+Uints K_sorted_cell;
 
 void load_constants() {
   K_h = P.h;
@@ -17,10 +17,10 @@ void load_constants() {
   K_poly6 = P.poly6;
   K_spiky = P.spiky;
   K_viscosity_laplacian = P.viscosity_laplacian;
-  K_grid_origin = P.grid_origin;
   const ivec4 dims = P.grid_dims;
   K_grid_dims = dims.xyz;
   K_cell_start = P.cell_start;
+  K_sorted_cell = P.sorted_cell;
 }
 
 float poly6(float r2) {
@@ -104,11 +104,17 @@ vec3 constrain(vec3 p, inout vec3 v, bool adjust_velocity) {
   return clamp(p, inner_min.xyz, inner_max.xyz);
 }
 
-ivec3 cell_of(vec3 p) {
-  return grid_cell_coords(p, K_grid_origin.xyz, K_grid_origin.w, K_grid_dims);
+// The cell slot k was sorted into. The candidate windows come from these cells, not from the
+// current positions: the same for every pass of a substep, as the CPU solvers' neighbour lists
+// are, and symmetric (j is a candidate of k exactly when k is one of j).
+ivec3 sorted_cell(uint k) {
+  const uint c = K_sorted_cell.v[k];
+  const uint row = uint(K_grid_dims.x), layer = row * uint(K_grid_dims.y);
+  return ivec3(c % row, (c % layer) / row, c / layer);
 }
 
 // for every sorted slot j in the 5×5 rows of 5 cells around `cell` (a contiguous range per row):
+//   const ivec3 cell = sorted_cell(k);
 //   FOR_EACH_CANDIDATE(cell, j) { ... }
 #define FOR_EACH_CANDIDATE(cell, j)                                                              \
   for (int z_ = max(cell.z - 2, 0); z_ <= min(cell.z + 2, K_grid_dims.z - 1); ++z_)                \

@@ -23,6 +23,7 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Si
   Vec4s acceleration;  // SPH
   Uints order;         // the grid: sorted slot → particle
   Uints cell_start;    // the grid: first sorted slot of each cell, and one past the last
+  Uints sorted_cell;   // the grid: the cell each sorted slot was sorted into
   Uints stats;         // [0] bits of the largest |v|², [1] of the largest |a|
 
   vec4 tank_min;
@@ -30,7 +31,6 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Si
   vec4 inner_min;      // the tank shrunk by a particle radius: where centres may be
   vec4 inner_max;
   vec4 gravity;
-  vec4 grid_origin;    // w: 1 / cell size
   ivec4 grid_dims;
 
   uint solver;

@@ -36,7 +36,9 @@ void main() {
     const uint e = first + k;
     if (e < pass.count) pass.data.v[e] = before + items[k];
   }
-  if (pass.write_block_sums != 0 && t == gl_WorkGroupSize.x - 1) {
+  // Groups past the last block exist when the dispatch spills into y.
+  const bool real_block = block * gl_WorkGroupSize.x * SCAN_ITEMS_PER_INVOCATION < pass.count;
+  if (pass.write_block_sums != 0 && real_block && t == gl_WorkGroupSize.x - 1) {
     pass.block_sums.v[block] = totals[from][t];
   }
 }

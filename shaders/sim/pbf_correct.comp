@@ -18,7 +18,7 @@ void main() {
   const float scorr_scale = P.scorr_scale, inv_w_dq = P.inv_w_dq, exponent = P.scorr_exponent;
   const bool exponent_is_four = exponent == 4.0;
   vec3 delta = vec3(0.0);
-  const ivec3 cell = cell_of(p);
+  const ivec3 cell = sorted_cell(k);
   FOR_EACH_CANDIDATE(cell, j) {
     const vec3 r = p - x.v[j].xyz;
     const float r2 = dot(r, r);

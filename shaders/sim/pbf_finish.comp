@@ -21,7 +21,7 @@ void main() {
       const bool confine = P.vorticity_epsilon > 0.0;
       const vec4 omega = confine ? vorticity.v[k] : vec4(0.0);
       vec3 eta = vec3(0.0), smoothing = vec3(0.0);
-      const ivec3 cell = cell_of(p);
+      const ivec3 cell = sorted_cell(k);
       FOR_EACH_CANDIDATE(cell, j) {
         const vec3 r = p - x.v[j].xyz;
         const float r2 = dot(r, r);

@@ -16,7 +16,7 @@ void main() {
   float density = poly6(0.0);
   vec3 gradient_i = vec3(0.0);
   float sum_squares = 0.0;
-  const ivec3 cell = cell_of(p);
+  const ivec3 cell = sorted_cell(k);
   FOR_EACH_CANDIDATE(cell, j) {
     const vec3 r = p - x.v[j].xyz;
     const float r2 = dot(r, r);

@@ -14,7 +14,7 @@ void main() {
   Vec4s velocity = P.sorted_velocity;
   const vec3 v = velocity.v[k].xyz;
   vec3 omega = vec3(0.0);
-  const ivec3 cell = cell_of(p);
+  const ivec3 cell = sorted_cell(k);
   FOR_EACH_CANDIDATE(cell, j) {
     const vec3 r = p - x.v[j].xyz;
     const float r2 = dot(r, r);

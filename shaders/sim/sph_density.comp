@@ -13,7 +13,7 @@ void main() {
   Vec4s x = P.sorted_position;
   const vec3 p = x.v[k].xyz;
   float sum = poly6(0.0);
-  const ivec3 cell = cell_of(p);
+  const ivec3 cell = sorted_cell(k);
   FOR_EACH_CANDIDATE(cell, j) {
     const vec3 r = p - x.v[j].xyz;
     const float r2 = dot(r, r);

@@ -19,7 +19,7 @@ void main() {
     const vec2 own = density.v[k];
     const float pressure_term_i = own.y / (own.x * own.x);
     vec3 pressure_acceleration = vec3(0.0), viscous_sum = vec3(0.0);
-    const ivec3 cell = cell_of(p);
+    const ivec3 cell = sorted_cell(k);
     FOR_EACH_CANDIDATE(cell, j) {
       const vec3 r = p - x.v[j].xyz;
       const float r2 = dot(r, r);

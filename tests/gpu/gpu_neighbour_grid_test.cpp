@@ -44,6 +44,12 @@ class GpuNeighbourGridTest : public GpuTest {
     }
     // The CPU sort is stable: within a cell its order is already increasing.
     EXPECT_EQ(order, expected);
+    const auto sorted_cell = gpu::download<std::uint32_t>(context(), gpu_grid.sorted_cell(), n);
+    for (std::size_t c = 0; c < cpu.cell_count(); ++c) {
+      for (std::uint32_t k = cell_start[c]; k < cell_start[c + 1]; ++k) {
+        ASSERT_EQ(sorted_cell[k], c) << "slot " << k;
+      }
+    }
   }
 
   std::vector<glm::vec3> random_points(const Box& box, std::size_t n, unsigned seed) {

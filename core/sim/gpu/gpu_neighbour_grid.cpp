@@ -10,12 +10,12 @@ namespace {
 
 // Mirrors shaders/common/grid_pass.glsl (std430 push constants).
 struct GridPass {
-  VkDeviceAddress key, cell_of, rank, cell_start, order;
-  alignas(16) glm::vec4 origin;  // w: 1 / cell size
+  VkDeviceAddress key, cell_of, rank, cell_start, order, sorted_cell;
+  glm::vec4 origin;  // w: 1 / cell size
   glm::ivec4 dims;
   std::uint32_t particle_count;
 };
-static_assert(offsetof(GridPass, order) == 32);
+static_assert(offsetof(GridPass, sorted_cell) == 40);
 static_assert(offsetof(GridPass, origin) == 48);
 static_assert(offsetof(GridPass, dims) == 64);
 static_assert(offsetof(GridPass, particle_count) == 80);
@@ -63,11 +63,18 @@ GpuNeighbourGrid::GpuNeighbourGrid(gpu::Context& context, const GridGeometry& ge
 
 void GpuNeighbourGrid::reserve(std::size_t capacity) {
   if (capacity <= capacity_ && cell_of_) return;
-  capacity_ = std::max(capacity, capacity_);
-  const std::uint64_t bytes = std::uint64_t{capacity_} * sizeof(std::uint32_t);
-  cell_of_ = gpu::Buffer(*context_, bytes, gpu::MemoryDomain::device);
-  rank_ = gpu::Buffer(*context_, bytes, gpu::MemoryDomain::device);
-  order_ = gpu::Buffer(*context_, bytes, gpu::MemoryDomain::device);
+  capacity = std::max(capacity, capacity_);
+  const std::uint64_t bytes = std::uint64_t{capacity} * sizeof(std::uint32_t);
+  // All four first, so that running out of memory leaves the grid as it was.
+  gpu::Buffer cell_of(*context_, bytes, gpu::MemoryDomain::device);
+  gpu::Buffer rank(*context_, bytes, gpu::MemoryDomain::device);
+  gpu::Buffer order(*context_, bytes, gpu::MemoryDomain::device);
+  gpu::Buffer sorted_cell(*context_, bytes, gpu::MemoryDomain::device);
+  cell_of_ = std::move(cell_of);
+  rank_ = std::move(rank);
+  order_ = std::move(order);
+  sorted_cell_ = std::move(sorted_cell);
+  capacity_ = capacity;
 }
 
 void GpuNeighbourGrid::record_build(VkCommandBuffer commands, VkDeviceAddress key,
@@ -82,6 +89,7 @@ void GpuNeighbourGrid::record_build(VkCommandBuffer commands, VkDeviceAddress ke
   pass.rank = rank_.address();
   pass.cell_start = cell_start_.address();
   pass.order = order_.address();
+  pass.sorted_cell = sorted_cell_.address();
   pass.origin = glm::vec4(geometry_.origin, geometry_.inv_cell_size);
   pass.dims = glm::ivec4(geometry_.dims, 0);
   pass.particle_count = count;

@@ -22,12 +22,12 @@ class GpuNeighbourGrid {
   static constexpr std::uint32_t kScanBlock = kScanGroupSize * kScanItemsPerInvocation;
 
   // GPU memory the grid needs, for the up-front check of a particle count.
-  static std::uint64_t bytes_per_particle() { return 3 * sizeof(std::uint32_t); }
+  static std::uint64_t bytes_per_particle() { return 4 * sizeof(std::uint32_t); }
   static std::uint64_t bytes_for_cells(std::size_t cells);
 
   GpuNeighbourGrid(gpu::Context& context, const GridGeometry& geometry, std::size_t capacity);
 
-  // Makes room for `capacity` particles (never shrinks).
+  // Makes room for `capacity` particles (never shrinks); unchanged if it throws.
   void reserve(std::size_t capacity);
 
   // Records the build for the first `count` positions (vec4) at `key`, then a compute barrier.
@@ -37,13 +37,15 @@ class GpuNeighbourGrid {
   // Sorted slot → particle index; cell c's slots are [cell_start[c], cell_start[c + 1]).
   const gpu::Buffer& order() const { return order_; }
   const gpu::Buffer& cell_start() const { return cell_start_; }
+  // Sorted slot → the cell its particle was sorted into.
+  const gpu::Buffer& sorted_cell() const { return sorted_cell_; }
 
  private:
   gpu::Context* context_;
   GridGeometry geometry_;
   gpu::ComputePipeline count_, scan_, scan_add_, scatter_;
   std::size_t capacity_ = 0;
-  gpu::Buffer cell_of_, rank_, order_;
+  gpu::Buffer cell_of_, rank_, order_, sorted_cell_;
   gpu::Buffer cell_start_;
   std::vector<std::uint32_t> level_counts_;  // elements at each level of the prefix sum
   std::vector<gpu::Buffer> block_sums_;      // block totals of level k, scanned as level k + 1

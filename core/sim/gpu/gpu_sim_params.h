@@ -21,9 +21,9 @@ struct SimParams {
   VkDeviceAddress sorted_position, sorted_velocity, sorted_id;
   VkDeviceAddress predicted, iterate0, iterate1, lambda, vorticity;
   VkDeviceAddress density, acceleration;
-  VkDeviceAddress order, cell_start, stats;
+  VkDeviceAddress order, cell_start, sorted_cell, stats;
 
-  glm::vec4 tank_min, tank_max, inner_min, inner_max, gravity, grid_origin;
+  alignas(16) glm::vec4 tank_min, tank_max, inner_min, inner_max, gravity;
   glm::ivec4 grid_dims;
 
   std::uint32_t solver, particle_count, collider_count;
@@ -35,14 +35,14 @@ struct SimParams {
   alignas(16) glm::vec4 collider_sphere[kMaxColliders];
   glm::vec4 collider_velocity[kMaxColliders];
 };
-static_assert(offsetof(SimParams, stats) == 15 * 8);
-static_assert(offsetof(SimParams, tank_min) == 128);
-static_assert(offsetof(SimParams, grid_dims) == 128 + 6 * 16);
-static_assert(offsetof(SimParams, solver) == 128 + 7 * 16);
-static_assert(offsetof(SimParams, h) == 128 + 7 * 16 + 12);
-static_assert(offsetof(SimParams, relaxation_epsilon) == 128 + 7 * 16 + 13 * 4);
-static_assert(offsetof(SimParams, softening) == 128 + 7 * 16 + 23 * 4);
-static_assert(offsetof(SimParams, collider_sphere) == 128 + 7 * 16 + 24 * 4);
+static_assert(offsetof(SimParams, stats) == 16 * 8);
+static_assert(offsetof(SimParams, tank_min) == 144);
+static_assert(offsetof(SimParams, grid_dims) == 144 + 5 * 16);
+static_assert(offsetof(SimParams, solver) == 144 + 6 * 16);
+static_assert(offsetof(SimParams, h) == 144 + 6 * 16 + 12);
+static_assert(offsetof(SimParams, relaxation_epsilon) == 144 + 6 * 16 + 13 * 4);
+static_assert(offsetof(SimParams, softening) == 144 + 6 * 16 + 23 * 4);
+static_assert(offsetof(SimParams, collider_sphere) == 144 + 6 * 16 + 24 * 4);
 static_assert(offsetof(SimParams, collider_velocity) ==
               offsetof(SimParams, collider_sphere) + kMaxColliders * 16);
 static_assert(sizeof(SimParams) % 4 == 0, "vkCmdUpdateBuffer takes whole words");

@@ -125,8 +125,8 @@ void GpuSolver::allocate(std::size_t capacity) {
   b.vorticity = device(pbf ? 16 : 0);
   b.density = device(pbf ? 0 : 8);
   b.acceleration = device(pbf ? 0 : 16);
+  grid_.reserve(capacity);  // may throw: then nothing has changed
   buffers_ = std::move(b);
-  grid_.reserve(capacity);
   capacity_ = capacity;
 }
 
@@ -183,7 +183,8 @@ std::size_t GpuSolver::erase_particles_in_sphere(glm::vec3 centre, float radius)
   ParticleSet kept;
   for (std::size_t i = 0; i < all.size(); ++i) {
     const glm::vec3 d = all.position[i] - centre;
-    if (glm::dot(d, d) > radius * radius) kept.append(all.position[i], all.velocity[i], all.id[i]);
+    // NaN positions are kept, to be counted, as the CPU solvers keep them.
+    if (!(glm::dot(d, d) <= radius * radius)) kept.append(all.position[i], all.velocity[i], all.id[i]);
   }
   load_particles(kept);
   return all.size() - kept.size();
@@ -245,6 +246,7 @@ SimParams GpuSolver::step_params() const {
   p.acceleration = buffers_.acceleration.address();
   p.order = grid_.order().address();
   p.cell_start = grid_.cell_start().address();
+  p.sorted_cell = grid_.sorted_cell().address();
   p.stats = stats_buffer_.address();
 
   p.tank_min = glm::vec4(tank().min, 0.0f);
@@ -252,7 +254,6 @@ SimParams GpuSolver::step_params() const {
   p.inner_min = glm::vec4(tank().min + radius, 0.0f);
   p.inner_max = glm::vec4(tank().max - radius, 0.0f);
   p.gravity = glm::vec4(gravity(), 0.0f);
-  p.grid_origin = glm::vec4(grid.origin, grid.inv_cell_size);
   p.grid_dims = glm::ivec4(grid.dims, 0);
 
   p.solver = kind_ == SolverKind::pbf ? kSolverPbf : kSolverSph;

@@ -4,8 +4,11 @@
 // substep count of a step comes from the largest speed (and, for SPH, acceleration) of the newest
 // finished step, which the GPU records with one atomic per workgroup.
 // The formulas are the CPU solvers' (cpu/pbf_solver.cpp, cpu/sph_solver.cpp): see there for the
-// papers. One difference: SPH substeps are equal within a step, as their count is recorded up
-// front, where the CPU solver adapts each substep to the state it has just computed.
+// papers. Two differences: SPH substeps are equal within a step, as their count is recorded up
+// front, where the CPU solver adapts each substep to the state it has just computed; and the
+// neighbours are not listed but found in each pass, among the particles of the cells around the
+// cell each one was sorted into (fixed for the substep, as the CPU lists are), by the distance
+// now, so that a pair that comes within h during the PBF iterations counts from then on.
 #pragma once
 
 #include <array>

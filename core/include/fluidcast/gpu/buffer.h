@@ -30,8 +30,8 @@ class Buffer {
  private:
   void* mapped_bytes() const;
 
-  UniqueBuffer buffer_;  // destroyed before its memory
   Allocation memory_;
+  UniqueBuffer buffer_;  // declared after its memory, so destroyed before it
   VkDeviceSize size_ = 0;
   VkDeviceAddress address_ = 0;
 };
