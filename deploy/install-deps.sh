@@ -12,6 +12,10 @@ packages=(
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
   # shaders: compiled and validated at build time
   glslang-tools spirv-tools
+  # frames: JPEG through TurboJPEG, PNG for tests and tools
+  libturbojpeg0-dev libpng-dev
+  # thread pools (Asio), later HTTP and WebSocket (Beast)
+  libboost-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
 )

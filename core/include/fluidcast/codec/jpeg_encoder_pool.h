@@ -1,0 +1,34 @@
+// JPEG encoding on a pool of threads (one per core by default), so that frames from the GPU are
+// encoded while the next ones render, and throughput grows with cores. Each worker reuses its own
+// TurboJPEG handle.
+#pragma once
+
+#include <boost/asio/thread_pool.hpp>
+#include <cstdint>
+#include <future>
+#include <vector>
+
+#include "fluidcast/codec/jpeg.h"
+
+namespace fluidcast::codec {
+
+class JpegEncoderPool {
+ public:
+  // 0 threads: one per core.
+  explicit JpegEncoderPool(unsigned threads = 0);
+  // Finishes what was queued, then stops.
+  ~JpegEncoderPool();
+  JpegEncoderPool(const JpegEncoderPool&) = delete;
+  JpegEncoderPool& operator=(const JpegEncoderPool&) = delete;
+
+  unsigned threads() const { return threads_; }
+
+  // The future holds the JPEG, or the exception encoding threw (bad options, say).
+  std::future<std::vector<std::uint8_t>> encode(ImageRgba image, JpegOptions options);
+
+ private:
+  unsigned threads_;
+  boost::asio::thread_pool pool_;
+};
+
+}  // namespace fluidcast::codec
