@@ -35,6 +35,9 @@ class GpuSolver final : public Solver {
   std::size_t particle_count() const override { return count_; }
   ParticleSet snapshot() const override;
   void synchronize() override;
+  std::optional<DeviceParticles> device_particles() const override {
+    return DeviceParticles{buffers_.position.address(), buffers_.velocity.address()};
+  }
 
   // GPU memory needed for `particles`, and how many fit in the budget.
   std::uint64_t bytes_needed(std::size_t particles) const;

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string_view>
 #include <vector>
@@ -62,6 +63,15 @@ class Solver {
   virtual SolverKind kind() const = 0;
   virtual std::size_t particle_count() const = 0;
   virtual ParticleSet snapshot() const = 0;
+
+  // Where a GPU solver keeps its particles: device addresses of vec4 positions and velocities
+  // (w unused), in its context, valid until the next add, remove or reset. A renderer on the same
+  // context reads them in place. Nothing for a CPU solver.
+  struct DeviceParticles {
+    std::uint64_t position = 0;
+    std::uint64_t velocity = 0;
+  };
+  virtual std::optional<DeviceParticles> device_particles() const { return std::nullopt; }
 
   // Advances the simulation by params().time_step, colliders included. A GPU solver may return
   // before the GPU has finished the step; snapshot() and synchronize() wait for it.

@@ -1,0 +1,33 @@
+// Where a frame is drawn, with no window: a colour image (RGBA8, copied to the host after the
+// frame) and a depth image, with the render pass and framebuffer that clear and fill them.
+#pragma once
+
+#include "fluidcast/gpu/image.h"
+
+namespace fluidcast::render {
+
+class RenderTarget {
+ public:
+  static constexpr VkFormat kColourFormat = VK_FORMAT_R8G8B8A8_UNORM;
+  static constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
+
+  // Throws std::invalid_argument for a size of zero or beyond the device's limits, naming them.
+  RenderTarget(gpu::Context& context, std::uint32_t width, std::uint32_t height);
+
+  std::uint32_t width() const { return colour_.width(); }
+  std::uint32_t height() const { return colour_.height(); }
+  VkRenderPass render_pass() const { return render_pass_.get(); }
+  const gpu::Image& colour() const { return colour_; }
+
+  // Begins the render pass, clearing to `background`; viewport and scissor cover the target.
+  // The pass ends with the colour image ready to be copied from.
+  void begin(VkCommandBuffer commands, const float background[4]) const;
+  void end(VkCommandBuffer commands) const;
+
+ private:
+  gpu::Image colour_, depth_;
+  gpu::UniqueRenderPass render_pass_;
+  gpu::UniqueFramebuffer framebuffer_;
+};
+
+}  // namespace fluidcast::render

@@ -1,0 +1,48 @@
+#include "fluidcast/render/camera.h"
+
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+#include <stdexcept>
+#include <string>
+
+namespace fluidcast::render {
+namespace {
+
+void require(bool ok, const std::string& what) {
+  if (!ok) throw std::invalid_argument("camera: " + what);
+}
+
+}  // namespace
+
+void OrbitCamera::validate() const {
+  require(std::isfinite(yaw_degrees), "yaw must be finite");
+  require(std::isfinite(pitch_degrees) && pitch_degrees >= -89.0f && pitch_degrees <= 89.0f,
+          "pitch must be between -89 and 89 degrees, got " + std::to_string(pitch_degrees));
+  require(std::isfinite(distance) && distance > 0.0f && distance <= 1e4f,
+          "distance must be in (0, 10000] m, got " + std::to_string(distance));
+  require(std::isfinite(target.x) && std::isfinite(target.y) && std::isfinite(target.z),
+          "target must be finite");
+  require(std::isfinite(field_of_view_degrees) && field_of_view_degrees >= 1.0f &&
+              field_of_view_degrees <= 170.0f,
+          "field of view must be between 1 and 170 degrees, got " +
+              std::to_string(field_of_view_degrees));
+}
+
+glm::vec3 OrbitCamera::eye() const {
+  const float yaw = glm::radians(yaw_degrees), pitch = glm::radians(pitch_degrees);
+  const glm::vec3 back(std::sin(yaw) * std::cos(pitch), std::sin(pitch),
+                       std::cos(yaw) * std::cos(pitch));
+  return target + distance * back;
+}
+
+glm::mat4 OrbitCamera::view() const { return glm::lookAtRH(eye(), target, glm::vec3(0, 1, 0)); }
+
+glm::mat4 OrbitCamera::projection(float aspect) const {
+  // Near and far around the target, so depth precision is spent where the fluid is.
+  const float near = std::max(0.01f, 0.05f * distance), far = 20.0f * distance + 10.0f;
+  glm::mat4 p = glm::perspectiveRH_ZO(glm::radians(field_of_view_degrees), aspect, near, far);
+  p[1][1] *= -1.0f;  // Vulkan's clip space has y down
+  return p;
+}
+
+}  // namespace fluidcast::render

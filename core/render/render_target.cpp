@@ -1,0 +1,115 @@
+#include "fluidcast/render/render_target.h"
+
+#include <stdexcept>
+#include <string>
+
+#include "fluidcast/gpu/vk_check.h"
+
+namespace fluidcast::render {
+namespace {
+
+void check_size(const gpu::Context& context, std::uint32_t width, std::uint32_t height) {
+  const auto& limits = context.limits();
+  const std::uint32_t max_width = std::min(limits.maxFramebufferWidth, limits.maxImageDimension2D);
+  const std::uint32_t max_height = std::min(limits.maxFramebufferHeight, limits.maxImageDimension2D);
+  if (width == 0 || height == 0 || width > max_width || height > max_height) {
+    throw std::invalid_argument("frame size " + std::to_string(width) + "×" +
+                                std::to_string(height) + " is outside 1×1 to " +
+                                std::to_string(max_width) + "×" + std::to_string(max_height) +
+                                " (this device's framebuffer limits)");
+  }
+}
+
+}  // namespace
+
+RenderTarget::RenderTarget(gpu::Context& context, std::uint32_t width, std::uint32_t height)
+    : colour_((check_size(context, width, height),
+               gpu::Image(context, width, height, kColourFormat,
+                          VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                          VK_IMAGE_ASPECT_COLOR_BIT))),
+      depth_(context, width, height, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
+             VK_IMAGE_ASPECT_DEPTH_BIT) {
+  const VkDevice device = context.device();
+  VkAttachmentDescription attachments[2] = {};
+  attachments[0].format = kColourFormat;
+  attachments[0].samples = VK_SAMPLE_COUNT_1_BIT;
+  attachments[0].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+  attachments[0].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+  attachments[0].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+  attachments[0].stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+  attachments[0].initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  attachments[0].finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+  attachments[1] = attachments[0];
+  attachments[1].format = kDepthFormat;
+  attachments[1].storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+  attachments[1].finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+  const VkAttachmentReference colour_ref{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
+  const VkAttachmentReference depth_ref{1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+  VkSubpassDescription subpass{};
+  subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+  subpass.colorAttachmentCount = 1;
+  subpass.pColorAttachments = &colour_ref;
+  subpass.pDepthStencilAttachment = &depth_ref;
+  // The previous frame's copy out of the colour image, and its depth use, come before this clear.
+  VkSubpassDependency dependency{};
+  dependency.srcSubpass = VK_SUBPASS_EXTERNAL;
+  dependency.dstSubpass = 0;
+  dependency.srcStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
+  dependency.srcAccessMask = VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+  dependency.dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
+                            VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT;
+  dependency.dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT |
+                             VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+  // And the colour written here comes before the copy to the host.
+  VkSubpassDependency to_copy{};
+  to_copy.srcSubpass = 0;
+  to_copy.dstSubpass = VK_SUBPASS_EXTERNAL;
+  to_copy.srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+  to_copy.srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+  to_copy.dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
+  to_copy.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+  const VkSubpassDependency dependencies[2] = {dependency, to_copy};
+  VkRenderPassCreateInfo info{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
+  info.attachmentCount = 2;
+  info.pAttachments = attachments;
+  info.subpassCount = 1;
+  info.pSubpasses = &subpass;
+  info.dependencyCount = 2;
+  info.pDependencies = dependencies;
+  VkRenderPass raw_pass;
+  FLUIDCAST_VK_CHECK(vkCreateRenderPass(device, &info, nullptr, &raw_pass));
+  render_pass_ = gpu::UniqueRenderPass(device, raw_pass);
+
+  const VkImageView views[2] = {colour_.view(), depth_.view()};
+  VkFramebufferCreateInfo framebuffer{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+  framebuffer.renderPass = raw_pass;
+  framebuffer.attachmentCount = 2;
+  framebuffer.pAttachments = views;
+  framebuffer.width = width;
+  framebuffer.height = height;
+  framebuffer.layers = 1;
+  VkFramebuffer raw_framebuffer;
+  FLUIDCAST_VK_CHECK(vkCreateFramebuffer(device, &framebuffer, nullptr, &raw_framebuffer));
+  framebuffer_ = gpu::UniqueFramebuffer(device, raw_framebuffer);
+}
+
+void RenderTarget::begin(VkCommandBuffer commands, const float background[4]) const {
+  VkClearValue clear[2];
+  clear[0].color = {{background[0], background[1], background[2], background[3]}};
+  clear[1].depthStencil = {1.0f, 0};
+  VkRenderPassBeginInfo info{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+  info.renderPass = render_pass_.get();
+  info.framebuffer = framebuffer_.get();
+  info.renderArea = {{0, 0}, {width(), height()}};
+  info.clearValueCount = 2;
+  info.pClearValues = clear;
+  vkCmdBeginRenderPass(commands, &info, VK_SUBPASS_CONTENTS_INLINE);
+  const VkViewport viewport{0.0f, 0.0f, float(width()), float(height()), 0.0f, 1.0f};
+  const VkRect2D scissor{{0, 0}, {width(), height()}};
+  vkCmdSetViewport(commands, 0, 1, &viewport);
+  vkCmdSetScissor(commands, 0, 1, &scissor);
+}
+
+void RenderTarget::end(VkCommandBuffer commands) const { vkCmdEndRenderPass(commands); }
+
+}  // namespace fluidcast::render

@@ -1,0 +1,27 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Points mode: each particle becomes a camera-facing square of six vertices (no vertex buffer,
+// no point-size limits); the fragment shader cuts a sphere out of it.
+#include "common/frame.glsl"
+
+layout(location = 0) out vec2 corner;        // −1 to 1 across the square
+layout(location = 1) out vec3 view_centre;   // the particle's centre in view space
+layout(location = 2) out vec3 colour;
+
+const vec2 kCorners[6] = vec2[](vec2(-1, -1), vec2(1, -1), vec2(1, 1), vec2(-1, -1), vec2(1, 1),
+                                vec2(-1, 1));
+
+void main() {
+  const uint particle = uint(gl_VertexIndex) / 6u;
+  corner = kCorners[uint(gl_VertexIndex) % 6u];
+  const mat4 view = draw.frame.view;
+  const mat4 projection = draw.frame.projection;
+  const float radius = draw.frame.particle_radius;
+  const vec4 p = draw.position.v[particle];
+  view_centre = (view * vec4(p.xyz, 1.0)).xyz;
+  const vec4 v = draw.velocity.v[particle];
+  const float speed = clamp(length(v.xyz) / draw.frame.full_speed, 0.0, 1.0);
+  const vec4 slow = draw.frame.slow_colour, fast = draw.frame.fast_colour;
+  colour = mix(slow.rgb, fast.rgb, speed);
+  gl_Position = projection * vec4(view_centre + vec3(corner * radius, 0.0), 1.0);
+}
