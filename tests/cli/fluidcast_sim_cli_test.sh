@@ -51,6 +51,18 @@ VK_ICD_FILENAMES=/nonexistent/icd.json expect_bad "install mesa-vulkan-drivers" 
 [[ $(wc -l < "$work/gpu.csv") -eq 5 ]] || fail "GPU CSV should have a header and 4 rows"
 grep -q "gpu: using device" "$work/gpu.err" || fail "the chosen device is not logged"
 
+# Rendered frames: one PNG per rendered step (steps 0, 2, 4), of the size asked for.
+"$sim" --particles 300 --steps 4 --render "$work/frames" --render-every 2 --width 96 --height 54 \
+  > /dev/null 2> "$work/render.err" || fail "render run exited $?: $(cat "$work/render.err")"
+[[ $(ls "$work/frames" | wc -l) -eq 3 ]] || fail "expected 3 frames, got: $(ls "$work/frames")"
+file "$work/frames/frame_000002.png" 2>/dev/null | grep -q "96 x 54" \
+  || head -c 24 "$work/frames/frame_000002.png" | od -An -tx1 | tr -d ' \n' | grep -q "0000006000000036" \
+  || fail "frame_000002.png is not a 96×54 PNG"
+expect_bad "--renderer: 'ssfr' is not available; this build renders: points" --renderer ssfr --steps 1
+expect_bad "--camera: '1,2' is not yaw,pitch,distance" --camera 1,2 --steps 1
+expect_bad "--width, --height: 0×360" --width 0 --steps 1
+expect_bad "--camera: pitch must be between -89 and 89" --render "$work/bad" --camera 0,120,2 --steps 1
+
 "$sim" --help > /dev/null || fail "--help exited $?"
 if ((failures)); then echo "$failures failed"; exit 1; fi
 echo "fluidcast-sim CLI: all checks passed"

@@ -1,5 +1,5 @@
 // fluidcast-sim: runs a scene headless on the CPU or GPU solver; prints the geometry, optionally
-// progress, writes statistics CSV and PLY dumps. Bad flags: one line on stderr, exit code 2.
+// progress, writes statistics CSV, PLY dumps and rendered frames. Bad flags: one line on stderr, exit code 2.
 #include <chrono>
 #include <cstdlib>
 #include <cstdio>
@@ -10,6 +10,7 @@
 #include "fluidcast/gpu/context.h"
 #include "fluidcast/sim/statistics.h"
 #include "options.h"
+#include "frames.h"
 #include "outputs.h"
 
 namespace {
@@ -73,6 +74,16 @@ int run(const tools::SimOptions& o) {
   }
   print_geometry(o, *solver);
 
+  std::optional<tools::FrameWriter> frames;
+  if (!o.render_dir.empty()) {
+    if (!context) {  // the CPU solver's particles are drawn on the best Vulkan device
+      gpu::ContextOptions options = gpu::options_from_environment();
+      if (o.device) options.device_index = o.device;
+      context = std::make_unique<gpu::Context>(options);
+    }
+    frames.emplace(o, *context, *solver);
+  }
+
   std::optional<tools::StatsCsv> csv;
   if (!o.stats_path.empty()) csv.emplace(o.stats_path);
   if (o.dump_every > 0) std::filesystem::create_directories(o.dump_dir);
@@ -86,6 +97,9 @@ int run(const tools::SimOptions& o) {
       std::snprintf(name, sizeof(name), "step_%08llu.ply",
                     static_cast<unsigned long long>(solver->steps()));
       tools::write_ply(std::filesystem::path(o.dump_dir) / name, solver->snapshot());
+    }
+    if (frames && solver->steps() % static_cast<std::uint64_t>(o.render_every) == 0) {
+      frames->write(*solver);
     }
   };
 
@@ -136,6 +150,7 @@ int main(int argc, char** argv) {
   } catch (const fluidcast::gpu::GpuUnavailable& e) {
     std::cerr << "fluidcast-sim: " << e.what() << '\n';
     return 2;
+
   } catch (const std::exception& e) {
     std::cerr << "fluidcast-sim: " << e.what() << '\n';
     return 1;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <array>
 #include <optional>
 #include <string>
 
@@ -24,6 +25,11 @@ struct SimOptions {
   std::string stats_path;
   std::int64_t dump_every = 0;
   std::string dump_dir = "dumps";
+  // --render: one PNG per rendered frame into render_dir, every render_every steps.
+  std::string render_dir;
+  std::int64_t render_every = 2;
+  int width = 640, height = 360;
+  std::optional<std::array<float, 3>> camera;  // yaw, pitch (degrees), distance (m)
   bool progress = false;
 };
 

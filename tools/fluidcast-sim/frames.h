@@ -1,0 +1,32 @@
+// fluidcast-sim --render: draws the fluid offscreen and writes each frame as PNG.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+
+#include "fluidcast/render/frame_renderer.h"
+#include "fluidcast/render/particle_source.h"
+#include "options.h"
+
+namespace fluidcast::tools {
+
+class FrameWriter {
+ public:
+  // The camera looks at the tank's centre; without --camera, from 30° yaw, 20° pitch and far
+  // enough to see the whole tank.
+  FrameWriter(const SimOptions& options, gpu::Context& context, const sim::Solver& solver);
+
+  // Renders the solver's particles now into frame_NNNNNN.png, numbered from 0.
+  void write(const sim::Solver& solver);
+  std::uint64_t frames() const { return frames_; }
+
+ private:
+  std::filesystem::path folder_;
+  render::FrameRenderer renderer_;
+  render::ParticleSource source_;
+  render::OrbitCamera camera_;
+  std::uint64_t frames_ = 0;
+};
+
+}  // namespace fluidcast::tools
