@@ -267,9 +267,16 @@ Context::Context(ContextOptions options) {
     queue_info.pQueuePriorities = &priority;
     VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
     v12.bufferDeviceAddress = VK_TRUE;
+    // Fragment shaders that write buffers: the SSFR surface pass sums thickness with atomics.
+    VkPhysicalDeviceFeatures supported{};
+    vkGetPhysicalDeviceFeatures(physical_device_, &supported);
+    VkPhysicalDeviceFeatures features{};
+    features.fragmentStoresAndAtomics = supported.fragmentStoresAndAtomics;
+    fragment_stores_ = supported.fragmentStoresAndAtomics == VK_TRUE;
     VkDeviceCreateInfo device_info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &v12};
     device_info.queueCreateInfoCount = 1;
     device_info.pQueueCreateInfos = &queue_info;
+    device_info.pEnabledFeatures = &features;
     FLUIDCAST_VK_CHECK(vkCreateDevice(physical_device_, &device_info, nullptr, &device_));
     vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
     memory_ = std::make_unique<MemoryAllocator>(device_, physical_device_);

@@ -1,4 +1,4 @@
-// C++ mirror of shaders/common/frame.glsl (std430).
+// C++ mirror of shaders/common/frame.glsl and the push constants of the render passes (std430).
 #pragma once
 
 #include <vulkan/vulkan.h>
@@ -11,21 +11,39 @@ namespace fluidcast::render {
 struct FrameParams {
   glm::mat4 view;
   glm::mat4 projection;
+  glm::mat4 inverse_view;
   glm::vec4 light_direction;
   glm::vec4 slow_colour;
   glm::vec4 fast_colour;
+  glm::vec4 tank_min;
+  glm::vec4 tank_max;
+  glm::vec4 absorption;
   float particle_radius;
   float full_speed;
-  float padding[2];
+  float smoothing_radius;
+  float depth_falloff;
+  std::uint32_t width;
+  std::uint32_t height;
+  std::uint32_t padding[2];
 };
-static_assert(offsetof(FrameParams, projection) == 64);
-static_assert(offsetof(FrameParams, light_direction) == 128);
-static_assert(offsetof(FrameParams, particle_radius) == 176);
+static_assert(offsetof(FrameParams, inverse_view) == 128);
+static_assert(offsetof(FrameParams, light_direction) == 192);
+static_assert(offsetof(FrameParams, absorption) == 272);
+static_assert(offsetof(FrameParams, particle_radius) == 288);
+static_assert(offsetof(FrameParams, width) == 304);
 static_assert(sizeof(FrameParams) % 16 == 0);
 
+// shaders/common/draw_pass.glsl
 struct DrawConstants {
-  VkDeviceAddress frame, position, velocity;
+  VkDeviceAddress frame, position, velocity, depth, thickness;
 };
-static_assert(sizeof(DrawConstants) == 24);
+static_assert(sizeof(DrawConstants) == 40);
+
+// shaders/common/screen_pass.glsl
+struct ScreenConstants {
+  VkDeviceAddress frame, depth_in, depth_out, thickness, scene, image;
+  std::uint32_t axis;
+};
+static_assert(offsetof(ScreenConstants, axis) == 48);
 
 }  // namespace fluidcast::render

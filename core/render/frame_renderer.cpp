@@ -1,9 +1,12 @@
 #include "fluidcast/render/frame_renderer.h"
 
 #include <cstring>
+#include <stdexcept>
+#include <string>
 
+#include "fluidcast_shaders/fluidcast_render.h"
 #include "frame_params.h"
-#include "points_pass.h"
+#include "graphics_pipeline.h"
 
 namespace fluidcast::render {
 namespace {
@@ -18,58 +21,133 @@ void barrier(VkCommandBuffer commands, VkPipelineStageFlags from, VkAccessFlags 
 
 constexpr VkPipelineStageFlags kDrawStages =
     VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT;
+constexpr VkPipelineStageFlags kCompute = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
+constexpr VkPipelineStageFlags kTransfer = VK_PIPELINE_STAGE_TRANSFER_BIT;
+constexpr VkAccessFlags kShaderAccess = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
+constexpr std::uint32_t kScreenGroup = 64;
+constexpr std::uint32_t kInfinityBits = 0x7f800000u;
 
 }  // namespace
+
+const std::vector<std::string_view>& renderer_names() {
+  static const std::vector<std::string_view> names = {"points", "ssfr"};
+  return names;
+}
+
+RendererKind parse_renderer(std::string_view name) {
+  if (name == "points") return RendererKind::points;
+  if (name == "ssfr") return RendererKind::ssfr;
+  throw std::invalid_argument("renderer '" + std::string(name) +
+                              "' is not available; this build renders: points, ssfr");
+}
 
 FrameRenderer::FrameRenderer(gpu::Context& context, std::uint32_t width, std::uint32_t height)
     : context_(&context),
       target_(context, width, height),
-      points_pass_(std::make_unique<PointsPass>(context, target_.render_pass())),
+      background_(std::make_unique<GraphicsPipeline>(
+          context, target_.render_pass(), shaders::render_background_vert,
+          shaders::render_background_frag, PipelineOptions{})),
+      points_(std::make_unique<GraphicsPipeline>(context, target_.render_pass(),
+                                                 shaders::render_points_vert,
+                                                 shaders::render_points_frag, PipelineOptions{})),
+      fluid_surface_(std::make_unique<GraphicsPipeline>(
+          context, target_.render_pass(), shaders::render_points_vert,
+          shaders::render_fluid_surface_frag, PipelineOptions{false, false})),
+      smooth_(context, shaders::render_ssfr_smooth_comp, sizeof(ScreenConstants), kScreenGroup),
+      shade_(context, shaders::render_ssfr_shade_comp, sizeof(ScreenConstants), kScreenGroup),
       frame_params_(context, sizeof(FrameParams), gpu::MemoryDomain::device),
       readback_(context, std::uint64_t{width} * height * 4, gpu::MemoryDomain::readback),
-      commands_(context) {}
+      commands_(context) {
+  const std::uint64_t per_pixel = std::uint64_t{width} * height * 4;
+  for (gpu::Buffer* buffer : {&depth_, &depth_scratch_, &thickness_, &scene_, &image_}) {
+    *buffer = gpu::Buffer(context, per_pixel, gpu::MemoryDomain::device);
+  }
+}
 
 FrameRenderer::~FrameRenderer() { commands_.wait(); }
 
-codec::ImageRgba FrameRenderer::render(const ParticleView& particles, const OrbitCamera& camera) {
+codec::ImageRgba FrameRenderer::render(RendererKind kind, const ParticleView& particles,
+                                       const sim::Box& tank, const OrbitCamera& camera) {
   camera.validate();
+  if (kind == RendererKind::ssfr && !context_->fragment_stores_supported()) {
+    throw std::invalid_argument("renderer ssfr: the device " + context_->info().name +
+                                " cannot write buffers from fragment shaders "
+                                "(fragmentStoresAndAtomics); use points");
+  }
   const std::uint32_t width = target_.width(), height = target_.height();
   FrameParams frame{};
   frame.view = camera.view();
   frame.projection = camera.projection(float(width) / float(height));
-  frame.light_direction = glm::vec4(glm::normalize(glm::vec3(0.4f, 0.8f, 0.6f)), 0.0f);
+  frame.inverse_view = glm::inverse(frame.view);
+  frame.light_direction =
+      frame.view * glm::vec4(glm::normalize(glm::vec3(0.3f, 1.0f, 0.5f)), 0.0f);
   frame.slow_colour = glm::vec4(points.slow_colour, 1.0f);
   frame.fast_colour = glm::vec4(points.fast_colour, 1.0f);
+  frame.tank_min = glm::vec4(tank.min, 0.0f);
+  frame.tank_max = glm::vec4(tank.max, 0.0f);
+  frame.absorption = glm::vec4(ssfr.absorption, 0.0f);
   frame.particle_radius = particles.radius;
   frame.full_speed = points.full_speed;
+  frame.smoothing_radius = ssfr.smoothing_radii * particles.radius;
+  frame.depth_falloff = ssfr.depth_falloff_radii * particles.radius;
+  frame.width = width;
+  frame.height = height;
 
   const VkCommandBuffer commands = commands_.begin();
   // The solver's writes (compute, transfers) before this frame reads the particles in place.
-  barrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-          VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
-          kDrawStages | VK_PIPELINE_STAGE_TRANSFER_BIT,
-          VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
+  barrier(commands, kCompute | kTransfer, VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+          kDrawStages | kTransfer, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
   vkCmdUpdateBuffer(commands, frame_params_.get(), 0, sizeof(frame), &frame);
-  barrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, kDrawStages,
-          VK_ACCESS_SHADER_READ_BIT);
-  const float clear[4] = {background.r, background.g, background.b, background.a};
+  const bool fluid = kind == RendererKind::ssfr;
+  if (fluid) {
+    vkCmdFillBuffer(commands, depth_.get(), 0, VK_WHOLE_SIZE, kInfinityBits);
+    vkCmdFillBuffer(commands, thickness_.get(), 0, VK_WHOLE_SIZE, 0);
+  }
+  barrier(commands, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, kDrawStages, kShaderAccess);
+
+  const DrawConstants draw{frame_params_.address(), particles.position, particles.velocity,
+                           depth_.address(), thickness_.address()};
+  const float clear[4] = {0.0f, 0.0f, 0.0f, 1.0f};
   target_.begin(commands, clear);
+  background_->draw(commands, draw, 3);
   if (particles.count > 0) {
-    points_pass_->record(commands, {frame_params_.address(), particles.position, particles.velocity},
-                         particles.count);
+    (fluid ? fluid_surface_ : points_)->draw(commands, draw, 6 * particles.count);
   }
   target_.end(commands);
 
   VkBufferImageCopy region{};
   region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
   region.imageExtent = {width, height, 1};
-  vkCmdCopyImageToBuffer(commands, target_.colour().get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                         readback_.get(), 1, &region);
+  if (!fluid) {
+    vkCmdCopyImageToBuffer(commands, target_.colour().get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                           readback_.get(), 1, &region);
+  } else {
+    vkCmdCopyImageToBuffer(commands, target_.colour().get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                           scene_.get(), 1, &region);
+    barrier(commands, kTransfer | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+            VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderAccess);
+    const std::uint64_t pixels = std::uint64_t{width} * height;
+    ScreenConstants screen{frame_params_.address(), depth_.address(), depth_scratch_.address(),
+                           thickness_.address(), scene_.address(), image_.address(), 0};
+    // The separable filter, x then y, applied ssfr.smoothing_passes times; ends in depth_.
+    for (int pass = 0; pass < 2 * ssfr.smoothing_passes; ++pass) {
+      screen.axis = static_cast<std::uint32_t>(pass % 2);
+      screen.depth_in = pass % 2 == 0 ? depth_.address() : depth_scratch_.address();
+      screen.depth_out = pass % 2 == 0 ? depth_scratch_.address() : depth_.address();
+      smooth_.dispatch(commands, screen, pixels);
+      barrier(commands, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderAccess);
+    }
+    screen.depth_in = depth_.address();
+    shade_.dispatch(commands, screen, pixels);
+    barrier(commands, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kTransfer, VK_ACCESS_TRANSFER_READ_BIT);
+    const VkBufferCopy copy{0, 0, pixels * 4};
+    vkCmdCopyBuffer(commands, image_.get(), readback_.get(), 1, &copy);
+  }
   // The solver's next step writes what this frame read (write after read), and the host reads
   // the copy.
-  barrier(commands, kDrawStages, 0, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0);
-  barrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-          VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+  barrier(commands, kDrawStages | kCompute, 0, kCompute, 0);
+  barrier(commands, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+          VK_ACCESS_HOST_READ_BIT);
   commands_.submit();
   commands_.wait();
 

@@ -3,19 +3,26 @@
 #extension GL_EXT_buffer_reference : require
 
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Vec4s { vec4 v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 4) buffer Uints { uint v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 4) buffer Floats { float v[]; };
 
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Frame {
   mat4 view;
   mat4 projection;
+  mat4 inverse_view;
   vec4 light_direction;  // view space, towards the light
   vec4 slow_colour;      // points mode: at rest
   vec4 fast_colour;      // points mode: at full_speed and above
+  vec4 tank_min;         // m
+  vec4 tank_max;
+  vec4 absorption;       // SSFR: Beer–Lambert coefficients per metre of water, rgb
   float particle_radius; // m
   float full_speed;      // m/s
+  float smoothing_radius;  // SSFR: of the depth filter, m (view-invariant)
+  float depth_falloff;     // SSFR: depth difference that halves a neighbour's weight, m
+  uint width;
+  uint height;
 };
 
-layout(push_constant, std430) uniform Draw {
-  Frame frame;
-  Vec4s position;
-  Vec4s velocity;
-} draw;
+// Thickness is summed with integer atomics, in micrometres.
+const float kThicknessUnit = 1e-6;

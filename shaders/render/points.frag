@@ -2,6 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 // Points mode: a lit sphere impostor with its true depth.
 #include "common/frame.glsl"
+#include "common/draw_pass.glsl"
 
 layout(location = 0) in vec2 corner;
 layout(location = 1) in vec3 view_centre;

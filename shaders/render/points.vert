@@ -3,6 +3,7 @@
 // Points mode: each particle becomes a camera-facing square of six vertices (no vertex buffer,
 // no point-size limits); the fragment shader cuts a sphere out of it.
 #include "common/frame.glsl"
+#include "common/draw_pass.glsl"
 
 layout(location = 0) out vec2 corner;        // −1 to 1 across the square
 layout(location = 1) out vec3 view_centre;   // the particle's centre in view space

@@ -1,14 +1,15 @@
-// Offscreen rendering on lavapipe: sizes (1×1, odd, the device's maximum and one past it), an
-// empty scene is only background, particles show where they project, and the GPU solver's
-// buffers and a CPU solver's uploaded particles give the same picture.
+// Offscreen rendering on lavapipe: sizes (1×1, odd, the device's maximum and one past it), bad
+// cameras, an empty scene, particles where they project, the GPU solver's buffers read in place
+// against an uploaded copy, and SSFR's absorption. Frames are kept in build/test-output/ to look at.
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <set>
+#include <limits>
 
 #include "fluidcast/codec/png.h"
 #include "fluidcast/render/frame_renderer.h"
 #include "fluidcast/render/particle_source.h"
-#include "../unit/solver_test_support.h"
 #include "gpu_test_support.h"
 
 namespace fluidcast::render {
@@ -16,39 +17,64 @@ namespace {
 
 using fluidcast::testing::GpuTest;
 
-class RenderTest : public GpuTest {
- protected:
-  static std::size_t pixels_unlike(const codec::ImageRgba& image, const glm::vec4& background) {
-    std::size_t count = 0;
-    for (std::size_t i = 0; i < image.pixels.size(); i += 4) {
-      for (int c = 0; c < 3; ++c) {
-        if (std::abs(int(image.pixels[i + c]) - int(std::lround(background[c] * 255))) > 2) {
-          ++count;
-          break;
-        }
+const sim::Box kTank{{0, 0, 0}, {1.0f, 0.6f, 0.3f}};
+
+OrbitCamera looking_at_tank() {
+  OrbitCamera camera;
+  camera.target = {0.5f, 0.2f, 0.15f};
+  camera.distance = 1.6f;
+  return camera;
+}
+
+std::size_t pixels_differing(const codec::ImageRgba& a, const codec::ImageRgba& b) {
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < a.pixels.size(); i += 4) {
+    for (int c = 0; c < 3; ++c) {
+      if (std::abs(int(a.pixels[i + c]) - int(b.pixels[i + c])) > 2) {
+        ++count;
+        break;
       }
     }
-    return count;
   }
-  // Keeps the image where a person can look at it: build/test-output/NAME.png.
-  static void keep(const codec::ImageRgba& image, const std::string& name) {
-    std::filesystem::create_directories("test-output");
-    codec::write_png("test-output/" + name + ".png", image);
-  }
-};
+  return count;
+}
 
-TEST_F(RenderTest, EmptySceneIsOnlyBackground) {
-  FrameRenderer renderer(context(), 64, 48);
-  const codec::ImageRgba image = renderer.render({}, OrbitCamera{});
-  EXPECT_EQ(image.width, 64);
-  EXPECT_EQ(image.height, 48);
-  EXPECT_EQ(pixels_unlike(image, renderer.background), 0u);
+// Keeps the image where a person can look at it: build/test-output/NAME.png.
+void keep(const codec::ImageRgba& image, const std::string& name) {
+  std::filesystem::create_directories("test-output");
+  codec::write_png("test-output/" + name + ".png", image);
+}
+
+std::unique_ptr<sim::Solver> drop_of(int particles) {
+  sim::SceneParams scene;
+  scene.kind = sim::SceneKind::pool;
+  scene.particles = particles;
+  return sim::make_cpu_solver(sim::SolverKind::pbf, sim::build_scene(scene), {});
+}
+
+class RenderTest : public GpuTest {};
+
+TEST_F(RenderTest, AnEmptySceneIsTheSameInEveryMode) {
+  FrameRenderer renderer(context(), 160, 90);
+  const auto points = renderer.render(RendererKind::points, {}, kTank, looking_at_tank());
+  const auto ssfr = renderer.render(RendererKind::ssfr, {}, kTank, looking_at_tank());
+  keep(points, "render_empty");
+  EXPECT_EQ(points.pixels, ssfr.pixels);
+  // The scene is there: tank floor tiles, walls, room floor and sky differ.
+  std::set<std::uint32_t> colours;
+  for (std::size_t i = 0; i < points.pixels.size(); i += 4) {
+    colours.insert(points.pixels[i] | points.pixels[i + 1] << 8 | points.pixels[i + 2] << 16);
+  }
+  EXPECT_GT(colours.size(), 20u);
 }
 
 TEST_F(RenderTest, OneByOneOddAndLargestSizesAndBeyond) {
   for (auto [w, h] : {std::pair{1u, 1u}, {33u, 17u}}) {
     FrameRenderer renderer(context(), w, h);
-    EXPECT_EQ(renderer.render({}, OrbitCamera{}).pixels.size(), std::size_t{w} * h * 4);
+    for (auto kind : {RendererKind::points, RendererKind::ssfr}) {
+      EXPECT_EQ(renderer.render(kind, {}, kTank, looking_at_tank()).pixels.size(),
+                std::size_t{w} * h * 4);
+    }
   }
   const std::uint32_t largest = context().limits().maxFramebufferWidth;
   EXPECT_NO_THROW(FrameRenderer(context(), largest, 1));
@@ -63,57 +89,90 @@ TEST_F(RenderTest, OneByOneOddAndLargestSizesAndBeyond) {
 
 TEST_F(RenderTest, ANonFiniteCameraIsRefused) {
   FrameRenderer renderer(context(), 16, 16);
-  OrbitCamera camera;
+  OrbitCamera camera = looking_at_tank();
   camera.distance = std::numeric_limits<float>::quiet_NaN();
-  EXPECT_THROW(renderer.render({}, camera), std::invalid_argument);
-  camera = OrbitCamera{};
+  EXPECT_THROW(renderer.render(RendererKind::points, {}, kTank, camera), std::invalid_argument);
+  camera = looking_at_tank();
   camera.pitch_degrees = 95.0f;
-  EXPECT_THROW(renderer.render({}, camera), std::invalid_argument);
+  EXPECT_THROW(renderer.render(RendererKind::ssfr, {}, kTank, camera), std::invalid_argument);
 }
 
-TEST_F(RenderTest, ParticlesShowWhereTheyProject) {
-  // One particle at the camera's target lands in the middle of the frame, and only there.
-  sim::SceneParams scene;
-  scene.kind = sim::SceneKind::drop;
-  scene.particles = 500;
-  auto solver = sim::make_cpu_solver(sim::SolverKind::pbf, sim::build_scene(scene), {});
+TEST_F(RenderTest, AParticleShowsWhereItProjects) {
+  const sim::ParticleSet one = [] {
+    sim::ParticleSet set;
+    set.append({0.5f, 0.2f, 0.15f}, {0, 0, 0}, 0);
+    return set;
+  }();
   ParticleSource source(context());
-  ParticleView view = source.view_of(*solver);
-  ASSERT_EQ(view.count, 500u);
+  const ParticleView view = source.upload(one, 0.02f);
   FrameRenderer renderer(context(), 160, 120);
-  OrbitCamera camera;
-  const sim::ParticleSet particles = solver->snapshot();
-  camera.target = particles.position[0];
+  OrbitCamera camera = looking_at_tank();
   camera.distance = 0.5f;
-  view.count = 1;
-  view.radius = 0.02f;
-  const codec::ImageRgba one = renderer.render(view, camera);
-  keep(one, "render_one_particle");
-  const std::uint8_t* centre = one.pixel(80, 60);
-  EXPECT_GT(int(centre[0]) + centre[1] + centre[2], 100) << "the particle is not at the centre";
-  const std::size_t lit = pixels_unlike(one, renderer.background);
-  // A sphere of radius 2 cm at 0.5 m, 45° field of view: about 11 pixels across on 120 rows.
-  EXPECT_GT(lit, 50u);
-  EXPECT_LT(lit, 300u);
-  EXPECT_EQ(pixels_unlike(renderer.render({}, camera), renderer.background), 0u);
+  const auto empty = renderer.render(RendererKind::points, {}, kTank, camera);
+  for (auto kind : {RendererKind::points, RendererKind::ssfr}) {
+    const auto image = renderer.render(kind, view, kTank, camera);
+    keep(image, kind == RendererKind::points ? "render_one_particle_points"
+                                             : "render_one_particle_ssfr");
+    const std::uint8_t *centre = image.pixel(80, 60), *behind = empty.pixel(80, 60);
+    EXPECT_GT(std::abs(int(centre[0]) - behind[0]) + std::abs(int(centre[1]) - behind[1]) +
+                  std::abs(int(centre[2]) - behind[2]),
+              20)
+        << "nothing drawn at the centre";
+    // A sphere of radius 2 cm at 0.5 m with a 45° field of view: about 11 pixels across.
+    const std::size_t drawn = pixels_differing(image, empty);
+    EXPECT_GT(drawn, 40u);
+    EXPECT_LT(drawn, 300u);
+  }
 }
 
-TEST_F(RenderTest, GpuSolverBuffersInPlaceMatchTheUploadedCpuCopy) {
+TEST_F(RenderTest, GpuSolverBuffersInPlaceMatchAnUploadedCopy) {
   sim::SceneParams scene;
   scene.particles = 2000;
-  auto gpu_solver = sim::make_gpu_solver(sim::SolverKind::pbf, context(), sim::build_scene(scene), {});
-  gpu_solver->step();
+  auto solver = sim::make_gpu_solver(sim::SolverKind::pbf, context(), sim::build_scene(scene), {});
+  for (int k = 0; k < 20; ++k) solver->step();
   ParticleSource source(context());
   FrameRenderer renderer(context(), 320, 180);
   OrbitCamera camera;
-  const codec::ImageRgba in_place = renderer.render(source.view_of(*gpu_solver), camera);
-  keep(in_place, "render_points_dam_break");
-  EXPECT_GT(pixels_unlike(in_place, renderer.background), 2000u)
-      << "the dam-break column is not in the frame";
-  // The same particles through the upload path give the same picture, bit for bit.
-  const codec::ImageRgba uploaded = renderer.render(
-      source.upload(gpu_solver->snapshot(), gpu_solver->fluid().particle_radius()), camera);
-  EXPECT_EQ(uploaded.pixels, in_place.pixels);
+  camera.target = 0.5f * (solver->tank().min + solver->tank().max);
+  camera.distance = 2.4f;
+  for (auto kind : {RendererKind::points, RendererKind::ssfr}) {
+    const auto in_place = renderer.render(kind, source.view_of(*solver), solver->tank(), camera);
+    keep(in_place, kind == RendererKind::points ? "render_dam_break_points"
+                                                : "render_dam_break_ssfr");
+    const auto uploaded = renderer.render(
+        kind, source.upload(solver->snapshot(), solver->fluid().particle_radius()),
+        solver->tank(), camera);
+    EXPECT_EQ(uploaded.pixels, in_place.pixels);
+    const auto empty = renderer.render(kind, {}, solver->tank(), camera);
+    EXPECT_GT(pixels_differing(in_place, empty), 2000u) << "the fluid is not in the frame";
+  }
+}
+
+TEST_F(RenderTest, StrongerAbsorptionDarkensTheWater) {
+  auto pool = drop_of(3000);
+  ParticleSource source(context());
+  const ParticleView view = source.view_of(*pool);
+  FrameRenderer renderer(context(), 240, 135);
+  OrbitCamera camera;
+  camera.target = 0.5f * (pool->tank().min + pool->tank().max);
+  camera.distance = 2.0f;
+  const auto empty = renderer.render(RendererKind::ssfr, {}, pool->tank(), camera);
+  const auto mean_over_water = [&](const codec::ImageRgba& image) {
+    double sum = 0.0;
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < image.pixels.size(); i += 4) {
+      if (image.pixels[i] == empty.pixels[i] && image.pixels[i + 1] == empty.pixels[i + 1]) continue;
+      sum += image.pixels[i] + image.pixels[i + 1] + image.pixels[i + 2];
+      ++count;
+    }
+    return count > 0 ? sum / double(count) : 0.0;
+  };
+  const auto clear_water = renderer.render(RendererKind::ssfr, view, pool->tank(), camera);
+  keep(clear_water, "render_pool_ssfr");
+  renderer.ssfr.absorption *= 4.0f;
+  const auto murky_water = renderer.render(RendererKind::ssfr, view, pool->tank(), camera);
+  keep(murky_water, "render_pool_ssfr_murky");
+  EXPECT_LT(mean_over_water(murky_water), 0.9 * mean_over_water(clear_water));
 }
 
 }  // namespace

@@ -11,7 +11,8 @@ FrameWriter::FrameWriter(const SimOptions& options, gpu::Context& context,
     : folder_(options.render_dir),
       renderer_(context, static_cast<std::uint32_t>(options.width),
                 static_cast<std::uint32_t>(options.height)),
-      source_(context) {
+      source_(context),
+      kind_(render::parse_renderer(options.renderer)) {
   const sim::Box& tank = solver.tank();
   camera_.target = 0.5f * (tank.min + tank.max);
   camera_.distance = 1.2f * glm::length(tank.size());
@@ -25,7 +26,8 @@ FrameWriter::FrameWriter(const SimOptions& options, gpu::Context& context,
 }
 
 void FrameWriter::write(const sim::Solver& solver) {
-  const codec::ImageRgba image = renderer_.render(source_.view_of(solver), camera_);
+  const codec::ImageRgba image =
+      renderer_.render(kind_, source_.view_of(solver), solver.tank(), camera_);
   char name[32];
   std::snprintf(name, sizeof(name), "frame_%06llu.png", static_cast<unsigned long long>(frames_));
   codec::write_png(folder_ / name, image);

@@ -26,6 +26,7 @@ class FrameWriter {
   render::FrameRenderer renderer_;
   render::ParticleSource source_;
   render::OrbitCamera camera_;
+  render::RendererKind kind_;
   std::uint64_t frames_ = 0;
 };
 

@@ -1,6 +1,7 @@
 #include "options.h"
 
 #include "fluidcast/render/camera.h"
+#include "fluidcast/render/frame_renderer.h"
 
 #include <CLI/CLI.hpp>
 #include <cmath>
@@ -60,9 +61,9 @@ ParseOutcome parse_sim_options(int argc, char** argv) {
   app.add_option("--render-every", o.render_every, "Render every K steps")->capture_default_str();
   app.add_option("--width", o.width, "Frame width in pixels")->capture_default_str();
   app.add_option("--height", o.height, "Frame height in pixels")->capture_default_str();
-  std::string renderer_name = "points";
-  app.add_option("--renderer", renderer_name,
-                 "points (sphere impostors coloured by speed); ssfr and mc are not built yet")
+  app.add_option("--renderer", o.renderer,
+                 "ssfr (screen-space fluid) or points (spheres coloured by speed); mc is not "
+                 "built yet")
       ->capture_default_str();
   std::string camera_text;
   app.add_option("--camera", camera_text,
@@ -120,9 +121,10 @@ ParseOutcome parse_sim_options(int argc, char** argv) {
                               "range [1, 100000000] steps");
       o.steps = static_cast<std::int64_t>(step_count);
     }
-    if (renderer_name != "points") {
-      throw sim::ParamError("--renderer: '" + renderer_name +
-                            "' is not available; this build renders: points");
+    try {
+      render::parse_renderer(o.renderer);
+    } catch (const std::invalid_argument& e) {
+      throw sim::ParamError(std::string("--renderer: ") + e.what());
     }
     if (!camera_text.empty()) {
       std::array<float, 3> values{};

@@ -28,6 +28,7 @@ struct SimOptions {
   // --render: one PNG per rendered frame into render_dir, every render_every steps.
   std::string render_dir;
   std::int64_t render_every = 2;
+  std::string renderer = "ssfr";
   int width = 640, height = 360;
   std::optional<std::array<float, 3>> camera;  // yaw, pitch (degrees), distance (m)
   bool progress = false;

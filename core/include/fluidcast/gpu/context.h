@@ -72,6 +72,8 @@ class Context {
   const DeviceInfo& info() const { return info_; }
   bool validation_enabled() const { return messenger_ != VK_NULL_HANDLE; }
   bool timestamps_supported() const { return timestamp_valid_bits_ > 0; }
+  // Fragment shaders may write storage buffers (fragmentStoresAndAtomics).
+  bool fragment_stores_supported() const { return fragment_stores_; }
   float timestamp_period_ns() const { return properties_.limits.timestampPeriod; }
   MemoryAllocator& memory() { return *memory_; }
 
@@ -97,6 +99,7 @@ class Context {
   VkQueue queue_ = VK_NULL_HANDLE;
   std::uint32_t queue_family_ = 0;
   std::uint32_t timestamp_valid_bits_ = 0;
+  bool fragment_stores_ = false;
   std::unique_ptr<MemoryAllocator> memory_;
   mutable std::mutex validation_mutex_;
   std::vector<std::string> validation_errors_;

@@ -1,7 +1,6 @@
-#include "points_pass.h"
+#include "graphics_pipeline.h"
 
 #include "fluidcast/gpu/vk_check.h"
-#include "fluidcast_shaders/fluidcast_render.h"
 
 namespace fluidcast::render {
 namespace {
@@ -17,7 +16,10 @@ gpu::UniqueShaderModule make_module(VkDevice device, std::span<const std::uint32
 
 }  // namespace
 
-PointsPass::PointsPass(gpu::Context& context, VkRenderPass render_pass) {
+GraphicsPipeline::GraphicsPipeline(gpu::Context& context, VkRenderPass render_pass,
+                                   std::span<const std::uint32_t> vertex_spirv,
+                                   std::span<const std::uint32_t> fragment_spirv,
+                                   PipelineOptions options) {
   const VkDevice device = context.device();
   const VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                                   sizeof(DrawConstants)};
@@ -28,8 +30,8 @@ PointsPass::PointsPass(gpu::Context& context, VkRenderPass render_pass) {
   FLUIDCAST_VK_CHECK(vkCreatePipelineLayout(device, &layout_info, nullptr, &raw_layout));
   layout_ = gpu::UniquePipelineLayout(device, raw_layout);
 
-  const auto vertex = make_module(device, shaders::render_points_vert);
-  const auto fragment = make_module(device, shaders::render_points_frag);
+  const auto vertex = make_module(device, vertex_spirv);
+  const auto fragment = make_module(device, fragment_spirv);
   VkPipelineShaderStageCreateInfo stages[2] = {};
   stages[0].sType = stages[1].sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
   stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
@@ -58,11 +60,13 @@ PointsPass::PointsPass(gpu::Context& context, VkRenderPass render_pass) {
   VkPipelineDepthStencilStateCreateInfo depth{
       VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
   depth.depthTestEnable = VK_TRUE;
-  depth.depthWriteEnable = VK_TRUE;
+  depth.depthWriteEnable = options.depth_write ? VK_TRUE : VK_FALSE;
   depth.depthCompareOp = VK_COMPARE_OP_LESS;
   VkPipelineColorBlendAttachmentState blend_attachment{};
-  blend_attachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
-                                    VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+  blend_attachment.colorWriteMask =
+      options.colour_write ? VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
+                                 VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT
+                           : 0;
   VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
   blend.attachmentCount = 1;
   blend.pAttachments = &blend_attachment;
@@ -90,14 +94,14 @@ PointsPass::PointsPass(gpu::Context& context, VkRenderPass render_pass) {
   pipeline_ = gpu::UniquePipeline(device, raw_pipeline);
 }
 
-void PointsPass::record(VkCommandBuffer commands, const DrawConstants& draw,
-                        std::uint32_t count) const {
-  if (count == 0) return;
+void GraphicsPipeline::draw(VkCommandBuffer commands, const DrawConstants& draw,
+                            std::uint32_t vertices) const {
+  if (vertices == 0) return;
   vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.get());
   vkCmdPushConstants(commands, layout_.get(),
                      VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(draw),
                      &draw);
-  vkCmdDraw(commands, 6 * count, 1, 0, 0);
+  vkCmdDraw(commands, vertices, 1, 0, 0);
 }
 
 }  // namespace fluidcast::render

@@ -1,0 +1,32 @@
+// One graphics pipeline of the renderer: a vertex and a fragment shader drawing into the
+// RenderTarget's pass, with no vertex buffers (shaders read what they need by device address)
+// and the DrawConstants as push constants.
+#pragma once
+
+#include <span>
+
+#include "fluidcast/gpu/context.h"
+#include "fluidcast/gpu/handle.h"
+#include "frame_params.h"
+
+namespace fluidcast::render {
+
+struct PipelineOptions {
+  bool depth_write = true;   // else depth-tested only
+  bool colour_write = true;  // else the fragment shader works by side effects (SSFR surface)
+};
+
+class GraphicsPipeline {
+ public:
+  GraphicsPipeline(gpu::Context& context, VkRenderPass render_pass,
+                   std::span<const std::uint32_t> vertex, std::span<const std::uint32_t> fragment,
+                   PipelineOptions options);
+  // Inside the render pass.
+  void draw(VkCommandBuffer commands, const DrawConstants& constants, std::uint32_t vertices) const;
+
+ private:
+  gpu::UniquePipelineLayout layout_;
+  gpu::UniquePipeline pipeline_;
+};
+
+}  // namespace fluidcast::render

@@ -1,0 +1,8 @@
+// Push constants of the particle draws; mirrored by DrawConstants in frame_params.h.
+layout(push_constant, std430) uniform Draw {
+  Frame frame;
+  Vec4s position;
+  Vec4s velocity;
+  Uints depth;      // SSFR: per pixel, the nearest fluid surface's view distance (float bits)
+  Uints thickness;  // SSFR: per pixel, the fluid crossed, in kThicknessUnit
+} draw;

@@ -1,0 +1,19 @@
+// Push constants of the screen-space compute passes; mirrored by ScreenConstants in
+// frame_params.h.
+layout(push_constant, std430) uniform Screen {
+  Frame frame;
+  Floats depth_in;    // view distance per pixel, +inf where there is no fluid
+  Floats depth_out;
+  Uints thickness;
+  Uints scene;        // the background, RGBA8 per pixel
+  Uints image;        // the finished frame, RGBA8 per pixel
+  uint axis;          // smoothing: 0 along x, 1 along y
+} screen;
+
+layout(local_size_x_id = 0) in;
+
+// One invocation per pixel, rows one after the other (dispatches may spill into y).
+uint pixel_index() {
+  return (gl_WorkGroupID.x + gl_NumWorkGroups.x * gl_WorkGroupID.y) * gl_WorkGroupSize.x +
+         gl_LocalInvocationID.x;
+}
