@@ -55,25 +55,83 @@ FrameRenderer::FrameRenderer(gpu::Context& context, std::uint32_t width, std::ui
           shaders::render_fluid_surface_frag, PipelineOptions{false, false})),
       smooth_(context, shaders::render_ssfr_smooth_comp, sizeof(ScreenConstants), kScreenGroup),
       shade_(context, shaders::render_ssfr_shade_comp, sizeof(ScreenConstants), kScreenGroup),
-      frame_params_(context, sizeof(FrameParams), gpu::MemoryDomain::device),
-      readback_(context, std::uint64_t{width} * height * 4, gpu::MemoryDomain::readback),
-      commands_(context) {
+      frame_params_(context, sizeof(FrameParams), gpu::MemoryDomain::device) {
   const std::uint64_t per_pixel = std::uint64_t{width} * height * 4;
   for (gpu::Buffer* buffer : {&depth_, &depth_scratch_, &thickness_, &scene_, &image_}) {
     *buffer = gpu::Buffer(context, per_pixel, gpu::MemoryDomain::device);
   }
+  slots_.reserve(kFramesInFlight);
+  for (std::size_t k = 0; k < kFramesInFlight; ++k) slots_.emplace_back(context, per_pixel);
 }
 
-FrameRenderer::~FrameRenderer() { commands_.wait(); }
+FrameRenderer::Slot::Slot(gpu::Context& context, std::uint64_t bytes)
+    : commands(context), readback(context, bytes, gpu::MemoryDomain::readback) {}
 
-codec::ImageRgba FrameRenderer::render(RendererKind kind, const ParticleView& particles,
-                                       const sim::Box& tank, const OrbitCamera& camera) {
+FrameRenderer::~FrameRenderer() {
+  for (Slot& slot : slots_) slot.commands.wait();
+}
+
+std::size_t FrameRenderer::frames_pending() const {
+  std::size_t in_flight = 0;
+  for (const Slot& slot : slots_) in_flight += slot.in_flight ? 1 : 0;
+  return kept_.size() + in_flight;
+}
+
+codec::ImageRgba FrameRenderer::collect(Slot& slot) {
+  slot.commands.wait();
+  slot.in_flight = false;
+  codec::ImageRgba image(static_cast<int>(target_.width()), static_cast<int>(target_.height()));
+  std::memcpy(image.pixels.data(), slot.readback.mapped<std::uint8_t>().data(), image.pixels.size());
+  return image;
+}
+
+std::uint64_t FrameRenderer::submit(RendererKind kind, const ParticleView& particles,
+                                    const sim::Box& tank, const OrbitCamera& camera) {
   camera.validate();
   if (kind == RendererKind::ssfr && !context_->fragment_stores_supported()) {
     throw std::invalid_argument("renderer ssfr: the device " + context_->info().name +
                                 " cannot write buffers from fragment shaders "
                                 "(fragmentStoresAndAtomics); use points");
   }
+  Slot& slot = slots_[next_frame_ % slots_.size()];
+  if (slot.in_flight) {
+    kept_.push_back(collect(slot));
+    while (kept_.size() > kFramesInFlight) {
+      kept_.pop_front();
+      ++dropped_;
+    }
+  }
+  record(slot.commands.begin(), kind, particles, tank, camera, slot.readback);
+  slot.commands.submit();
+  slot.in_flight = true;
+  slot.frame = next_frame_;
+  return next_frame_++;
+}
+
+codec::ImageRgba FrameRenderer::take_oldest() {
+  if (!kept_.empty()) {
+    codec::ImageRgba image = std::move(kept_.front());
+    kept_.pop_front();
+    return image;
+  }
+  Slot* oldest = nullptr;
+  for (Slot& slot : slots_) {
+    if (slot.in_flight && (!oldest || slot.frame < oldest->frame)) oldest = &slot;
+  }
+  if (!oldest) throw std::logic_error("frame renderer: no frame was submitted");
+  return collect(*oldest);
+}
+
+codec::ImageRgba FrameRenderer::render(RendererKind kind, const ParticleView& particles,
+                                       const sim::Box& tank, const OrbitCamera& camera) {
+  while (frames_pending() > 0) take_oldest();
+  submit(kind, particles, tank, camera);
+  return take_oldest();
+}
+
+void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
+                           const ParticleView& particles, const sim::Box& tank,
+                           const OrbitCamera& camera, const gpu::Buffer& readback) {
   const std::uint32_t width = target_.width(), height = target_.height();
   FrameParams frame{};
   frame.view = camera.view();
@@ -93,9 +151,10 @@ codec::ImageRgba FrameRenderer::render(RendererKind kind, const ParticleView& pa
   frame.width = width;
   frame.height = height;
 
-  const VkCommandBuffer commands = commands_.begin();
-  // The solver's writes (compute, transfers) before this frame reads the particles in place.
-  barrier(commands, kCompute | kTransfer, VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+  // The solver's writes (compute, transfers) before this frame reads the particles in place; and
+  // the previous frame's reads and atomics on the shared per-pixel buffers before this one's fills.
+  barrier(commands, kCompute | kTransfer | kDrawStages,
+          VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
           kDrawStages | kTransfer, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
   vkCmdUpdateBuffer(commands, frame_params_.get(), 0, sizeof(frame), &frame);
   const bool fluid = kind == RendererKind::ssfr;
@@ -120,7 +179,7 @@ codec::ImageRgba FrameRenderer::render(RendererKind kind, const ParticleView& pa
   region.imageExtent = {width, height, 1};
   if (!fluid) {
     vkCmdCopyImageToBuffer(commands, target_.colour().get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                           readback_.get(), 1, &region);
+                           readback.get(), 1, &region);
   } else {
     vkCmdCopyImageToBuffer(commands, target_.colour().get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                            scene_.get(), 1, &region);
@@ -141,19 +200,13 @@ codec::ImageRgba FrameRenderer::render(RendererKind kind, const ParticleView& pa
     shade_.dispatch(commands, screen, pixels);
     barrier(commands, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kTransfer, VK_ACCESS_TRANSFER_READ_BIT);
     const VkBufferCopy copy{0, 0, pixels * 4};
-    vkCmdCopyBuffer(commands, image_.get(), readback_.get(), 1, &copy);
+    vkCmdCopyBuffer(commands, image_.get(), readback.get(), 1, &copy);
   }
   // The solver's next step writes what this frame read (write after read), and the host reads
   // the copy.
   barrier(commands, kDrawStages | kCompute, 0, kCompute, 0);
   barrier(commands, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
           VK_ACCESS_HOST_READ_BIT);
-  commands_.submit();
-  commands_.wait();
-
-  codec::ImageRgba image(static_cast<int>(width), static_cast<int>(height));
-  std::memcpy(image.pixels.data(), readback_.mapped<std::uint8_t>().data(), image.pixels.size());
-  return image;
 }
 
 }  // namespace fluidcast::render

@@ -148,6 +148,30 @@ TEST_F(RenderTest, GpuSolverBuffersInPlaceMatchAnUploadedCopy) {
   }
 }
 
+TEST_F(RenderTest, FramesInFlightComeBackInOrderAndNoneIsLostUntilTheCapOfKeptFrames) {
+  auto pool = drop_of(1000);
+  ParticleSource source(context());
+  const ParticleView view = source.view_of(*pool);
+  FrameRenderer renderer(context(), 64, 36);
+  std::vector<OrbitCamera> cameras(5, looking_at_tank());
+  std::vector<codec::ImageRgba> expected;
+  for (std::size_t k = 0; k < cameras.size(); ++k) {
+    cameras[k].yaw_degrees = 20.0f * static_cast<float>(k);
+    expected.push_back(renderer.render(RendererKind::ssfr, view, pool->tank(), cameras[k]));
+  }
+  // Three submitted, none taken: two in flight, one kept; they come back oldest first.
+  for (int k = 0; k < 3; ++k) renderer.submit(RendererKind::ssfr, view, pool->tank(), cameras[k]);
+  EXPECT_EQ(renderer.frames_pending(), 3u);
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(renderer.take_oldest().pixels, expected[k].pixels) << k;
+  EXPECT_EQ(renderer.frames_pending(), 0u);
+  EXPECT_THROW(renderer.take_oldest(), std::logic_error);
+  // Five submitted, none taken: at most two kept besides the two in flight; the oldest is dropped.
+  for (int k = 0; k < 5; ++k) renderer.submit(RendererKind::ssfr, view, pool->tank(), cameras[k]);
+  EXPECT_EQ(renderer.frames_dropped(), 1u);
+  EXPECT_EQ(renderer.frames_pending(), 4u);
+  EXPECT_EQ(renderer.take_oldest().pixels, expected[1].pixels);
+}
+
 TEST_F(RenderTest, StrongerAbsorptionDarkensTheWater) {
   auto pool = drop_of(3000);
   ParticleSource source(context());

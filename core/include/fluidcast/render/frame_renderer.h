@@ -4,6 +4,7 @@
 #pragma once
 
 #include <glm/glm.hpp>
+#include <deque>
 #include <memory>
 #include <string_view>
 #include <vector>
@@ -58,12 +59,37 @@ class FrameRenderer {
   PointsStyle points;
   SsfrStyle ssfr;
 
-  // Draws one frame of the particles in `tank` and returns it (waits for it). Throws
-  // std::invalid_argument for a camera that is not finite or out of range.
+  // A ring of read-back slots: frame N is copied to the host while frame N+1 renders.
+  static constexpr std::size_t kFramesInFlight = 2;
+
+  // Records and submits one frame of the particles in `tank`; returns its number at once. With
+  // kFramesInFlight frames already in flight, first waits for the oldest and keeps its image for
+  // take_oldest(); of kept images beyond kFramesInFlight, the oldest are dropped (counted).
+  // Throws std::invalid_argument for a camera that is not finite or out of range.
+  std::uint64_t submit(RendererKind kind, const ParticleView& particles, const sim::Box& tank,
+                       const OrbitCamera& camera);
+  // The oldest frame submitted and not yet taken, waiting for it if need be. Throws
+  // std::logic_error when there is none.
+  codec::ImageRgba take_oldest();
+  std::size_t frames_pending() const;
+  std::uint64_t frames_dropped() const { return dropped_; }
+
+  // submit() then take_oldest(): one frame, waited for.
   codec::ImageRgba render(RendererKind kind, const ParticleView& particles, const sim::Box& tank,
                           const OrbitCamera& camera);
 
  private:
+  struct Slot {
+    explicit Slot(gpu::Context& context, std::uint64_t bytes);
+    gpu::CommandSlot commands;
+    gpu::Buffer readback;
+    bool in_flight = false;
+    std::uint64_t frame = 0;
+  };
+  void record(VkCommandBuffer commands, RendererKind kind, const ParticleView& particles,
+              const sim::Box& tank, const OrbitCamera& camera, const gpu::Buffer& readback);
+  codec::ImageRgba collect(Slot& slot);
+
   gpu::Context* context_;
   RenderTarget target_;
   std::unique_ptr<GraphicsPipeline> background_, points_, fluid_surface_;
@@ -72,8 +98,10 @@ class FrameRenderer {
   // SSFR, one value per pixel: nearest fluid distance (and a filtered copy), thickness, the
   // scene behind, and the finished frame.
   gpu::Buffer depth_, depth_scratch_, thickness_, scene_, image_;
-  gpu::Buffer readback_;
-  gpu::CommandSlot commands_;
+  std::vector<Slot> slots_;
+  std::uint64_t next_frame_ = 0;
+  std::deque<codec::ImageRgba> kept_;  // finished frames collected early, oldest first
+  std::uint64_t dropped_ = 0;
 };
 
 }  // namespace fluidcast::render
