@@ -23,6 +23,7 @@ test: build
 bench: build
 	$(BIN)/fluidcast-bench-cpu
 	$(BIN)/fluidcast-bench-gpu
+	$(BIN)/fluidcast-bench-render
 
 clean:
 	rm -rf build

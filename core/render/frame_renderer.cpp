@@ -65,7 +65,9 @@ FrameRenderer::FrameRenderer(gpu::Context& context, std::uint32_t width, std::ui
 }
 
 FrameRenderer::Slot::Slot(gpu::Context& context, std::uint64_t bytes)
-    : commands(context), readback(context, bytes, gpu::MemoryDomain::readback) {}
+    : commands(context),
+      readback(context, bytes, gpu::MemoryDomain::readback),
+      timestamps(context, 8) {}
 
 FrameRenderer::~FrameRenderer() {
   for (Slot& slot : slots_) slot.commands.wait();
@@ -80,6 +82,19 @@ std::size_t FrameRenderer::frames_pending() const {
 codec::ImageRgba FrameRenderer::collect(Slot& slot) {
   slot.commands.wait();
   slot.in_flight = false;
+  // Marks: start, scene, particles; SSFR: smoothing (with the copy of the scene), shading; then
+  // the read-back.
+  slot.timestamps.fetch();
+  const std::uint32_t marks = slot.timestamps.marks();
+  RenderTimes times;
+  times.scene_ms = slot.timestamps.elapsed_ms(0, 1);
+  times.particles_ms = slot.timestamps.elapsed_ms(1, 2);
+  if (marks == 6) {
+    times.smoothing_ms = slot.timestamps.elapsed_ms(2, 3);
+    times.shading_ms = slot.timestamps.elapsed_ms(3, 4);
+  }
+  times.readback_ms = slot.timestamps.elapsed_ms(marks - 2, marks - 1);
+  last_times_ = times;
   codec::ImageRgba image(static_cast<int>(target_.width()), static_cast<int>(target_.height()));
   std::memcpy(image.pixels.data(), slot.readback.mapped<std::uint8_t>().data(), image.pixels.size());
   return image;
@@ -101,7 +116,7 @@ std::uint64_t FrameRenderer::submit(RendererKind kind, const ParticleView& parti
       ++dropped_;
     }
   }
-  record(slot.commands.begin(), kind, particles, tank, camera, slot.readback);
+  record(slot.commands.begin(), kind, particles, tank, camera, slot);
   slot.commands.submit();
   slot.in_flight = true;
   slot.frame = next_frame_;
@@ -131,7 +146,8 @@ codec::ImageRgba FrameRenderer::render(RendererKind kind, const ParticleView& pa
 
 void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
                            const ParticleView& particles, const sim::Box& tank,
-                           const OrbitCamera& camera, const gpu::Buffer& readback) {
+                           const OrbitCamera& camera, Slot& slot) {
+  const gpu::Buffer& readback = slot.readback;
   const std::uint32_t width = target_.width(), height = target_.height();
   FrameParams frame{};
   frame.view = camera.view();
@@ -164,15 +180,19 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
   }
   barrier(commands, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, kDrawStages, kShaderAccess);
 
+  slot.timestamps.reset(commands);
+  slot.timestamps.mark(commands);
   const DrawConstants draw{frame_params_.address(), particles.position, particles.velocity,
                            depth_.address(), thickness_.address()};
   const float clear[4] = {0.0f, 0.0f, 0.0f, 1.0f};
   target_.begin(commands, clear);
   background_->draw(commands, draw, 3);
+  slot.timestamps.mark(commands);
   if (particles.count > 0) {
     (fluid ? fluid_surface_ : points_)->draw(commands, draw, 6 * particles.count);
   }
   target_.end(commands);
+  slot.timestamps.mark(commands);
 
   VkBufferImageCopy region{};
   region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
@@ -196,12 +216,15 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
       smooth_.dispatch(commands, screen, pixels);
       barrier(commands, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderAccess);
     }
+    slot.timestamps.mark(commands);
     screen.depth_in = depth_.address();
     shade_.dispatch(commands, screen, pixels);
     barrier(commands, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kTransfer, VK_ACCESS_TRANSFER_READ_BIT);
+    slot.timestamps.mark(commands);
     const VkBufferCopy copy{0, 0, pixels * 4};
     vkCmdCopyBuffer(commands, image_.get(), readback.get(), 1, &copy);
   }
+  slot.timestamps.mark(commands);
   // The solver's next step writes what this frame read (write after read), and the host reads
   // the copy.
   barrier(commands, kDrawStages | kCompute, 0, kCompute, 0);

@@ -50,6 +50,15 @@ struct SsfrStyle {
   glm::vec3 absorption{6.0f, 1.8f, 0.9f};
 };
 
+// GPU milliseconds of one frame's passes, from timestamps (0 where the device has none).
+struct RenderTimes {
+  double scene_ms = 0;      // the ray-cast tank, floor and sky
+  double particles_ms = 0;  // points: the spheres; SSFR: surface depth and thickness
+  double smoothing_ms = 0;  // SSFR: the bilateral filter passes
+  double shading_ms = 0;    // SSFR: normals and shading (and the copy of the scene it refracts)
+  double readback_ms = 0;   // the copy of the finished frame to host-visible memory
+};
+
 class FrameRenderer {
  public:
   // Throws std::invalid_argument for a size of zero or beyond the device's limits.
@@ -73,6 +82,8 @@ class FrameRenderer {
   codec::ImageRgba take_oldest();
   std::size_t frames_pending() const;
   std::uint64_t frames_dropped() const { return dropped_; }
+  // The passes of the frame most recently taken or kept.
+  const RenderTimes& last_times() const { return last_times_; }
 
   // submit() then take_oldest(): one frame, waited for.
   codec::ImageRgba render(RendererKind kind, const ParticleView& particles, const sim::Box& tank,
@@ -83,11 +94,12 @@ class FrameRenderer {
     explicit Slot(gpu::Context& context, std::uint64_t bytes);
     gpu::CommandSlot commands;
     gpu::Buffer readback;
+    gpu::TimestampQueries timestamps;
     bool in_flight = false;
     std::uint64_t frame = 0;
   };
   void record(VkCommandBuffer commands, RendererKind kind, const ParticleView& particles,
-              const sim::Box& tank, const OrbitCamera& camera, const gpu::Buffer& readback);
+              const sim::Box& tank, const OrbitCamera& camera, Slot& slot);
   codec::ImageRgba collect(Slot& slot);
 
   gpu::Context* context_;
@@ -102,6 +114,7 @@ class FrameRenderer {
   std::uint64_t next_frame_ = 0;
   std::deque<codec::ImageRgba> kept_;  // finished frames collected early, oldest first
   std::uint64_t dropped_ = 0;
+  RenderTimes last_times_;
 };
 
 }  // namespace fluidcast::render

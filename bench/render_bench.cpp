@@ -1,0 +1,155 @@
+// Rendering and encoding: GPU ms per pass (scene, particles, smoothing, shading, read-back) from
+// timestamps, frames/s with the read-back ring kept full, and JPEG encode ms (quality 80, 4:2:0,
+// one thread) and throughput on the encoder pool (one thread per core), at 640×360, 1280×720 and
+// 1920×1080 with 64k and 1M particles (the dam break after a few GPU steps). `--smoke` runs one
+// small case (for CI, on lavapipe); `--device N` picks the device.
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "fluidcast/codec/jpeg.h"
+#include "fluidcast/codec/jpeg_encoder_pool.h"
+#include "fluidcast/gpu/context.h"
+#include "fluidcast/render/frame_renderer.h"
+#include "fluidcast/render/particle_source.h"
+#include "fluidcast/sim/solver.h"
+
+namespace {
+
+using namespace fluidcast;
+using Clock = std::chrono::steady_clock;
+
+gpu::Context* g_context = nullptr;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+void run_render(benchmark::State& state, render::RendererKind kind, int frames_per_iteration) {
+  const auto width = static_cast<std::uint32_t>(state.range(0));
+  const auto height = static_cast<std::uint32_t>(state.range(1));
+  sim::SceneParams scene;
+  scene.particles = static_cast<int>(state.range(2));
+  sim::SolverParams params;
+  params.max_particles = std::max(params.max_particles, scene.particles);
+  auto solver = sim::make_gpu_solver(sim::SolverKind::pbf, *g_context, sim::build_scene(scene), params);
+  for (int k = 0; k < 10; ++k) solver->step();
+  render::ParticleSource source(*g_context);
+  const render::ParticleView view = source.view_of(*solver);
+  render::FrameRenderer renderer(*g_context, width, height);
+  render::OrbitCamera camera;
+  camera.target = 0.5f * (solver->tank().min + solver->tank().max);
+  camera.distance = 1.3f * glm::length(solver->tank().size());
+  codec::ImageRgba last = renderer.render(kind, view, solver->tank(), camera);  // warm-up
+
+  render::RenderTimes sum;
+  std::uint64_t frames = 0;
+  double seconds = 0.0;
+  for (auto _ : state) {
+    const auto start = Clock::now();
+    for (int k = 0; k < frames_per_iteration; ++k) {
+      renderer.submit(kind, view, solver->tank(), camera);
+      if (renderer.frames_pending() >= render::FrameRenderer::kFramesInFlight) {
+        last = renderer.take_oldest();
+        const render::RenderTimes& t = renderer.last_times();
+        sum.scene_ms += t.scene_ms;
+        sum.particles_ms += t.particles_ms;
+        sum.smoothing_ms += t.smoothing_ms;
+        sum.shading_ms += t.shading_ms;
+        sum.readback_ms += t.readback_ms;
+        ++frames;
+      }
+    }
+    while (renderer.frames_pending() > 0) {
+      last = renderer.take_oldest();
+      ++frames;
+    }
+    const double elapsed = seconds_since(start);
+    state.SetIterationTime(elapsed);
+    seconds += elapsed;
+  }
+  const double timed = static_cast<double>(std::max<std::uint64_t>(frames, 1));
+  state.counters["frames_per_s"] = static_cast<double>(frames) / seconds;
+  state.counters["scene_ms"] = sum.scene_ms / timed;
+  state.counters["particles_ms"] = sum.particles_ms / timed;
+  state.counters["smoothing_ms"] = sum.smoothing_ms / timed;
+  state.counters["shading_ms"] = sum.shading_ms / timed;
+  state.counters["readback_ms"] = sum.readback_ms / timed;
+
+  // Encoding the frame just rendered: one thread, then the pool at one thread per core.
+  const codec::JpegOptions jpeg{80, codec::ChromaSubsampling::s420};
+  const int encodes = 10;
+  auto start = Clock::now();
+  std::size_t bytes = 0;
+  for (int k = 0; k < encodes; ++k) bytes = codec::encode_jpeg(last, jpeg).size();
+  state.counters["encode_ms"] = 1e3 * seconds_since(start) / encodes;
+  state.counters["jpeg_kib"] = static_cast<double>(bytes) / 1024.0;
+  codec::JpegEncoderPool pool;
+  std::vector<std::future<std::vector<std::uint8_t>>> jobs;
+  start = Clock::now();
+  for (unsigned k = 0; k < 4 * pool.threads(); ++k) jobs.push_back(pool.encode(last, jpeg));
+  for (auto& job : jobs) job.get();
+  state.counters["pool_encodes_per_s"] = static_cast<double>(jobs.size()) / seconds_since(start);
+}
+
+void add(const char* name, render::RendererKind kind, int width, int height, int particles,
+         int frames) {
+  benchmark::RegisterBenchmark(name, run_render, kind, frames)
+      ->Args({width, height, particles})
+      ->ArgNames({"width", "height", "particles"})
+      ->Iterations(1)
+      ->UseManualTime()
+      ->Unit(benchmark::kMillisecond);
+}
+
+void register_cases(bool smoke) {
+  if (smoke) {
+    add("Ssfr", render::RendererKind::ssfr, 320, 180, 4000, 3);
+    add("Points", render::RendererKind::points, 320, 180, 4000, 3);
+    return;
+  }
+  for (int particles : {64000, 1000000}) {
+    for (auto [w, h] : {std::pair{640, 360}, {1280, 720}, {1920, 1080}}) {
+      add("Ssfr", render::RendererKind::ssfr, w, h, particles, 100);
+      add("Points", render::RendererKind::points, w, h, particles, 100);
+    }
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<char*> args;
+  bool smoke = false;
+  gpu::ContextOptions options = gpu::options_from_environment();
+  options.validation = false;
+  for (int i = 0; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--smoke") == 0) {
+      smoke = true;
+    } else if (std::strcmp(argv[i], "--device") == 0 && i + 1 < argc) {
+      options.device_index = static_cast<std::uint32_t>(std::stoul(argv[++i]));
+    } else {
+      args.push_back(argv[i]);
+    }
+  }
+  std::unique_ptr<gpu::Context> context;
+  try {
+    context = std::make_unique<gpu::Context>(options);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "fluidcast-bench-render: %s\n", e.what());
+    return 2;
+  }
+  g_context = context.get();
+  benchmark::AddCustomContext("device", context->info().describe());
+  int count = static_cast<int>(args.size());
+  register_cases(smoke);
+  benchmark::Initialize(&count, args.data());
+  if (benchmark::ReportUnrecognizedArguments(count, args.data())) return 2;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
