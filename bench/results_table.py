@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Turns fluidcast-bench-cpu's or fluidcast-bench-gpu's JSON (--benchmark_out) into the Markdown
+"""Turns the JSON of fluidcast-bench-cpu, -gpu or -render (--benchmark_out) into the Markdown
 table of bench/results."""
 import json
 import sys
@@ -9,14 +9,24 @@ runs = json.load(open(sys.argv[1]))["benchmarks"]
 
 def fields_of(run):
     fields = {}
-    for part in run["name"].split("/")[2:]:
+    for part in run["name"].split("/")[1:]:
         if ":" in part:
             key, value = part.split(":")
             fields.setdefault(key, value)  # the first "iterations:" is ours, the second Google Benchmark's
     return fields
 
 
-if runs and "gpu_ms" in runs[0]:
+if runs and "frames_per_s" in runs[0]:
+    print("| renderer | size | particles | frames/s | scene | particles | smoothing | shading | read-back "
+          "(GPU ms) | JPEG encode ms (1 thread) | JPEG KiB | pool encodes/s |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for r in runs:
+        f = fields_of(r)
+        print(f"| {r['name'].split('/')[0]} | {f['width']}×{f['height']} | {f['particles']} | "
+              f"{r['frames_per_s']:.1f} | {r['scene_ms']:.3f} | {r['particles_ms']:.3f} | "
+              f"{r['smoothing_ms']:.3f} | {r['shading_ms']:.3f} | {r['readback_ms']:.3f} | "
+              f"{r['encode_ms']:.2f} | {r['jpeg_kib']:.0f} | {r['pool_encodes_per_s']:.0f} |")
+elif runs and "gpu_ms" in runs[0]:
     print("| solver | particles | iterations | substeps/step | steps/s | GPU ms/step | grid | predict | "
           "iterations (each) | velocity | viscosity |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")

@@ -58,8 +58,9 @@ void main() {
   colour = vec4(shade, 1.0);
   if (t > 0.0) {
     const vec4 clip = projection * draw.frame.view * vec4(eye + t * ray, 1.0);
-    gl_FragDepth = clip.z / clip.w;
+    // The room's floor reaches past the far plane: keep it just in front of the cleared 1.0.
+    gl_FragDepth = min(clip.z / clip.w, 0.99999994);
   } else {
-    gl_FragDepth = 1.0;
+    gl_FragDepth = 0.99999994;
   }
 }

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <set>
+#include <cstring>
 #include <limits>
 
 #include "fluidcast/codec/png.h"
@@ -170,6 +171,44 @@ TEST_F(RenderTest, FramesInFlightComeBackInOrderAndNoneIsLostUntilTheCapOfKeptFr
   EXPECT_EQ(renderer.frames_dropped(), 1u);
   EXPECT_EQ(renderer.frames_pending(), 4u);
   EXPECT_EQ(renderer.take_oldest().pixels, expected[1].pixels);
+}
+
+// Without the depth filter every sphere shows in the normals; with it the surface is smooth. The
+// measure: mean |Laplacian| of brightness over the pixels that show water.
+TEST_F(RenderTest, DepthSmoothingLowersSurfaceNoise) {
+  auto pool = drop_of(3000);
+  ParticleSource source(context());
+  const ParticleView view = source.view_of(*pool);
+  FrameRenderer renderer(context(), 320, 180);
+  OrbitCamera camera;
+  camera.target = 0.5f * (pool->tank().min + pool->tank().max);
+  camera.distance = 1.6f;
+  const auto empty = renderer.render(RendererKind::ssfr, {}, pool->tank(), camera);
+  const auto noise = [&](const codec::ImageRgba& image) {
+    const auto brightness = [&](int x, int y) {
+      const std::uint8_t* p = image.pixel(x, y);
+      return double(p[0]) + p[1] + p[2];
+    };
+    double sum = 0.0;
+    std::size_t count = 0;
+    for (int y = 1; y + 1 < image.height; ++y) {
+      for (int x = 1; x + 1 < image.width; ++x) {
+        if (std::memcmp(image.pixel(x, y), empty.pixel(x, y), 3) == 0) continue;
+        sum += std::abs(4 * brightness(x, y) - brightness(x - 1, y) - brightness(x + 1, y) -
+                        brightness(x, y - 1) - brightness(x, y + 1));
+        ++count;
+      }
+    }
+    return count > 0 ? sum / double(count) : 0.0;
+  };
+  renderer.ssfr.smoothing_passes = 0;
+  const auto raw = renderer.render(RendererKind::ssfr, view, pool->tank(), camera);
+  keep(raw, "render_pool_ssfr_unsmoothed");
+  renderer.ssfr.smoothing_passes = 2;
+  const auto smoothed = renderer.render(RendererKind::ssfr, view, pool->tank(), camera);
+  keep(smoothed, "render_pool_ssfr_smoothed");
+  std::printf("surface noise: %.1f unsmoothed, %.1f smoothed\n", noise(raw), noise(smoothed));
+  EXPECT_LT(noise(smoothed), 0.7 * noise(raw));
 }
 
 TEST_F(RenderTest, StrongerAbsorptionDarkensTheWater) {
