@@ -3,10 +3,9 @@
 // Benchmark (e.g. --benchmark_filter=Pbf).
 #include <benchmark/benchmark.h>
 
-#include <cstring>
 #include <string>
-#include <vector>
 
+#include "bench_main.h"
 #include "fluidcast/sim/solver.h"
 
 namespace {
@@ -66,20 +65,8 @@ void register_cases(bool smoke) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<char*> args;
-  bool smoke = false;
-  for (int i = 0; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--smoke") == 0) {
-      smoke = true;
-    } else {
-      args.push_back(argv[i]);
-    }
-  }
-  int count = static_cast<int>(args.size());
-  register_cases(smoke);
-  benchmark::Initialize(&count, args.data());
-  if (benchmark::ReportUnrecognizedArguments(count, args.data())) return 2;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return fluidcast::bench::run_benchmarks(argc, argv, [](const fluidcast::bench::BenchOptions& o) {
+    register_cases(o.smoke);
+    return 0;
+  });
 }

@@ -8,12 +8,11 @@
 #include <benchmark/benchmark.h>
 
 #include <chrono>
-#include <cstring>
 #include <memory>
-#include <optional>
 #include <string>
 #include <vector>
 
+#include "bench_main.h"
 #include "fluidcast/gpu/context.h"
 #include "fluidcast/sim/solver.h"
 
@@ -94,33 +93,11 @@ void register_cases(bool smoke) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<char*> args;
-  bool smoke = false;
-  gpu::ContextOptions options = gpu::options_from_environment();
-  options.validation = false;
-  for (int i = 0; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--smoke") == 0) {
-      smoke = true;
-    } else if (std::strcmp(argv[i], "--device") == 0 && i + 1 < argc) {
-      options.device_index = static_cast<std::uint32_t>(std::stoul(argv[++i]));
-    } else {
-      args.push_back(argv[i]);
-    }
-  }
   std::unique_ptr<gpu::Context> context;
-  try {
-    context = std::make_unique<gpu::Context>(options);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "fluidcast-bench-gpu: %s\n", e.what());
-    return 2;
-  }
-  g_context = context.get();
-  benchmark::AddCustomContext("device", context->info().describe());
-  int count = static_cast<int>(args.size());
-  register_cases(smoke);
-  benchmark::Initialize(&count, args.data());
-  if (benchmark::ReportUnrecognizedArguments(count, args.data())) return 2;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return bench::run_benchmarks(argc, argv, [&](const bench::BenchOptions& o) {
+    context = bench::make_bench_context(o);
+    g_context = context.get();
+    register_cases(o.smoke);
+    return 0;
+  });
 }

@@ -11,13 +11,7 @@
 namespace fluidcast::render {
 namespace {
 
-void barrier(VkCommandBuffer commands, VkPipelineStageFlags from, VkAccessFlags written,
-             VkPipelineStageFlags to, VkAccessFlags accessed) {
-  VkMemoryBarrier memory{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-  memory.srcAccessMask = written;
-  memory.dstAccessMask = accessed;
-  vkCmdPipelineBarrier(commands, from, to, 0, 1, &memory, 0, nullptr, 0, nullptr);
-}
+using gpu::memory_barrier;
 
 constexpr VkPipelineStageFlags kDrawStages =
     VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT;
@@ -169,7 +163,7 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
 
   // The solver's writes (compute, transfers) before this frame reads the particles in place; and
   // the previous frame's reads and atomics on the shared per-pixel buffers before this one's fills.
-  barrier(commands, kCompute | kTransfer | kDrawStages,
+  memory_barrier(commands, kCompute | kTransfer | kDrawStages,
           VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
           kDrawStages | kTransfer, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
   vkCmdUpdateBuffer(commands, frame_params_.get(), 0, sizeof(frame), &frame);
@@ -178,7 +172,7 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
     vkCmdFillBuffer(commands, depth_.get(), 0, VK_WHOLE_SIZE, kInfinityBits);
     vkCmdFillBuffer(commands, thickness_.get(), 0, VK_WHOLE_SIZE, 0);
   }
-  barrier(commands, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, kDrawStages, kShaderAccess);
+  memory_barrier(commands, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, kDrawStages, kShaderAccess);
 
   slot.timestamps.reset(commands);
   slot.timestamps.mark(commands);
@@ -203,7 +197,7 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
   } else {
     vkCmdCopyImageToBuffer(commands, target_.colour().get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                            scene_.get(), 1, &region);
-    barrier(commands, kTransfer | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+    memory_barrier(commands, kTransfer | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
             VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderAccess);
     const std::uint64_t pixels = std::uint64_t{width} * height;
     ScreenConstants screen{frame_params_.address(), depth_.address(), depth_scratch_.address(),
@@ -214,12 +208,12 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
       screen.depth_in = pass % 2 == 0 ? depth_.address() : depth_scratch_.address();
       screen.depth_out = pass % 2 == 0 ? depth_scratch_.address() : depth_.address();
       smooth_.dispatch(commands, screen, pixels);
-      barrier(commands, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderAccess);
+      memory_barrier(commands, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderAccess);
     }
     slot.timestamps.mark(commands);
     screen.depth_in = depth_.address();
     shade_.dispatch(commands, screen, pixels);
-    barrier(commands, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kTransfer, VK_ACCESS_TRANSFER_READ_BIT);
+    memory_barrier(commands, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kTransfer, VK_ACCESS_TRANSFER_READ_BIT);
     slot.timestamps.mark(commands);
     const VkBufferCopy copy{0, 0, pixels * 4};
     vkCmdCopyBuffer(commands, image_.get(), readback.get(), 1, &copy);
@@ -227,8 +221,8 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
   slot.timestamps.mark(commands);
   // The solver's next step writes what this frame read (write after read), and the host reads
   // the copy.
-  barrier(commands, kDrawStages | kCompute, 0, kCompute, 0);
-  barrier(commands, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+  memory_barrier(commands, kDrawStages | kCompute, 0, kCompute, 0);
+  memory_barrier(commands, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
           VK_ACCESS_HOST_READ_BIT);
 }
 

@@ -36,6 +36,10 @@ class Buffer {
   VkDeviceAddress address_ = 0;
 };
 
+// One global memory barrier: what `from` stages wrote (`written`) is visible to the `to` stages'
+// `accessed` kinds of access; with no accesses, an execution dependency (write after read).
+void memory_barrier(VkCommandBuffer commands, VkPipelineStageFlags from, VkAccessFlags written,
+                    VkPipelineStageFlags to, VkAccessFlags accessed);
 // Ordering between recorded commands. Compute writes before compute reads and writes is the
 // common case: one global barrier between dependent dispatches.
 void compute_barrier(VkCommandBuffer commands);

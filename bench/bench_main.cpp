@@ -1,0 +1,48 @@
+#include "bench_main.h"
+
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+namespace fluidcast::bench {
+
+int run_benchmarks(int argc, char** argv,
+                   const std::function<int(const BenchOptions&)>& register_cases) {
+  BenchOptions options;
+  std::vector<char*> args;
+  for (int i = 0; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--smoke") == 0) {
+      options.smoke = true;
+    } else if (std::strcmp(argv[i], "--device") == 0 && i + 1 < argc) {
+      options.device = static_cast<std::uint32_t>(std::stoul(argv[++i]));
+    } else {
+      args.push_back(argv[i]);
+    }
+  }
+  try {
+    if (const int code = register_cases(options); code != 0) return code;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: %s\n", argv[0], e.what());
+    return 2;
+  }
+  int count = static_cast<int>(args.size());
+  benchmark::Initialize(&count, args.data());
+  if (benchmark::ReportUnrecognizedArguments(count, args.data())) return 2;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
+
+std::unique_ptr<gpu::Context> make_bench_context(const BenchOptions& options) {
+  gpu::ContextOptions context_options = gpu::options_from_environment();
+  context_options.validation = false;
+  if (options.device) context_options.device_index = options.device;
+  auto context = std::make_unique<gpu::Context>(context_options);
+  benchmark::AddCustomContext("device", context->info().describe());
+  return context;
+}
+
+}  // namespace fluidcast::bench
