@@ -36,9 +36,15 @@ void run_dam_break(benchmark::State& state, SolverKind kind) {
 void register_cases(bool smoke) {
   if (smoke) {
     benchmark::RegisterBenchmark("Pbf/dam_break", run_dam_break, SolverKind::pbf)
-        ->Args({1000, 2, 2, 8333})->Iterations(5)->UseRealTime()->Unit(benchmark::kMillisecond);
+        ->Args({1000, 2, 2, 8333})
+        ->Iterations(5)
+        ->UseRealTime()
+        ->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark("Sph/dam_break", run_dam_break, SolverKind::sph)
-        ->Args({1000, 1, 2, 8333})->Iterations(2)->UseRealTime()->Unit(benchmark::kMillisecond);
+        ->Args({1000, 1, 2, 8333})
+        ->Iterations(2)
+        ->UseRealTime()
+        ->Unit(benchmark::kMillisecond);
     return;
   }
   // The table: 5k, 10k, 27k, 64k particles; 2 and 6 iterations; 2 threads; 0.5 s of the
@@ -51,14 +57,19 @@ void register_cases(bool smoke) {
         benchmark::RegisterBenchmark("Pbf/dam_break", run_dam_break, SolverKind::pbf)
             ->Args({particles, iterations, 2, dt_us})
             ->ArgNames({"particles", "iterations", "threads", "dt_us"})
-            ->Iterations(500000 / dt_us)->UseRealTime()->Unit(benchmark::kMillisecond);
+            ->Iterations(500000 / dt_us)
+            ->UseRealTime()
+            ->Unit(benchmark::kMillisecond);
       }
     }
   }
   for (int particles : {5000, 27000}) {
     benchmark::RegisterBenchmark("Sph/dam_break", run_dam_break, SolverKind::sph)
-        ->Args({particles, 1, 2, 8333})->ArgNames({"particles", "iterations", "threads", "dt_us"})
-        ->Iterations(30)->UseRealTime()->Unit(benchmark::kMillisecond);
+        ->Args({particles, 1, 2, 8333})
+        ->ArgNames({"particles", "iterations", "threads", "dt_us"})
+        ->Iterations(30)
+        ->UseRealTime()
+        ->Unit(benchmark::kMillisecond);
   }
 }
 

@@ -36,7 +36,8 @@ void run_render(benchmark::State& state, render::RendererKind kind, int frames_p
   scene.particles = static_cast<int>(state.range(2));
   sim::SolverParams params;
   params.max_particles = std::max(params.max_particles, scene.particles);
-  auto solver = sim::make_gpu_solver(sim::SolverKind::pbf, *g_context, sim::build_scene(scene), params);
+  auto solver =
+      sim::make_gpu_solver(sim::SolverKind::pbf, *g_context, sim::build_scene(scene), params);
   for (int k = 0; k < 10; ++k) solver->step();
   render::ParticleSource source(*g_context);
   const render::ParticleView view = source.view_of(*solver);

@@ -19,9 +19,12 @@ void* make_handle(bool compress) {
 
 int subsampling_of(ChromaSubsampling s) {
   switch (s) {
-    case ChromaSubsampling::s444: return TJSAMP_444;
-    case ChromaSubsampling::s422: return TJSAMP_422;
-    case ChromaSubsampling::s420: return TJSAMP_420;
+    case ChromaSubsampling::s444:
+      return TJSAMP_444;
+    case ChromaSubsampling::s422:
+      return TJSAMP_422;
+    case ChromaSubsampling::s420:
+      return TJSAMP_420;
   }
   throw std::invalid_argument("jpeg: unknown chroma subsampling");
 }
@@ -42,9 +45,9 @@ std::vector<std::uint8_t> JpegEncoder::encode(const ImageRgba& image, const Jpeg
   }
   unsigned char* out = nullptr;
   unsigned long size = 0;
-  const int status = tjCompress2(handle_, image.pixels.data(), image.width, 0, image.height,
-                                 TJPF_RGBA, &out, &size, subsampling_of(options.subsampling),
-                                 options.quality, 0);
+  const int status =
+      tjCompress2(handle_, image.pixels.data(), image.width, 0, image.height, TJPF_RGBA, &out,
+                  &size, subsampling_of(options.subsampling), options.quality, 0);
   if (status != 0) {
     tjFree(out);
     throw std::runtime_error(std::string("jpeg: encoding failed: ") + tjGetErrorStr2(handle_));

@@ -13,8 +13,7 @@ unsigned resolve(unsigned threads) {
 
 }  // namespace
 
-JpegEncoderPool::JpegEncoderPool(unsigned threads)
-    : threads_(resolve(threads)), pool_(threads_) {}
+JpegEncoderPool::JpegEncoderPool(unsigned threads) : threads_(resolve(threads)), pool_(threads_) {}
 
 JpegEncoderPool::~JpegEncoderPool() { pool_.join(); }
 

@@ -27,7 +27,8 @@ Buffer::Buffer(Context& context, VkDeviceSize size, MemoryDomain domain)
 }
 
 void* Buffer::mapped_bytes() const {
-  if (!memory_.mapped()) throw std::logic_error("buffer: only upload and readback buffers are mapped");
+  if (!memory_.mapped())
+    throw std::logic_error("buffer: only upload and readback buffers are mapped");
   return memory_.mapped();
 }
 
@@ -42,7 +43,8 @@ void memory_barrier(VkCommandBuffer commands, VkPipelineStageFlags from, VkAcces
 namespace {
 
 constexpr VkAccessFlags kShaderAccess = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
-constexpr VkAccessFlags kTransferAccess = VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+constexpr VkAccessFlags kTransferAccess =
+    VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
 
 }  // namespace
 

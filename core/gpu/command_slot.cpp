@@ -81,7 +81,8 @@ void TimestampQueries::reset(VkCommandBuffer commands) {
 
 std::uint32_t TimestampQueries::mark(VkCommandBuffer commands) {
   if (used_ == capacity_) {
-    throw std::logic_error("timestamps: more than the " + std::to_string(capacity_) + " marks allowed");
+    throw std::logic_error("timestamps: more than the " + std::to_string(capacity_) +
+                           " marks allowed");
   }
   if (pool_) {
     vkCmdWriteTimestamp(commands, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool_.get(), used_);
@@ -91,10 +92,9 @@ std::uint32_t TimestampQueries::mark(VkCommandBuffer commands) {
 
 void TimestampQueries::fetch() {
   if (!pool_ || used_ == 0) return;
-  FLUIDCAST_VK_CHECK(vkGetQueryPoolResults(context_->device(), pool_.get(), 0, used_,
-                                           used_ * sizeof(std::uint64_t), ticks_.data(),
-                                           sizeof(std::uint64_t),
-                                           VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+  FLUIDCAST_VK_CHECK(vkGetQueryPoolResults(
+      context_->device(), pool_.get(), 0, used_, used_ * sizeof(std::uint64_t), ticks_.data(),
+      sizeof(std::uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
 }
 
 double TimestampQueries::elapsed_ms(std::uint32_t from, std::uint32_t to) {

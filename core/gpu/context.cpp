@@ -25,21 +25,31 @@ std::string version_string(std::uint32_t v) {
 
 const char* type_name(VkPhysicalDeviceType type) {
   switch (type) {
-    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete";
-    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated";
-    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual";
-    case VK_PHYSICAL_DEVICE_TYPE_CPU: return "cpu";
-    default: return "other";
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+      return "discrete";
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+      return "integrated";
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+      return "virtual";
+    case VK_PHYSICAL_DEVICE_TYPE_CPU:
+      return "cpu";
+    default:
+      return "other";
   }
 }
 
 int type_rank(VkPhysicalDeviceType type) {
   switch (type) {
-    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 4;
-    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 3;
-    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
-    case VK_PHYSICAL_DEVICE_TYPE_CPU: return 1;
-    default: return 0;
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+      return 4;
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+      return 3;
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+      return 2;
+    case VK_PHYSICAL_DEVICE_TYPE_CPU:
+      return 1;
+    default:
+      return 0;
   }
 }
 
@@ -83,16 +93,15 @@ DeviceInfo describe_device(VkPhysicalDevice device, std::uint32_t index) {
   info.name = p.deviceName;
   info.type = type_name(p.deviceType);
   info.api_version = version_string(p.apiVersion);
-  info.driver = has_driver_properties
-                    ? std::string(driver.driverName) + " " + driver.driverInfo
-                    : "driver version " + std::to_string(p.driverVersion);
+  info.driver = has_driver_properties ? std::string(driver.driverName) + " " + driver.driverInfo
+                                      : "driver version " + std::to_string(p.driverVersion);
 
   VkPhysicalDeviceMemoryProperties memory;
   vkGetPhysicalDeviceMemoryProperties(device, &memory);
   for (std::uint32_t h = 0; h < memory.memoryHeapCount; ++h) {
     if (memory.memoryHeaps[h].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT) {
-      info.device_local_bytes = std::max<std::uint64_t>(info.device_local_bytes,
-                                                        memory.memoryHeaps[h].size);
+      info.device_local_bytes =
+          std::max<std::uint64_t>(info.device_local_bytes, memory.memoryHeaps[h].size);
     }
   }
 
@@ -113,8 +122,9 @@ bool layer_installed(const char* name) {
   vkEnumerateInstanceLayerProperties(&count, nullptr);
   std::vector<VkLayerProperties> layers(count);
   vkEnumerateInstanceLayerProperties(&count, layers.data());
-  return std::any_of(layers.begin(), layers.end(),
-                     [&](const VkLayerProperties& l) { return std::strcmp(l.layerName, name) == 0; });
+  return std::any_of(layers.begin(), layers.end(), [&](const VkLayerProperties& l) {
+    return std::strcmp(l.layerName, name) == 0;
+  });
 }
 
 VkInstance create_instance(bool validation) {
@@ -158,9 +168,9 @@ std::string list_for_error(const std::vector<DeviceInfo>& devices) {
 }  // namespace
 
 std::string DeviceInfo::describe() const {
-  std::string line = std::to_string(index) + ": " + name + " (" + type + ", Vulkan " +
-                     api_version + ", " + driver + ", " +
-                     std::to_string(device_local_bytes >> 20) + " MiB device-local)";
+  std::string line = std::to_string(index) + ": " + name + " (" + type + ", Vulkan " + api_version +
+                     ", " + driver + ", " + std::to_string(device_local_bytes >> 20) +
+                     " MiB device-local)";
   for (const auto& reason : rejected_because) line += "; unusable: " + reason;
   return line;
 }
@@ -198,8 +208,8 @@ std::vector<DeviceInfo> list_devices() {
 }
 
 Context::Context(ContextOptions options) {
-  const auto log = options.log ? options.log
-                               : [](const std::string& line) { std::cerr << line << '\n'; };
+  const auto log =
+      options.log ? options.log : [](const std::string& line) { std::cerr << line << '\n'; };
   const bool validation = options.validation && layer_installed(kValidationLayer);
   if (options.validation && !validation) {
     log("gpu: validation requested but " + std::string(kValidationLayer) +
@@ -343,7 +353,7 @@ VkBool32 Context::on_validation_message(VkDebugUtilsMessageSeverityFlagBitsEXT s
   auto* context = static_cast<Context*>(user);
   const std::string message =
       std::string(severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT ? "error: "
-                                                                             : "warning: ") +
+                                                                            : "warning: ") +
       (data->pMessage ? data->pMessage : "");
   std::cerr << "vulkan validation " << message << '\n';
   std::lock_guard lock(context->validation_mutex_);

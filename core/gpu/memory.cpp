@@ -36,7 +36,8 @@ MemoryAllocator::~MemoryAllocator() = default;
 
 std::uint32_t MemoryAllocator::pick_type(std::uint32_t allowed_types, MemoryDomain domain) const {
   using Flags = VkMemoryPropertyFlags;
-  constexpr Flags visible = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+  constexpr Flags visible =
+      VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
   // Preferred first, then what must hold at least.
   std::vector<Flags> wanted;
   switch (domain) {
@@ -52,17 +53,19 @@ std::uint32_t MemoryAllocator::pick_type(std::uint32_t allowed_types, MemoryDoma
   }
   for (const Flags flags : wanted) {
     for (std::uint32_t t = 0; t < properties_.memoryTypeCount; ++t) {
-      if ((allowed_types & (1u << t)) && (properties_.memoryTypes[t].propertyFlags & flags) == flags) {
+      if ((allowed_types & (1u << t)) &&
+          (properties_.memoryTypes[t].propertyFlags & flags) == flags) {
         return t;
       }
     }
   }
-  throw VulkanError("no memory type suits the request (allowed types mask " +
-                        std::to_string(allowed_types) + ")",
-                    VK_ERROR_FEATURE_NOT_PRESENT);
+  throw VulkanError(
+      "no memory type suits the request (allowed types mask " + std::to_string(allowed_types) + ")",
+      VK_ERROR_FEATURE_NOT_PRESENT);
 }
 
-Allocation MemoryAllocator::allocate(const VkMemoryRequirements& requirements, MemoryDomain domain) {
+Allocation MemoryAllocator::allocate(const VkMemoryRequirements& requirements,
+                                     MemoryDomain domain) {
   const std::uint32_t type = pick_type(requirements.memoryTypeBits, domain);
   const VkDeviceSize alignment = std::max<VkDeviceSize>(requirements.alignment, 1);
   std::lock_guard lock(mutex_);
@@ -73,14 +76,15 @@ Allocation MemoryAllocator::allocate(const VkMemoryRequirements& requirements, M
     a.memory_ = blocks_[index].memory.get();
     a.offset_ = offset;
     a.size_ = requirements.size;
-    a.mapped_ = blocks_[index].mapped ? static_cast<std::byte*>(blocks_[index].mapped) + offset
-                                      : nullptr;
+    a.mapped_ =
+        blocks_[index].mapped ? static_cast<std::byte*>(blocks_[index].mapped) + offset : nullptr;
     return a;
   };
   for (std::size_t i = 0; i < blocks_.size(); ++i) {
     Block& block = blocks_[i];
     if (!block.ranges || block.type != type) continue;
-    if (const auto offset = block.ranges->allocate(requirements.size, alignment)) return fill(i, *offset);
+    if (const auto offset = block.ranges->allocate(requirements.size, alignment))
+      return fill(i, *offset);
   }
 
   const VkDeviceSize size = std::max(kBlockSize, requirements.size);
@@ -104,7 +108,8 @@ Allocation MemoryAllocator::allocate(const VkMemoryRequirements& requirements, M
   block.ranges = std::make_unique<RangeAllocator>(size);
   const auto offset = block.ranges->allocate(requirements.size, alignment);
   // Reuse a slot of a freed block, so that block indices held by live allocations stay valid.
-  auto slot = std::find_if(blocks_.begin(), blocks_.end(), [](const Block& b) { return !b.ranges; });
+  auto slot =
+      std::find_if(blocks_.begin(), blocks_.end(), [](const Block& b) { return !b.ranges; });
   if (slot == blocks_.end()) slot = blocks_.insert(blocks_.end(), Block{});
   *slot = std::move(block);
   return fill(static_cast<std::size_t>(slot - blocks_.begin()), *offset);
@@ -128,8 +133,8 @@ VkDeviceSize MemoryAllocator::device_bytes() const {
 
 std::size_t MemoryAllocator::block_count() const {
   std::lock_guard lock(mutex_);
-  return static_cast<std::size_t>(
-      std::count_if(blocks_.begin(), blocks_.end(), [](const Block& b) { return b.ranges != nullptr; }));
+  return static_cast<std::size_t>(std::count_if(
+      blocks_.begin(), blocks_.end(), [](const Block& b) { return b.ranges != nullptr; }));
 }
 
 }  // namespace fluidcast::gpu

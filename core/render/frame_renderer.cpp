@@ -90,7 +90,8 @@ codec::ImageRgba FrameRenderer::collect(Slot& slot) {
   times.readback_ms = slot.timestamps.elapsed_ms(marks - 2, marks - 1);
   last_times_ = times;
   codec::ImageRgba image(static_cast<int>(target_.width()), static_cast<int>(target_.height()));
-  std::memcpy(image.pixels.data(), slot.readback.mapped<std::uint8_t>().data(), image.pixels.size());
+  std::memcpy(image.pixels.data(), slot.readback.mapped<std::uint8_t>().data(),
+              image.pixels.size());
   return image;
 }
 
@@ -147,8 +148,7 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
   frame.view = camera.view();
   frame.projection = camera.projection(float(width) / float(height));
   frame.inverse_view = glm::inverse(frame.view);
-  frame.light_direction =
-      frame.view * glm::vec4(glm::normalize(glm::vec3(0.3f, 1.0f, 0.5f)), 0.0f);
+  frame.light_direction = frame.view * glm::vec4(glm::normalize(glm::vec3(0.3f, 1.0f, 0.5f)), 0.0f);
   frame.slow_colour = glm::vec4(points.slow_colour, 1.0f);
   frame.fast_colour = glm::vec4(points.fast_colour, 1.0f);
   frame.tank_min = glm::vec4(tank.min, 0.0f);
@@ -164,8 +164,8 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
   // The solver's writes (compute, transfers) before this frame reads the particles in place; and
   // the previous frame's reads and atomics on the shared per-pixel buffers before this one's fills.
   memory_barrier(commands, kCompute | kTransfer | kDrawStages,
-          VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
-          kDrawStages | kTransfer, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
+                 VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, kDrawStages | kTransfer,
+                 VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
   vkCmdUpdateBuffer(commands, frame_params_.get(), 0, sizeof(frame), &frame);
   const bool fluid = kind == RendererKind::ssfr;
   if (fluid) {
@@ -198,10 +198,16 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
     vkCmdCopyImageToBuffer(commands, target_.colour().get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                            scene_.get(), 1, &region);
     memory_barrier(commands, kTransfer | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
-            VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderAccess);
+                   VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT, kCompute,
+                   kShaderAccess);
     const std::uint64_t pixels = std::uint64_t{width} * height;
-    ScreenConstants screen{frame_params_.address(), depth_.address(), depth_scratch_.address(),
-                           thickness_.address(), scene_.address(), image_.address(), 0};
+    ScreenConstants screen{frame_params_.address(),
+                           depth_.address(),
+                           depth_scratch_.address(),
+                           thickness_.address(),
+                           scene_.address(),
+                           image_.address(),
+                           0};
     // The separable filter, x then y, applied ssfr.smoothing_passes times; ends in depth_.
     for (int pass = 0; pass < 2 * ssfr.smoothing_passes; ++pass) {
       screen.axis = static_cast<std::uint32_t>(pass % 2);
@@ -213,7 +219,8 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
     slot.timestamps.mark(commands);
     screen.depth_in = depth_.address();
     shade_.dispatch(commands, screen, pixels);
-    memory_barrier(commands, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kTransfer, VK_ACCESS_TRANSFER_READ_BIT);
+    memory_barrier(commands, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kTransfer,
+                   VK_ACCESS_TRANSFER_READ_BIT);
     slot.timestamps.mark(commands);
     const VkBufferCopy copy{0, 0, pixels * 4};
     vkCmdCopyBuffer(commands, image_.get(), readback.get(), 1, &copy);
@@ -223,7 +230,7 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
   // the copy.
   memory_barrier(commands, kDrawStages | kCompute, 0, kCompute, 0);
   memory_barrier(commands, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
-          VK_ACCESS_HOST_READ_BIT);
+                 VK_ACCESS_HOST_READ_BIT);
 }
 
 }  // namespace fluidcast::render

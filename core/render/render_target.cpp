@@ -11,7 +11,8 @@ namespace {
 void check_size(const gpu::Context& context, std::uint32_t width, std::uint32_t height) {
   const auto& limits = context.limits();
   const std::uint32_t max_width = std::min(limits.maxFramebufferWidth, limits.maxImageDimension2D);
-  const std::uint32_t max_height = std::min(limits.maxFramebufferHeight, limits.maxImageDimension2D);
+  const std::uint32_t max_height =
+      std::min(limits.maxFramebufferHeight, limits.maxImageDimension2D);
   if (width == 0 || height == 0 || width > max_width || height > max_height) {
     throw std::invalid_argument("frame size " + std::to_string(width) + "×" +
                                 std::to_string(height) + " is outside 1×1 to " +
@@ -54,12 +55,13 @@ RenderTarget::RenderTarget(gpu::Context& context, std::uint32_t width, std::uint
   VkSubpassDependency dependency{};
   dependency.srcSubpass = VK_SUBPASS_EXTERNAL;
   dependency.dstSubpass = 0;
-  dependency.srcStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
+  dependency.srcStageMask =
+      VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
   dependency.srcAccessMask = VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
-  dependency.dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
-                            VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT;
-  dependency.dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT |
-                             VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+  dependency.dstStageMask =
+      VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT;
+  dependency.dstAccessMask =
+      VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
   // And the colour written here comes before the copy to the host.
   VkSubpassDependency to_copy{};
   to_copy.srcSubpass = 0;

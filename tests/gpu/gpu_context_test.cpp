@@ -83,7 +83,8 @@ TEST_F(GpuContextTest, ValidationErrorsAreCollected) {
   info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
   VkBuffer buffer = VK_NULL_HANDLE;
   const VkResult result = vkCreateBuffer(context().device(), &info, nullptr, &buffer);
-  if (result == VK_SUCCESS && buffer != VK_NULL_HANDLE) vkDestroyBuffer(context().device(), buffer, nullptr);
+  if (result == VK_SUCCESS && buffer != VK_NULL_HANDLE)
+    vkDestroyBuffer(context().device(), buffer, nullptr);
   const auto errors = context().validation_errors();
   ASSERT_GT(errors.size(), before);
   EXPECT_NE(errors.back().find("00912"), std::string::npos) << errors.back();

@@ -1,5 +1,7 @@
 // The GPU counting sort against the CPU grid: the same cell for every particle and the same cell
 // ranges, exactly. Within a cell the GPU order follows its atomics, so cells compare as sets.
+#include "gpu/gpu_neighbour_grid.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -8,7 +10,6 @@
 #include <random>
 
 #include "fluidcast/gpu/transfer.h"
-#include "gpu/gpu_neighbour_grid.h"
 #include "gpu_test_support.h"
 
 namespace fluidcast::sim::gpu_solver {
@@ -27,7 +28,8 @@ class GpuNeighbourGridTest : public GpuTest {
     std::vector<glm::vec4> key(points.size());
     std::transform(points.begin(), points.end(), key.begin(),
                    [](glm::vec3 p) { return glm::vec4(p, 0.0f); });
-    const gpu::Buffer key_buffer(context(), key.size() * sizeof(glm::vec4), gpu::MemoryDomain::device);
+    const gpu::Buffer key_buffer(context(), key.size() * sizeof(glm::vec4),
+                                 gpu::MemoryDomain::device);
     gpu::upload<glm::vec4>(context(), key_buffer, key);
     context().run_now([&](VkCommandBuffer commands) {
       gpu_grid.record_build(commands, key_buffer.address(), n);
@@ -89,7 +91,8 @@ TEST_F(GpuNeighbourGridTest, PrefixSumBlockAndOneEitherSide) {
   for (std::uint32_t cells : {GpuNeighbourGrid::kScanBlock - 2, GpuNeighbourGrid::kScanBlock - 1,
                               GpuNeighbourGrid::kScanBlock}) {
     SCOPED_TRACE(cells);
-    const Box line{{0, 0, 0}, {cell * (static_cast<float>(cells) - 0.5f), cell * 0.5f, cell * 0.5f}};
+    const Box line{{0, 0, 0},
+                   {cell * (static_cast<float>(cells) - 0.5f), cell * 0.5f, cell * 0.5f}};
     ASSERT_EQ(GridGeometry(line, radius_).cell_count(), cells);
     expect_same_as_cpu(line, radius_, random_points(line, 3000, cells));
   }
@@ -112,8 +115,13 @@ TEST_F(GpuNeighbourGridTest, CellBordersOutsideTheDomainAndNonFinite) {
   for (int k = 0; k <= 40; ++k) points.push_back({k * cell, k * 0.5f * cell, 0.0f});
   const float inf = std::numeric_limits<float>::infinity();
   const float nan = std::numeric_limits<float>::quiet_NaN();
-  points.insert(points.end(), {{-5, -5, -5}, {5, 5, 5}, {inf, -inf, 0}, {nan, 0.1f, 0.1f},
-                               {0.4f, 0.3f, 0.2f}, {0, 0, 0}, {-0.0f, 0.3f, 1e30f}});
+  points.insert(points.end(), {{-5, -5, -5},
+                               {5, 5, 5},
+                               {inf, -inf, 0},
+                               {nan, 0.1f, 0.1f},
+                               {0.4f, 0.3f, 0.2f},
+                               {0, 0, 0},
+                               {-0.0f, 0.3f, 1e30f}});
   expect_same_as_cpu(box_, radius_, points);
 }
 

@@ -1,12 +1,13 @@
 // The GPU solvers on lavapipe (or the real device): they agree with the CPU solvers on aggregate
 // statistics, a pool stays at rest, the stage timers count, and a count beyond the device's memory
 // is refused up front. The extreme inputs are in unit/solver_inputs_test.cpp, on both backends.
+#include "gpu/gpu_solver.h"
+
 #include <gtest/gtest.h>
 
 #include <cstdio>
 
 #include "../unit/solver_test_support.h"
-#include "gpu/gpu_solver.h"
 #include "gpu_test_support.h"
 
 namespace fluidcast::sim {
@@ -43,10 +44,11 @@ TEST_P(GpuSolverTest, AgreesWithTheCpuSolverOnADamBreak) {
     EXPECT_NEAR(b.front_x, a.front_x, 0.5 * spacing);
     EXPECT_NEAR(b.max_density_error, a.max_density_error, 0.015);
     EXPECT_NEAR(b.avg_density_error, a.avg_density_error, 0.001);
-    std::printf("t %.2f s: kinetic energy %.3f / %.3f J, max density error %.4f / %.4f, front "
-                "%.4f / %.4f m (CPU / GPU)\n",
-                until, a.kinetic_energy, b.kinetic_energy, a.max_density_error,
-                b.max_density_error, a.front_x, b.front_x);
+    std::printf(
+        "t %.2f s: kinetic energy %.3f / %.3f J, max density error %.4f / %.4f, front "
+        "%.4f / %.4f m (CPU / GPU)\n",
+        until, a.kinetic_energy, b.kinetic_energy, a.max_density_error, b.max_density_error,
+        a.front_x, b.front_x);
   }
 }
 
@@ -101,8 +103,9 @@ TEST_P(GpuSolverTest, MoreParticlesThanTheMemoryBudgetAreRefusedUpFront) {
     EXPECT_NE(std::string(e.what()).find("999 particles would fit"), std::string::npos) << e.what();
   }
   // The device's own memory takes the default budget, and holds the thousand.
-  EXPECT_GE(gpu_solver::GpuSolver(GetParam(), context(), build_scene(scene), {}).particles_that_fit(),
-            1000u);
+  EXPECT_GE(
+      gpu_solver::GpuSolver(GetParam(), context(), build_scene(scene), {}).particles_that_fit(),
+      1000u);
 }
 
 INSTANTIATE_TEST_SUITE_P(BothSolvers, GpuSolverTest,

@@ -30,7 +30,9 @@ class GpuTest : public ::testing::Test {
   }
   gpu::Context& context() { return test_context(); }
   // For a test that provokes validation messages on purpose.
-  void forget_validation_messages() { messages_before_ = test_context().validation_errors().size(); }
+  void forget_validation_messages() {
+    messages_before_ = test_context().validation_errors().size();
+  }
 
  private:
   std::size_t messages_before_ = 0;

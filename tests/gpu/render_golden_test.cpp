@@ -35,7 +35,8 @@ TEST_P(RenderGoldenTest, MatchesTheAcceptedImage) {
       renderer.render(GetParam(), source.view_of(*solver), solver->tank(), camera);
 
   const std::string name = std::string(renderer_names()[static_cast<int>(GetParam())]) + "_drop";
-  const std::filesystem::path golden = std::filesystem::path(FLUIDCAST_GOLDEN_DIR) / (name + ".png");
+  const std::filesystem::path golden =
+      std::filesystem::path(FLUIDCAST_GOLDEN_DIR) / (name + ".png");
   if (const char* update = std::getenv("FLUIDCAST_UPDATE_GOLDEN"); update && *update == '1') {
     codec::write_png(golden, actual);
     GTEST_SKIP() << "accepted " << golden;

@@ -1,12 +1,13 @@
 // Offscreen rendering on lavapipe: sizes (1×1, odd, the device's maximum and one past it), bad
 // cameras, an empty scene, particles where they project, the GPU solver's buffers read in place
-// against an uploaded copy, and SSFR's absorption. Frames are kept in build/test-output/ to look at.
+// against an uploaded copy, and SSFR's absorption. Frames are kept in build/test-output/ to look
+// at.
 #include <gtest/gtest.h>
 
-#include <filesystem>
-#include <set>
 #include <cstring>
+#include <filesystem>
 #include <limits>
+#include <set>
 
 #include "fluidcast/codec/png.h"
 #include "fluidcast/render/frame_renderer.h"
@@ -112,8 +113,8 @@ TEST_F(RenderTest, AParticleShowsWhereItProjects) {
   const auto empty = renderer.render(RendererKind::points, {}, kTank, camera);
   for (auto kind : {RendererKind::points, RendererKind::ssfr}) {
     const auto image = renderer.render(kind, view, kTank, camera);
-    keep(image, kind == RendererKind::points ? "render_one_particle_points"
-                                             : "render_one_particle_ssfr");
+    keep(image,
+         kind == RendererKind::points ? "render_one_particle_points" : "render_one_particle_ssfr");
     const std::uint8_t *centre = image.pixel(80, 60), *behind = empty.pixel(80, 60);
     EXPECT_GT(std::abs(int(centre[0]) - behind[0]) + std::abs(int(centre[1]) - behind[1]) +
                   std::abs(int(centre[2]) - behind[2]),
@@ -138,11 +139,11 @@ TEST_F(RenderTest, GpuSolverBuffersInPlaceMatchAnUploadedCopy) {
   camera.distance = 2.4f;
   for (auto kind : {RendererKind::points, RendererKind::ssfr}) {
     const auto in_place = renderer.render(kind, source.view_of(*solver), solver->tank(), camera);
-    keep(in_place, kind == RendererKind::points ? "render_dam_break_points"
-                                                : "render_dam_break_ssfr");
-    const auto uploaded = renderer.render(
-        kind, source.upload(solver->snapshot(), solver->fluid().particle_radius()),
-        solver->tank(), camera);
+    keep(in_place,
+         kind == RendererKind::points ? "render_dam_break_points" : "render_dam_break_ssfr");
+    const auto uploaded =
+        renderer.render(kind, source.upload(solver->snapshot(), solver->fluid().particle_radius()),
+                        solver->tank(), camera);
     EXPECT_EQ(uploaded.pixels, in_place.pixels);
     const auto empty = renderer.render(kind, {}, solver->tank(), camera);
     EXPECT_GT(pixels_differing(in_place, empty), 2000u) << "the fluid is not in the frame";
@@ -224,7 +225,8 @@ TEST_F(RenderTest, StrongerAbsorptionDarkensTheWater) {
     double sum = 0.0;
     std::size_t count = 0;
     for (std::size_t i = 0; i < image.pixels.size(); i += 4) {
-      if (image.pixels[i] == empty.pixels[i] && image.pixels[i + 1] == empty.pixels[i + 1]) continue;
+      if (image.pixels[i] == empty.pixels[i] && image.pixels[i + 1] == empty.pixels[i + 1])
+        continue;
       sum += image.pixels[i] + image.pixels[i + 1] + image.pixels[i + 2];
       ++count;
     }

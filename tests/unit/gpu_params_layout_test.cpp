@@ -53,30 +53,59 @@ std::map<std::string, std::uint32_t> member_offsets(std::span<const std::uint32_
   return result;
 }
 
-#define FIELD(type, name) {#name, offsetof(type, name)}
+#define FIELD(type, name) \
+  { #name, offsetof(type, name) }
 
 TEST(GpuParamsLayout, SimParamsMatchesTheGlslBlock) {
-  const std::map<std::string, std::size_t> cpp = {
-      FIELD(SimParams, position), FIELD(SimParams, velocity), FIELD(SimParams, id),
-      FIELD(SimParams, sorted_position), FIELD(SimParams, sorted_velocity),
-      FIELD(SimParams, sorted_id), FIELD(SimParams, predicted), FIELD(SimParams, iterate0),
-      FIELD(SimParams, iterate1), FIELD(SimParams, lambda), FIELD(SimParams, vorticity),
-      FIELD(SimParams, density), FIELD(SimParams, acceleration), FIELD(SimParams, order),
-      FIELD(SimParams, cell_start), FIELD(SimParams, sorted_cell), FIELD(SimParams, stats), FIELD(SimParams, tank_min),
-      FIELD(SimParams, tank_max), FIELD(SimParams, inner_min), FIELD(SimParams, inner_max),
-      FIELD(SimParams, gravity), FIELD(SimParams, grid_dims),
-      FIELD(SimParams, solver), FIELD(SimParams, particle_count),
-      FIELD(SimParams, collider_count), FIELD(SimParams, h), FIELD(SimParams, h2),
-      FIELD(SimParams, poly6), FIELD(SimParams, spiky), FIELD(SimParams, viscosity_laplacian),
-      FIELD(SimParams, mass), FIELD(SimParams, rest_density), FIELD(SimParams, inv_rest_density),
-      FIELD(SimParams, rest_volume), FIELD(SimParams, particle_radius),
-      FIELD(SimParams, relaxation_epsilon), FIELD(SimParams, scorr_scale),
-      FIELD(SimParams, inv_w_dq), FIELD(SimParams, scorr_exponent),
-      FIELD(SimParams, vorticity_epsilon), FIELD(SimParams, xsph),
-      FIELD(SimParams, tait_stiffness), FIELD(SimParams, tait_exponent),
-      FIELD(SimParams, sph_viscosity), FIELD(SimParams, artificial_viscosity),
-      FIELD(SimParams, softening), FIELD(SimParams, collider_sphere),
-      FIELD(SimParams, collider_velocity)};
+  const std::map<std::string, std::size_t> cpp = {FIELD(SimParams, position),
+                                                  FIELD(SimParams, velocity),
+                                                  FIELD(SimParams, id),
+                                                  FIELD(SimParams, sorted_position),
+                                                  FIELD(SimParams, sorted_velocity),
+                                                  FIELD(SimParams, sorted_id),
+                                                  FIELD(SimParams, predicted),
+                                                  FIELD(SimParams, iterate0),
+                                                  FIELD(SimParams, iterate1),
+                                                  FIELD(SimParams, lambda),
+                                                  FIELD(SimParams, vorticity),
+                                                  FIELD(SimParams, density),
+                                                  FIELD(SimParams, acceleration),
+                                                  FIELD(SimParams, order),
+                                                  FIELD(SimParams, cell_start),
+                                                  FIELD(SimParams, sorted_cell),
+                                                  FIELD(SimParams, stats),
+                                                  FIELD(SimParams, tank_min),
+                                                  FIELD(SimParams, tank_max),
+                                                  FIELD(SimParams, inner_min),
+                                                  FIELD(SimParams, inner_max),
+                                                  FIELD(SimParams, gravity),
+                                                  FIELD(SimParams, grid_dims),
+                                                  FIELD(SimParams, solver),
+                                                  FIELD(SimParams, particle_count),
+                                                  FIELD(SimParams, collider_count),
+                                                  FIELD(SimParams, h),
+                                                  FIELD(SimParams, h2),
+                                                  FIELD(SimParams, poly6),
+                                                  FIELD(SimParams, spiky),
+                                                  FIELD(SimParams, viscosity_laplacian),
+                                                  FIELD(SimParams, mass),
+                                                  FIELD(SimParams, rest_density),
+                                                  FIELD(SimParams, inv_rest_density),
+                                                  FIELD(SimParams, rest_volume),
+                                                  FIELD(SimParams, particle_radius),
+                                                  FIELD(SimParams, relaxation_epsilon),
+                                                  FIELD(SimParams, scorr_scale),
+                                                  FIELD(SimParams, inv_w_dq),
+                                                  FIELD(SimParams, scorr_exponent),
+                                                  FIELD(SimParams, vorticity_epsilon),
+                                                  FIELD(SimParams, xsph),
+                                                  FIELD(SimParams, tait_stiffness),
+                                                  FIELD(SimParams, tait_exponent),
+                                                  FIELD(SimParams, sph_viscosity),
+                                                  FIELD(SimParams, artificial_viscosity),
+                                                  FIELD(SimParams, softening),
+                                                  FIELD(SimParams, collider_sphere),
+                                                  FIELD(SimParams, collider_velocity)};
   const auto glsl = member_offsets(shaders::sim_pbf_lambda_comp, "SimParams");
   ASSERT_EQ(glsl.size(), cpp.size()) << "the GLSL block and the C++ struct differ in members";
   for (const auto& [name, offset] : cpp) {
@@ -87,8 +116,8 @@ TEST(GpuParamsLayout, SimParamsMatchesTheGlslBlock) {
 
 TEST(GpuParamsLayout, SimPassMatchesThePushConstants) {
   const std::map<std::string, std::size_t> cpp = {FIELD(SimPass, params), FIELD(SimPass, dt),
-                                                   FIELD(SimPass, time_into_step),
-                                                   FIELD(SimPass, parity)};
+                                                  FIELD(SimPass, time_into_step),
+                                                  FIELD(SimPass, parity)};
   const auto glsl = member_offsets(shaders::sim_pbf_lambda_comp, "SimPass");
   ASSERT_EQ(glsl.size(), cpp.size());
   for (const auto& [name, offset] : cpp) EXPECT_EQ(glsl.at(name), offset) << name;

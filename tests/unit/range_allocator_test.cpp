@@ -19,7 +19,8 @@ TEST(RangeAllocator, AlignsAndFillsFirstFit) {
 
 TEST(RangeAllocator, FreedNeighboursMergeBackIntoOneRange) {
   RangeAllocator ranges(300);
-  const auto a = *ranges.allocate(100, 1), b = *ranges.allocate(100, 1), c = *ranges.allocate(100, 1);
+  const auto a = *ranges.allocate(100, 1), b = *ranges.allocate(100, 1),
+             c = *ranges.allocate(100, 1);
   EXPECT_FALSE(ranges.allocate(1, 1).has_value());
   ranges.free(a);
   ranges.free(c);

@@ -52,8 +52,7 @@ TEST_P(SolverInputs, BadCollidersAreRefusedAndChangeNothing) {
   s->set_colliders(good);
   std::vector<Collider> bad = good;
   bad[0].radius = -1;
-  EXPECT_NE(error_of([&] { s->set_colliders(bad); }).find("collider 0: radius"),
-            std::string::npos);
+  EXPECT_NE(error_of([&] { s->set_colliders(bad); }).find("collider 0: radius"), std::string::npos);
   bad = good;
   bad[0].centre.x = INFINITY;
   EXPECT_NE(error_of([&] { s->set_colliders(bad); }).find("centre"), std::string::npos);
@@ -110,8 +109,9 @@ TEST_P(SolverInputs, ParticlesUpToTheCapAndNotOneMore) {
   }
   s->add_particles(more, std::vector<glm::vec3>(more.size(), glm::vec3(0)));
   const std::vector<glm::vec3> one = {{1.0f, 0.5f, 0.1f}};
-  EXPECT_NE(error_of([&] { s->add_particles(one, one); }).find("the limit is " + std::to_string(cap)),
-            std::string::npos);
+  EXPECT_NE(
+      error_of([&] { s->add_particles(one, one); }).find("the limit is " + std::to_string(cap)),
+      std::string::npos);
   run_for(*s, 0.1);
   testing::expect_sound(*s, cap);
 }
@@ -162,14 +162,15 @@ TEST(CpuSolverInputs, DeterministicForAThreadCount) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    BothSolversBothBackends, SolverInputs,
-    ::testing::Values(Case{SolverKind::pbf, Backend::cpu}, Case{SolverKind::sph, Backend::cpu},
-                      Case{SolverKind::pbf, Backend::gpu}, Case{SolverKind::sph, Backend::gpu}),
-    [](const ::testing::TestParamInfo<Case>& param) {
-      return std::string(to_string(param.param.kind)) +
-             (param.param.backend == Backend::gpu ? "_gpu" : "_cpu");
-    });
+INSTANTIATE_TEST_SUITE_P(BothSolversBothBackends, SolverInputs,
+                         ::testing::Values(Case{SolverKind::pbf, Backend::cpu},
+                                           Case{SolverKind::sph, Backend::cpu},
+                                           Case{SolverKind::pbf, Backend::gpu},
+                                           Case{SolverKind::sph, Backend::gpu}),
+                         [](const ::testing::TestParamInfo<Case>& param) {
+                           return std::string(to_string(param.param.kind)) +
+                                  (param.param.backend == Backend::gpu ? "_gpu" : "_cpu");
+                         });
 
 }  // namespace
 }  // namespace fluidcast::sim

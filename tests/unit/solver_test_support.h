@@ -52,7 +52,7 @@ struct PoolAtRest {
   double worst_density_error = 0.0;  // over the watch
   double worst_drift = 0.0;          // m, of the centre of mass from where it settled
   double settled_kinetic_energy = 0.0, final_kinetic_energy = 0.0;  // J
-  double final_rms_speed = 0.0;      // m/s
+  double final_rms_speed = 0.0;                                     // m/s
 };
 
 inline PoolAtRest watch_pool_at_rest(Solver& solver, double settle, double watch) {

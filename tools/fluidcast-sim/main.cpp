@@ -1,16 +1,17 @@
 // fluidcast-sim: runs a scene headless on the CPU or GPU solver; prints the geometry, optionally
-// progress, writes statistics CSV, PLY dumps and rendered frames. Bad flags: one line on stderr, exit code 2.
+// progress, writes statistics CSV, PLY dumps and rendered frames. Bad flags: one line on stderr,
+// exit code 2.
 #include <chrono>
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <optional>
 
 #include "fluidcast/gpu/context.h"
 #include "fluidcast/sim/statistics.h"
-#include "options.h"
 #include "frames.h"
+#include "options.h"
 #include "outputs.h"
 
 namespace {

@@ -1,8 +1,8 @@
 // fluidcast-sim's command line: every scene and solver tunable comes from its ParamSpec table.
 #pragma once
 
-#include <cstdint>
 #include <array>
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -21,7 +21,7 @@ struct SimOptions {
   sim::SolverKind solver_kind = sim::SolverKind::pbf;
   Backend backend = Backend::cpu;
   std::optional<std::uint32_t> device;  // --device; else FLUIDCAST_DEVICE, else the best
-  std::int64_t steps = 0;  // resolved from --steps or --until
+  std::int64_t steps = 0;               // resolved from --steps or --until
   std::string stats_path;
   std::int64_t dump_every = 0;
   std::string dump_dir = "dumps";

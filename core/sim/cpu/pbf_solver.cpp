@@ -99,9 +99,10 @@ void PbfSolver::compute_lambdas() {
     gradient_i += inv_rest_density * wall.gradient;
     const float constraint =
         std::max((mass * density + wall.density) * inv_rest_density - 1.0f, 0.0f);
-    lambda_[i] = constraint == 0.0f ? 0.0f
-                                    : -constraint / (sum_squares + glm::dot(gradient_i, gradient_i) +
-                                                     relaxation_epsilon_);
+    lambda_[i] =
+        constraint == 0.0f
+            ? 0.0f
+            : -constraint / (sum_squares + glm::dot(gradient_i, gradient_i) + relaxation_epsilon_);
   });
 }
 

@@ -8,8 +8,8 @@
 namespace fluidcast::sim::cpu {
 
 float tait_pressure(float density, const SolverParams& params) {
-  const float stiffness = params.rest_density * params.sound_speed * params.sound_speed /
-                          params.tait_exponent;
+  const float stiffness =
+      params.rest_density * params.sound_speed * params.sound_speed / params.tait_exponent;
   const float ratio = density / params.rest_density;
   return std::max(0.0f, stiffness * (std::pow(ratio, params.tait_exponent) - 1.0f));
 }

@@ -1,8 +1,8 @@
 // The neighbour grid on the GPU, by counting sort as the talk builds it: an atomic count per cell
 // that also gives each particle its rank in the cell, a work-efficient multi-level exclusive prefix
 // sum over the cells, and a scatter that writes each particle's sorted slot. About seven dispatches
-// for the whole build. Cell geometry is the CPU grid's (GridGeometry), so both put every particle in
-// the same cell and give the same cell ranges; within a cell the order follows the atomics.
+// for the whole build. Cell geometry is the CPU grid's (GridGeometry), so both put every particle
+// in the same cell and give the same cell ranges; within a cell the order follows the atomics.
 #pragma once
 
 #include <cstdint>

@@ -27,8 +27,8 @@ struct SimParams {
   glm::ivec4 grid_dims;
 
   std::uint32_t solver, particle_count, collider_count;
-  float h, h2, poly6, spiky, viscosity_laplacian, mass, rest_density, inv_rest_density,
-      rest_volume, particle_radius;
+  float h, h2, poly6, spiky, viscosity_laplacian, mass, rest_density, inv_rest_density, rest_volume,
+      particle_radius;
   float relaxation_epsilon, scorr_scale, inv_w_dq, scorr_exponent, vorticity_epsilon, xsph;
   float tait_stiffness, tait_exponent, sph_viscosity, artificial_viscosity, softening;
 

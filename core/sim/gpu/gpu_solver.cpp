@@ -21,7 +21,7 @@ constexpr std::uint32_t kTimestampCapacity = 4096;
 constexpr double kUsableMemoryShare = 0.9;
 
 std::uint64_t bytes_per_particle(SolverKind kind) {
-  constexpr std::uint64_t state = 2 * (16 + 16 + 4);     // position, velocity, id; sorted copies
+  constexpr std::uint64_t state = 2 * (16 + 16 + 4);    // position, velocity, id; sorted copies
   constexpr std::uint64_t pbf = 16 + 16 + 16 + 4 + 16;  // predicted, two iterates, λ, ω
   constexpr std::uint64_t sph = 8 + 16;                 // density and pressure, acceleration
   return state + (kind == SolverKind::pbf ? pbf : sph) + GpuNeighbourGrid::bytes_per_particle();
@@ -57,11 +57,11 @@ GpuSolver::GpuSolver(SolverKind kind, gpu::Context& context, Scene scene,
     : Solver(std::move(scene), params),
       kind_(kind),
       context_(&context),
-      memory_budget_(memory_budget_bytes > 0
-                         ? memory_budget_bytes
-                         : static_cast<std::uint64_t>(
-                               kUsableMemoryShare *
-                               static_cast<double>(context.info().device_local_bytes))),
+      memory_budget_(
+          memory_budget_bytes > 0
+              ? memory_budget_bytes
+              : static_cast<std::uint64_t>(kUsableMemoryShare *
+                                           static_cast<double>(context.info().device_local_bytes))),
       grid_(context, GridGeometry(tank(), fluid().kernel_radius), 0),
       pipelines_(context),
       params_buffer_(context, sizeof(SimParams), gpu::MemoryDomain::device),
@@ -91,7 +91,8 @@ std::uint64_t GpuSolver::bytes_needed(std::size_t particles) const {
 
 std::size_t GpuSolver::particles_that_fit() const {
   const std::uint64_t grid_bytes = bytes_needed(0);
-  return memory_budget_ > grid_bytes ? (memory_budget_ - grid_bytes) / bytes_per_particle(kind_) : 0;
+  return memory_budget_ > grid_bytes ? (memory_budget_ - grid_bytes) / bytes_per_particle(kind_)
+                                     : 0;
 }
 
 void GpuSolver::allocate(std::size_t capacity) {
@@ -135,8 +136,8 @@ void GpuSolver::load_particles(const ParticleSet& particles) {
   const std::size_t n = particles.size();
   if (n > capacity_ || !buffers_.position) {
     // Room to grow, so that adding a few particles at a time does not reallocate every time.
-    const std::size_t grown =
-        std::min({2 * capacity_, static_cast<std::size_t>(params().max_particles), particles_that_fit()});
+    const std::size_t grown = std::min(
+        {2 * capacity_, static_cast<std::size_t>(params().max_particles), particles_that_fit()});
     allocate(std::max(n, grown));
   }
   std::vector<glm::vec4> positions(n), velocities(n);
@@ -144,7 +145,8 @@ void GpuSolver::load_particles(const ParticleSet& particles) {
   for (std::size_t i = 0; i < n; ++i) {
     positions[i] = glm::vec4(particles.position[i], 0.0f);
     velocities[i] = glm::vec4(particles.velocity[i], 0.0f);
-    largest_speed2 = std::max(largest_speed2, glm::dot(particles.velocity[i], particles.velocity[i]));
+    largest_speed2 =
+        std::max(largest_speed2, glm::dot(particles.velocity[i], particles.velocity[i]));
   }
   gpu::upload<glm::vec4>(*context_, buffers_.position, positions);
   gpu::upload<glm::vec4>(*context_, buffers_.velocity, velocities);
@@ -184,7 +186,8 @@ std::size_t GpuSolver::erase_particles_in_sphere(glm::vec3 centre, float radius)
   for (std::size_t i = 0; i < all.size(); ++i) {
     const glm::vec3 d = all.position[i] - centre;
     // NaN positions are kept, to be counted, as the CPU solvers keep them.
-    if (!(glm::dot(d, d) <= radius * radius)) kept.append(all.position[i], all.velocity[i], all.id[i]);
+    if (!(glm::dot(d, d) <= radius * radius))
+      kept.append(all.position[i], all.velocity[i], all.id[i]);
   }
   load_particles(kept);
   return all.size() - kept.size();
@@ -211,17 +214,27 @@ void GpuSolver::harvest(InFlight& slot) {
     const double ms = slot.timestamps.elapsed_ms(k, k + 1);
     const auto [stage, index] = slot.marks[k];
     switch (stage) {
-      case Stage::grid: stage_times_.grid_ms += ms; break;
-      case Stage::predict: stage_times_.predict_ms += ms; break;
+      case Stage::grid:
+        stage_times_.grid_ms += ms;
+        break;
+      case Stage::predict:
+        stage_times_.predict_ms += ms;
+        break;
       case Stage::iteration:
-        stage_times_.iteration_ms.resize(std::max<std::size_t>(stage_times_.iteration_ms.size(),
-                                                               static_cast<std::size_t>(index) + 1));
+        stage_times_.iteration_ms.resize(std::max<std::size_t>(
+            stage_times_.iteration_ms.size(), static_cast<std::size_t>(index) + 1));
         stage_times_.iteration_ms[static_cast<std::size_t>(index)] += ms;
         stage_times_.solve_ms += ms;
         break;
-      case Stage::solve: stage_times_.solve_ms += ms; break;
-      case Stage::velocity: stage_times_.velocity_ms += ms; break;
-      case Stage::viscosity: stage_times_.viscosity_ms += ms; break;
+      case Stage::solve:
+        stage_times_.solve_ms += ms;
+        break;
+      case Stage::velocity:
+        stage_times_.velocity_ms += ms;
+        break;
+      case Stage::viscosity:
+        stage_times_.viscosity_ms += ms;
+        break;
     }
   }
 }

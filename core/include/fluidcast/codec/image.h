@@ -16,7 +16,9 @@ struct ImageRgba {
   // Throws std::invalid_argument for a size that is not positive or too large (over 2^28 pixels).
   ImageRgba(int w, int h);
 
-  std::uint8_t* pixel(int x, int y) { return pixels.data() + 4 * (static_cast<std::size_t>(y) * width + x); }
+  std::uint8_t* pixel(int x, int y) {
+    return pixels.data() + 4 * (static_cast<std::size_t>(y) * width + x);
+  }
   const std::uint8_t* pixel(int x, int y) const {
     return pixels.data() + 4 * (static_cast<std::size_t>(y) * width + x);
   }

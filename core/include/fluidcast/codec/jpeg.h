@@ -15,7 +15,7 @@ namespace fluidcast::codec {
 enum class ChromaSubsampling { s444, s422, s420 };
 
 struct JpegOptions {
-  int quality = 80;  // 1–100
+  int quality = 80;                                         // 1–100
   ChromaSubsampling subsampling = ChromaSubsampling::s420;  // 4:2:0 encodes ~1.7× faster than 4:4:4
 };
 

@@ -60,7 +60,8 @@ class MemoryAllocator {
   MemoryAllocator& operator=(const MemoryAllocator&) = delete;
 
   // Requests larger than a block get a block of their own. Every block allows buffer device
-  // addresses. Throws VulkanError (VK_ERROR_OUT_OF_DEVICE_MEMORY and the like) when memory runs out.
+  // addresses. Throws VulkanError (VK_ERROR_OUT_OF_DEVICE_MEMORY and the like) when memory runs
+  // out.
   Allocation allocate(const VkMemoryRequirements& requirements, MemoryDomain domain);
 
   // Bytes in blocks of device memory now, and how many blocks.

@@ -15,7 +15,8 @@ std::string_view result_name(VkResult result);
 
 class VulkanError : public std::runtime_error {
  public:
-  VulkanError(std::string what, VkResult result) : std::runtime_error(std::move(what)), result_(result) {}
+  VulkanError(std::string what, VkResult result)
+      : std::runtime_error(std::move(what)), result_(result) {}
   VkResult result() const { return result_; }
 
  private:
@@ -32,10 +33,10 @@ class DeviceLostError : public VulkanError {
 
 }  // namespace fluidcast::gpu
 
-#define FLUIDCAST_VK_CHECK(call)                                                          \
-  do {                                                                                    \
-    const VkResult fluidcast_vk_result = (call);                                          \
-    if (fluidcast_vk_result != VK_SUCCESS) {                                              \
+#define FLUIDCAST_VK_CHECK(call)                                                            \
+  do {                                                                                      \
+    const VkResult fluidcast_vk_result = (call);                                            \
+    if (fluidcast_vk_result != VK_SUCCESS) {                                                \
       ::fluidcast::gpu::throw_vulkan_error(fluidcast_vk_result, #call, __FILE__, __LINE__); \
-    }                                                                                     \
+    }                                                                                       \
   } while (false)

@@ -7,9 +7,9 @@
 namespace fluidcast::render {
 
 struct OrbitCamera {
-  float yaw_degrees = 30.0f;     // about +y, from looking along −z
-  float pitch_degrees = 20.0f;   // above the horizon, −89 to 89
-  float distance = 2.5f;         // m, positive
+  float yaw_degrees = 30.0f;            // about +y, from looking along −z
+  float pitch_degrees = 20.0f;          // above the horizon, −89 to 89
+  float distance = 2.5f;                // m, positive
   glm::vec3 target{0.8f, 0.2f, 0.15f};  // m
   float field_of_view_degrees = 45.0f;  // vertical, 1 to 170
 

@@ -3,8 +3,8 @@
 // Two modes today: points (diagnosis) and SSFR; Marching Cubes is still to come (issue 4).
 #pragma once
 
-#include <glm/glm.hpp>
 #include <deque>
+#include <glm/glm.hpp>
 #include <memory>
 #include <string_view>
 #include <vector>

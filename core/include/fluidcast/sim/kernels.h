@@ -2,7 +2,6 @@
 // poly6 for densities, spiky for pressure gradients, viscosity kernel for its Laplacian.
 #pragma once
 
-
 #include <cmath>
 #include <glm/glm.hpp>
 #include <numbers>
@@ -64,9 +63,9 @@ class Kernels {
   // A flat wall at distance s from a particle, with the half-space behind it full of fluid at rest.
   // wall_volume(s) = ∫ W_poly6 over that half-space (½ at s = 0, 0 at s ≥ h): the wall adds
   // ρ0 · wall_volume(s) to the particle's density. wall_gradient(s) = ∫ W_spiky over the wall plane
-  // = |∫ ∇W_spiky| over the half-space: the magnitude of the gradient that the pressure terms, which
-  // use spiky gradients between particles, see from the wall. Closed forms:
-  // π K6/4 ∫_s^h (h² − z²)⁴ dz and 1.5 (h − s)⁴ (h + 4s) / h⁶.
+  // = |∫ ∇W_spiky| over the half-space: the magnitude of the gradient that the pressure terms,
+  // which use spiky gradients between particles, see from the wall. Closed forms: π K6/4 ∫_s^h (h²
+  // − z²)⁴ dz and 1.5 (h − s)⁴ (h + 4s) / h⁶.
   float wall_volume(float s) const {
     if (!(s < h_)) return 0.0f;
     s = s > 0.0f ? s : 0.0f;
@@ -80,7 +79,9 @@ class Kernels {
   }
 
   // ∇²W_viscosity(r) = 45 / (π h⁶) · (h − r).
-  float viscosity_laplacian(float r) const { return r >= h_ ? 0.0f : viscosity_laplacian_ * (h_ - r); }
+  float viscosity_laplacian(float r) const {
+    return r >= h_ ? 0.0f : viscosity_laplacian_ * (h_ - r);
+  }
 
  private:
   // ∫ (h² − z²)⁴ dz

@@ -89,7 +89,8 @@ class NeighbourGrid {
 
 // data[k] = old[order[k]] for every k: the one way every per-particle array is reordered.
 template <class T>
-void apply_order(std::span<const std::uint32_t> order, std::vector<T>& data, std::vector<T>& scratch) {
+void apply_order(std::span<const std::uint32_t> order, std::vector<T>& data,
+                 std::vector<T>& scratch) {
   scratch.resize(data.size());
   for (std::size_t k = 0; k < order.size(); ++k) scratch[k] = data[order[k]];
   data.swap(scratch);

@@ -35,9 +35,9 @@ struct Collider {
 };
 
 // Input limits: beyond them an input is refused, never clamped.
-inline constexpr float kMaxGravity = 2000.0f;          // m/s², about 200 g
-inline constexpr float kMaxSpeed = 1000.0f;            // m/s, colliders and added particles
-inline constexpr float kMaxColliderRadius = 10.0f;     // m
+inline constexpr float kMaxGravity = 2000.0f;       // m/s², about 200 g
+inline constexpr float kMaxSpeed = 1000.0f;         // m/s, colliders and added particles
+inline constexpr float kMaxColliderRadius = 10.0f;  // m
 inline constexpr std::size_t kMaxColliders = 16;
 
 // Milliseconds spent per stage since the last clear: wall-clock on the CPU, GPU time (from
@@ -103,8 +103,7 @@ class Solver {
  protected:
   virtual void advance() = 0;
   virtual void append_particles(std::span<const glm::vec3> positions,
-                                std::span<const glm::vec3> velocities,
-                                std::uint32_t first_id) = 0;
+                                std::span<const glm::vec3> velocities, std::uint32_t first_id) = 0;
   virtual std::size_t erase_particles_in_sphere(glm::vec3 centre, float radius) = 0;
   virtual void load_particles(const ParticleSet& particles) = 0;
 
