@@ -63,6 +63,15 @@ expect_bad "--camera: '1,2' is not yaw,pitch,distance" --camera 1,2 --steps 1
 expect_bad "--width, --height: 0×360" --width 0 --steps 1
 expect_bad "--camera: pitch must be between -89 and 89" --render "$work/bad" --camera 0,120,2 --steps 1
 
+# --video: through ffmpeg where it is installed, else one line saying what to install.
+if command -v ffmpeg > /dev/null; then
+  "$sim" --particles 300 --steps 4 --video "$work/run.mp4" --width 65 --height 37 \
+    > /dev/null 2> "$work/video.err" || fail "video run exited $?: $(cat "$work/video.err")"
+  [[ -s "$work/run.mp4" ]] || fail "no video written"
+else
+  expect_bad "--video: ffmpeg is not installed (apt-get install ffmpeg)" --video "$work/run.mp4" --steps 1
+fi
+
 "$sim" --help > /dev/null || fail "--help exited $?"
 if ((failures)); then echo "$failures failed"; exit 1; fi
 echo "fluidcast-sim CLI: all checks passed"

@@ -22,15 +22,28 @@ FrameWriter::FrameWriter(const SimOptions& options, gpu::Context& context,
     camera_.distance = (*options.camera)[2];
   }
   camera_.validate();
-  std::filesystem::create_directories(folder_);
+  if (!folder_.empty()) std::filesystem::create_directories(folder_);
+  if (!options.video_path.empty()) {
+    const double frames_per_second =
+        1.0 / (static_cast<double>(options.render_every) * options.solver.time_step);
+    video_.emplace(options.video_path, options.width, options.height, frames_per_second);
+  }
+}
+
+void FrameWriter::finish() {
+  if (video_) video_->finish();
+  video_.reset();
 }
 
 void FrameWriter::write(const sim::Solver& solver) {
   const codec::ImageRgba image =
       renderer_.render(kind_, source_.view_of(solver), solver.tank(), camera_);
-  char name[32];
-  std::snprintf(name, sizeof(name), "frame_%06llu.png", static_cast<unsigned long long>(frames_));
-  codec::write_png(folder_ / name, image);
+  if (!folder_.empty()) {
+    char name[32];
+    std::snprintf(name, sizeof(name), "frame_%06llu.png", static_cast<unsigned long long>(frames_));
+    codec::write_png(folder_ / name, image);
+  }
+  if (video_) video_->write(image);
   ++frames_;
 }
 

@@ -4,10 +4,12 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 
 #include "fluidcast/render/frame_renderer.h"
 #include "fluidcast/render/particle_source.h"
 #include "options.h"
+#include "video.h"
 
 namespace fluidcast::tools {
 
@@ -17,12 +19,16 @@ class FrameWriter {
   // enough to see the whole tank.
   FrameWriter(const SimOptions& options, gpu::Context& context, const sim::Solver& solver);
 
-  // Renders the solver's particles now into frame_NNNNNN.png, numbered from 0.
+  // Renders the solver's particles now: into frame_NNNNNN.png (numbered from 0) with --render,
+  // into the video with --video.
   void write(const sim::Solver& solver);
+  // Closes the video; throws std::runtime_error when ffmpeg failed.
+  void finish();
   std::uint64_t frames() const { return frames_; }
 
  private:
-  std::filesystem::path folder_;
+  std::filesystem::path folder_;  // empty: no PNG files
+  std::optional<VideoPipe> video_;
   render::FrameRenderer renderer_;
   render::ParticleSource source_;
   render::OrbitCamera camera_;

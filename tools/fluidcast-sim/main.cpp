@@ -76,7 +76,7 @@ int run(const tools::SimOptions& o) {
   print_geometry(o, *solver);
 
   std::optional<tools::FrameWriter> frames;
-  if (!o.render_dir.empty()) {
+  if (!o.render_dir.empty() || !o.video_path.empty()) {
     if (!context) {  // the CPU solver's particles are drawn on the best Vulkan device
       gpu::ContextOptions options = gpu::options_from_environment();
       if (o.device) options.device_index = o.device;
@@ -128,6 +128,7 @@ int run(const tools::SimOptions& o) {
   const auto before_sync = Clock::now();
   solver->synchronize();  // a GPU solver may still be running the last steps
   stepping_seconds += std::chrono::duration<double>(Clock::now() - before_sync).count();
+  if (frames) frames->finish();
   const double wall = std::chrono::duration<double>(Clock::now() - start).count();
   const auto stats = sim::measure(solver->snapshot(), solver->fluid(), solver->tank());
   std::printf(

@@ -7,6 +7,7 @@
 
 #include "fluidcast/render/camera.h"
 #include "fluidcast/render/frame_renderer.h"
+#include "video.h"
 
 namespace fluidcast::tools {
 namespace {
@@ -63,6 +64,8 @@ ParseOutcome parse_sim_options(int argc, char** argv) {
   app.add_option("--dump-every", o.dump_every, "Write particle positions as PLY every M steps");
   app.add_option("--dump-dir", o.dump_dir, "Folder for PLY dumps")->capture_default_str();
   app.add_option("--render", o.render_dir, "Render frames offscreen as PNG into this folder");
+  app.add_option("--video", o.video_path,
+                 "Also pipe the rendered frames through ffmpeg into this video file (H.264)");
   app.add_option("--render-every", o.render_every, "Render every K steps")->capture_default_str();
   app.add_option("--width", o.width, "Frame width in pixels")->capture_default_str();
   app.add_option("--height", o.height, "Frame height in pixels")->capture_default_str();
@@ -150,6 +153,11 @@ ParseOutcome parse_sim_options(int argc, char** argv) {
         throw sim::ParamError("--camera: " + what.substr(what.find(':') + 2));
       }
       o.camera = values;
+    }
+    if (!o.video_path.empty() && !find_ffmpeg()) {
+      throw sim::ParamError(
+          "--video: ffmpeg is not installed (apt-get install ffmpeg); --render "
+          "DIR writes the frames as PNG instead");
     }
     if (o.render_every < 1) {
       throw sim::ParamError("--render-every: value " + std::to_string(o.render_every) +

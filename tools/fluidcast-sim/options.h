@@ -27,6 +27,7 @@ struct SimOptions {
   std::string dump_dir = "dumps";
   // --render: one PNG per rendered frame into render_dir, every render_every steps.
   std::string render_dir;
+  std::string video_path;  // --video: the rendered frames through ffmpeg into this file
   std::int64_t render_every = 2;
   std::string renderer = "ssfr";
   int width = 640, height = 360;
