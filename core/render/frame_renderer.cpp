@@ -7,6 +7,7 @@
 #include "fluidcast_shaders/fluidcast_render.h"
 #include "frame_params.h"
 #include "graphics_pipeline.h"
+#include "marching_cubes.h"
 
 namespace fluidcast::render {
 namespace {
@@ -24,15 +25,22 @@ constexpr std::uint32_t kInfinityBits = 0x7f800000u;
 }  // namespace
 
 const std::vector<std::string_view>& renderer_names() {
-  static const std::vector<std::string_view> names = {"points", "ssfr"};
+  static const std::vector<std::string_view> names = {"points", "ssfr", "mc", "auto"};
   return names;
 }
 
 RendererKind parse_renderer(std::string_view name) {
   if (name == "points") return RendererKind::points;
   if (name == "ssfr") return RendererKind::ssfr;
+  if (name == "mc") return RendererKind::mc;
+  if (name == "auto") return RendererKind::automatic;
   throw std::invalid_argument("renderer '" + std::string(name) +
-                              "' is not available; this build renders: points, ssfr");
+                              "' is not one of: points, ssfr, mc, auto");
+}
+
+RendererKind resolve(RendererKind kind, std::uint32_t particles) {
+  if (kind != RendererKind::automatic) return kind;
+  return particles < kMarchingCubesBelow ? RendererKind::mc : RendererKind::ssfr;
 }
 
 FrameRenderer::FrameRenderer(gpu::Context& context, std::uint32_t width, std::uint32_t height)
@@ -47,6 +55,9 @@ FrameRenderer::FrameRenderer(gpu::Context& context, std::uint32_t width, std::ui
       fluid_surface_(std::make_unique<GraphicsPipeline>(
           context, target_.render_pass(), shaders::render_points_vert,
           shaders::render_fluid_surface_frag, PipelineOptions{false, false})),
+      mc_surface_(std::make_unique<GraphicsPipeline>(
+          context, target_.render_pass(), shaders::render_mc_vert, shaders::render_mc_surface_frag,
+          PipelineOptions{false, false})),
       smooth_(context, shaders::render_ssfr_smooth_comp, sizeof(ScreenConstants), kScreenGroup),
       shade_(context, shaders::render_ssfr_shade_comp, sizeof(ScreenConstants), kScreenGroup),
       frame_params_(context, sizeof(FrameParams), gpu::MemoryDomain::device) {
@@ -95,13 +106,20 @@ codec::ImageRgba FrameRenderer::collect(Slot& slot) {
   return image;
 }
 
-std::uint64_t FrameRenderer::submit(RendererKind kind, const ParticleView& particles,
+std::uint64_t FrameRenderer::submit(RendererKind requested, const ParticleView& particles,
                                     const sim::Box& tank, const OrbitCamera& camera) {
   camera.validate();
-  if (kind == RendererKind::ssfr && !context_->fragment_stores_supported()) {
-    throw std::invalid_argument("renderer ssfr: the device " + context_->info().name +
+  const RendererKind kind = resolve(requested, particles.count);
+  if (kind != RendererKind::points && !context_->fragment_stores_supported()) {
+    throw std::invalid_argument("renderers ssfr and mc: the device " + context_->info().name +
                                 " cannot write buffers from fragment shaders "
                                 "(fragmentStoresAndAtomics); use points");
+  }
+  if (kind == RendererKind::mc &&
+      (!marching_cubes_ || !marching_cubes_->fits(tank, mc.resolution, particles.radius))) {
+    for (Slot& in_flight : slots_) in_flight.commands.wait();  // frames may still read the old one
+    marching_cubes_ =
+        std::make_unique<MarchingCubes>(*context_, tank, mc.resolution, particles.radius);
   }
   Slot& slot = slots_[next_frame_ % slots_.size()];
   if (slot.in_flight) {
@@ -167,7 +185,8 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
                  VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, kDrawStages | kTransfer,
                  VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
   vkCmdUpdateBuffer(commands, frame_params_.get(), 0, sizeof(frame), &frame);
-  const bool fluid = kind == RendererKind::ssfr;
+  // SSFR and MC share the per-pixel surface buffers and the shading.
+  const bool fluid = kind != RendererKind::points;
   if (fluid) {
     vkCmdFillBuffer(commands, depth_.get(), 0, VK_WHOLE_SIZE, kInfinityBits);
     vkCmdFillBuffer(commands, thickness_.get(), 0, VK_WHOLE_SIZE, 0);
@@ -176,13 +195,19 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
 
   slot.timestamps.reset(commands);
   slot.timestamps.mark(commands);
-  const DrawConstants draw{frame_params_.address(), particles.position, particles.velocity,
-                           depth_.address(), thickness_.address()};
+  const bool mesh = kind == RendererKind::mc && particles.count > 0;
+  if (mesh) marching_cubes_->record(commands, particles, mc.threshold);
+  // For the mesh, `position` is the vertex buffer.
+  const DrawConstants draw{frame_params_.address(),
+                           mesh ? marching_cubes_->vertices() : particles.position,
+                           particles.velocity, depth_.address(), thickness_.address()};
   const float clear[4] = {0.0f, 0.0f, 0.0f, 1.0f};
   target_.begin(commands, clear);
   background_->draw(commands, draw, 3);
   slot.timestamps.mark(commands);
-  if (particles.count > 0) {
+  if (mesh) {
+    mc_surface_->draw_indirect(commands, draw, marching_cubes_->draw_buffer());
+  } else if (particles.count > 0) {
     (fluid ? fluid_surface_ : points_)->draw(commands, draw, 6 * particles.count);
   }
   target_.end(commands);
@@ -208,8 +233,10 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
                            scene_.address(),
                            image_.address(),
                            0};
-    // The separable filter, x then y, applied ssfr.smoothing_passes times; ends in depth_.
-    for (int pass = 0; pass < 2 * ssfr.smoothing_passes; ++pass) {
+    // The separable filter, x then y, applied smoothing_passes times; ends in depth_.
+    const int smoothing_passes =
+        kind == RendererKind::mc ? mc.smoothing_passes : ssfr.smoothing_passes;
+    for (int pass = 0; pass < 2 * smoothing_passes; ++pass) {
       screen.axis = static_cast<std::uint32_t>(pass % 2);
       screen.depth_in = pass % 2 == 0 ? depth_.address() : depth_scratch_.address();
       screen.depth_out = pass % 2 == 0 ? depth_scratch_.address() : depth_.address();

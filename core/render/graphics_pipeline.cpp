@@ -105,4 +105,13 @@ void GraphicsPipeline::draw(VkCommandBuffer commands, const DrawConstants& draw,
   vkCmdDraw(commands, vertices, 1, 0, 0);
 }
 
+void GraphicsPipeline::draw_indirect(VkCommandBuffer commands, const DrawConstants& constants,
+                                     VkBuffer indirect) const {
+  vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.get());
+  vkCmdPushConstants(commands, layout_.get(),
+                     VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                     sizeof(constants), &constants);
+  vkCmdDrawIndirect(commands, indirect, 0, 1, sizeof(VkDrawIndirectCommand));
+}
+
 }  // namespace fluidcast::render

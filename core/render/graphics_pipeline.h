@@ -23,6 +23,9 @@ class GraphicsPipeline {
                    PipelineOptions options);
   // Inside the render pass.
   void draw(VkCommandBuffer commands, const DrawConstants& constants, std::uint32_t vertices) const;
+  // The vertex count comes from a VkDrawIndirectCommand the GPU wrote into `indirect`.
+  void draw_indirect(VkCommandBuffer commands, const DrawConstants& constants,
+                     VkBuffer indirect) const;
 
  private:
   gpu::UniquePipelineLayout layout_;

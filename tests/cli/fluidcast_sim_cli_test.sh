@@ -58,7 +58,7 @@ grep -q "gpu: using device" "$work/gpu.err" || fail "the chosen device is not lo
 file "$work/frames/frame_000002.png" 2>/dev/null | grep -q "96 x 54" \
   || head -c 24 "$work/frames/frame_000002.png" | od -An -tx1 | tr -d ' \n' | grep -q "0000006000000036" \
   || fail "frame_000002.png is not a 96×54 PNG"
-expect_bad "--renderer: renderer 'mc' is not available; this build renders: points, ssfr" --renderer mc --steps 1
+expect_bad "--renderer: renderer 'raytrace' is not one of: points, ssfr, mc, auto" --renderer raytrace --steps 1
 expect_bad "--camera: '1,2' is not yaw,pitch,distance" --camera 1,2 --steps 1
 expect_bad "--width, --height: 0×360" --width 0 --steps 1
 expect_bad "--camera: pitch must be between -89 and 89" --render "$work/bad" --camera 0,120,2 --steps 1

@@ -52,7 +52,8 @@ TEST_P(RenderGoldenTest, MatchesTheAcceptedImage) {
 }
 
 INSTANTIATE_TEST_SUITE_P(EachRenderer, RenderGoldenTest,
-                         ::testing::Values(RendererKind::points, RendererKind::ssfr),
+                         ::testing::Values(RendererKind::points, RendererKind::ssfr,
+                                           RendererKind::mc),
                          [](const ::testing::TestParamInfo<RendererKind>& param) {
                            return std::string(renderer_names()[static_cast<int>(param.param)]);
                          });

@@ -60,8 +60,10 @@ TEST_F(RenderTest, AnEmptySceneIsTheSameInEveryMode) {
   FrameRenderer renderer(context(), 160, 90);
   const auto points = renderer.render(RendererKind::points, {}, kTank, looking_at_tank());
   const auto ssfr = renderer.render(RendererKind::ssfr, {}, kTank, looking_at_tank());
+  const auto mc = renderer.render(RendererKind::mc, {}, kTank, looking_at_tank());
   keep(points, "render_empty");
   EXPECT_EQ(points.pixels, ssfr.pixels);
+  EXPECT_EQ(points.pixels, mc.pixels);
   // The scene is there: tank floor tiles, walls, room floor and sky differ.
   std::set<std::uint32_t> colours;
   for (std::size_t i = 0; i < points.pixels.size(); i += 4) {
@@ -73,7 +75,7 @@ TEST_F(RenderTest, AnEmptySceneIsTheSameInEveryMode) {
 TEST_F(RenderTest, OneByOneOddAndLargestSizesAndBeyond) {
   for (auto [w, h] : {std::pair{1u, 1u}, {33u, 17u}}) {
     FrameRenderer renderer(context(), w, h);
-    for (auto kind : {RendererKind::points, RendererKind::ssfr}) {
+    for (auto kind : {RendererKind::points, RendererKind::ssfr, RendererKind::mc}) {
       EXPECT_EQ(renderer.render(kind, {}, kTank, looking_at_tank()).pixels.size(),
                 std::size_t{w} * h * 4);
     }
@@ -210,6 +212,31 @@ TEST_F(RenderTest, DepthSmoothingLowersSurfaceNoise) {
   keep(smoothed, "render_pool_ssfr_smoothed");
   std::printf("surface noise: %.1f unsmoothed, %.1f smoothed\n", noise(raw), noise(smoothed));
   EXPECT_LT(noise(smoothed), 0.7 * noise(raw));
+}
+
+TEST_F(RenderTest, MarchingCubesShowsTheFluidAtAnyResolutionAndAutoPicksByCount) {
+  auto pool = drop_of(3000);
+  ParticleSource source(context());
+  const ParticleView view = source.view_of(*pool);
+  FrameRenderer renderer(context(), 240, 135);
+  OrbitCamera camera;
+  camera.target = 0.5f * (pool->tank().min + pool->tank().max);
+  camera.distance = 2.0f;
+  const auto empty = renderer.render(RendererKind::mc, {}, pool->tank(), camera);
+  for (int resolution : {40, 80, 128}) {
+    renderer.mc.resolution = resolution;
+    const auto image = renderer.render(RendererKind::mc, view, pool->tank(), camera);
+    keep(image, "render_pool_mc_" + std::to_string(resolution));
+    EXPECT_GT(pixels_differing(image, empty), 3000u) << resolution;
+  }
+  renderer.mc.resolution = 3;
+  EXPECT_THROW(renderer.render(RendererKind::mc, view, pool->tank(), camera),
+               std::invalid_argument);
+  renderer.mc.resolution = 80;
+  // 3000 particles are fewer than kMarchingCubesBelow: auto draws Marching Cubes.
+  EXPECT_EQ(renderer.render(RendererKind::automatic, view, pool->tank(), camera).pixels,
+            renderer.render(RendererKind::mc, view, pool->tank(), camera).pixels);
+  EXPECT_EQ(resolve(RendererKind::automatic, kMarchingCubesBelow), RendererKind::ssfr);
 }
 
 TEST_F(RenderTest, StrongerAbsorptionDarkensTheWater) {

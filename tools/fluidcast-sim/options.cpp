@@ -70,8 +70,8 @@ ParseOutcome parse_sim_options(int argc, char** argv) {
   app.add_option("--width", o.width, "Frame width in pixels")->capture_default_str();
   app.add_option("--height", o.height, "Frame height in pixels")->capture_default_str();
   app.add_option("--renderer", o.renderer,
-                 "ssfr (screen-space fluid) or points (spheres coloured by speed); mc is not "
-                 "built yet")
+                 "auto (mc below 5000 particles, else ssfr), ssfr (screen-space fluid), mc "
+                 "(Marching Cubes) or points (spheres coloured by speed)")
       ->capture_default_str();
   std::string camera_text;
   app.add_option("--camera", camera_text,

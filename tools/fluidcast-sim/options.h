@@ -29,7 +29,7 @@ struct SimOptions {
   std::string render_dir;
   std::string video_path;  // --video: the rendered frames through ffmpeg into this file
   std::int64_t render_every = 2;
-  std::string renderer = "ssfr";
+  std::string renderer = "auto";
   int width = 640, height = 360;
   std::optional<std::array<float, 3>> camera;  // yaw, pitch (degrees), distance (m)
   bool progress = false;

@@ -12,7 +12,8 @@ std::ofstream open_for_writing(const std::filesystem::path& path, std::ios::open
 }
 }  // namespace
 
-StatsCsv::StatsCsv(const std::filesystem::path& path) : out_(open_for_writing(path, std::ios::out)) {
+StatsCsv::StatsCsv(const std::filesystem::path& path)
+    : out_(open_for_writing(path, std::ios::out)) {
   out_ << "step,t,particles,kinetic_energy,max_density_error,avg_density_error,front_x,"
           "com_x,com_y,com_z,max_speed\n";
   out_.precision(9);

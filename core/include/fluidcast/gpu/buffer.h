@@ -1,5 +1,6 @@
 // A storage buffer with its memory. Every buffer can be read and written by shaders through its
-// device address, and copied to and from; in the upload and readback domains it is mapped.
+// device address, copied to and from, and hold indirect draws; in the upload and readback domains
+// it is mapped.
 #pragma once
 
 #include <cstddef>

@@ -20,12 +20,19 @@
 namespace fluidcast::render {
 
 class GraphicsPipeline;
+class MarchingCubes;
 
-enum class RendererKind { points, ssfr };
+// automatic: Marching Cubes below kMarchingCubesBelow particles, SSFR from there (the talk's rule:
+// MC for small counts and near views, SSFR for large counts and far views).
+enum class RendererKind { points, ssfr, mc, automatic };
+inline constexpr std::uint32_t kMarchingCubesBelow = 5000;
 const std::vector<std::string_view>& renderer_names();
 RendererKind parse_renderer(std::string_view name);  // throws std::invalid_argument listing them
 
 // Where the particles are on the GPU: vec4 positions and velocities (w unused).
+// The renderer `kind` means for this many particles (resolves automatic).
+RendererKind resolve(RendererKind kind, std::uint32_t particles);
+
 struct ParticleView {
   VkDeviceAddress position = 0;
   VkDeviceAddress velocity = 0;
@@ -59,6 +66,12 @@ struct RenderTimes {
   double readback_ms = 0;   // the copy of the finished frame to host-visible memory
 };
 
+struct McStyle {
+  int resolution = 80;       // grid nodes along the tank's longest side (the talk: 80×40×40)
+  float threshold = 0.5f;    // the surface: where the field is this fraction of fluid at rest
+  int smoothing_passes = 1;  // of the depth filter before shading (the mesh is smooth already)
+};
+
 class FrameRenderer {
  public:
   // Throws std::invalid_argument for a size of zero or beyond the device's limits.
@@ -67,6 +80,7 @@ class FrameRenderer {
 
   PointsStyle points;
   SsfrStyle ssfr;
+  McStyle mc;
 
   // A ring of read-back slots: frame N is copied to the host while frame N+1 renders.
   static constexpr std::size_t kFramesInFlight = 2;
@@ -104,7 +118,8 @@ class FrameRenderer {
 
   gpu::Context* context_;
   RenderTarget target_;
-  std::unique_ptr<GraphicsPipeline> background_, points_, fluid_surface_;
+  std::unique_ptr<GraphicsPipeline> background_, points_, fluid_surface_, mc_surface_;
+  std::unique_ptr<MarchingCubes> marching_cubes_;  // built for the tank of the first mc frame
   gpu::ComputePipeline smooth_, shade_;
   gpu::Buffer frame_params_;
   // SSFR, one value per pixel: nearest fluid distance (and a filtered copy), thickness, the
