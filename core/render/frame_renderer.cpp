@@ -54,10 +54,12 @@ FrameRenderer::FrameRenderer(gpu::Context& context, std::uint32_t width, std::ui
                                                  shaders::render_points_frag, PipelineOptions{})),
       fluid_surface_(std::make_unique<GraphicsPipeline>(
           context, target_.render_pass(), shaders::render_points_vert,
-          shaders::render_fluid_surface_frag, PipelineOptions{false, false})),
+          shaders::render_fluid_surface_frag, PipelineOptions{true, false, false})),
       mc_surface_(std::make_unique<GraphicsPipeline>(
           context, target_.render_pass(), shaders::render_mc_vert, shaders::render_mc_surface_frag,
-          PipelineOptions{false, false})),
+          // No depth test: the mesh closes just outside the tank's walls, behind the scene, and
+          // the thickness needs every face.
+          PipelineOptions{false, false, false})),
       smooth_(context, shaders::render_ssfr_smooth_comp, sizeof(ScreenConstants), kScreenGroup),
       shade_(context, shaders::render_ssfr_shade_comp, sizeof(ScreenConstants), kScreenGroup),
       frame_params_(context, sizeof(FrameParams), gpu::MemoryDomain::device) {

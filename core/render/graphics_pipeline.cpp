@@ -59,7 +59,7 @@ GraphicsPipeline::GraphicsPipeline(gpu::Context& context, VkRenderPass render_pa
   multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
   VkPipelineDepthStencilStateCreateInfo depth{
       VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-  depth.depthTestEnable = VK_TRUE;
+  depth.depthTestEnable = options.depth_test ? VK_TRUE : VK_FALSE;
   depth.depthWriteEnable = options.depth_write ? VK_TRUE : VK_FALSE;
   depth.depthCompareOp = VK_COMPARE_OP_LESS;
   VkPipelineColorBlendAttachmentState blend_attachment{};

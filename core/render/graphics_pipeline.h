@@ -12,6 +12,7 @@
 namespace fluidcast::render {
 
 struct PipelineOptions {
+  bool depth_test = true;
   bool depth_write = true;   // else depth-tested only
   bool colour_write = true;  // else the fragment shader works by side effects (SSFR surface)
 };

@@ -6,7 +6,6 @@
 #include "common/frame.glsl"
 #include "common/draw_pass.glsl"
 
-layout(early_fragment_tests) in;
 layout(location = 0) in vec3 view_position;
 layout(location = 1) in vec3 view_normal;
 

@@ -53,7 +53,8 @@ void main() {
   if (normal.z < 0.0) normal = -normal;
   const vec3 to_eye = normalize(-position);
 
-  const float thickness = float(screen.thickness.v[index]) * kThicknessUnit;
+  // Signed: the mesh sums back minus front faces; a shortfall anywhere must not go negative.
+  const float thickness = float(max(int(screen.thickness.v[index]), 0)) * kThicknessUnit;
   // Refraction: the scene behind, displaced along the normal, dimmed by the water crossed.
   // A few per cent of the frame for a few centimetres of water.
   const vec2 offset = normal.xy * min(thickness, 0.1) * 0.4 * float(height);
