@@ -43,7 +43,9 @@ static_assert(sizeof(DrawConstants) == 40);
 struct ScreenConstants {
   VkDeviceAddress frame, depth_in, depth_out, thickness, scene, image;
   std::uint32_t axis;
+  std::uint32_t narrow_range;
 };
-static_assert(offsetof(ScreenConstants, axis) == 48);
+static_assert(offsetof(ScreenConstants, axis) == 48 &&
+              offsetof(ScreenConstants, narrow_range) == 52);
 
 }  // namespace fluidcast::render

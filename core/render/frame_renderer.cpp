@@ -234,7 +234,8 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
                            thickness_.address(),
                            scene_.address(),
                            image_.address(),
-                           0};
+                           0,
+                           ssfr.filter == SsfrStyle::DepthFilter::narrow_range ? 1u : 0u};
     // The separable filter, x then y, applied smoothing_passes times; ends in depth_.
     const int smoothing_passes =
         kind == RendererKind::mc ? mc.smoothing_passes : ssfr.smoothing_passes;

@@ -8,6 +8,7 @@ layout(push_constant, std430) uniform Screen {
   Uints scene;        // the background, RGBA8 per pixel
   Uints image;        // the finished frame, RGBA8 per pixel
   uint axis;          // smoothing: 0 along x, 1 along y
+  uint narrow_range;  // smoothing: 1 for Truong & Yuksel's narrow-range filter, 0 for bilateral
 } screen;
 
 layout(local_size_x_id = 0) in;

@@ -30,11 +30,19 @@ void main() {
     const ivec2 q = ivec2(p) + k * step;
     if (q.x < 0 || q.y < 0 || q.x >= int(width) || q.y >= int(height)) continue;
     const float d = screen.depth_in.v[uint(q.y) * width + uint(q.x)];
-    if (d == infinity()) continue;
+    const bool narrow = screen.narrow_range != 0u;
+    if (d == infinity() && !narrow) continue;
     const float spatial = exp(-float(k * k) / (2.0 * sigma * sigma));
-    const float difference = (d - centre) / falloff;
-    const float weight = spatial * exp(-difference * difference);
-    sum += d * weight;
+    float value = d, weight = spatial;
+    if (narrow) {
+      if (d < centre - falloff) continue;  // in front: another surface
+      // Far behind, background included: as if just behind, so silhouettes round off.
+      if (d > centre + falloff) value = centre + screen.frame.particle_radius;
+    } else {
+      const float difference = (d - centre) / falloff;
+      weight *= exp(-difference * difference);
+    }
+    sum += value * weight;
     weights += weight;
   }
   screen.depth_out.v[index] = sum / weights;

@@ -239,6 +239,32 @@ TEST_F(RenderTest, MarchingCubesShowsTheFluidAtAnyResolutionAndAutoPicksByCount)
   EXPECT_EQ(resolve(RendererKind::automatic, kMarchingCubesBelow), RendererKind::ssfr);
 }
 
+// The two depth filters side by side, kept for the eye (build/test-output/render_filter_*.png);
+// the narrow-range filter must smooth too, and must differ from the bilateral one.
+TEST_F(RenderTest, NarrowRangeFilterSmoothsAndDiffersFromBilateral) {
+  sim::SceneParams scene;
+  scene.particles = 4000;
+  auto solver = sim::make_gpu_solver(sim::SolverKind::pbf, context(), sim::build_scene(scene), {});
+  for (int k = 0; k < 40; ++k) solver->step();
+  ParticleSource source(context());
+  const ParticleView view = source.view_of(*solver);
+  FrameRenderer renderer(context(), 320, 180);
+  OrbitCamera camera;
+  camera.target = 0.5f * (solver->tank().min + solver->tank().max);
+  camera.distance = 2.0f;
+  renderer.ssfr.smoothing_passes = 0;
+  const auto raw = renderer.render(RendererKind::ssfr, view, solver->tank(), camera);
+  renderer.ssfr.smoothing_passes = 2;
+  const auto bilateral = renderer.render(RendererKind::ssfr, view, solver->tank(), camera);
+  renderer.ssfr.filter = SsfrStyle::DepthFilter::narrow_range;
+  const auto narrow = renderer.render(RendererKind::ssfr, view, solver->tank(), camera);
+  keep(raw, "render_filter_none");
+  keep(bilateral, "render_filter_bilateral");
+  keep(narrow, "render_filter_narrow_range");
+  EXPECT_GT(pixels_differing(narrow, bilateral), 100u);
+  EXPECT_GT(pixels_differing(narrow, raw), 100u);
+}
+
 TEST_F(RenderTest, StrongerAbsorptionDarkensTheWater) {
   auto pool = drop_of(3000);
   ParticleSource source(context());

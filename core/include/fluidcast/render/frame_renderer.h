@@ -47,11 +47,16 @@ struct PointsStyle {
 };
 
 struct SsfrStyle {
+  // bilateral: van der Laan et al. (2009); narrow_range: the depth-range limit of Truong &
+  // Yuksel (2018), which keeps separate surfaces apart and rounds silhouettes off.
+  enum class DepthFilter { bilateral, narrow_range };
+  DepthFilter filter = DepthFilter::bilateral;
   // Of the depth filter, in particle radii (a length in the scene: view-invariant).
   float smoothing_radii = 4.0f;
   // Rounds of the separable filter (x then y): more is smoother and costs more.
   int smoothing_passes = 2;
-  // Depth difference, in particle radii, that the filter treats as a different surface.
+  // Depth difference, in particle radii, that the filter treats as a different surface (bilateral:
+  // the range weight's scale; narrow range: the range itself).
   float depth_falloff_radii = 2.0f;
   // Beer–Lambert absorption per metre of water: red goes first, so thick water turns blue-green.
   glm::vec3 absorption{6.0f, 1.8f, 0.9f};
