@@ -265,6 +265,27 @@ TEST_F(RenderTest, NarrowRangeFilterSmoothsAndDiffersFromBilateral) {
   EXPECT_GT(pixels_differing(narrow, raw), 100u);
 }
 
+// Looking straight down into a pool: three times the water over the same floor is darker.
+TEST_F(RenderTest, MoreThicknessDarkensTheWater) {
+  FrameRenderer renderer(context(), 96, 96);
+  ParticleSource source(context());
+  const auto centre_brightness = [&](int particles) {
+    auto pool = drop_of(particles);
+    OrbitCamera camera;
+    camera.target = 0.5f * (pool->tank().min + pool->tank().max);
+    camera.pitch_degrees = 89.0f;
+    camera.distance = 0.6f;
+    const auto image =
+        renderer.render(RendererKind::ssfr, source.view_of(*pool), pool->tank(), camera);
+    keep(image, "render_pool_from_above_" + std::to_string(particles));
+    double sum = 0.0;
+    for (int y = 40; y < 56; ++y)
+      for (int x = 40; x < 56; ++x) sum += image.pixel(x, y)[0] + image.pixel(x, y)[1];
+    return sum;
+  };
+  EXPECT_LT(centre_brightness(6000), 0.9 * centre_brightness(2000));
+}
+
 TEST_F(RenderTest, StrongerAbsorptionDarkensTheWater) {
   auto pool = drop_of(3000);
   ParticleSource source(context());
