@@ -31,13 +31,20 @@ FrameWriter::FrameWriter(const SimOptions& options, gpu::Context& context,
 }
 
 void FrameWriter::finish() {
+  while (renderer_.frames_pending() > 0) emit(renderer_.take_oldest());
   if (video_) video_->finish();
   video_.reset();
 }
 
+// The frame renders while the solver takes its next steps; the one before it is written now.
 void FrameWriter::write(const sim::Solver& solver) {
-  const codec::ImageRgba image =
-      renderer_.render(kind_, source_.view_of(solver), solver.tank(), camera_);
+  renderer_.submit(kind_, source_.view_of(solver), solver.tank(), camera_);
+  while (renderer_.frames_pending() >= render::FrameRenderer::kFramesInFlight) {
+    emit(renderer_.take_oldest());
+  }
+}
+
+void FrameWriter::emit(const codec::ImageRgba& image) {
   if (!folder_.empty()) {
     char name[32];
     std::snprintf(name, sizeof(name), "frame_%06llu.png", static_cast<unsigned long long>(frames_));

@@ -22,11 +22,14 @@ class FrameWriter {
   // Renders the solver's particles now: into frame_NNNNNN.png (numbered from 0) with --render,
   // into the video with --video.
   void write(const sim::Solver& solver);
-  // Closes the video; throws std::runtime_error when ffmpeg failed.
+  // Writes the frames still rendering and closes the video; throws std::runtime_error when
+  // ffmpeg failed.
   void finish();
   std::uint64_t frames() const { return frames_; }
 
  private:
+  void emit(const codec::ImageRgba& image);
+
   std::filesystem::path folder_;  // empty: no PNG files
   std::optional<VideoPipe> video_;
   render::FrameRenderer renderer_;
