@@ -61,6 +61,7 @@ file "$work/frames/frame_000002.png" 2>/dev/null | grep -q "96 x 54" \
 expect_bad "--renderer: renderer 'raytrace' is not one of: points, ssfr, mc, auto" --renderer raytrace --steps 1
 expect_bad "--camera: '1,2' is not yaw,pitch,distance" --camera 1,2 --steps 1
 expect_bad "--width, --height: 0×360" --width 0 --steps 1
+expect_bad "--ssfr-filter: 'gauss' is not bilateral or narrow" --ssfr-filter gauss --steps 1
 expect_bad "--camera: pitch must be between -89 and 89" --render "$work/bad" --camera 0,120,2 --steps 1
 
 # --video: through ffmpeg where it is installed, else one line saying what to install.

@@ -13,6 +13,9 @@ FrameWriter::FrameWriter(const SimOptions& options, gpu::Context& context,
                 static_cast<std::uint32_t>(options.height)),
       source_(context),
       kind_(render::parse_renderer(options.renderer)) {
+  if (options.narrow_range_filter) {
+    renderer_.ssfr.filter = render::SsfrStyle::DepthFilter::narrow_range;
+  }
   const sim::Box& tank = solver.tank();
   camera_.target = 0.5f * (tank.min + tank.max);
   camera_.distance = 1.2f * glm::length(tank.size());

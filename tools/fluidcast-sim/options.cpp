@@ -73,6 +73,11 @@ ParseOutcome parse_sim_options(int argc, char** argv) {
                  "auto (mc below 5000 particles, else ssfr), ssfr (screen-space fluid), mc "
                  "(Marching Cubes) or points (spheres coloured by speed)")
       ->capture_default_str();
+  std::string ssfr_filter = "bilateral";
+  app.add_option("--ssfr-filter", ssfr_filter,
+                 "SSFR depth filter: bilateral (van der Laan 2009) or narrow (the depth-range "
+                 "limit of Truong & Yuksel 2018)")
+      ->capture_default_str();
   std::string camera_text;
   app.add_option("--camera", camera_text,
                  "yaw,pitch,distance in degrees, degrees and metres, looking at the tank's centre");
@@ -134,6 +139,10 @@ ParseOutcome parse_sim_options(int argc, char** argv) {
     } catch (const std::invalid_argument& e) {
       throw sim::ParamError(std::string("--renderer: ") + e.what());
     }
+    if (ssfr_filter != "bilateral" && ssfr_filter != "narrow") {
+      throw sim::ParamError("--ssfr-filter: '" + ssfr_filter + "' is not bilateral or narrow");
+    }
+    o.narrow_range_filter = ssfr_filter == "narrow";
     if (!camera_text.empty()) {
       std::array<float, 3> values{};
       char extra = 0;
