@@ -2,6 +2,7 @@
 
 #include <png.h>
 
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -25,6 +26,11 @@ ImageRgba read_png(const std::filesystem::path& path) {
     throw std::runtime_error("png: cannot read " + path.string() + ": " + info.message);
   }
   info.format = PNG_FORMAT_RGBA;
+  if (std::uint64_t{info.width} * info.height > (std::uint64_t{1} << 28)) {
+    png_image_free(&info);
+    throw std::runtime_error("png: " + path.string() + " is " + std::to_string(info.width) + "×" +
+                             std::to_string(info.height) + ", over 2^28 pixels");
+  }
   ImageRgba image(static_cast<int>(info.width), static_cast<int>(info.height));
   if (!png_image_finish_read(&info, nullptr, image.pixels.data(), 0, nullptr)) {
     const std::string message = info.message;

@@ -310,6 +310,8 @@ void Context::release() {
   if (instance_) vkDestroyInstance(std::exchange(instance_, VK_NULL_HANDLE), nullptr);
 }
 
+void Context::wait_idle() { FLUIDCAST_VK_CHECK(vkDeviceWaitIdle(device_)); }
+
 void Context::run_now(const std::function<void(VkCommandBuffer)>& record) {
   VkCommandPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
   pool_info.flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT;

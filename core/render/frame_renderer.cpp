@@ -112,6 +112,11 @@ std::uint64_t FrameRenderer::submit(RendererKind requested, const ParticleView& 
                                     const sim::Box& tank, const OrbitCamera& camera) {
   camera.validate();
   const RendererKind kind = resolve(requested, particles.count);
+  if (!(ssfr.smoothing_radii > 0.0f && ssfr.depth_falloff_radii > 0.0f &&
+        ssfr.smoothing_passes >= 0 && mc.smoothing_passes >= 0)) {
+    throw std::invalid_argument(
+        "renderer: smoothing radius and depth falloff must be positive, passes not negative");
+  }
   if (kind != RendererKind::points && !context_->fragment_stores_supported()) {
     throw std::invalid_argument("renderers ssfr and mc: the device " + context_->info().name +
                                 " cannot write buffers from fragment shaders "

@@ -14,7 +14,7 @@ namespace fluidcast::render {
 namespace {
 
 constexpr std::uint32_t kGroup = 64;
-constexpr std::uint32_t kVertexCap = 4u << 20;  // 128 MiB of vertices at most
+constexpr std::uint32_t kVertexCap = 3u << 20;  // 96 MiB of vertices at most; whole triangles
 
 // The field's value inside a cubic lattice at rest (spacing d = 2 radii), with the kernel
 // (1 − r²/R²)³, summed around a lattice point: the normalisation that makes the field 1 there.
@@ -59,10 +59,12 @@ MarchingCubes::MarchingCubes(gpu::Context& context, const sim::Box& tank, int re
   }
   const glm::vec3 size = tank.size();
   spacing_ = std::max({size.x, size.y, size.z}) / static_cast<float>(resolution - 1);
-  origin_ = tank.min - glm::vec3(spacing_);
-  nodes_ = glm::ivec3(glm::ceil(size / spacing_)) + 3;
   const float particle_spacing = 2.0f * particle_radius;
   field_radius_ = std::max(2.0f * particle_spacing, 1.01f * spacing_);
+  // Enough nodes outside the tank that the field falls to zero there and the surface closes.
+  const int margin = static_cast<int>(std::ceil(field_radius_ / spacing_)) + 1;
+  origin_ = tank.min - glm::vec3(static_cast<float>(margin) * spacing_);
+  nodes_ = glm::ivec3(glm::ceil(size / spacing_)) + 2 * margin + 1;
   inverse_rest_sum_ = 1.0f / rest_sum(particle_spacing, field_radius_);
   const std::uint64_t cells = std::uint64_t(nodes_.x - 1) * (nodes_.y - 1) * (nodes_.z - 1);
   max_vertices_ = static_cast<std::uint32_t>(std::min<std::uint64_t>(cells * 15, kVertexCap));

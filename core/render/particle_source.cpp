@@ -18,6 +18,7 @@ ParticleView ParticleSource::upload(const sim::ParticleSet& particles, float rad
   view.radius = radius;
   const std::uint64_t bytes = std::uint64_t{view.count} * sizeof(glm::vec4);
   if (!position_ || position_.size() < bytes) {
+    context_->wait_idle();  // frames in flight may still read the old buffers
     position_ = gpu::Buffer(*context_, bytes, gpu::MemoryDomain::device);
     velocity_ = gpu::Buffer(*context_, bytes, gpu::MemoryDomain::device);
   }

@@ -18,6 +18,6 @@ void main() {
   const float half_chord = sqrt(1.0 - r2) * radius;
   const float distance = -(view_centre.z + half_chord);  // view space looks along −z
   const uint pixel = uint(gl_FragCoord.y) * draw.frame.width + uint(gl_FragCoord.x);
-  atomicMin(draw.depth.v[pixel], floatBitsToUint(max(distance, 0.0)));
+  atomicMin(draw.depth.v[pixel], floatBitsToUint(max(distance, 1e-4)));  // never 0: it divides
   atomicAdd(draw.thickness.v[pixel], uint(2.0 * half_chord / kThicknessUnit));
 }

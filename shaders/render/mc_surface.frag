@@ -16,8 +16,9 @@ void main() {
   vec3 face = cross(dFdx(view_position), dFdy(view_position));
   if (dot(face, view_normal) < 0.0) face = -face;
   const bool facing_camera = dot(face, -view_position) > 0.0;
-  const float along_view = -view_position.z;
-  if (facing_camera) atomicMin(draw.depth.v[pixel], floatBitsToUint(max(along_view, 0.0)));
+  // Within what the micrometre sum holds (2 km), and never 0: the depth divides later.
+  const float along_view = clamp(-view_position.z, 1e-4, 2000.0);
+  if (facing_camera) atomicMin(draw.depth.v[pixel], floatBitsToUint(along_view));
   const int signed_length = int(along_view / kThicknessUnit) * (facing_camera ? -1 : 1);
   atomicAdd(draw.thickness.v[pixel], uint(signed_length));
 }

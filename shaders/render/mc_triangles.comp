@@ -43,10 +43,22 @@ void main() {
   if (triangles == 0) return;
   const uint count = uint(3 * triangles);
   const uint first = atomicAdd(pass.draw.v[0], count);
-  if (first + count > pass.max_vertices) return;  // the buffer is full; the draw is clamped
   const vec4 origin = pass.origin;
+  if (first + count > pass.max_vertices) {
+    // The buffer is full and the draw is clamped to it: fill the part of it that is this cell's
+    // with degenerate triangles, which cover no pixel.
+    for (uint k = first; k < pass.max_vertices; ++k) {
+      pass.vertices.v[2 * k] = vec4(origin.xyz, 1.0);
+      pass.vertices.v[2 * k + 1] = vec4(0.0, 1.0, 0.0, 0.0);
+    }
+    return;
+  }
   for (uint k = 0; k < count; ++k) {
-    const ivec2 edge = kEdges[pass.tables.v[pattern * 16 + int(k)]];
+    ivec2 edge = kEdges[pass.tables.v[pattern * 16 + int(k)]];
+    // From the lower node to the higher, so that the cells sharing a grid edge compute the very
+    // same point (a watertight mesh, bit for bit).
+    const ivec3 ca = kCorners[edge.x], cb = kCorners[edge.y];
+    if (ca.x + ca.y + ca.z > cb.x + cb.y + cb.z) edge = edge.yx;
     const float va = values[edge.x], vb = values[edge.y];
     const float t = clamp((threshold - va) / (vb - va), 0.0, 1.0);
     const ivec3 a = cell + kCorners[edge.x], b = cell + kCorners[edge.y];

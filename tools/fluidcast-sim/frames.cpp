@@ -9,9 +9,9 @@ namespace fluidcast::tools {
 FrameWriter::FrameWriter(const SimOptions& options, gpu::Context& context,
                          const sim::Solver& solver)
     : folder_(options.render_dir),
+      source_(context),
       renderer_(context, static_cast<std::uint32_t>(options.width),
                 static_cast<std::uint32_t>(options.height)),
-      source_(context),
       kind_(render::parse_renderer(options.renderer)) {
   if (options.narrow_range_filter) {
     renderer_.ssfr.filter = render::SsfrStyle::DepthFilter::narrow_range;

@@ -32,8 +32,8 @@ class FrameWriter {
 
   std::filesystem::path folder_;  // empty: no PNG files
   std::optional<VideoPipe> video_;
+  render::ParticleSource source_;  // before the renderer, which waits for its frames first
   render::FrameRenderer renderer_;
-  render::ParticleSource source_;
   render::OrbitCamera camera_;
   render::RendererKind kind_;
   std::uint64_t frames_ = 0;

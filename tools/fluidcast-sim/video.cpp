@@ -3,6 +3,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <csignal>
 #include <cstdlib>
 #include <stdexcept>
 
@@ -42,7 +43,11 @@ VideoPipe::VideoPipe(const std::filesystem::path& output, int width, int height,
       quoted(ffmpeg->string()) + " -hide_banner -loglevel error -y -f rawvideo -pix_fmt rgba -s " +
       std::to_string(width) + "x" + std::to_string(height) + " -framerate " +
       std::to_string(frames_per_second) + " -i - -vf " + quoted("pad=ceil(iw/2)*2:ceil(ih/2)*2") +
-      " -c:v libx264 -pix_fmt yuv420p -movflags +faststart " + quoted(output.string());
+      " -c:v libx264 -pix_fmt yuv420p -movflags +faststart " +
+      // A path starting with '-' would read as an option.
+      quoted((output.string().rfind('-', 0) == 0 ? "./" : "") + output.string());
+  // A vanished ffmpeg must give an error on write, not end this process.
+  std::signal(SIGPIPE, SIG_IGN);
   pipe_ = ::popen(command.c_str(), "w");
   if (!pipe_) throw std::runtime_error("--video: cannot start ffmpeg");
 }
@@ -61,6 +66,7 @@ void VideoPipe::write(const codec::ImageRgba& frame) {
 }
 
 void VideoPipe::finish() {
+  if (!pipe_) return;
   const int status = ::pclose(pipe_);
   pipe_ = nullptr;
   if (status == -1 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {

@@ -77,6 +77,10 @@ class Context {
   float timestamp_period_ns() const { return properties_.limits.timestampPeriod; }
   MemoryAllocator& memory() { return *memory_; }
 
+  // Waits until the device has finished everything submitted: before freeing what work in flight
+  // may use (rare: a buffer that must grow), never on the per-frame path.
+  void wait_idle();
+
   // Records with `record`, submits, and waits: for uploads, read-backs and other rare work,
   // never for the per-step path.
   void run_now(const std::function<void(VkCommandBuffer)>& record);
