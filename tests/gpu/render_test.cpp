@@ -47,6 +47,14 @@ void keep(const codec::ImageRgba& image, const std::string& name) {
   codec::write_png("test-output/" + name + ".png", image);
 }
 
+// Looking at the middle of `tank` from `distance` metres.
+OrbitCamera camera_on(const sim::Box& tank, float distance) {
+  OrbitCamera camera;
+  camera.target = 0.5f * (tank.min + tank.max);
+  camera.distance = distance;
+  return camera;
+}
+
 std::unique_ptr<sim::Solver> drop_of(int particles) {
   sim::SceneParams scene;
   scene.kind = sim::SceneKind::pool;
@@ -136,9 +144,7 @@ TEST_F(RenderTest, GpuSolverBuffersInPlaceMatchAnUploadedCopy) {
   for (int k = 0; k < 20; ++k) solver->step();
   ParticleSource source(context());
   FrameRenderer renderer(context(), 320, 180);
-  OrbitCamera camera;
-  camera.target = 0.5f * (solver->tank().min + solver->tank().max);
-  camera.distance = 2.4f;
+  const OrbitCamera camera = camera_on(solver->tank(), 2.4f);
   for (auto kind : {RendererKind::points, RendererKind::ssfr}) {
     const auto in_place = renderer.render(kind, source.view_of(*solver), solver->tank(), camera);
     keep(in_place,
@@ -183,9 +189,7 @@ TEST_F(RenderTest, DepthSmoothingLowersSurfaceNoise) {
   ParticleSource source(context());
   const ParticleView view = source.view_of(*pool);
   FrameRenderer renderer(context(), 320, 180);
-  OrbitCamera camera;
-  camera.target = 0.5f * (pool->tank().min + pool->tank().max);
-  camera.distance = 1.6f;
+  const OrbitCamera camera = camera_on(pool->tank(), 1.6f);
   const auto empty = renderer.render(RendererKind::ssfr, {}, pool->tank(), camera);
   const auto noise = [&](const codec::ImageRgba& image) {
     const auto brightness = [&](int x, int y) {
@@ -219,9 +223,7 @@ TEST_F(RenderTest, MarchingCubesShowsTheFluidAtAnyResolutionAndAutoPicksByCount)
   ParticleSource source(context());
   const ParticleView view = source.view_of(*pool);
   FrameRenderer renderer(context(), 240, 135);
-  OrbitCamera camera;
-  camera.target = 0.5f * (pool->tank().min + pool->tank().max);
-  camera.distance = 2.0f;
+  const OrbitCamera camera = camera_on(pool->tank(), 2.0f);
   const auto empty = renderer.render(RendererKind::mc, {}, pool->tank(), camera);
   for (int resolution : {40, 80, 128}) {
     renderer.mc.resolution = resolution;
@@ -249,9 +251,7 @@ TEST_F(RenderTest, NarrowRangeFilterSmoothsAndDiffersFromBilateral) {
   ParticleSource source(context());
   const ParticleView view = source.view_of(*solver);
   FrameRenderer renderer(context(), 320, 180);
-  OrbitCamera camera;
-  camera.target = 0.5f * (solver->tank().min + solver->tank().max);
-  camera.distance = 2.0f;
+  const OrbitCamera camera = camera_on(solver->tank(), 2.0f);
   renderer.ssfr.smoothing_passes = 0;
   const auto raw = renderer.render(RendererKind::ssfr, view, solver->tank(), camera);
   renderer.ssfr.smoothing_passes = 2;
@@ -291,9 +291,7 @@ TEST_F(RenderTest, StrongerAbsorptionDarkensTheWater) {
   ParticleSource source(context());
   const ParticleView view = source.view_of(*pool);
   FrameRenderer renderer(context(), 240, 135);
-  OrbitCamera camera;
-  camera.target = 0.5f * (pool->tank().min + pool->tank().max);
-  camera.distance = 2.0f;
+  const OrbitCamera camera = camera_on(pool->tank(), 2.0f);
   const auto empty = renderer.render(RendererKind::ssfr, {}, pool->tank(), camera);
   const auto mean_over_water = [&](const codec::ImageRgba& image) {
     double sum = 0.0;
