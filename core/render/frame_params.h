@@ -24,7 +24,8 @@ struct FrameParams {
   float depth_falloff;
   std::uint32_t width;
   std::uint32_t height;
-  std::uint32_t padding[2];
+  std::uint32_t colour_by_density;
+  float density_span;
 };
 static_assert(offsetof(FrameParams, inverse_view) == 128);
 static_assert(offsetof(FrameParams, light_direction) == 192);
@@ -35,9 +36,9 @@ static_assert(sizeof(FrameParams) % 16 == 0);
 
 // shaders/common/draw_pass.glsl
 struct DrawConstants {
-  VkDeviceAddress frame, position, velocity, depth, thickness;
+  VkDeviceAddress frame, position, velocity, depth, thickness, density_ratio;
 };
-static_assert(sizeof(DrawConstants) == 40);
+static_assert(sizeof(DrawConstants) == 48);
 
 // shaders/common/screen_pass.glsl
 struct ScreenConstants {

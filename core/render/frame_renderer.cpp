@@ -112,6 +112,12 @@ std::uint64_t FrameRenderer::submit(RendererKind requested, const ParticleView& 
                                     const sim::Box& tank, const OrbitCamera& camera) {
   camera.validate();
   const RendererKind kind = resolve(requested, particles.count);
+  if (points.colour_by == PointsStyle::ColourBy::density &&
+      ((particles.count > 0 && particles.density_ratio == 0) || !(points.density_span > 0.0f))) {
+    throw std::invalid_argument(
+        "points coloured by density: these particles come without densities, or the span is "
+        "not positive");
+  }
   if (!(ssfr.smoothing_radii > 0.0f && ssfr.depth_falloff_radii > 0.0f &&
         ssfr.smoothing_passes >= 0 && mc.smoothing_passes >= 0)) {
     throw std::invalid_argument(
@@ -185,6 +191,8 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
   frame.depth_falloff = ssfr.depth_falloff_radii * particles.radius;
   frame.width = width;
   frame.height = height;
+  frame.colour_by_density = points.colour_by == PointsStyle::ColourBy::density ? 1u : 0u;
+  frame.density_span = points.density_span;
 
   // The solver's writes (compute, transfers) before this frame reads the particles in place; and
   // the previous frame's reads and atomics on the shared per-pixel buffers before this one's fills.
@@ -205,9 +213,10 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
   const bool mesh = kind == RendererKind::mc && particles.count > 0;
   if (mesh) marching_cubes_->record(commands, particles, mc.threshold);
   // For the mesh, `position` is the vertex buffer.
-  const DrawConstants draw{frame_params_.address(),
-                           mesh ? marching_cubes_->vertices() : particles.position,
-                           particles.velocity, depth_.address(), thickness_.address()};
+  const DrawConstants draw{
+      frame_params_.address(), mesh ? marching_cubes_->vertices() : particles.position,
+      particles.velocity,      depth_.address(),
+      thickness_.address(),    particles.density_ratio};
   const float clear[4] = {0.0f, 0.0f, 0.0f, 1.0f};
   target_.begin(commands, clear);
   background_->draw(commands, draw, 3);

@@ -5,4 +5,5 @@ layout(push_constant, std430) uniform Draw {
   Vec4s velocity;
   Uints depth;      // SSFR: per pixel, the nearest fluid surface's view distance (float bits)
   Uints thickness;  // SSFR: per pixel, the fluid crossed, in kThicknessUnit
+  Floats density_ratio;  // points mode: ρ/ρ0 per particle, when colouring by density
 } draw;

@@ -22,6 +22,8 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Fr
   float depth_falloff;     // SSFR: depth difference that halves a neighbour's weight, m
   uint width;
   uint height;
+  uint colour_by_density;  // points mode: 1 colours by ρ/ρ0 instead of speed
+  float density_span;      // points mode: ρ/ρ0 = 1 ± span gets slow and fast colour
 };
 
 // Thickness is summed with integer atomics, in micrometres.

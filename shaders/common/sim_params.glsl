@@ -25,6 +25,7 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Si
   Uints cell_start;    // the grid: first sorted slot of each cell, and one past the last
   Uints sorted_cell;   // the grid: the cell each sorted slot was sorted into
   Uints stats;         // [0] bits of the largest |v|², [1] of the largest |a|
+  Floats density_ratio;  // ρ/ρ0 per particle in state order, from the last solver pass (render)
 
   vec4 tank_min;
   vec4 tank_max;

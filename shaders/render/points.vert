@@ -20,9 +20,15 @@ void main() {
   const float radius = draw.frame.particle_radius;
   const vec4 p = draw.position.v[particle];
   view_centre = (view * vec4(p.xyz, 1.0)).xyz;
-  const vec4 v = draw.velocity.v[particle];
-  const float speed = clamp(length(v.xyz) / draw.frame.full_speed, 0.0, 1.0);
+  float blend;
+  if (draw.frame.colour_by_density != 0u) {
+    const float span = draw.frame.density_span;
+    blend = clamp((draw.density_ratio.v[particle] - (1.0 - span)) / (2.0 * span), 0.0, 1.0);
+  } else {
+    const vec4 v = draw.velocity.v[particle];
+    blend = clamp(length(v.xyz) / draw.frame.full_speed, 0.0, 1.0);
+  }
   const vec4 slow = draw.frame.slow_colour, fast = draw.frame.fast_colour;
-  colour = mix(slow.rgb, fast.rgb, speed);
+  colour = mix(slow.rgb, fast.rgb, blend);
   gl_Position = projection * vec4(view_centre + vec3(corner * radius, 0.0), 1.0);
 }

@@ -28,7 +28,9 @@ void main() {
   }
   const vec4 wall = walls(p);
   gradient_i += P.inv_rest_density * wall.yzw;
-  const float constraint = max((P.mass * density + wall.x) * P.inv_rest_density - 1.0, 0.0);
+  const float ratio = (P.mass * density + wall.x) * P.inv_rest_density;
+  P.density_ratio.v[k] = ratio;  // sorted slot k is state index k once the substep ends
+  const float constraint = max(ratio - 1.0, 0.0);
   P.lambda.v[k] = constraint == 0.0 ? 0.0
       : -constraint / (sum_squares + dot(gradient_i, gradient_i) + P.relaxation_epsilon);
 }

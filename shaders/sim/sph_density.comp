@@ -24,4 +24,5 @@ void main() {
   const float pressure =
       max(0.0, P.tait_stiffness * (pow(density / P.rest_density, P.tait_exponent) - 1.0));
   P.density.v[k] = vec2(density, pressure);
+  P.density_ratio.v[k] = density * P.inv_rest_density;  // state index k once the substep ends
 }

@@ -62,6 +62,7 @@ expect_bad "--renderer: renderer 'raytrace' is not one of: points, ssfr, mc, aut
 expect_bad "--camera: '1,2' is not yaw,pitch,distance" --camera 1,2 --steps 1
 expect_bad "--width, --height: 0×360" --width 0 --steps 1
 expect_bad "--ssfr-filter: 'gauss' is not bilateral or narrow" --ssfr-filter gauss --steps 1
+expect_bad "--colour-by: 'mass' is not speed or density" --colour-by mass --steps 1
 expect_bad "--camera: pitch must be between -89 and 89" --render "$work/bad" --camera 0,120,2 --steps 1
 
 # --video: through ffmpeg where it is installed, else one line saying what to install.

@@ -286,6 +286,35 @@ TEST_F(RenderTest, MoreThicknessDarkensTheWater) {
   EXPECT_LT(centre_brightness(6000), 0.9 * centre_brightness(2000));
 }
 
+// Points coloured by ρ/ρ0: from the GPU solver's own densities, or measured for a CPU solver's
+// particles; without densities, a clear refusal.
+TEST_F(RenderTest, PointsColouredByDensity) {
+  sim::SceneParams scene;
+  scene.particles = 2000;
+  auto gpu_solver =
+      sim::make_gpu_solver(sim::SolverKind::pbf, context(), sim::build_scene(scene), {});
+  for (int k = 0; k < 10; ++k) gpu_solver->step();
+  FrameRenderer renderer(context(), 240, 135);
+  const OrbitCamera camera = camera_on(gpu_solver->tank(), 2.2f);
+  ParticleSource in_place(context());
+  const ParticleView view = in_place.view_of(*gpu_solver);
+  ASSERT_NE(view.density_ratio, 0u);
+  const auto by_speed = renderer.render(RendererKind::points, view, gpu_solver->tank(), camera);
+  renderer.points.colour_by = PointsStyle::ColourBy::density;
+  const auto by_density = renderer.render(RendererKind::points, view, gpu_solver->tank(), camera);
+  keep(by_density, "render_points_by_density");
+  EXPECT_GT(pixels_differing(by_speed, by_density), 500u);
+
+  auto cpu_solver = drop_of(2000);
+  ParticleSource measured(context(), true);
+  EXPECT_NO_THROW(renderer.render(RendererKind::points, measured.view_of(*cpu_solver),
+                                  cpu_solver->tank(), camera));
+  ParticleSource without(context());
+  EXPECT_THROW(renderer.render(RendererKind::points, without.view_of(*cpu_solver),
+                               cpu_solver->tank(), camera),
+               std::invalid_argument);
+}
+
 TEST_F(RenderTest, StrongerAbsorptionDarkensTheWater) {
   auto pool = drop_of(3000);
   ParticleSource source(context());

@@ -74,6 +74,7 @@ TEST(GpuParamsLayout, SimParamsMatchesTheGlslBlock) {
                                                   FIELD(SimParams, cell_start),
                                                   FIELD(SimParams, sorted_cell),
                                                   FIELD(SimParams, stats),
+                                                  FIELD(SimParams, density_ratio),
                                                   FIELD(SimParams, tank_min),
                                                   FIELD(SimParams, tank_max),
                                                   FIELD(SimParams, inner_min),

@@ -9,10 +9,13 @@ namespace fluidcast::tools {
 FrameWriter::FrameWriter(const SimOptions& options, gpu::Context& context,
                          const sim::Solver& solver)
     : folder_(options.render_dir),
-      source_(context),
+      source_(context, options.colour_by_density),
       renderer_(context, static_cast<std::uint32_t>(options.width),
                 static_cast<std::uint32_t>(options.height)),
       kind_(render::parse_renderer(options.renderer)) {
+  if (options.colour_by_density) {
+    renderer_.points.colour_by = render::PointsStyle::ColourBy::density;
+  }
   if (options.narrow_range_filter) {
     renderer_.ssfr.filter = render::SsfrStyle::DepthFilter::narrow_range;
   }

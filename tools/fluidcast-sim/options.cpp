@@ -78,6 +78,9 @@ ParseOutcome parse_sim_options(int argc, char** argv) {
                  "SSFR depth filter: bilateral (van der Laan 2009) or narrow (the depth-range "
                  "limit of Truong & Yuksel 2018)")
       ->capture_default_str();
+  std::string colour_by = "speed";
+  app.add_option("--colour-by", colour_by, "points renderer: speed or density")
+      ->capture_default_str();
   std::string camera_text;
   app.add_option("--camera", camera_text,
                  "yaw,pitch,distance in degrees, degrees and metres, looking at the tank's centre");
@@ -143,6 +146,10 @@ ParseOutcome parse_sim_options(int argc, char** argv) {
       throw sim::ParamError("--ssfr-filter: '" + ssfr_filter + "' is not bilateral or narrow");
     }
     o.narrow_range_filter = ssfr_filter == "narrow";
+    if (colour_by != "speed" && colour_by != "density") {
+      throw sim::ParamError("--colour-by: '" + colour_by + "' is not speed or density");
+    }
+    o.colour_by_density = colour_by == "density";
     if (!camera_text.empty()) {
       std::array<float, 3> values{};
       char extra = 0;

@@ -21,7 +21,7 @@ struct SimParams {
   VkDeviceAddress sorted_position, sorted_velocity, sorted_id;
   VkDeviceAddress predicted, iterate0, iterate1, lambda, vorticity;
   VkDeviceAddress density, acceleration;
-  VkDeviceAddress order, cell_start, sorted_cell, stats;
+  VkDeviceAddress order, cell_start, sorted_cell, stats, density_ratio;
 
   alignas(16) glm::vec4 tank_min, tank_max, inner_min, inner_max, gravity;
   glm::ivec4 grid_dims;
@@ -36,6 +36,7 @@ struct SimParams {
   glm::vec4 collider_velocity[kMaxColliders];
 };
 static_assert(offsetof(SimParams, stats) == 16 * 8);
+static_assert(offsetof(SimParams, density_ratio) == 17 * 8);
 static_assert(offsetof(SimParams, tank_min) == 144);
 static_assert(offsetof(SimParams, grid_dims) == 144 + 5 * 16);
 static_assert(offsetof(SimParams, solver) == 144 + 6 * 16);

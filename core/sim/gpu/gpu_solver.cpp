@@ -21,7 +21,8 @@ constexpr std::uint32_t kTimestampCapacity = 4096;
 constexpr double kUsableMemoryShare = 0.9;
 
 std::uint64_t bytes_per_particle(SolverKind kind) {
-  constexpr std::uint64_t state = 2 * (16 + 16 + 4);    // position, velocity, id; sorted copies
+  // position, velocity, id, their sorted copies, and the density ratio for the renderer
+  constexpr std::uint64_t state = 2 * (16 + 16 + 4) + 4;
   constexpr std::uint64_t pbf = 16 + 16 + 16 + 4 + 16;  // predicted, two iterates, λ, ω
   constexpr std::uint64_t sph = 8 + 16;                 // density and pressure, acceleration
   return state + (kind == SolverKind::pbf ? pbf : sph) + GpuNeighbourGrid::bytes_per_particle();
@@ -126,6 +127,7 @@ void GpuSolver::allocate(std::size_t capacity) {
   b.vorticity = device(pbf ? 16 : 0);
   b.density = device(pbf ? 0 : 8);
   b.acceleration = device(pbf ? 0 : 16);
+  b.density_ratio = device(4);
   grid_.reserve(capacity);  // may throw: then nothing has changed
   buffers_ = std::move(b);
   capacity_ = capacity;
@@ -261,6 +263,7 @@ SimParams GpuSolver::step_params() const {
   p.cell_start = grid_.cell_start().address();
   p.sorted_cell = grid_.sorted_cell().address();
   p.stats = stats_buffer_.address();
+  p.density_ratio = buffers_.density_ratio.address();
 
   p.tank_min = glm::vec4(tank().min, 0.0f);
   p.tank_max = glm::vec4(tank().max, 0.0f);

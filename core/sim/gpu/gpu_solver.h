@@ -36,7 +36,8 @@ class GpuSolver final : public Solver {
   ParticleSet snapshot() const override;
   void synchronize() override;
   std::optional<DeviceParticles> device_particles() const override {
-    return DeviceParticles{buffers_.position.address(), buffers_.velocity.address()};
+    return DeviceParticles{buffers_.position.address(), buffers_.velocity.address(),
+                           buffers_.density_ratio.address()};
   }
 
   // GPU memory needed for `particles`, and how many fit in the budget.
@@ -87,6 +88,7 @@ class GpuSolver final : public Solver {
     gpu::Buffer position, velocity, id, sorted_position, sorted_velocity, sorted_id;
     gpu::Buffer predicted, iterate0, iterate1, lambda, vorticity;  // PBF
     gpu::Buffer density, acceleration;                             // SPH
+    gpu::Buffer density_ratio;                                     // both, for the renderer
   } buffers_;
   gpu::Buffer params_buffer_, stats_buffer_;
   std::array<InFlight, 2> in_flight_;

@@ -36,11 +36,15 @@ RendererKind resolve(RendererKind kind, std::uint32_t particles);
 struct ParticleView {
   VkDeviceAddress position = 0;
   VkDeviceAddress velocity = 0;
+  VkDeviceAddress density_ratio = 0;  // float ρ/ρ0, or 0 where there is none
   std::uint32_t count = 0;
   float radius = 0.01f;  // m
 };
 
 struct PointsStyle {
+  enum class ColourBy { speed, density };
+  ColourBy colour_by = ColourBy::speed;
+  float density_span = 0.05f;  // ρ/ρ0 from 1 − span (slow colour) to 1 + span (fast colour)
   glm::vec3 slow_colour{0.10f, 0.35f, 0.85f};
   glm::vec3 fast_colour{0.90f, 0.95f, 1.00f};
   float full_speed = 2.0f;  // m/s that get fast_colour

@@ -10,15 +10,20 @@ namespace fluidcast::render {
 
 class ParticleSource {
  public:
-  explicit ParticleSource(gpu::Context& context) : context_(&context) {}
+  // with_densities: a CPU solver's particles come with ρ/ρ0 (for points coloured by density).
+  explicit ParticleSource(gpu::Context& context, bool with_densities = false)
+      : context_(&context), with_densities_(with_densities) {}
 
   ParticleView view_of(const sim::Solver& solver);
-  // Copies particles up (what view_of does for a CPU solver).
-  ParticleView upload(const sim::ParticleSet& particles, float radius);
+  // Copies particles up (what view_of does for a CPU solver, with its densities ρ/ρ0 measured
+  // by sim::measure_densities, which leaves out the walls' share).
+  ParticleView upload(const sim::ParticleSet& particles, float radius,
+                      std::span<const float> density_ratio = {});
 
  private:
   gpu::Context* context_;
-  gpu::Buffer position_, velocity_;  // for CPU solvers
+  bool with_densities_;
+  gpu::Buffer position_, velocity_, density_ratio_;  // for CPU solvers
 };
 
 }  // namespace fluidcast::render

@@ -65,11 +65,13 @@ class Solver {
   virtual ParticleSet snapshot() const = 0;
 
   // Where a GPU solver keeps its particles: device addresses of vec4 positions and velocities
-  // (w unused), in its context, valid until the next add, remove or reset. A renderer on the same
+  // (w unused) and of float ρ/ρ0 (walls included), in its context, valid until the next add,
+  // remove or reset. A renderer on the same
   // context reads them in place. Nothing for a CPU solver.
   struct DeviceParticles {
     std::uint64_t position = 0;
     std::uint64_t velocity = 0;
+    std::uint64_t density_ratio = 0;
   };
   virtual std::optional<DeviceParticles> device_particles() const { return std::nullopt; }
 
