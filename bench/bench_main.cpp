@@ -36,13 +36,25 @@ int run_benchmarks(int argc, char** argv,
   return 0;
 }
 
-std::unique_ptr<gpu::Context> make_bench_context(const BenchOptions& options) {
-  gpu::ContextOptions context_options = gpu::options_from_environment();
-  context_options.validation = false;
-  if (options.device) context_options.device_index = options.device;
-  auto context = std::make_unique<gpu::Context>(context_options);
-  benchmark::AddCustomContext("device", context->info().describe());
-  return context;
+namespace {
+std::unique_ptr<gpu::Context> g_context;
 }
+
+int run_gpu_benchmarks(int argc, char** argv,
+                       const std::function<void(bool smoke)>& register_cases) {
+  const int code = run_benchmarks(argc, argv, [&](const BenchOptions& options) {
+    gpu::ContextOptions context_options = gpu::options_from_environment();
+    context_options.validation = false;
+    if (options.device) context_options.device_index = options.device;
+    g_context = std::make_unique<gpu::Context>(context_options);
+    benchmark::AddCustomContext("device", g_context->info().describe());
+    register_cases(options.smoke);
+    return 0;
+  });
+  g_context.reset();
+  return code;
+}
+
+gpu::Context& gpu_context() { return *g_context; }
 
 }  // namespace fluidcast::bench

@@ -21,8 +21,10 @@ struct BenchOptions {
 int run_benchmarks(int argc, char** argv,
                    const std::function<int(const BenchOptions&)>& register_cases);
 
-// For GPU benchmarks: a context on the chosen (or best) device, validation off, named in the
-// benchmark's context; throws GpuUnavailable as Context does.
-std::unique_ptr<gpu::Context> make_bench_context(const BenchOptions& options);
+// For GPU benchmarks: run_benchmarks with a context on the chosen (or best) device, validation
+// off, named in the benchmark's context, which gpu_context() gives while they run.
+int run_gpu_benchmarks(int argc, char** argv,
+                       const std::function<void(bool smoke)>& register_cases);
+gpu::Context& gpu_context();
 
 }  // namespace fluidcast::bench

@@ -21,8 +21,6 @@ namespace {
 using namespace fluidcast;
 using namespace fluidcast::sim;
 
-gpu::Context* g_context = nullptr;
-
 // Steps timed per benchmark iteration, after `kWarmUpSteps` untimed ones from t = 0.
 constexpr int kWarmUpSteps = 5;
 
@@ -33,7 +31,7 @@ void run_dam_break(benchmark::State& state, SolverKind kind, int steps_per_itera
   params.iterations = static_cast<int>(state.range(1));
   params.time_step = 1e-3f;
   params.max_particles = std::max(params.max_particles, scene.particles);
-  auto solver = make_gpu_solver(kind, *g_context, build_scene(scene), params);
+  auto solver = make_gpu_solver(kind, bench::gpu_context(), build_scene(scene), params);
   for (int k = 0; k < kWarmUpSteps; ++k) solver->step();
   solver->synchronize();
   solver->clear_stage_times();
@@ -92,12 +90,4 @@ void register_cases(bool smoke) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  std::unique_ptr<gpu::Context> context;
-  return bench::run_benchmarks(argc, argv, [&](const bench::BenchOptions& o) {
-    context = bench::make_bench_context(o);
-    g_context = context.get();
-    register_cases(o.smoke);
-    return 0;
-  });
-}
+int main(int argc, char** argv) { return bench::run_gpu_benchmarks(argc, argv, register_cases); }

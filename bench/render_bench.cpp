@@ -23,8 +23,6 @@ namespace {
 using namespace fluidcast;
 using Clock = std::chrono::steady_clock;
 
-gpu::Context* g_context = nullptr;
-
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
@@ -36,12 +34,12 @@ void run_render(benchmark::State& state, render::RendererKind kind, int frames_p
   scene.particles = static_cast<int>(state.range(2));
   sim::SolverParams params;
   params.max_particles = std::max(params.max_particles, scene.particles);
-  auto solver =
-      sim::make_gpu_solver(sim::SolverKind::pbf, *g_context, sim::build_scene(scene), params);
+  auto solver = sim::make_gpu_solver(sim::SolverKind::pbf, bench::gpu_context(),
+                                     sim::build_scene(scene), params);
   for (int k = 0; k < 10; ++k) solver->step();
-  render::ParticleSource source(*g_context);
+  render::ParticleSource source(bench::gpu_context());
   const render::ParticleView view = source.view_of(*solver);
-  render::FrameRenderer renderer(*g_context, width, height);
+  render::FrameRenderer renderer(bench::gpu_context(), width, height);
   render::OrbitCamera camera;
   camera.target = 0.5f * (solver->tank().min + solver->tank().max);
   camera.distance = 1.3f * glm::length(solver->tank().size());
@@ -123,12 +121,4 @@ void register_cases(bool smoke) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  std::unique_ptr<gpu::Context> context;
-  return bench::run_benchmarks(argc, argv, [&](const bench::BenchOptions& o) {
-    context = bench::make_bench_context(o);
-    g_context = context.get();
-    register_cases(o.smoke);
-    return 0;
-  });
-}
+int main(int argc, char** argv) { return bench::run_gpu_benchmarks(argc, argv, register_cases); }

@@ -3,6 +3,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "fluidcast/gpu/shader_module.h"
 #include "fluidcast/gpu/vk_check.h"
 
 namespace fluidcast::gpu {
@@ -20,12 +21,7 @@ ComputePipeline::ComputePipeline(Context& context, std::span<const std::uint32_t
                                 std::to_string(context.limits().maxComputeWorkGroupInvocations));
   }
   const VkDevice device = context.device();
-  VkShaderModuleCreateInfo module_info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-  module_info.codeSize = spirv.size_bytes();
-  module_info.pCode = spirv.data();
-  VkShaderModule raw_module;
-  FLUIDCAST_VK_CHECK(vkCreateShaderModule(device, &module_info, nullptr, &raw_module));
-  const UniqueShaderModule module(device, raw_module);
+  const UniqueShaderModule module = make_shader_module(device, spirv);
 
   VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_constant_bytes};
   VkPipelineLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};

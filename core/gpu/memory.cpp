@@ -95,11 +95,10 @@ Allocation MemoryAllocator::allocate(const VkMemoryRequirements& requirements,
   info.memoryTypeIndex = type;
   VkDeviceMemory raw;
   FLUIDCAST_VK_CHECK(vkAllocateMemory(device_, &info, nullptr, &raw));
+  ++allocations_made_;
   Block block;
   block.memory = UniqueMemory(device_, raw);
   block.type = type;
-  block.device_local =
-      (properties_.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT) != 0;
   // Map every host-visible block: blocks are shared by all domains that pick the same type (on
   // lavapipe and integrated GPUs one type serves all three).
   if (properties_.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) {
@@ -119,16 +118,18 @@ void MemoryAllocator::free(std::size_t index, VkDeviceSize offset) {
   std::lock_guard lock(mutex_);
   Block& block = blocks_[index];
   block.ranges->free(offset);
-  if (block.ranges->empty()) block = Block{};  // unmapped and freed with its memory
+  if (!block.ranges->empty()) return;
+  // One empty standard block per memory type stays, so that the staging buffers of uploads and
+  // snapshots do not allocate and free 64 MiB each time; the rest go back to the driver.
+  const bool spare_exists = std::any_of(blocks_.begin(), blocks_.end(), [&](const Block& b) {
+    return &b != &block && b.ranges && b.type == block.type && b.ranges->empty();
+  });
+  if (block.ranges->size() != kBlockSize || spare_exists) block = Block{};  // unmapped and freed
 }
 
-VkDeviceSize MemoryAllocator::device_bytes() const {
+std::uint64_t MemoryAllocator::allocations_made() const {
   std::lock_guard lock(mutex_);
-  VkDeviceSize total = 0;
-  for (const Block& b : blocks_) {
-    if (b.ranges && b.device_local) total += b.ranges->size();
-  }
-  return total;
+  return allocations_made_;
 }
 
 std::size_t MemoryAllocator::block_count() const {

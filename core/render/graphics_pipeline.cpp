@@ -1,21 +1,9 @@
 #include "graphics_pipeline.h"
 
+#include "fluidcast/gpu/shader_module.h"
 #include "fluidcast/gpu/vk_check.h"
 
 namespace fluidcast::render {
-namespace {
-
-gpu::UniqueShaderModule make_module(VkDevice device, std::span<const std::uint32_t> spirv) {
-  VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-  info.codeSize = spirv.size_bytes();
-  info.pCode = spirv.data();
-  VkShaderModule raw;
-  FLUIDCAST_VK_CHECK(vkCreateShaderModule(device, &info, nullptr, &raw));
-  return gpu::UniqueShaderModule(device, raw);
-}
-
-}  // namespace
-
 GraphicsPipeline::GraphicsPipeline(gpu::Context& context, VkRenderPass render_pass,
                                    std::span<const std::uint32_t> vertex_spirv,
                                    std::span<const std::uint32_t> fragment_spirv,
@@ -30,8 +18,8 @@ GraphicsPipeline::GraphicsPipeline(gpu::Context& context, VkRenderPass render_pa
   FLUIDCAST_VK_CHECK(vkCreatePipelineLayout(device, &layout_info, nullptr, &raw_layout));
   layout_ = gpu::UniquePipelineLayout(device, raw_layout);
 
-  const auto vertex = make_module(device, vertex_spirv);
-  const auto fragment = make_module(device, fragment_spirv);
+  const auto vertex = gpu::make_shader_module(device, vertex_spirv);
+  const auto fragment = gpu::make_shader_module(device, fragment_spirv);
   VkPipelineShaderStageCreateInfo stages[2] = {};
   stages[0].sType = stages[1].sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
   stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;

@@ -1,5 +1,5 @@
 // Push constants of the Marching Cubes compute passes; mirrored by McConstants in
-// core/render/marching_cubes.h.
+// core/render/marching_cubes.h. Included after common/core.glsl.
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer Ints { int v[]; };
 
 layout(push_constant, std430) uniform McPass {
@@ -17,14 +17,6 @@ layout(push_constant, std430) uniform McPass {
 } pass;
 
 const float kFieldUnit = 1.0 / 1024.0;
-
-// Before any use of gl_WorkGroupSize, which means (1, 1, 1) until this is declared.
-layout(local_size_x_id = 0) in;
-
-uint mc_invocation() {
-  return (gl_WorkGroupID.x + gl_NumWorkGroups.x * gl_WorkGroupID.y) * gl_WorkGroupSize.x +
-         gl_LocalInvocationID.x;
-}
 
 // Vectors loaded whole (lavapipe reads single components of some as 0; see sim_kernels.glsl).
 uint node_index(ivec3 p) {

@@ -11,10 +11,4 @@ layout(push_constant, std430) uniform Screen {
   uint narrow_range;  // smoothing: 1 for Truong & Yuksel's narrow-range filter, 0 for bilateral
 } screen;
 
-layout(local_size_x_id = 0) in;
-
-// One invocation per pixel, rows one after the other (dispatches may spill into y).
-uint pixel_index() {
-  return (gl_WorkGroupID.x + gl_NumWorkGroups.x * gl_WorkGroupID.y) * gl_WorkGroupSize.x +
-         gl_LocalInvocationID.x;
-}
+#include "common/dispatch.glsl"

@@ -5,13 +5,11 @@
 // sky. Its depth goes into the depth buffer, so that the fluid is drawn in front of it.
 #include "common/frame.glsl"
 #include "common/draw_pass.glsl"
+#include "common/scene.glsl"
 
 layout(location = 0) in vec2 ndc;
 layout(location = 0) out vec4 colour;
 
-vec3 sky(vec3 direction) {
-  return mix(vec3(0.55, 0.60, 0.66), vec3(0.18, 0.32, 0.55), clamp(direction.y * 1.5, 0.0, 1.0));
-}
 
 float grid_line(vec2 p, float spacing, float width) {
   const vec2 f = abs(fract(p / spacing + 0.5) - 0.5) * spacing;

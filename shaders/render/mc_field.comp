@@ -2,13 +2,11 @@
 #extension GL_GOOGLE_include_directive : require
 // Marching Cubes, step 1: each particle adds its kernel weight (1 − r²/R²)³ to the grid nodes
 // within R (integer atomics).
-#extension GL_EXT_buffer_reference : require
-layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Vec4s { vec4 v[]; };
-layout(buffer_reference, std430, buffer_reference_align = 4) buffer Uints { uint v[]; };
+#include "common/core.glsl"
 #include "common/mc_pass.glsl"
 
 void main() {
-  const uint i = mc_invocation();
+  const uint i = invocation();
   const ivec4 nodes = pass.nodes;
   if (i >= uint(nodes.w)) return;
   const vec4 origin = pass.origin;

@@ -2,9 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 // Marching Cubes, step 2: each cell looks up its case and appends its triangles (positions on the
 // crossed edges, normals from the field's gradient) to the vertex buffer.
-#extension GL_EXT_buffer_reference : require
-layout(buffer_reference, std430, buffer_reference_align = 16) buffer Vec4s { vec4 v[]; };
-layout(buffer_reference, std430, buffer_reference_align = 4) buffer Uints { uint v[]; };
+#include "common/core.glsl"
 #include "common/mc_pass.glsl"
 
 const ivec3 kCorners[8] = ivec3[](ivec3(0, 0, 0), ivec3(1, 0, 0), ivec3(1, 1, 0), ivec3(0, 1, 0),
@@ -28,7 +26,7 @@ vec3 gradient_at(ivec3 p) {
 void main() {
   const ivec4 nodes = pass.nodes;
   const ivec3 cells = nodes.xyz - 1;
-  const uint index = mc_invocation();
+  const uint index = invocation();
   if (index >= uint(cells.x * cells.y * cells.z)) return;
   const ivec3 cell = ivec3(int(index) % cells.x, (int(index) / cells.x) % cells.y,
                            int(index) / (cells.x * cells.y));

@@ -4,6 +4,7 @@
 // scene behind with Beer–Lambert absorption by thickness, and a specular highlight.
 #include "common/frame.glsl"
 #include "common/screen_pass.glsl"
+#include "common/scene.glsl"
 
 // Pixels without fluid hold +infinity (the depth buffer is cleared to its bits).
 float infinity() { return uintBitsToFloat(0x7f800000u); }
@@ -18,13 +19,10 @@ float depth_at(ivec2 q, uint width, uint height) {
   return screen.depth_in.v[uint(q.y) * width + uint(q.x)];
 }
 
-vec3 sky(vec3 direction) {
-  return mix(vec3(0.55, 0.60, 0.66), vec3(0.18, 0.32, 0.55), clamp(direction.y * 1.5, 0.0, 1.0));
-}
 
 void main() {
   const uint width = screen.frame.width, height = screen.frame.height;
-  const uint index = pixel_index();
+  const uint index = invocation();  // one per pixel, rows one after the other
   if (index >= width * height) return;
   const ivec2 p = ivec2(index % width, index / width);
   const float d = screen.depth_in.v[index];

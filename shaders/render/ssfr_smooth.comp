@@ -11,7 +11,7 @@ float infinity() { return uintBitsToFloat(0x7f800000u); }
 
 void main() {
   const uint width = screen.frame.width, height = screen.frame.height;
-  const uint index = pixel_index();
+  const uint index = invocation();  // one per pixel, rows one after the other
   if (index >= width * height) return;
   const uvec2 p = uvec2(index % width, index / width);
   const float centre = screen.depth_in.v[index];

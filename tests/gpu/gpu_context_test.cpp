@@ -67,11 +67,27 @@ TEST_F(GpuContextTest, SmallBuffersShareABlockAndLargeOnesGetTheirOwn) {
     std::vector<Buffer> small;
     for (int k = 0; k < 200; ++k) small.emplace_back(context(), 4096, MemoryDomain::device);
     EXPECT_LE(memory.block_count(), blocks_before + 1);
-    const Buffer large(context(), MemoryAllocator::kBlockSize + 1, MemoryDomain::device);
-    EXPECT_LE(memory.block_count(), blocks_before + 2);
-    EXPECT_GE(large.size(), MemoryAllocator::kBlockSize + 1);
+    const std::size_t with_small = memory.block_count();
+    {
+      const Buffer large(context(), MemoryAllocator::kBlockSize + 1, MemoryDomain::device);
+      EXPECT_EQ(memory.block_count(), with_small + 1);
+      EXPECT_GE(large.size(), MemoryAllocator::kBlockSize + 1);
+    }
+    EXPECT_EQ(memory.block_count(), with_small);  // a block of its own goes back at once
   }
-  EXPECT_EQ(memory.block_count(), blocks_before);  // empty blocks go back to the driver
+  // At most one empty standard block per memory type stays.
+  EXPECT_LE(memory.block_count(), blocks_before + 1);
+}
+
+// Staging buffers come and go with every upload and snapshot: their memory must not.
+TEST_F(GpuContextTest, ShortLivedBuffersDoNotAllocateMemoryEachTime) {
+  MemoryAllocator& memory = context().memory();
+  const std::uint64_t before = memory.allocations_made();
+  for (int k = 0; k < 20; ++k) {
+    const Buffer staging(context(), 4096, MemoryDomain::upload);
+    staging.mapped<std::uint32_t>()[0] = 7u;
+  }
+  EXPECT_LE(memory.allocations_made(), before + 1);
 }
 
 TEST_F(GpuContextTest, ValidationErrorsAreCollected) {

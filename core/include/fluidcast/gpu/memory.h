@@ -59,21 +59,21 @@ class MemoryAllocator {
   MemoryAllocator(const MemoryAllocator&) = delete;
   MemoryAllocator& operator=(const MemoryAllocator&) = delete;
 
-  // Requests larger than a block get a block of their own. Every block allows buffer device
+  // Requests larger than a block get a block of their own, freed with it; of standard blocks that
+  // empty, one per memory type is kept for the next request. Every block allows buffer device
   // addresses. Throws VulkanError (VK_ERROR_OUT_OF_DEVICE_MEMORY and the like) when memory runs
   // out.
   Allocation allocate(const VkMemoryRequirements& requirements, MemoryDomain domain);
 
-  // Bytes in blocks of device memory now, and how many blocks.
-  VkDeviceSize device_bytes() const;
+  // How many blocks of memory are allocated now, and how many vkAllocateMemory calls so far.
   std::size_t block_count() const;
+  std::uint64_t allocations_made() const;
 
  private:
   friend class Allocation;
   struct Block {
     UniqueMemory memory;
     std::uint32_t type = 0;
-    bool device_local = false;
     void* mapped = nullptr;
     std::unique_ptr<RangeAllocator> ranges;  // null once the block is freed
   };
@@ -84,6 +84,7 @@ class MemoryAllocator {
   VkPhysicalDeviceMemoryProperties properties_{};
   mutable std::mutex mutex_;
   std::vector<Block> blocks_;
+  std::uint64_t allocations_made_ = 0;
 };
 
 }  // namespace fluidcast::gpu
