@@ -14,8 +14,12 @@ packages=(
   glslang-tools spirv-tools
   # frames: JPEG through TurboJPEG, PNG for tests and tools
   libturbojpeg0-dev libpng-dev
-  # thread pools (Asio), later HTTP and WebSocket (Beast)
+  # thread pools (Asio), HTTP and WebSocket (Beast)
   libboost-dev
+  # the wire protocol: gRPC (health and reflection included) and protobuf
+  libgrpc++-dev libprotobuf-dev protobuf-compiler protobuf-compiler-grpc
+  # JSON: the headless client's report and gesture scripts
+  nlohmann-json3-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
 )

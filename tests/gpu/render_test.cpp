@@ -255,6 +255,7 @@ TEST_F(RenderTest, NarrowRangeFilterSmoothsAndDiffersFromBilateral) {
   renderer.ssfr.smoothing_passes = 0;
   const auto raw = renderer.render(RendererKind::ssfr, view, solver->tank(), camera);
   renderer.ssfr.smoothing_passes = 2;
+  renderer.ssfr.filter = SsfrStyle::DepthFilter::bilateral;
   const auto bilateral = renderer.render(RendererKind::ssfr, view, solver->tank(), camera);
   renderer.ssfr.filter = SsfrStyle::DepthFilter::narrow_range;
   const auto narrow = renderer.render(RendererKind::ssfr, view, solver->tank(), camera);

@@ -16,9 +16,9 @@ FrameWriter::FrameWriter(const SimOptions& options, gpu::Context& context,
   if (options.colour_by_density) {
     renderer_.points.colour_by = render::PointsStyle::ColourBy::density;
   }
-  if (options.narrow_range_filter) {
-    renderer_.ssfr.filter = render::SsfrStyle::DepthFilter::narrow_range;
-  }
+  renderer_.ssfr.filter = options.narrow_range_filter
+                              ? render::SsfrStyle::DepthFilter::narrow_range
+                              : render::SsfrStyle::DepthFilter::bilateral;
   const sim::Box& tank = solver.tank();
   camera_.target = 0.5f * (tank.min + tank.max);
   camera_.distance = 1.2f * glm::length(tank.size());

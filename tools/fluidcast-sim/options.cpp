@@ -73,10 +73,10 @@ ParseOutcome parse_sim_options(int argc, char** argv) {
                  "auto (mc below 5000 particles, else ssfr), ssfr (screen-space fluid), mc "
                  "(Marching Cubes) or points (spheres coloured by speed)")
       ->capture_default_str();
-  std::string ssfr_filter = "bilateral";
+  std::string ssfr_filter = "narrow";
   app.add_option("--ssfr-filter", ssfr_filter,
-                 "SSFR depth filter: bilateral (van der Laan 2009) or narrow (the depth-range "
-                 "limit of Truong & Yuksel 2018)")
+                 "SSFR depth filter: bilateral (van der Laan 2009) or narrow (the narrow-range "
+                 "filter of Truong & Yuksel 2018)")
       ->capture_default_str();
   std::string colour_by = "speed";
   app.add_option("--colour-by", colour_by, "points renderer: speed or density")

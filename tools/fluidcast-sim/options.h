@@ -30,7 +30,7 @@ struct SimOptions {
   std::string video_path;  // --video: the rendered frames through ffmpeg into this file
   std::int64_t render_every = 2;
   std::string renderer = "auto";
-  bool narrow_range_filter = false;  // --ssfr-filter narrow
+  bool narrow_range_filter = true;  // --ssfr-filter narrow (else bilateral)
   bool colour_by_density = false;    // --colour-by density (points)
   int width = 640, height = 360;
   std::optional<std::array<float, 3>> camera;  // yaw, pitch (degrees), distance (m)

@@ -51,16 +51,18 @@ struct PointsStyle {
 };
 
 struct SsfrStyle {
-  // bilateral: van der Laan et al. (2009); narrow_range: the depth-range limit of Truong &
-  // Yuksel (2018), which keeps separate surfaces apart and rounds silhouettes off.
+  // bilateral: van der Laan et al. (2009); narrow_range: Truong & Yuksel (2018) — a narrow,
+  // growing depth range with symmetric pairs, which keeps separate surfaces apart and rounds
+  // silhouettes off (shaders/render/ssfr_smooth.comp says how).
   enum class DepthFilter { bilateral, narrow_range };
-  DepthFilter filter = DepthFilter::bilateral;
+  DepthFilter filter = DepthFilter::narrow_range;  // smoother and fewer streaks (docs/images)
   // Of the depth filter, in particle radii (a length in the scene: view-invariant).
   float smoothing_radii = 4.0f;
   // Rounds of the separable filter (x then y): more is smoother and costs more.
   int smoothing_passes = 2;
   // Depth difference, in particle radii, that the filter treats as a different surface (bilateral:
-  // the range weight's scale; narrow range: the range itself).
+  // the range weight's scale; narrow range: the range's initial half-width and its growth per
+  // accepted sample).
   float depth_falloff_radii = 2.0f;
   // Beer–Lambert absorption per metre of water: red goes first, so thick water turns blue-green.
   glm::vec3 absorption{6.0f, 1.8f, 0.9f};
@@ -70,7 +72,7 @@ struct SsfrStyle {
 struct RenderTimes {
   double scene_ms = 0;      // the ray-cast tank, floor and sky
   double particles_ms = 0;  // points: the spheres; SSFR: surface depth and thickness
-  double smoothing_ms = 0;  // SSFR: the bilateral filter passes
+  double smoothing_ms = 0;  // SSFR: the depth filter passes
   double shading_ms = 0;    // SSFR: normals and shading (and the copy of the scene it refracts)
   double readback_ms = 0;   // the copy of the finished frame to host-visible memory
 };
