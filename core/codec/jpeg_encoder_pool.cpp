@@ -1,6 +1,7 @@
 #include "fluidcast/codec/jpeg_encoder_pool.h"
 
 #include <boost/asio/post.hpp>
+#include <chrono>
 #include <memory>
 #include <thread>
 
@@ -19,11 +20,32 @@ JpegEncoderPool::~JpegEncoderPool() { pool_.join(); }
 
 std::future<std::vector<std::uint8_t>> JpegEncoderPool::encode(ImageRgba image,
                                                                JpegOptions options) {
-  auto task = std::make_shared<std::packaged_task<std::vector<std::uint8_t>()>>(
-      [image = std::move(image), options] { return encode_jpeg(image, options); });
-  auto result = task->get_future();
-  boost::asio::post(pool_, [task] { (*task)(); });
+  auto promise = std::make_shared<std::promise<std::vector<std::uint8_t>>>();
+  auto result = promise->get_future();
+  encode(std::move(image), options,
+         [promise](std::vector<std::uint8_t> jpeg, double, std::exception_ptr error) {
+           if (error) {
+             promise->set_exception(error);
+           } else {
+             promise->set_value(std::move(jpeg));
+           }
+         });
   return result;
+}
+
+void JpegEncoderPool::encode(ImageRgba image, JpegOptions options, EncodeDone done) {
+  boost::asio::post(pool_, [image = std::move(image), options, done = std::move(done)] {
+    const auto start = std::chrono::steady_clock::now();
+    std::vector<std::uint8_t> jpeg;
+    std::exception_ptr error;
+    try {
+      jpeg = encode_jpeg(image, options);
+    } catch (...) {
+      error = std::current_exception();
+    }
+    const std::chrono::duration<double, std::milli> took = std::chrono::steady_clock::now() - start;
+    done(std::move(jpeg), took.count(), error);
+  });
 }
 
 }  // namespace fluidcast::codec

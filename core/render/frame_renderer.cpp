@@ -1,5 +1,7 @@
 #include "fluidcast/render/frame_renderer.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -68,7 +70,10 @@ FrameRenderer::FrameRenderer(gpu::Context& context, std::uint32_t width, std::ui
     *buffer = gpu::Buffer(context, per_pixel, gpu::MemoryDomain::device);
   }
   slots_.reserve(kFramesInFlight);
-  for (std::size_t k = 0; k < kFramesInFlight; ++k) slots_.emplace_back(context, per_pixel);
+  // Each read-back slot holds the frame and, after it, the probed surface distance.
+  for (std::size_t k = 0; k < kFramesInFlight; ++k) {
+    slots_.emplace_back(context, per_pixel + sizeof(float));
+  }
 }
 
 FrameRenderer::Slot::Slot(gpu::Context& context, std::uint64_t bytes)
@@ -103,8 +108,19 @@ codec::ImageRgba FrameRenderer::collect(Slot& slot) {
   times.readback_ms = slot.timestamps.elapsed_ms(marks - 2, marks - 1);
   last_times_ = times;
   codec::ImageRgba image(static_cast<int>(target_.width()), static_cast<int>(target_.height()));
-  std::memcpy(image.pixels.data(), slot.readback.mapped<std::uint8_t>().data(),
-              image.pixels.size());
+  const std::span<const std::uint8_t> bytes = slot.readback.mapped<std::uint8_t>();
+  std::memcpy(image.pixels.data(), bytes.data(), image.pixels.size());
+  last_probe_hit_.reset();
+  if (slot.probe) {
+    float distance = 0.0f;  // along the view axis, as the surface passes store it
+    std::memcpy(&distance, bytes.data() + image.pixels.size(), sizeof distance);
+    if (std::isfinite(distance)) {
+      const glm::vec2 ndc = 2.0f * *slot.probe - 1.0f;
+      const glm::vec4 in_view(ndc.x * distance / slot.projection[0][0],
+                              ndc.y * distance / slot.projection[1][1], -distance, 1.0f);
+      last_probe_hit_ = glm::vec3(glm::inverse(slot.view) * in_view);
+    }
+  }
   return image;
 }
 
@@ -142,6 +158,11 @@ std::uint64_t FrameRenderer::submit(RendererKind requested, const ParticleView& 
       ++dropped_;
     }
   }
+  if (probe && !(glm::all(glm::greaterThanEqual(*probe, glm::vec2(0.0f))) &&
+                 glm::all(glm::lessThanEqual(*probe, glm::vec2(1.0f))))) {
+    throw std::invalid_argument("renderer: the probe must lie in the frame, 0 to 1 each way");
+  }
+  slot.probe = kind == RendererKind::points ? std::nullopt : probe;
   record(slot.commands.begin(), kind, particles, tank, camera, slot);
   slot.commands.submit();
   slot.in_flight = true;
@@ -178,6 +199,8 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
   FrameParams frame{};
   frame.view = camera.view();
   frame.projection = camera.projection(float(width) / float(height));
+  slot.view = frame.view;
+  slot.projection = frame.projection;
   frame.inverse_view = glm::inverse(frame.view);
   frame.light_direction = frame.view * glm::vec4(glm::normalize(glm::vec3(0.3f, 1.0f, 0.5f)), 0.0f);
   frame.slow_colour = glm::vec4(points.slow_colour, 1.0f);
@@ -268,6 +291,12 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
     slot.timestamps.mark(commands);
     const VkBufferCopy copy{0, 0, pixels * 4};
     vkCmdCopyBuffer(commands, image_.get(), readback.get(), 1, &copy);
+    if (slot.probe) {
+      const auto x = std::min(width - 1, static_cast<std::uint32_t>(slot.probe->x * width));
+      const auto y = std::min(height - 1, static_cast<std::uint32_t>(slot.probe->y * height));
+      const VkBufferCopy surface{(std::uint64_t{y} * width + x) * 4, pixels * 4, 4};
+      vkCmdCopyBuffer(commands, depth_.get(), readback.get(), 1, &surface);
+    }
   }
   slot.timestamps.mark(commands);
   // The solver's next step, or the next upload of a CPU solver's particles, writes what this

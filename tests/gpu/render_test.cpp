@@ -344,3 +344,32 @@ TEST_F(RenderTest, StrongerAbsorptionDarkensTheWater) {
 
 }  // namespace
 }  // namespace fluidcast::render
+
+// Looking straight down into a pool: the probe under the frame's centre meets the water's surface
+// there; a probe beside the tank meets nothing; points draw no surface to probe.
+TEST_F(RenderTest, TheProbeFindsTheSurfaceUnderAPoint) {
+  auto pool = drop_of(3000);
+  ParticleSource source(context());
+  const ParticleView view = source.view_of(*pool);
+  FrameRenderer renderer(context(), 160, 90);
+  OrbitCamera camera = camera_on(pool->tank(), 2.0f);
+  camera.pitch_degrees = 89.0f;
+  renderer.probe = glm::vec2(0.5f, 0.5f);
+  renderer.render(RendererKind::ssfr, view, pool->tank(), camera);
+  const auto hit = renderer.last_probe_hit();
+  ASSERT_TRUE(hit.has_value());
+  const glm::vec3 centre = 0.5f * (pool->tank().min + pool->tank().max);
+  const float spacing = pool->scene().spacing;
+  EXPECT_NEAR(hit->x, centre.x, 2 * spacing);
+  EXPECT_NEAR(hit->z, centre.z, 2 * spacing);
+  EXPECT_NEAR(hit->y, pool->scene().params.pool_height, 2 * spacing);
+  renderer.probe = glm::vec2(0.5f, 0.02f);
+  renderer.render(RendererKind::ssfr, view, pool->tank(), camera);
+  EXPECT_FALSE(renderer.last_probe_hit().has_value());
+  renderer.probe = glm::vec2(0.5f, 0.5f);
+  renderer.render(RendererKind::points, view, pool->tank(), camera);
+  EXPECT_FALSE(renderer.last_probe_hit().has_value());
+  renderer.probe = glm::vec2(1.5f, 0.5f);
+  EXPECT_THROW(renderer.render(RendererKind::ssfr, view, pool->tank(), camera),
+               std::invalid_argument);
+}

@@ -5,6 +5,8 @@
 
 #include <boost/asio/thread_pool.hpp>
 #include <cstdint>
+#include <exception>
+#include <functional>
 #include <future>
 #include <vector>
 
@@ -25,6 +27,11 @@ class JpegEncoderPool {
 
   // The future holds the JPEG, or the exception encoding threw (bad options, say).
   std::future<std::vector<std::uint8_t>> encode(ImageRgba image, JpegOptions options);
+  // The same, for a caller that must not wait: `done` runs on a pool thread with the JPEG and
+  // the milliseconds encoding took, or with the exception it threw (then the JPEG is empty).
+  using EncodeDone =
+      std::function<void(std::vector<std::uint8_t> jpeg, double milliseconds, std::exception_ptr)>;
+  void encode(ImageRgba image, JpegOptions options, EncodeDone done);
 
  private:
   unsigned threads_;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <deque>
+#include <optional>
 #include <glm/glm.hpp>
 #include <memory>
 #include <string_view>
@@ -92,6 +93,9 @@ class FrameRenderer {
   PointsStyle points;
   SsfrStyle ssfr;
   McStyle mc;
+  // A point of the frame, normalised (0 to 1 from the top-left), where the next frames also read
+  // back the fluid's surface: where a finger touches the fluid (SSFR and MC; not points).
+  std::optional<glm::vec2> probe;
 
   // A ring of read-back slots: frame N is copied to the host while frame N+1 renders.
   static constexpr std::size_t kFramesInFlight = 2;
@@ -109,6 +113,9 @@ class FrameRenderer {
   std::uint64_t frames_dropped() const { return dropped_; }
   // The passes of the frame most recently taken or kept.
   const RenderTimes& last_times() const { return last_times_; }
+  // Where, in the scene, that frame's probe met the fluid's (smoothed) surface; nothing when it
+  // had no probe, drew points, or the probe missed the fluid.
+  std::optional<glm::vec3> last_probe_hit() const { return last_probe_hit_; }
 
   // submit() then take_oldest(): one frame, waited for.
   codec::ImageRgba render(RendererKind kind, const ParticleView& particles, const sim::Box& tank,
@@ -122,6 +129,8 @@ class FrameRenderer {
     gpu::TimestampQueries timestamps;
     bool in_flight = false;
     std::uint64_t frame = 0;
+    std::optional<glm::vec2> probe;  // where this frame read the surface back, if it did
+    glm::mat4 view{1.0f}, projection{1.0f};
   };
   void record(VkCommandBuffer commands, RendererKind kind, const ParticleView& particles,
               const sim::Box& tank, const OrbitCamera& camera, Slot& slot);
@@ -141,6 +150,7 @@ class FrameRenderer {
   std::deque<codec::ImageRgba> kept_;  // finished frames collected early, oldest first
   std::uint64_t dropped_ = 0;
   RenderTimes last_times_;
+  std::optional<glm::vec3> last_probe_hit_;
 };
 
 }  // namespace fluidcast::render

@@ -1,0 +1,37 @@
+// Raw pointer events become gestures (DESIGN.md §5): one finger drags the fluid, two fingers orbit
+// (moving together) and zoom (pinching) the camera. Positions are normalised to the frame.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+
+#include <glm/glm.hpp>
+
+#include "fluidcast/v1/fluidcast.pb.h"
+
+namespace fluidcast::server {
+
+struct GestureChange {
+  bool drag_started = false;  // a single finger went down: grab the surface under it
+  float yaw_degrees = 0.0f;   // two fingers: add to the camera's yaw and pitch
+  float pitch_degrees = 0.0f;
+  float zoom = 1.0f;  // two fingers: multiply the camera's distance
+};
+
+class Gestures {
+ public:
+  // Degrees of orbit for two fingers moving across the whole frame.
+  static constexpr float kOrbitDegreesPerFrame = 180.0f;
+
+  GestureChange apply(const v1::PointerEvent& event);
+  // Where the dragging finger is; nothing when no single finger drags.
+  std::optional<glm::vec2> drag() const;
+
+ private:
+  std::map<std::uint32_t, glm::vec2> pointers_;
+  // Set once a second finger joined; the finger left behind does not drag until all are up.
+  bool multi_touch_ = false;
+};
+
+}  // namespace fluidcast::server

@@ -1,0 +1,40 @@
+// The server's counters and timings, shown in Prometheus text format on GET /metrics.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <mutex>
+#include <string>
+
+namespace fluidcast::server {
+
+// Milliseconds, bucketed: what Prometheus calls a histogram.
+class Histogram {
+ public:
+  static constexpr std::array<double, 12> kBounds = {0.25, 0.5, 1, 2, 4, 8, 16, 32, 64, 128, 256, 512};
+  void observe(double milliseconds);
+  void write(std::string& out, const std::string& name, const std::string& help) const;
+
+ private:
+  mutable std::mutex mutex_;
+  std::array<std::uint64_t, kBounds.size() + 1> counts_{};
+  double sum_ = 0.0;
+};
+
+struct Metrics {
+  std::atomic<std::uint64_t> sessions{0};
+  std::atomic<std::uint64_t> viewers{0};
+  std::atomic<std::uint64_t> frames_sent{0};
+  std::atomic<std::uint64_t> frames_dropped{0};  // replaced before a slow viewer read them
+  std::atomic<std::uint64_t> frames_skipped{0};  // not rendered: the viewer had enough in flight
+  std::atomic<std::uint64_t> bytes_sent{0};
+  std::atomic<std::uint64_t> streams_refused{0};
+  std::atomic<std::uint64_t> gpu_memory_bytes{0};
+  Histogram sim_ms, render_ms, readback_ms, encode_ms, round_trip_ms;
+
+  std::string prometheus_text() const;
+};
+
+}  // namespace fluidcast::server

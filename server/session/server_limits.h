@@ -1,0 +1,23 @@
+// What one server allows. Every limit has a flag and an environment variable (server/options.cpp)
+// and is sent to clients in Welcome and ServerInfo.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+
+namespace fluidcast::server {
+
+struct ServerLimits {
+  std::uint32_t max_sessions = 8;
+  std::uint32_t max_particles = 1 << 20;  // per session
+  std::uint32_t default_particles = 20000;
+  std::uint32_t max_width = 3840;
+  std::uint32_t max_height = 2160;
+  std::uint32_t target_fps = 60;  // sessions step and render at this rate
+  std::uint32_t max_fps = 120;
+  std::uint32_t max_viewers_per_session = 8;
+  std::uint32_t max_input_events_per_second = 400;  // per stream; a flood ends the stream
+  std::chrono::seconds resume_grace{30};  // a session without viewers lives this long
+};
+
+}  // namespace fluidcast::server

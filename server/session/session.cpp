@@ -1,0 +1,329 @@
+#include "session.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include "fluidcast/render/frame_renderer.h"
+#include "fluidcast/sim/param_spec.h"
+#include "fluidcast/sim/scene.h"
+
+namespace fluidcast::server {
+namespace {
+
+// Steps one tick may take to catch up with real time; past it the fluid runs slow instead.
+constexpr int kMaxStepsPerTick = 4;
+
+double total_ms(const sim::StageTimes& times) {
+  return times.grid_ms + times.predict_ms + times.solve_ms + times.velocity_ms +
+         times.viscosity_ms;
+}
+
+v1::Vec3 vec3(glm::vec3 v) {
+  v1::Vec3 out;
+  out.set_x(v.x);
+  out.set_y(v.y);
+  out.set_z(v.z);
+  return out;
+}
+
+}  // namespace
+
+Session::Session(std::string id, SessionSetup setup, SessionServices services)
+    : id_(std::move(id)), services_(services), source_(*services.context),
+      empty_since_(Clock::now()) {
+  rebuild(setup);
+}
+
+Session::~Session() = default;
+
+void Session::rebuild(SessionSetup setup) {
+  if (setup.particles == 0) setup.particles = services_.limits->default_particles;
+  sim::SceneParams scene;
+  scene.kind = setup.scene;
+  scene.particles = static_cast<int>(setup.particles);
+  sim::SolverParams params;
+  params.max_particles = static_cast<int>(services_.limits->max_particles);
+  params.threads = 1;  // the worker runs many sessions; one core each keeps them fair
+  try {
+    auto built = sim::build_scene(scene);
+    solver_ = services_.gpu_solver
+                  ? sim::make_gpu_solver(setup.solver, *services_.context, std::move(built), params)
+                  : sim::make_cpu_solver(setup.solver, std::move(built), params);
+  } catch (const sim::ParamError& e) {
+    throw Refusal(RefusalCode::resource_exhausted, e.what());
+  }
+  setup_ = setup;
+  lag_seconds_ = 0.0;
+  for (auto& [id, viewer] : viewers_) viewer->look_at(solver_->tank());
+}
+
+void Session::post(std::uint32_t viewer, v1::ClientMessage message) {
+  std::lock_guard lock(inbox_mutex_);
+  inbox_.emplace_back(viewer, std::move(message));
+}
+
+std::uint32_t Session::add_viewer(const v1::Hello& hello, std::shared_ptr<ViewerSink> sink) {
+  if (viewers_.size() >= services_.limits->max_viewers_per_session) {
+    throw Refusal(RefusalCode::resource_exhausted,
+                  "session " + id_ + " has its limit of " +
+                      std::to_string(services_.limits->max_viewers_per_session) + " viewers");
+  }
+  const std::uint32_t id = next_viewer_++;
+  auto viewer = std::make_unique<Viewer>(*services_.context, id, hello.viewport(), hello.quality(),
+                                         *services_.limits, std::move(sink));
+  viewer->look_at(solver_->tank());
+  if (hello.has_resume()) {
+    const auto kept = departed_.find(hello.resume().viewer_id());
+    if (kept != departed_.end()) {
+      viewer->camera() = kept->second;
+      departed_.erase(kept);
+    }
+  }
+  viewers_.emplace(id, std::move(viewer));
+  services_.metrics->viewers++;
+  return id;
+}
+
+void Session::remove_viewer(std::uint32_t id) {
+  const auto found = viewers_.find(id);
+  if (found == viewers_.end()) return;
+  departed_[id] = found->second->camera();
+  viewers_.erase(found);
+  services_.metrics->viewers--;
+  if (viewers_.empty()) empty_since_ = Clock::now();
+}
+
+void Session::end_all(const Refusal& why) {
+  for (auto& [id, viewer] : viewers_) viewer->sink().end(why);
+  services_.metrics->viewers -= viewers_.size();
+  viewers_.clear();
+}
+
+float Session::collider_radius() const {
+  return std::max(0.04f, 4.0f * solver_->scene().spacing);
+}
+
+v1::SessionState Session::state() const {
+  v1::SessionState state;
+  state.set_scene(std::string(sim::to_string(setup_.scene)));
+  state.set_solver(std::string(sim::to_string(setup_.solver)));
+  state.set_particles(static_cast<std::uint32_t>(solver_->particle_count()));
+  state.set_paused(paused_);
+  state.set_particle_spacing(solver_->scene().spacing);
+  *state.mutable_tank()->mutable_min() = vec3(solver_->tank().min);
+  *state.mutable_tank()->mutable_max() = vec3(solver_->tank().max);
+  return state;
+}
+
+v1::Snapshot Session::snapshot() const {
+  const sim::ParticleSet particles = solver_->snapshot();
+  v1::Snapshot snapshot;
+  snapshot.set_time(solver_->time());
+  *snapshot.mutable_gravity() = vec3(solver_->gravity());
+  snapshot.set_scene(std::string(sim::to_string(setup_.scene)));
+  snapshot.set_solver(std::string(sim::to_string(setup_.solver)));
+  snapshot.mutable_positions()->Reserve(static_cast<int>(3 * particles.size()));
+  snapshot.mutable_velocities()->Reserve(static_cast<int>(3 * particles.size()));
+  for (std::size_t k = 0; k < particles.size(); ++k) {
+    for (int axis = 0; axis < 3; ++axis) {
+      snapshot.add_positions(particles.position[k][axis]);
+      snapshot.add_velocities(particles.velocity[k][axis]);
+    }
+  }
+  return snapshot;
+}
+
+std::uint32_t Session::load(const v1::Snapshot& snapshot) {
+  const int values = snapshot.positions_size();
+  if (values % 3 != 0 || snapshot.velocities_size() != values) {
+    throw Refusal(RefusalCode::invalid_argument,
+                  "Snapshot: positions and velocities need three values per particle each");
+  }
+  const std::size_t count = static_cast<std::size_t>(values / 3);
+  if (count > services_.limits->max_particles) {
+    throw Refusal(RefusalCode::resource_exhausted,
+                  std::to_string(count) + " particles are more than this server's limit of " +
+                      std::to_string(services_.limits->max_particles));
+  }
+  std::vector<glm::vec3> positions(count), velocities(count);
+  for (std::size_t k = 0; k < count; ++k) {
+    for (int axis = 0; axis < 3; ++axis) {
+      positions[k][axis] = snapshot.positions(static_cast<int>(3 * k) + axis);
+      velocities[k][axis] = snapshot.velocities(static_cast<int>(3 * k) + axis);
+    }
+  }
+  const sim::Box tank = solver_->tank();
+  const glm::vec3 centre = 0.5f * (tank.min + tank.max);
+  solver_->remove_particles_in_sphere(centre, glm::length(tank.size()));
+  try {
+    solver_->add_particles(positions, velocities);
+    if (snapshot.has_gravity()) {
+      solver_->set_gravity({snapshot.gravity().x(), snapshot.gravity().y(), snapshot.gravity().z()});
+    }
+  } catch (const std::invalid_argument& e) {
+    solver_->reset();
+    throw Refusal(RefusalCode::invalid_argument, std::string("Snapshot: ") + e.what());
+  }
+  return static_cast<std::uint32_t>(count);
+}
+
+void Session::apply(Viewer& viewer, const v1::ClientMessage& message, Clock::time_point now) {
+  viewer.note_input(message.event_id());
+  switch (message.kind_case()) {
+    case v1::ClientMessage::kPointer:
+      viewer.apply_pointer(message.pointer());
+      break;
+    case v1::ClientMessage::kTilt:
+      solver_->set_gravity(viewer.gravity_from_tilt(message.tilt()));
+      break;
+    case v1::ClientMessage::kAck:
+      viewer.acknowledge(message.ack().sequence(), now);
+      if (viewer.round_trip_ms()) services_.metrics->round_trip_ms.observe(*viewer.round_trip_ms());
+      break;
+    case v1::ClientMessage::kCommand: {
+      const v1::Command& command = message.command();
+      SessionSetup setup = setup_;
+      switch (command.kind_case()) {
+        case v1::Command::kReset:
+          if (command.reset()) solver_->reset();
+          break;
+        case v1::Command::kPause:
+          paused_ = command.pause();
+          break;
+        case v1::Command::kScene:
+          setup.scene = sim::parse_scene(command.scene());
+          rebuild(setup);
+          break;
+        case v1::Command::kSolver:
+          setup.solver = sim::parse_solver(command.solver());
+          rebuild(setup);
+          break;
+        case v1::Command::kParticles:
+          setup.particles = command.particles();
+          rebuild(setup);
+          break;
+        case v1::Command::kQuality:
+          viewer.apply_quality(command.quality());
+          break;
+        case v1::Command::kViewport:
+          viewer.apply_viewport(command.viewport());
+          break;
+        case v1::Command::kCamera:
+          viewer.apply_camera(command.camera());
+          break;
+        case v1::Command::KIND_NOT_SET:
+          break;
+      }
+      break;
+    }
+    default:
+      break;
+  }
+}
+
+void Session::step(Clock::time_point now) {
+  const float dt = solver_->params().time_step;
+  const double elapsed =
+      last_tick_ == Clock::time_point{} ? dt : std::chrono::duration<double>(now - last_tick_).count();
+  last_tick_ = now;
+  std::vector<sim::Collider> colliders;
+  for (auto& [id, viewer] : viewers_) {
+    if (colliders.size() == sim::kMaxColliders) break;
+    if (auto collider = viewer->collider(collider_radius(), float(elapsed))) {
+      colliders.push_back(*collider);
+    }
+  }
+  solver_->set_colliders(colliders);
+  if (paused_) return;
+  lag_seconds_ = std::min(lag_seconds_ + elapsed, kMaxStepsPerTick * double(dt));
+  while (lag_seconds_ >= dt) {
+    solver_->step();
+    lag_seconds_ -= dt;
+  }
+}
+
+void Session::tick(Clock::time_point now) {
+  std::vector<std::pair<std::uint32_t, v1::ClientMessage>> inbox;
+  {
+    std::lock_guard lock(inbox_mutex_);
+    inbox.swap(inbox_);
+  }
+  for (auto& [id, message] : inbox) {
+    const auto found = viewers_.find(id);
+    if (found == viewers_.end()) continue;  // its stream ended meanwhile
+    try {
+      apply(*found->second, message, now);
+    } catch (const Refusal& refusal) {
+      found->second->sink().end(refusal);
+      remove_viewer(id);
+    } catch (const std::invalid_argument& e) {
+      found->second->sink().end(Refusal(RefusalCode::invalid_argument, e.what()));
+      remove_viewer(id);
+    }
+  }
+  // Frames submitted last tick are done by now: hand them to the encoders first.
+  for (auto& [id, viewer] : viewers_) {
+    while (auto finished = viewer->take_finished(now)) encode(*viewer, std::move(*finished));
+  }
+  const auto sim_start = Clock::now();
+  step(now);
+  const double sim_ms = services_.gpu_solver
+                            ? total_ms(solver_->stage_times())
+                            : std::chrono::duration<double, std::milli>(Clock::now() - sim_start).count();
+  solver_->clear_stage_times();
+  if (sim_ms > 0.0) services_.metrics->sim_ms.observe(sim_ms);
+  bool any_due = false;
+  for (auto& [id, viewer] : viewers_) any_due = any_due || viewer->due(now);
+  if (!any_due) {
+    for (auto& [id, viewer] : viewers_) {
+      if (viewer->throttled()) services_.metrics->frames_skipped++;
+    }
+    return;
+  }
+  const render::ParticleView particles = source_.view_of(*solver_);
+  for (auto& [id, viewer] : viewers_) {
+    if (!viewer->due(now)) {
+      if (viewer->throttled()) services_.metrics->frames_skipped++;
+      continue;
+    }
+    viewer->submit(particles, solver_->tank(),
+                   {viewer->newest_input(), solver_->time(), sim_ms, {}}, now);
+  }
+}
+
+void Session::encode(Viewer& viewer, Viewer::Finished frame) {
+  services_.metrics->render_ms.observe(frame.times.scene_ms + frame.times.particles_ms +
+                                       frame.times.smoothing_ms + frame.times.shading_ms);
+  services_.metrics->readback_ms.observe(frame.times.readback_ms);
+  auto message = std::make_shared<v1::ServerMessage>();
+  v1::Frame& out = *message->mutable_frame();
+  out.set_sequence(frame.sequence);
+  out.set_sim_time(frame.shows.sim_time);
+  out.set_width(static_cast<std::uint32_t>(frame.image.width));
+  out.set_height(static_cast<std::uint32_t>(frame.image.height));
+  out.set_input_event_id(frame.shows.input_event_id);
+  out.set_jpeg_quality(static_cast<std::uint32_t>(frame.jpeg_quality));
+  out.set_renderer(frame.shows.renderer);
+  v1::StageTimings& timings = *out.mutable_timings();
+  timings.set_sim_ms(static_cast<float>(frame.shows.sim_ms));
+  timings.set_render_ms(static_cast<float>(frame.times.scene_ms + frame.times.particles_ms +
+                                           frame.times.smoothing_ms + frame.times.shading_ms));
+  timings.set_readback_ms(static_cast<float>(frame.times.readback_ms));
+  codec::JpegOptions options;
+  options.quality = frame.jpeg_quality;
+  services_.encoders->encode(
+      std::move(frame.image), options,
+      [message, sink = viewer.shared_sink(), metrics = services_.metrics](
+          std::vector<std::uint8_t> jpeg, double milliseconds, std::exception_ptr error) {
+        if (error) return;  // options are ours and valid; nothing a client could fix
+        v1::Frame& encoded = *message->mutable_frame();
+        encoded.mutable_timings()->set_encode_ms(static_cast<float>(milliseconds));
+        metrics->encode_ms.observe(milliseconds);
+        metrics->bytes_sent += jpeg.size();
+        encoded.set_jpeg(jpeg.data(), jpeg.size());
+        metrics->frames_sent++;
+        if (!sink->deliver(message)) metrics->frames_dropped++;
+      });
+}
+
+}  // namespace fluidcast::server

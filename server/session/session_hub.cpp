@@ -1,0 +1,225 @@
+#include "session_hub.h"
+
+#include <chrono>
+#include <cstdio>
+#include <random>
+
+#include "fluidcast/render/frame_renderer.h"
+#include "fluidcast/sim/scene.h"
+#include "version.h"
+
+namespace fluidcast::server {
+
+SessionHub::SessionHub(gpu::Context& context, bool gpu_solver, ServerLimits limits,
+                       std::optional<std::string> token, Metrics& metrics)
+    : context_(&context),
+      gpu_solver_(gpu_solver),
+      limits_(limits),
+      token_(std::move(token)),
+      metrics_(&metrics),
+      session_seed_(std::random_device{}()),
+      worker_([this] { run(); }) {}
+
+SessionHub::~SessionHub() { stop(); }
+
+void SessionHub::stop() {
+  {
+    std::lock_guard lock(mutex_);
+    if (stopping_) return;
+    stopping_ = true;
+  }
+  wake_.notify_all();
+  worker_.join();
+}
+
+void SessionHub::post(std::function<void()> job) {
+  {
+    std::unique_lock lock(mutex_);
+    if (!closed_) {
+      jobs_.push_back(std::move(job));
+      lock.unlock();
+      wake_.notify_all();
+      return;
+    }
+  }
+  job();  // the worker has stopped: the job finds no session and says so
+}
+
+std::string SessionHub::new_session_id() {
+  // Unguessable enough that one client cannot join another's session by trying ids.
+  std::mt19937_64 random(session_seed_++ ^ static_cast<std::uint64_t>(
+                                               Clock::now().time_since_epoch().count()));
+  char text[33];
+  std::snprintf(text, sizeof text, "%016llx%016llx",
+                static_cast<unsigned long long>(random()),
+                static_cast<unsigned long long>(random()));
+  return text;
+}
+
+std::shared_ptr<Session> SessionHub::find(const std::string& id) const {
+  const auto found = sessions_.find(id);
+  return found == sessions_.end() ? nullptr : found->second;
+}
+
+void SessionHub::open(v1::Hello hello, std::shared_ptr<ViewerSink> sink,
+                      std::function<void(Opened)> done) {
+  post([this, hello = std::move(hello), sink = std::move(sink), done = std::move(done)] {
+    Opened opened;
+    try {
+      if (closed_) throw Refusal(RefusalCode::unavailable, "the server is shutting down");
+      if (hello.has_join() || hello.has_resume()) {
+        const std::string& id = hello.has_join() ? hello.join() : hello.resume().session_id();
+        opened.session = find(id);
+        if (!opened.session) {
+          throw Refusal(RefusalCode::not_found,
+                        "there is no session " + id +
+                            " (it may have ended: sessions without viewers end after " +
+                            std::to_string(limits_.resume_grace.count()) + " s)");
+        }
+      } else {
+        if (sessions_.size() >= limits_.max_sessions) {
+          throw Refusal(RefusalCode::resource_exhausted,
+                        "this server runs its limit of " + std::to_string(limits_.max_sessions) +
+                            " sessions; join one or try later");
+        }
+        SessionSetup setup;
+        if (!hello.create().scene().empty()) setup.scene = sim::parse_scene(hello.create().scene());
+        if (!hello.create().solver().empty()) {
+          setup.solver = sim::parse_solver(hello.create().solver());
+        }
+        setup.particles = hello.create().particles();
+        const std::string id = new_session_id();
+        opened.session = std::make_shared<Session>(
+            id, setup, SessionServices{context_, gpu_solver_, &limits_, metrics_, &encoders_});
+        sessions_.emplace(id, opened.session);
+        session_count_ = static_cast<std::uint32_t>(sessions_.size());
+        metrics_->sessions = sessions_.size();
+      }
+      opened.viewer = opened.session->add_viewer(hello, sink);
+    } catch (const Refusal& refusal) {
+      opened.session.reset();
+      opened.refusal = refusal;
+    }
+    if (opened.refusal) {
+      done(std::move(opened));
+      return;
+    }
+    auto welcome = std::make_shared<v1::ServerMessage>();
+    welcome->mutable_welcome()->set_session_id(opened.session->id());
+    welcome->mutable_welcome()->set_viewer_id(opened.viewer);
+    *welcome->mutable_welcome()->mutable_state() = opened.session->state();
+    *welcome->mutable_welcome()->mutable_limits() = info().limits();
+    done(opened);
+    sink->deliver(welcome);
+  });
+}
+
+void SessionHub::close(std::shared_ptr<Session> session, std::uint32_t viewer) {
+  post([session = std::move(session), viewer] { session->remove_viewer(viewer); });
+}
+
+void SessionHub::snapshot(
+    std::string session_id,
+    std::function<void(std::optional<v1::Snapshot>, std::optional<Refusal>)> done) {
+  post([this, session_id = std::move(session_id), done = std::move(done)] {
+    const auto session = find(session_id);
+    if (!session || closed_) {
+      done(std::nullopt, Refusal(RefusalCode::not_found, "there is no session " + session_id));
+      return;
+    }
+    done(session->snapshot(), std::nullopt);
+  });
+}
+
+void SessionHub::load(std::string session_id, v1::Snapshot snapshot,
+                      std::function<void(std::uint32_t, std::optional<Refusal>)> done) {
+  post([this, session_id = std::move(session_id), snapshot = std::move(snapshot),
+        done = std::move(done)] {
+    const auto session = find(session_id);
+    if (!session || closed_) {
+      done(0, Refusal(RefusalCode::not_found, "there is no session " + session_id));
+      return;
+    }
+    try {
+      done(session->load(snapshot), std::nullopt);
+    } catch (const Refusal& refusal) {
+      done(0, refusal);
+    }
+  });
+}
+
+v1::ServerInfo SessionHub::info() const {
+  v1::ServerInfo info;
+  info.set_version(kVersion);
+  info.set_device(context_->info().name);
+  v1::ServerLimits& limits = *info.mutable_limits();
+  limits.set_max_sessions(limits_.max_sessions);
+  limits.set_max_particles(limits_.max_particles);
+  limits.set_max_width(limits_.max_width);
+  limits.set_max_height(limits_.max_height);
+  limits.set_max_fps(limits_.max_fps);
+  limits.set_max_viewers_per_session(limits_.max_viewers_per_session);
+  limits.set_max_input_events_per_second(limits_.max_input_events_per_second);
+  limits.set_resume_grace_seconds(static_cast<std::uint32_t>(limits_.resume_grace.count()));
+  for (auto name : sim::scene_names()) info.add_scenes(std::string(name));
+  for (auto name : sim::solver_names()) info.add_solvers(std::string(name));
+  for (auto name : render::renderer_names()) info.add_renderers(std::string(name));
+  info.set_token_required(token_.has_value());
+  info.set_sessions(session_count_);
+  return info;
+}
+
+void SessionHub::tick_all(Clock::time_point now) {
+  for (auto it = sessions_.begin(); it != sessions_.end();) {
+    Session& session = *it->second;
+    try {
+      session.tick(now);
+    } catch (const std::exception& e) {
+      // A session that fails ends alone; the others go on.
+      std::fprintf(stderr, "session %s failed: %s\n", session.id().c_str(), e.what());
+      session.end_all(Refusal(RefusalCode::unavailable,
+                              std::string("the session failed on the server: ") + e.what()));
+    }
+    const bool expired = session.viewer_count() == 0 &&
+                         now - session.empty_since() > limits_.resume_grace;
+    it = expired ? sessions_.erase(it) : std::next(it);
+  }
+  session_count_ = static_cast<std::uint32_t>(sessions_.size());
+  metrics_->sessions = sessions_.size();
+  metrics_->gpu_memory_bytes = context_->memory().block_count() * gpu::MemoryAllocator::kBlockSize;
+}
+
+void SessionHub::run() {
+  const auto interval = std::chrono::duration_cast<Clock::duration>(
+      std::chrono::duration<double>(1.0 / limits_.target_fps));
+  auto next_tick = Clock::now();
+  for (;;) {
+    std::vector<std::function<void()>> jobs;
+    {
+      std::unique_lock lock(mutex_);
+      wake_.wait_until(lock, next_tick, [this] { return stopping_ || !jobs_.empty(); });
+      if (stopping_) break;
+      jobs.swap(jobs_);
+    }
+    for (auto& job : jobs) job();
+    const auto now = Clock::now();
+    if (now < next_tick) continue;
+    tick_all(now);
+    // Late ticks are not made up: the next one is an interval from now at the latest.
+    next_tick = std::max(next_tick + interval, now);
+  }
+  const Refusal stopping(RefusalCode::unavailable, "the server is shutting down");
+  for (auto& [id, session] : sessions_) session->end_all(stopping);
+  sessions_.clear();
+  // Jobs still queued get their answers: no session now.
+  std::vector<std::function<void()>> jobs;
+  {
+    std::lock_guard lock(mutex_);
+    closed_ = true;
+    jobs.swap(jobs_);
+  }
+  for (auto& job : jobs) job();
+  metrics_->sessions = 0;
+}
+
+}  // namespace fluidcast::server

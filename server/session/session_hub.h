@@ -1,0 +1,82 @@
+// The server's sessions and the one GPU worker thread that runs them (DESIGN.md §3): transports
+// call in from their own threads and never touch Vulkan; the worker never blocks on the network.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "session.h"
+
+namespace fluidcast::server {
+
+class SessionHub {
+ public:
+  // token: what Hello.token must be, when the server wants one.
+  SessionHub(gpu::Context& context, bool gpu_solver, ServerLimits limits,
+             std::optional<std::string> token, Metrics& metrics);
+  // Ends every stream with UNAVAILABLE and stops the worker.
+  ~SessionHub();
+  SessionHub(const SessionHub&) = delete;
+  SessionHub& operator=(const SessionHub&) = delete;
+
+  const ServerLimits& limits() const { return limits_; }
+  const std::optional<std::string>& token() const { return token_; }
+  Metrics& metrics() { return *metrics_; }
+
+  struct Opened {
+    std::shared_ptr<Session> session;  // null when refused
+    std::uint32_t viewer = 0;
+    std::optional<Refusal> refusal;
+  };
+  // For a validated Hello: creates, joins or resumes a session on the worker, sends the Welcome
+  // to `sink`, then calls `done` (on the worker's thread).
+  void open(v1::Hello hello, std::shared_ptr<ViewerSink> sink, std::function<void(Opened)> done);
+  // The viewer's stream ended (its session outlives it for the grace period).
+  void close(std::shared_ptr<Session> session, std::uint32_t viewer);
+
+  // Snapshots, for GetSnapshot / PutSnapshot; `done` runs on the worker's thread.
+  void snapshot(std::string session_id,
+                std::function<void(std::optional<v1::Snapshot>, std::optional<Refusal>)> done);
+  void load(std::string session_id, v1::Snapshot snapshot,
+            std::function<void(std::uint32_t particles, std::optional<Refusal>)> done);
+
+  v1::ServerInfo info() const;
+  // Ends every stream with UNAVAILABLE and stops the worker; idempotent.
+  void stop();
+
+ private:
+  void post(std::function<void()> job);
+  void run();
+  void tick_all(Clock::time_point now);
+  std::shared_ptr<Session> find(const std::string& id) const;  // worker thread
+  std::string new_session_id();
+
+  gpu::Context* context_;
+  bool gpu_solver_;
+  ServerLimits limits_;
+  std::optional<std::string> token_;
+  Metrics* metrics_;
+  codec::JpegEncoderPool encoders_;
+
+  // Worker state: only the worker touches it.
+  std::map<std::string, std::shared_ptr<Session>> sessions_;
+  std::uint64_t session_seed_;
+
+  mutable std::mutex mutex_;
+  std::condition_variable wake_;
+  std::vector<std::function<void()>> jobs_;
+  std::atomic<std::uint32_t> session_count_{0};
+  bool stopping_ = false;
+  bool closed_ = false;  // the worker has stopped: requests are refused at once
+  std::thread worker_;
+};
+
+}  // namespace fluidcast::server

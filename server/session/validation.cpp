@@ -1,0 +1,216 @@
+#include "validation.h"
+
+#include <cmath>
+#include <string_view>
+
+#include "fluidcast/render/frame_renderer.h"
+#include "fluidcast/sim/scene.h"
+#include "fluidcast/sim/solver.h"
+#include "refusal.h"
+
+namespace fluidcast::server {
+namespace {
+
+[[noreturn]] void refuse(RefusalCode code, const std::string& message) {
+  throw Refusal(code, message);
+}
+
+std::string text(std::uint32_t value) { return std::to_string(value); }
+
+bool finite(float value) { return std::isfinite(value); }
+
+void validate_scene(const std::string& scene) {
+  if (scene.empty()) return;
+  try {
+    sim::parse_scene(scene);
+  } catch (const std::exception& e) {
+    refuse(RefusalCode::invalid_argument, e.what());
+  }
+}
+
+void validate_solver(const std::string& solver) {
+  if (solver.empty()) return;
+  try {
+    sim::parse_solver(solver);
+  } catch (const std::exception& e) {
+    refuse(RefusalCode::invalid_argument, e.what());
+  }
+}
+
+void validate_particles(std::uint32_t particles, const ServerLimits& limits) {
+  if (particles > limits.max_particles) {
+    refuse(RefusalCode::resource_exhausted,
+           text(particles) + " particles are more than this server's limit of " +
+               text(limits.max_particles) + " per session");
+  }
+}
+
+void validate_camera(const v1::Camera& camera) {
+  if (!finite(camera.yaw_degrees()) || !finite(camera.pitch_degrees()) ||
+      !finite(camera.distance()) || !finite(camera.field_of_view_degrees())) {
+    refuse(RefusalCode::invalid_argument, "Camera: every value must be finite");
+  }
+  if (std::abs(camera.pitch_degrees()) > 89.0f) {
+    refuse(RefusalCode::invalid_argument, "Camera.pitch_degrees must lie within −89 to 89");
+  }
+  if (!(camera.distance() > 0.0f) || camera.distance() > 1000.0f) {
+    refuse(RefusalCode::invalid_argument, "Camera.distance must be above 0 and at most 1000 m");
+  }
+  const float fov = camera.field_of_view_degrees();
+  if (fov != 0.0f && (fov < 1.0f || fov > 170.0f)) {
+    refuse(RefusalCode::invalid_argument,
+           "Camera.field_of_view_degrees must be 0 (keep) or within 1 to 170");
+  }
+}
+
+void validate_pointer(const v1::PointerEvent& pointer) {
+  if (pointer.phase() == v1::PointerEvent::PHASE_UNSPECIFIED) {
+    refuse(RefusalCode::invalid_argument, "PointerEvent.phase must be DOWN, MOVE, UP or CANCEL");
+  }
+  if (pointer.pointer_id() >= 16) {
+    refuse(RefusalCode::invalid_argument, "PointerEvent.pointer_id must be below 16");
+  }
+  if (!finite(pointer.x()) || !finite(pointer.y()) || pointer.x() < 0.0f || pointer.x() > 1.0f ||
+      pointer.y() < 0.0f || pointer.y() > 1.0f) {
+    refuse(RefusalCode::invalid_argument,
+           "PointerEvent.x and .y are normalised to the frame: finite, 0 to 1");
+  }
+}
+
+void validate_tilt(const v1::Tilt& tilt) {
+  const float magnitude = std::sqrt(tilt.x() * tilt.x() + tilt.y() * tilt.y() + tilt.z() * tilt.z());
+  if (!std::isfinite(magnitude) || magnitude < 0.1f || magnitude > 200.0f) {
+    refuse(RefusalCode::invalid_argument,
+           "Tilt: the gravity vector must be finite with a magnitude of 0.1 to 200 m/s²");
+  }
+}
+
+void validate_command(const v1::Command& command, const ServerLimits& limits) {
+  switch (command.kind_case()) {
+    case v1::Command::kReset:
+    case v1::Command::kPause:
+      return;
+    case v1::Command::kScene:
+      if (command.scene().empty()) refuse(RefusalCode::invalid_argument, "Command.scene is empty");
+      return validate_scene(command.scene());
+    case v1::Command::kSolver:
+      if (command.solver().empty()) {
+        refuse(RefusalCode::invalid_argument, "Command.solver is empty");
+      }
+      return validate_solver(command.solver());
+    case v1::Command::kParticles:
+      if (command.particles() == 0) {
+        refuse(RefusalCode::invalid_argument, "Command.particles must be at least 1");
+      }
+      return validate_particles(command.particles(), limits);
+    case v1::Command::kQuality:
+      return validate_quality(command.quality(), limits);
+    case v1::Command::kViewport:
+      return validate_viewport(command.viewport(), limits);
+    case v1::Command::kCamera:
+      return validate_camera(command.camera());
+    case v1::Command::KIND_NOT_SET:
+      break;
+  }
+  refuse(RefusalCode::invalid_argument, "Command: no command was set");
+}
+
+}  // namespace
+
+void validate_token(const std::string& given, const std::optional<std::string>& token) {
+  if (token && given != *token) {
+    refuse(RefusalCode::unauthenticated,
+           given.empty() ? "this server needs a token: set Hello.token"
+                         : "the token is not this server's");
+  }
+}
+
+void validate_viewport(const v1::Viewport& viewport, const ServerLimits& limits) {
+  if (viewport.width() == 0 || viewport.height() == 0) {
+    refuse(RefusalCode::invalid_argument, "Viewport: width and height must be at least 1 pixel");
+  }
+  if (viewport.width() > limits.max_width || viewport.height() > limits.max_height) {
+    refuse(RefusalCode::resource_exhausted,
+           "Viewport " + text(viewport.width()) + "×" + text(viewport.height()) +
+               " is beyond this server's limit of " + text(limits.max_width) + "×" +
+               text(limits.max_height));
+  }
+}
+
+void validate_quality(const v1::Quality& quality, const ServerLimits& limits) {
+  if (quality.jpeg_quality() > 100) {
+    refuse(RefusalCode::invalid_argument, "Quality.jpeg_quality must be 0 (default) or 1 to 100");
+  }
+  if (quality.max_fps() > limits.max_fps) {
+    refuse(RefusalCode::invalid_argument, "Quality.max_fps must be 0 (default) or 1 to " +
+                                              text(limits.max_fps));
+  }
+  if (!quality.renderer().empty()) {
+    try {
+      render::parse_renderer(quality.renderer());
+    } catch (const std::exception& e) {
+      refuse(RefusalCode::invalid_argument, std::string("Quality.renderer: ") + e.what());
+    }
+  }
+}
+
+void validate_hello(const v1::ClientMessage& message, const ServerLimits& limits,
+                    const std::optional<std::string>& token) {
+  if (!message.has_hello()) {
+    refuse(RefusalCode::failed_precondition, "the first message of a stream must be a Hello");
+  }
+  const v1::Hello& hello = message.hello();
+  validate_token(hello.token(), token);
+  if (!hello.has_viewport()) refuse(RefusalCode::invalid_argument, "Hello.viewport is missing");
+  validate_viewport(hello.viewport(), limits);
+  validate_quality(hello.quality(), limits);
+  switch (hello.session_case()) {
+    case v1::Hello::kCreate:
+      validate_scene(hello.create().scene());
+      validate_solver(hello.create().solver());
+      validate_particles(hello.create().particles(), limits);
+      break;
+    case v1::Hello::kJoin:
+      if (hello.join().empty()) refuse(RefusalCode::invalid_argument, "Hello.join is empty");
+      break;
+    case v1::Hello::kResume:
+      if (hello.resume().session_id().empty()) {
+        refuse(RefusalCode::invalid_argument, "Hello.resume.session_id is empty");
+      }
+      break;
+    case v1::Hello::SESSION_NOT_SET:
+      break;
+  }
+}
+
+void validate_event(const v1::ClientMessage& message, const ServerLimits& limits) {
+  switch (message.kind_case()) {
+    case v1::ClientMessage::kHello:
+      refuse(RefusalCode::failed_precondition, "a stream takes one Hello, as its first message");
+    case v1::ClientMessage::kPointer:
+      return validate_pointer(message.pointer());
+    case v1::ClientMessage::kTilt:
+      return validate_tilt(message.tilt());
+    case v1::ClientMessage::kCommand:
+      return validate_command(message.command(), limits);
+    case v1::ClientMessage::kAck:
+      return;
+    case v1::ClientMessage::KIND_NOT_SET:
+      break;
+  }
+  refuse(RefusalCode::invalid_argument, "ClientMessage: no message kind was set");
+}
+
+InputRateLimit::InputRateLimit(std::uint32_t per_second)
+    : per_second_(per_second), tokens_(per_second), last_(std::chrono::steady_clock::now()) {}
+
+bool InputRateLimit::allow(std::chrono::steady_clock::time_point now) {
+  const std::chrono::duration<double> elapsed = now - last_;
+  last_ = now;
+  tokens_ = std::min(per_second_, tokens_ + elapsed.count() * per_second_);
+  if (tokens_ < 1.0) return false;
+  tokens_ -= 1.0;
+  return true;
+}
+
+}  // namespace fluidcast::server

@@ -1,0 +1,41 @@
+// Checks every client message at the transport adapter, before it reaches a session: what breaks
+// a rule of the protocol (proto/fluidcast/v1/fluidcast.proto) throws a Refusal naming the rule.
+#pragma once
+
+#include <chrono>
+#include <optional>
+#include <string>
+
+#include "fluidcast/v1/fluidcast.pb.h"
+#include "server_limits.h"
+
+namespace fluidcast::server {
+
+// The first message of a stream: a Hello with a token when the server wants one, a viewport and
+// quality within the limits, and a session to create (valid scene, solver and count), join or
+// resume.
+void validate_hello(const v1::ClientMessage& message, const ServerLimits& limits,
+                    const std::optional<std::string>& token);
+
+// Every later message: input within its ranges, never a second Hello.
+void validate_event(const v1::ClientMessage& message, const ServerLimits& limits);
+
+// Parts shared with the other requests.
+void validate_viewport(const v1::Viewport& viewport, const ServerLimits& limits);
+void validate_quality(const v1::Quality& quality, const ServerLimits& limits);
+void validate_token(const std::string& given, const std::optional<std::string>& token);
+
+// Input events allowed per second, with a burst of one second's worth: a token bucket.
+class InputRateLimit {
+ public:
+  explicit InputRateLimit(std::uint32_t per_second);
+  // False when the stream has sent more than the rate allows.
+  bool allow(std::chrono::steady_clock::time_point now);
+
+ private:
+  double per_second_;
+  double tokens_;
+  std::chrono::steady_clock::time_point last_;
+};
+
+}  // namespace fluidcast::server

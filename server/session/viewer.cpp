@@ -1,0 +1,189 @@
+#include "viewer.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace fluidcast::server {
+namespace {
+
+constexpr int kDefaultQuality = 80;
+constexpr int kLowestAdaptiveQuality = 35;
+constexpr std::uint32_t kSmallestAdaptiveHeight = 120;
+// Frames to wait for the probe to find the surface under a new finger before holding the fluid
+// at the depth of the camera's target instead.
+constexpr int kProbeFrames = 3;
+
+int quality_or_default(std::uint32_t quality) {
+  return quality == 0 ? kDefaultQuality : static_cast<int>(quality);
+}
+
+}  // namespace
+
+Viewer::Viewer(gpu::Context& context, std::uint32_t id, const v1::Viewport& viewport,
+               const v1::Quality& quality, const ServerLimits& limits,
+               std::shared_ptr<ViewerSink> sink)
+    : context_(&context), id_(id), limits_(&limits), sink_(std::move(sink)) {
+  apply_quality(quality);
+  apply_viewport(viewport);
+}
+
+void Viewer::resize(std::uint32_t width, std::uint32_t height) {
+  if (renderer_ && width == render_width_ && height == render_height_) return;
+  auto renderer = std::make_unique<render::FrameRenderer>(*context_, width, height);
+  if (renderer_) {
+    renderer->probe = renderer_->probe;
+    while (renderer_->frames_pending() > 0) renderer_->take_oldest();  // dropped: old size
+  }
+  in_flight_.clear();
+  renderer_ = std::move(renderer);
+  render_width_ = width;
+  render_height_ = height;
+}
+
+void Viewer::apply_viewport(const v1::Viewport& viewport) {
+  width_ = viewport.width();
+  height_ = viewport.height();
+  resize(width_, height_);
+}
+
+void Viewer::apply_quality(const v1::Quality& quality) {
+  requested_quality_ = jpeg_quality_ = quality_or_default(quality.jpeg_quality());
+  adaptive_ = quality.adaptive();
+  const std::uint32_t fps = quality.max_fps() == 0 ? limits_->target_fps : quality.max_fps();
+  frame_interval_ = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / fps));
+  renderer_kind_ = quality.renderer().empty() ? render::RendererKind::automatic
+                                              : render::parse_renderer(quality.renderer());
+  if (renderer_ && (render_width_ != width_ || render_height_ != height_)) resize(width_, height_);
+}
+
+void Viewer::apply_camera(const v1::Camera& camera) {
+  camera_.yaw_degrees = camera.yaw_degrees();
+  camera_.pitch_degrees = camera.pitch_degrees();
+  camera_.distance = camera.distance();
+  if (camera.field_of_view_degrees() != 0.0f) {
+    camera_.field_of_view_degrees = camera.field_of_view_degrees();
+  }
+}
+
+void Viewer::look_at(const sim::Box& tank) {
+  camera_.target = 0.5f * (tank.min + tank.max);
+  camera_.distance = 1.2f * glm::length(tank.size());
+}
+
+void Viewer::apply_pointer(const v1::PointerEvent& event) {
+  const GestureChange change = gestures_.apply(event);
+  if (change.drag_started) {
+    grab_depth_.reset();
+    probe_frames_ = 0;
+    collider_centre_.reset();
+  }
+  camera_.yaw_degrees = std::remainder(camera_.yaw_degrees + change.yaw_degrees, 360.0f);
+  camera_.pitch_degrees = std::clamp(camera_.pitch_degrees + change.pitch_degrees, -89.0f, 89.0f);
+  camera_.distance = std::clamp(camera_.distance * change.zoom, 0.05f, 1000.0f);
+}
+
+glm::vec3 Viewer::gravity_from_tilt(const v1::Tilt& tilt) const {
+  // The camera's axes in the world: right, up, and towards the viewer.
+  const glm::mat3 camera_to_world = glm::transpose(glm::mat3(camera_.view()));
+  return camera_to_world * glm::vec3(tilt.x(), tilt.y(), tilt.z());
+}
+
+std::optional<sim::Collider> Viewer::collider(float radius, float dt) {
+  const std::optional<glm::vec2> drag = gestures_.drag();
+  renderer_->probe = drag;
+  if (!drag) {
+    grab_depth_.reset();
+    collider_centre_.reset();
+    return std::nullopt;
+  }
+  if (!grab_depth_) {
+    if (probe_frames_ < kProbeFrames) return std::nullopt;  // the probe has not answered yet
+    grab_depth_ = camera_.distance;
+  }
+  const float aspect = float(render_width_) / float(render_height_);
+  const glm::mat4 projection = camera_.projection(aspect);
+  const glm::vec2 ndc = 2.0f * *drag - 1.0f;
+  const float depth = *grab_depth_;
+  const glm::vec4 in_view(ndc.x * depth / projection[0][0], ndc.y * depth / projection[1][1],
+                          -depth, 1.0f);
+  const glm::vec3 centre = glm::vec3(glm::inverse(camera_.view()) * in_view);
+  sim::Collider collider;
+  collider.centre = centre;
+  collider.radius = radius;
+  collider.velocity = collider_centre_ && dt > 0.0f ? (centre - *collider_centre_) / dt
+                                                    : glm::vec3(0.0f);
+  const float speed = glm::length(collider.velocity);
+  if (speed > 0.5f * sim::kMaxSpeed) collider.velocity *= 0.5f * sim::kMaxSpeed / speed;
+  collider_centre_ = centre;
+  return collider;
+}
+
+bool Viewer::throttled() const {
+  return acknowledges_ && sequence_ - acknowledged_ >= kMaxFramesInFlight;
+}
+
+bool Viewer::due(Clock::time_point now) const { return now >= next_frame_ && !throttled(); }
+
+void Viewer::submit(const render::ParticleView& particles, const sim::Box& tank, Shows shows,
+                    Clock::time_point now) {
+  next_frame_ = std::max(next_frame_ + frame_interval_, now);
+  const render::RendererKind kind = render::resolve(renderer_kind_, particles.count);
+  renderer_->submit(kind, particles, tank, camera_);
+  shows.renderer = kind == render::RendererKind::mc     ? "mc"
+                   : kind == render::RendererKind::ssfr ? "ssfr"
+                                                        : "points";
+  in_flight_.push_back(std::move(shows));
+}
+
+std::optional<Viewer::Finished> Viewer::take_finished(Clock::time_point now) {
+  if (in_flight_.empty()) return std::nullopt;
+  const bool probed = renderer_->probe.has_value();
+  codec::ImageRgba image = renderer_->take_oldest();
+  Finished finished{std::move(image), ++sequence_, std::move(in_flight_.front()),
+                    renderer_->last_times(), jpeg_quality_};
+  in_flight_.pop_front();
+  if (probed && !grab_depth_) {
+    ++probe_frames_;
+    if (const auto hit = renderer_->last_probe_hit()) {
+      grab_depth_ = -(camera_.view() * glm::vec4(*hit, 1.0f)).z;
+    }
+  }
+  produced_at_[finished.sequence % produced_at_.size()] = now;
+  return finished;
+}
+
+void Viewer::acknowledge(std::uint64_t sequence, Clock::time_point now) {
+  if (sequence == 0 || sequence > sequence_ || sequence <= acknowledged_) return;
+  acknowledges_ = true;
+  acknowledged_ = sequence;
+  if (sequence_ - sequence < produced_at_.size()) {
+    const std::chrono::duration<double, std::milli> rtt =
+        now - produced_at_[sequence % produced_at_.size()];
+    round_trip_ms_ = rtt.count();
+  }
+  adapt(now);
+}
+
+// Lower JPEG quality, then resolution, while frames queue up behind the client or the round
+// trip is long; raise them again, resolution first, when it keeps up. At most once per 250 ms.
+void Viewer::adapt(Clock::time_point now) {
+  if (!adaptive_ || now - last_adapted_ < std::chrono::milliseconds(250)) return;
+  last_adapted_ = now;
+  const bool behind = sequence_ - acknowledged_ >= 2 || round_trip_ms_.value_or(0.0) > 120.0;
+  const bool keeping_up = sequence_ - acknowledged_ <= 1 && round_trip_ms_.value_or(0.0) < 50.0;
+  if (behind) {
+    if (jpeg_quality_ > kLowestAdaptiveQuality) {
+      jpeg_quality_ = std::max(kLowestAdaptiveQuality, jpeg_quality_ - 10);
+    } else if (render_height_ > kSmallestAdaptiveHeight) {
+      resize(std::max(1u, render_width_ * 3 / 4), std::max(1u, render_height_ * 3 / 4));
+    }
+  } else if (keeping_up) {
+    if (render_width_ < width_) {
+      resize(std::min(width_, render_width_ * 4 / 3 + 1), std::min(height_, render_height_ * 4 / 3 + 1));
+    } else if (jpeg_quality_ < requested_quality_) {
+      jpeg_quality_ = std::min(requested_quality_, jpeg_quality_ + 5);
+    }
+  }
+}
+
+}  // namespace fluidcast::server

@@ -1,0 +1,117 @@
+// One client watching a session: its own camera, frame size, renderer and JPEG quality, its
+// gestures, and the flow control that keeps its latency low (DESIGN.md §1). Lives on the GPU
+// worker's thread; only its sink is reached from elsewhere.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <deque>
+#include <string>
+#include <memory>
+#include <optional>
+
+#include "fluidcast/render/camera.h"
+#include "fluidcast/render/frame_renderer.h"
+#include "fluidcast/sim/solver.h"
+#include "gestures.h"
+#include "server_limits.h"
+#include "viewer_sink.h"
+
+namespace fluidcast::server {
+
+using Clock = std::chrono::steady_clock;
+
+class Viewer {
+ public:
+  // Frames sent and not yet acknowledged, beyond which a viewer that acknowledges gets no new
+  // frame rendered: the newest frame wins, and a slow viewer gets fewer.
+  static constexpr std::uint64_t kMaxFramesInFlight = 3;
+
+  Viewer(gpu::Context& context, std::uint32_t id, const v1::Viewport& viewport,
+         const v1::Quality& quality, const ServerLimits& limits, std::shared_ptr<ViewerSink> sink);
+
+  std::uint32_t id() const { return id_; }
+  ViewerSink& sink() const { return *sink_; }
+  const std::shared_ptr<ViewerSink>& shared_sink() const { return sink_; }
+
+  // Input (validated already). Pointer events may move the camera or start a drag.
+  void apply_pointer(const v1::PointerEvent& event);
+  void apply_quality(const v1::Quality& quality);
+  void apply_viewport(const v1::Viewport& viewport);
+  void apply_camera(const v1::Camera& camera);
+  void acknowledge(std::uint64_t sequence, Clock::time_point now);
+  // The world's gravity for a device's measured one, through this viewer's camera.
+  glm::vec3 gravity_from_tilt(const v1::Tilt& tilt) const;
+  void look_at(const sim::Box& tank);
+
+  // The finger's sphere in the fluid, when a drag holds one (radius in metres).
+  std::optional<sim::Collider> collider(float radius, float dt);
+
+  // Whether to render a frame now: its rate is due and it does not have too many in flight.
+  bool due(Clock::time_point now) const;
+  bool throttled() const;
+  // What a frame shows, besides its pixels.
+  struct Shows {
+    std::uint64_t input_event_id = 0;  // the newest of this viewer's inputs applied
+    double sim_time = 0.0;
+    double sim_ms = 0.0;  // the simulation's time in the tick that drew it
+    std::string renderer;
+  };
+  struct Finished {
+    codec::ImageRgba image;
+    std::uint64_t sequence;
+    Shows shows;
+    render::RenderTimes times;
+    int jpeg_quality;
+  };
+  // Renders into the read-back ring; the GPU copies the frame to the host while the worker goes
+  // on with its next tick.
+  void submit(const render::ParticleView& particles, const sim::Box& tank, Shows shows,
+              Clock::time_point now);
+  // The oldest frame in the ring, waiting for it if need be (a tick after its submission it is
+  // done).
+  std::optional<Finished> take_finished(Clock::time_point now);
+  void note_input(std::uint64_t event_id) { newest_input_ = std::max(newest_input_, event_id); }
+  std::uint64_t newest_input() const { return newest_input_; }
+
+  render::OrbitCamera& camera() { return camera_; }
+  std::optional<double> round_trip_ms() const { return round_trip_ms_; }
+  std::uint32_t render_width() const { return render_width_; }
+  int jpeg_quality() const { return jpeg_quality_; }
+
+ private:
+  void adapt(Clock::time_point now);
+  void resize(std::uint32_t width, std::uint32_t height);
+
+  gpu::Context* context_;
+  std::uint32_t id_;
+  const ServerLimits* limits_;
+  std::shared_ptr<ViewerSink> sink_;
+  std::unique_ptr<render::FrameRenderer> renderer_;
+  std::uint32_t width_ = 0, height_ = 0;                  // as asked
+  std::uint32_t render_width_ = 0, render_height_ = 0;    // as rendered (adaptive may lower it)
+  render::OrbitCamera camera_;
+  render::RendererKind renderer_kind_ = render::RendererKind::automatic;
+  int requested_quality_ = 80, jpeg_quality_ = 80;
+  bool adaptive_ = false;
+  Clock::duration frame_interval_;
+  Clock::time_point next_frame_{};
+  Gestures gestures_;
+  // The drag: the view depth it holds the fluid at once the probe found the surface (or gave up).
+  std::optional<float> grab_depth_;
+  int probe_frames_ = 0;
+  std::optional<glm::vec3> collider_centre_;
+  std::deque<Shows> in_flight_;  // what each frame in the renderer's ring shows
+  std::uint64_t newest_input_ = 0;
+  // Flow control.
+  std::uint64_t sequence_ = 0;
+  std::uint64_t acknowledged_ = 0;
+  bool acknowledges_ = false;
+  std::array<Clock::time_point, 64> produced_at_{};
+  std::optional<double> round_trip_ms_;
+  Clock::time_point last_adapted_{};
+};
+
+}  // namespace fluidcast::server
