@@ -1,0 +1,67 @@
+#include "fluidcast_service.h"
+
+#include "status.h"
+#include "stream_reactor.h"
+
+namespace fluidcast::server {
+
+grpc::ServerBidiReactor<v1::ClientMessage, v1::ServerMessage>* FluidcastService::Stream(
+    grpc::CallbackServerContext*) {
+  return new StreamReactor(*hub_);  // deletes itself in OnDone
+}
+
+grpc::ServerUnaryReactor* FluidcastService::GetServerInfo(grpc::CallbackServerContext* context,
+                                                          const v1::GetServerInfoRequest*,
+                                                          v1::ServerInfo* reply) {
+  *reply = hub_->info();
+  auto* reactor = context->DefaultReactor();
+  reactor->Finish(grpc::Status::OK);
+  return reactor;
+}
+
+grpc::ServerUnaryReactor* FluidcastService::GetSnapshot(grpc::CallbackServerContext* context,
+                                                        const v1::SnapshotRequest* request,
+                                                        v1::Snapshot* reply) {
+  auto* reactor = context->DefaultReactor();
+  try {
+    validate_token(request->token(), hub_->token());
+  } catch (const Refusal& refusal) {
+    reactor->Finish(to_status(refusal));
+    return reactor;
+  }
+  hub_->snapshot(request->session_id(),
+                 [reactor, reply](std::optional<v1::Snapshot> snapshot,
+                                  std::optional<Refusal> refusal) {
+                   if (refusal) {
+                     reactor->Finish(to_status(*refusal));
+                     return;
+                   }
+                   *reply = std::move(*snapshot);
+                   reactor->Finish(grpc::Status::OK);
+                 });
+  return reactor;
+}
+
+grpc::ServerUnaryReactor* FluidcastService::PutSnapshot(grpc::CallbackServerContext* context,
+                                                        const v1::PutSnapshotRequest* request,
+                                                        v1::PutSnapshotReply* reply) {
+  auto* reactor = context->DefaultReactor();
+  try {
+    validate_token(request->token(), hub_->token());
+  } catch (const Refusal& refusal) {
+    reactor->Finish(to_status(refusal));
+    return reactor;
+  }
+  hub_->load(request->session_id(), request->snapshot(),
+             [reactor, reply](std::uint32_t particles, std::optional<Refusal> refusal) {
+               if (refusal) {
+                 reactor->Finish(to_status(*refusal));
+                 return;
+               }
+               reply->set_particles(particles);
+               reactor->Finish(grpc::Status::OK);
+             });
+  return reactor;
+}
+
+}  // namespace fluidcast::server

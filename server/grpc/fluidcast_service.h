@@ -1,0 +1,30 @@
+// The Fluidcast gRPC service (callback API): the Stream call and the unary requests, all handed to
+// the SessionHub.
+#pragma once
+
+#include "fluidcast/v1/fluidcast.grpc.pb.h"
+#include "session/session_hub.h"
+
+namespace fluidcast::server {
+
+class FluidcastService final : public v1::Fluidcast::CallbackService {
+ public:
+  explicit FluidcastService(SessionHub& hub) : hub_(&hub) {}
+
+  grpc::ServerBidiReactor<v1::ClientMessage, v1::ServerMessage>* Stream(
+      grpc::CallbackServerContext* context) override;
+  grpc::ServerUnaryReactor* GetServerInfo(grpc::CallbackServerContext* context,
+                                          const v1::GetServerInfoRequest* request,
+                                          v1::ServerInfo* reply) override;
+  grpc::ServerUnaryReactor* GetSnapshot(grpc::CallbackServerContext* context,
+                                        const v1::SnapshotRequest* request,
+                                        v1::Snapshot* reply) override;
+  grpc::ServerUnaryReactor* PutSnapshot(grpc::CallbackServerContext* context,
+                                        const v1::PutSnapshotRequest* request,
+                                        v1::PutSnapshotReply* reply) override;
+
+ private:
+  SessionHub* hub_;
+};
+
+}  // namespace fluidcast::server

@@ -1,0 +1,25 @@
+// A Refusal as a gRPC status.
+#pragma once
+
+#include <grpcpp/support/status.h>
+
+#include "session/refusal.h"
+
+namespace fluidcast::server {
+
+inline grpc::Status to_status(const Refusal& refusal) {
+  const grpc::StatusCode code = [&] {
+    switch (refusal.code()) {
+      case RefusalCode::invalid_argument: return grpc::StatusCode::INVALID_ARGUMENT;
+      case RefusalCode::unauthenticated: return grpc::StatusCode::UNAUTHENTICATED;
+      case RefusalCode::not_found: return grpc::StatusCode::NOT_FOUND;
+      case RefusalCode::resource_exhausted: return grpc::StatusCode::RESOURCE_EXHAUSTED;
+      case RefusalCode::failed_precondition: return grpc::StatusCode::FAILED_PRECONDITION;
+      case RefusalCode::unavailable: return grpc::StatusCode::UNAVAILABLE;
+    }
+    return grpc::StatusCode::INTERNAL;
+  }();
+  return grpc::Status(code, refusal.what());
+}
+
+}  // namespace fluidcast::server

@@ -1,0 +1,156 @@
+#include "stream_reactor.h"
+
+#include <mutex>
+
+#include "status.h"
+
+namespace fluidcast::server {
+
+// Holds at most the message being written and one waiting behind it; a newer frame replaces the
+// waiting one. Reached from the worker, the encoders and the reactions, so all under a lock.
+class GrpcViewerSink final : public ViewerSink {
+ public:
+  explicit GrpcViewerSink(StreamReactor* reactor) : reactor_(reactor) {}
+
+  bool deliver(std::shared_ptr<const v1::ServerMessage> message) override {
+    std::lock_guard lock(mutex_);
+    if (!reactor_ || finishing_) return true;
+    if (!writing_) {
+      start_write(std::move(message));
+      return true;
+    }
+    const bool replaced = waiting_ != nullptr;
+    waiting_ = std::move(message);
+    return !replaced;
+  }
+
+  void end(const Refusal& why) override { finish(to_status(why)); }
+
+  void finish(const grpc::Status& status) {
+    std::lock_guard lock(mutex_);
+    if (!reactor_ || finishing_) return;
+    finishing_ = true;
+    waiting_.reset();
+    if (writing_) {
+      status_after_write_ = status;
+    } else {
+      reactor_->Finish(status);
+    }
+  }
+
+  bool finishing() {
+    std::lock_guard lock(mutex_);
+    return finishing_;
+  }
+
+  void on_write_done(bool ok) {
+    std::lock_guard lock(mutex_);
+    writing_ = false;
+    writing_message_.reset();
+    if (!reactor_) return;
+    if (status_after_write_) {
+      reactor_->Finish(*status_after_write_);
+      status_after_write_.reset();
+      return;
+    }
+    if (!ok || finishing_) return;  // the stream broke: OnDone follows
+    if (waiting_) start_write(std::move(waiting_));
+  }
+
+  void detach() {
+    std::lock_guard lock(mutex_);
+    reactor_ = nullptr;
+  }
+
+  // The session opened (or was refused) on the worker; false when the stream is gone meanwhile,
+  // and then the viewer must be closed again.
+  bool opened(SessionHub::Opened& opened, Metrics& metrics) {
+    std::lock_guard lock(mutex_);
+    if (!reactor_ || finishing_) return false;
+    if (opened.refusal) {
+      metrics.streams_refused++;
+      finishing_ = true;
+      reactor_->Finish(to_status(*opened.refusal));
+      return true;
+    }
+    reactor_->on_opened(std::move(opened.session), opened.viewer);
+    return true;
+  }
+
+ private:
+  void start_write(std::shared_ptr<const v1::ServerMessage> message) {
+    writing_ = true;
+    writing_message_ = std::move(message);  // kept alive until the write is done
+    reactor_->StartWrite(writing_message_.get());
+  }
+
+  std::mutex mutex_;
+  StreamReactor* reactor_;
+  bool writing_ = false;
+  bool finishing_ = false;
+  std::shared_ptr<const v1::ServerMessage> writing_message_, waiting_;
+  std::optional<grpc::Status> status_after_write_;
+};
+
+StreamReactor::StreamReactor(SessionHub& hub)
+    : hub_(&hub),
+      sink_(std::make_shared<GrpcViewerSink>(this)),
+      rate_(hub.limits().max_input_events_per_second) {
+  StartRead(&incoming_);
+}
+
+void StreamReactor::refuse(const Refusal& refusal) {
+  hub_->metrics().streams_refused++;
+  sink_->end(refusal);
+}
+
+void StreamReactor::OnReadDone(bool ok) {
+  if (!ok) {  // the client closed its side, or the stream broke
+    sink_->finish(grpc::Status::OK);
+    return;
+  }
+  try {
+    if (!session_) {
+      validate_hello(incoming_, hub_->limits(), hub_->token());
+      // The next read starts once the session is open (on_opened).
+      hub_->open(incoming_.hello(), sink_,
+                 [sink = sink_, hub = hub_](SessionHub::Opened opened) {
+                   const auto session = opened.session;
+                   if (!sink->opened(opened, hub->metrics()) && session) {
+                     hub->close(session, opened.viewer);
+                   }
+                 });
+      return;
+    }
+    validate_event(incoming_, hub_->limits());
+    if (!incoming_.has_ack() && !rate_.allow(Clock::now())) {
+      throw Refusal(RefusalCode::resource_exhausted,
+                    "more than " + std::to_string(hub_->limits().max_input_events_per_second) +
+                        " input events per second");
+    }
+    session_->post(viewer_, std::move(incoming_));
+    incoming_.Clear();
+    if (!sink_->finishing()) StartRead(&incoming_);
+  } catch (const Refusal& refusal) {
+    refuse(refusal);
+  }
+}
+
+void StreamReactor::on_opened(std::shared_ptr<Session> session, std::uint32_t viewer) {
+  session_ = std::move(session);
+  viewer_ = viewer;
+  incoming_.Clear();
+  StartRead(&incoming_);
+}
+
+void StreamReactor::OnWriteDone(bool ok) { sink_->on_write_done(ok); }
+
+void StreamReactor::OnCancel() { sink_->finish(grpc::Status::CANCELLED); }
+
+void StreamReactor::OnDone() {
+  sink_->detach();
+  if (session_) hub_->close(session_, viewer_);
+  delete this;
+}
+
+}  // namespace fluidcast::server

@@ -1,0 +1,42 @@
+// One gRPC Stream call: validates what the client sends, hands it to its session, and writes the
+// session's frames — the newest wins, one write in flight (DESIGN.md §9: never Finish with a
+// write outstanding, never block in a reaction).
+#pragma once
+
+#include <grpcpp/grpcpp.h>
+
+#include <memory>
+
+#include "fluidcast/v1/fluidcast.grpc.pb.h"
+#include "session/session_hub.h"
+#include "session/validation.h"
+
+namespace fluidcast::server {
+
+class GrpcViewerSink;
+
+class StreamReactor final : public grpc::ServerBidiReactor<v1::ClientMessage, v1::ServerMessage> {
+ public:
+  explicit StreamReactor(SessionHub& hub);
+
+  void OnReadDone(bool ok) override;
+  void OnWriteDone(bool ok) override;
+  void OnCancel() override;
+  void OnDone() override;
+
+ private:
+  friend class GrpcViewerSink;
+  // Under the sink's lock, while the stream lives.
+  void on_opened(std::shared_ptr<Session> session, std::uint32_t viewer);
+  void refuse(const Refusal& refusal);
+
+  SessionHub* hub_;
+  std::shared_ptr<GrpcViewerSink> sink_;
+  v1::ClientMessage incoming_;
+  InputRateLimit rate_;
+  // Set once, on the worker's thread, before the next read starts; read by reactions after.
+  std::shared_ptr<Session> session_;
+  std::uint32_t viewer_ = 0;
+};
+
+}  // namespace fluidcast::server

@@ -1,0 +1,159 @@
+// fluidcast-server: headless. One GPU worker runs every session; gRPC serves the Stream and the
+// unary calls; HTTP serves /metrics and /healthz. SIGINT or SIGTERM: stop accepting, end every
+// stream with UNAVAILABLE, exit 0.
+#include <grpcpp/ext/proto_server_reflection_plugin.h>
+#include <grpcpp/grpcpp.h>
+#include <grpcpp/health_check_service_interface.h>
+#include <ifaddrs.h>
+#include <netinet/in.h>
+#include <arpa/inet.h>
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "fluidcast/gpu/context.h"
+#include "grpc/fluidcast_service.h"
+#include "options.h"
+#include "session/session_hub.h"
+#include "web/http_server.h"
+
+namespace fluidcast::server {
+namespace {
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::optional<std::string> read_token(const std::string& path) {
+  if (path.empty()) return std::nullopt;
+  std::ifstream in(path);
+  std::string token;
+  std::getline(in, token);
+  if (token.empty()) throw std::runtime_error("--token-file " + path + ": the first line is empty");
+  return token;
+}
+
+// The IPv4 addresses a phone on the LAN can reach.
+std::vector<std::string> lan_addresses() {
+  std::vector<std::string> addresses;
+  ifaddrs* list = nullptr;
+  if (getifaddrs(&list) != 0) return addresses;
+  for (ifaddrs* entry = list; entry; entry = entry->ifa_next) {
+    if (!entry->ifa_addr || entry->ifa_addr->sa_family != AF_INET) continue;
+    char text[INET_ADDRSTRLEN];
+    const auto* address = reinterpret_cast<sockaddr_in*>(entry->ifa_addr);
+    inet_ntop(AF_INET, &address->sin_addr, text, sizeof text);
+    if (std::string(text) != "127.0.0.1") addresses.emplace_back(text);
+  }
+  freeifaddrs(list);
+  return addresses;
+}
+
+bool gpu_solver_for(const ServerOptions& options, const gpu::Context& context) {
+  switch (options.backend) {
+    case SolverBackend::gpu: return true;
+    case SolverBackend::cpu: return false;
+    case SolverBackend::automatic: break;
+  }
+  return context.info().type != "cpu";
+}
+
+int serve(const ServerOptions& options) {
+  // Signals reach only the main thread, which waits for them below.
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+
+  gpu::ContextOptions context_options = gpu::options_from_environment();
+  if (options.device) context_options.device_index = options.device;
+  gpu::Context context(context_options);
+  const bool gpu_solver = gpu_solver_for(options, context);
+  std::printf("fluidcast-server: sessions simulate on the %s\n",
+              gpu_solver ? "GPU" : "CPU (the Vulkan device is a CPU; it renders only)");
+
+  Metrics metrics;
+  SessionHub hub(context, gpu_solver, options.limits, read_token(options.token_file), metrics);
+  FluidcastService service(hub);
+
+  grpc::EnableDefaultHealthCheckService(true);
+  grpc::reflection::InitProtoReflectionServerBuilderPlugin();
+  grpc::ServerBuilder builder;
+  std::shared_ptr<grpc::ServerCredentials> credentials = grpc::InsecureServerCredentials();
+  if (!options.tls_certificate.empty()) {
+    grpc::SslServerCredentialsOptions tls;
+    tls.pem_key_cert_pairs.push_back(
+        {read_file(options.tls_key), read_file(options.tls_certificate)});
+    credentials = grpc::SslServerCredentials(tls);
+  }
+  int grpc_port = 0;
+  const std::string grpc_address = options.listen + ":" + std::to_string(options.grpc_port);
+  builder.AddListeningPort(grpc_address, credentials, &grpc_port);
+  builder.RegisterService(&service);
+  // Dead phones are noticed in seconds, not gRPC's default two hours.
+  builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIME_MS, 10000);
+  builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIMEOUT_MS, 5000);
+  builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_PERMIT_WITHOUT_CALLS, 1);
+  builder.AddChannelArgument(GRPC_ARG_HTTP2_MIN_RECV_PING_INTERVAL_WITHOUT_DATA_MS, 5000);
+  // A snapshot of the largest session: 24 bytes a particle, and room for the rest.
+  builder.SetMaxReceiveMessageSize(
+      static_cast<int>(std::min<std::uint64_t>(INT32_MAX, 24ull * options.limits.max_particles + (1 << 20))));
+  std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
+  if (!server || grpc_port == 0) {
+    std::fprintf(stderr, "fluidcast-server: cannot listen for gRPC on %s\n", grpc_address.c_str());
+    return 1;
+  }
+  grpc::HealthCheckServiceInterface* health = server->GetHealthCheckService();
+  health->SetServingStatus(true);
+
+  std::atomic<bool> serving{true};
+  HttpServer http(options.listen, options.http_port,
+                  {[&] { return metrics.prometheus_text(); }, [&] { return serving.load(); }});
+
+  std::printf("fluidcast-server: listening: grpc=%s:%d http=%s:%u\n", options.listen.c_str(),
+              grpc_port, options.listen.c_str(), static_cast<unsigned>(http.port()));
+  std::printf("fluidcast-server: device %s; limits: %u sessions, %u particles, %ux%u, %u fps\n",
+              context.info().name.c_str(), options.limits.max_sessions,
+              options.limits.max_particles, options.limits.max_width, options.limits.max_height,
+              options.limits.target_fps);
+  if (options.listen == "0.0.0.0") {
+    for (const std::string& address : lan_addresses()) {
+      std::printf("fluidcast-server: connect: grpc %s:%d, metrics http://%s:%u/metrics\n",
+                  address.c_str(), grpc_port, address.c_str(),
+                  static_cast<unsigned>(http.port()));
+    }
+  }
+  std::fflush(stdout);
+
+  int signal = 0;
+  sigwait(&signals, &signal);
+  std::printf("fluidcast-server: %s: ending every stream\n", signal == SIGINT ? "SIGINT" : "SIGTERM");
+  std::fflush(stdout);
+  serving = false;
+  health->SetServingStatus(false);
+  hub.stop();  // every stream ends with UNAVAILABLE; new ones are refused
+  server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(3));
+  http.stop();
+  std::printf("fluidcast-server: stopped\n");
+  return 0;
+}
+
+}  // namespace
+}  // namespace fluidcast::server
+
+int main(int argc, char** argv) {
+  const auto options = fluidcast::server::parse_server_options(argc, argv);
+  try {
+    return fluidcast::server::serve(options);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "fluidcast-server: %s\n", e.what());
+    return 2;
+  }
+}

@@ -1,0 +1,93 @@
+#include "options.h"
+
+#include <CLI/CLI.hpp>
+
+namespace fluidcast::server {
+
+ServerOptions parse_server_options(int argc, char** argv) {
+  ServerOptions o;
+  ServerLimits& l = o.limits;
+  CLI::App app{"fluidcast-server: simulates and renders fluids on a GPU, headless, and streams "
+               "them as JPEG frames over gRPC (and the page's WebSocket)"};
+  app.option_defaults()->always_capture_default();
+  app.add_option("--listen", o.listen, "Address to listen on (0.0.0.0: every interface)")
+      ->envname("FLUIDCAST_LISTEN");
+  app.add_option("--grpc-port", o.grpc_port, "gRPC port (0: any free port, printed at start)")
+      ->envname("FLUIDCAST_GRPC_PORT");
+  app.add_option("--http-port", o.http_port,
+                 "HTTP port: /metrics, /healthz (0: any free port, printed at start)")
+      ->envname("FLUIDCAST_HTTP_PORT");
+  app.add_option("--device", o.device, "Vulkan device index (default: the best device present)")
+      ->envname("FLUIDCAST_DEVICE");
+  std::string backend = "auto";
+  app.add_option("--backend", backend,
+                 "Where sessions simulate: gpu, cpu, or auto (gpu on a hardware device, cpu on "
+                 "lavapipe, where the CPU solver is faster)")
+      ->envname("FLUIDCAST_BACKEND")
+      ->check(CLI::IsMember({"auto", "gpu", "cpu"}));
+  app.add_option("--max-sessions", l.max_sessions, "Most sessions at once")
+      ->envname("FLUIDCAST_MAX_SESSIONS")
+      ->check(CLI::Range(1u, 1024u));
+  app.add_option("--max-particles", l.max_particles, "Most particles per session")
+      ->envname("FLUIDCAST_MAX_PARTICLES")
+      ->check(CLI::Range(1u, 16u << 20));
+  app.add_option("--default-particles", l.default_particles,
+                 "Particles of a session whose client names no count")
+      ->envname("FLUIDCAST_DEFAULT_PARTICLES")
+      ->check(CLI::Range(1u, 16u << 20));
+  app.add_option("--max-width", l.max_width, "Widest frame a viewer may ask for, pixels")
+      ->envname("FLUIDCAST_MAX_WIDTH")
+      ->check(CLI::Range(1u, 16384u));
+  app.add_option("--max-height", l.max_height, "Tallest frame a viewer may ask for, pixels")
+      ->envname("FLUIDCAST_MAX_HEIGHT")
+      ->check(CLI::Range(1u, 16384u));
+  app.add_option("--target-fps", l.target_fps, "Ticks per second: sessions step and render")
+      ->envname("FLUIDCAST_TARGET_FPS")
+      ->check(CLI::Range(1u, 1000u));
+  app.add_option("--max-fps", l.max_fps, "Highest frame rate a viewer may ask for")
+      ->envname("FLUIDCAST_MAX_FPS")
+      ->check(CLI::Range(1u, 1000u));
+  app.add_option("--max-viewers", l.max_viewers_per_session, "Most viewers per session")
+      ->envname("FLUIDCAST_MAX_VIEWERS")
+      ->check(CLI::Range(1u, 1024u));
+  app.add_option("--max-input-rate", l.max_input_events_per_second,
+                 "Input events per second a stream may send; beyond, RESOURCE_EXHAUSTED")
+      ->envname("FLUIDCAST_MAX_INPUT_RATE")
+      ->check(CLI::Range(1u, 100000u));
+  unsigned grace = static_cast<unsigned>(l.resume_grace.count());
+  app.add_option("--resume-grace", grace,
+                 "Seconds a session without viewers lives on, for a client to resume it")
+      ->envname("FLUIDCAST_RESUME_GRACE")
+      ->check(CLI::Range(0u, 86400u));
+  app.add_option("--tls-cert", o.tls_certificate, "TLS certificate chain (PEM) for gRPC")
+      ->envname("FLUIDCAST_TLS_CERT")
+      ->check(CLI::ExistingFile);
+  app.add_option("--tls-key", o.tls_key, "TLS private key (PEM) for gRPC")
+      ->envname("FLUIDCAST_TLS_KEY")
+      ->check(CLI::ExistingFile);
+  app.add_option("--token-file", o.token_file,
+                 "File whose first line is the token every client must send in Hello.token")
+      ->envname("FLUIDCAST_TOKEN_FILE")
+      ->check(CLI::ExistingFile);
+  try {
+    app.parse(argc, argv);
+    if (o.tls_certificate.empty() != o.tls_key.empty()) {
+      throw CLI::ValidationError("--tls-cert and --tls-key", "give both, or neither");
+    }
+    if (l.default_particles > l.max_particles) {
+      throw CLI::ValidationError("--default-particles", "more than --max-particles");
+    }
+    if (l.target_fps > l.max_fps) {
+      throw CLI::ValidationError("--target-fps", "more than --max-fps");
+    }
+  } catch (const CLI::ParseError& e) {
+    std::exit(app.exit(e));
+  }
+  l.resume_grace = std::chrono::seconds(grace);
+  o.backend = backend == "gpu"   ? SolverBackend::gpu
+              : backend == "cpu" ? SolverBackend::cpu
+                                 : SolverBackend::automatic;
+  return o;
+}
+
+}  // namespace fluidcast::server

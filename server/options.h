@@ -1,0 +1,28 @@
+// fluidcast-server's flags; each also reads an environment variable (FLUIDCAST_…), so a container
+// or a systemd unit can set them.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "session/server_limits.h"
+
+namespace fluidcast::server {
+
+enum class SolverBackend { automatic, gpu, cpu };
+
+struct ServerOptions {
+  std::string listen = "0.0.0.0";
+  unsigned short grpc_port = 50051;
+  unsigned short http_port = 8080;
+  std::optional<std::uint32_t> device;
+  SolverBackend backend = SolverBackend::automatic;
+  ServerLimits limits;
+  std::string tls_certificate, tls_key;  // PEM files; both or neither
+  std::string token_file;                // a file whose first line is the token clients must send
+};
+
+// Exits the process with CLI11's message and status for --help or bad flags.
+ServerOptions parse_server_options(int argc, char** argv);
+
+}  // namespace fluidcast::server

@@ -1,0 +1,111 @@
+#include "http_server.h"
+
+#include <boost/asio/strand.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <chrono>
+#include <memory>
+#include <stdexcept>
+
+namespace fluidcast::server {
+namespace {
+
+namespace beast = boost::beast;
+namespace http = beast::http;
+using tcp = boost::asio::ip::tcp;
+
+class Connection : public std::enable_shared_from_this<Connection> {
+ public:
+  Connection(tcp::socket socket, const HttpServer::Routes& routes)
+      : stream_(std::move(socket)), routes_(&routes) {}
+
+  void read() {
+    request_ = {};
+    stream_.expires_after(std::chrono::seconds(30));
+    http::async_read(stream_, buffer_, request_,
+                     [self = shared_from_this()](beast::error_code error, std::size_t) {
+                       if (!error) self->respond();
+                     });
+  }
+
+ private:
+  void respond() {
+    auto response = std::make_shared<http::response<http::string_body>>();
+    response->version(request_.version());
+    response->keep_alive(request_.keep_alive());
+    response->set(http::field::server, "fluidcast");
+    const std::string target(request_.target());
+    if (request_.method() != http::verb::get && request_.method() != http::verb::head) {
+      response->result(http::status::method_not_allowed);
+      response->body() = "only GET\n";
+    } else if (target == "/metrics") {
+      response->set(http::field::content_type, "text/plain; version=0.0.4");
+      response->body() = routes_->metrics();
+    } else if (target == "/healthz") {
+      const bool healthy = routes_->healthy();
+      response->result(healthy ? http::status::ok : http::status::service_unavailable);
+      response->body() = healthy ? "ok\n" : "stopping\n";
+    } else {
+      response->result(http::status::not_found);
+      response->body() = "not found: try /metrics or /healthz\n";
+    }
+    if (request_.method() == http::verb::head) response->body().clear();
+    response->prepare_payload();
+    http::async_write(stream_, *response,
+                      [self = shared_from_this(), response](beast::error_code error, std::size_t) {
+                        if (error) return;
+                        if (response->keep_alive()) {
+                          self->read();
+                        } else {
+                          beast::error_code ignored;
+                          self->stream_.socket().shutdown(tcp::socket::shutdown_send, ignored);
+                        }
+                      });
+  }
+
+  beast::tcp_stream stream_;
+  const HttpServer::Routes* routes_;
+  beast::flat_buffer buffer_;
+  http::request<http::string_body> request_;
+};
+
+}  // namespace
+
+HttpServer::HttpServer(const std::string& address, unsigned short port, Routes routes,
+                       unsigned threads)
+    : routes_(std::move(routes)), acceptor_(io_) {
+  try {
+    const tcp::endpoint endpoint(boost::asio::ip::make_address(address), port);
+    acceptor_.open(endpoint.protocol());
+    acceptor_.set_option(boost::asio::socket_base::reuse_address(true));
+    acceptor_.bind(endpoint);
+    acceptor_.listen();
+    port_ = acceptor_.local_endpoint().port();
+  } catch (const std::exception& e) {
+    throw std::runtime_error("HTTP: cannot listen on " + address + ":" + std::to_string(port) +
+                             ": " + e.what());
+  }
+  accept();
+  for (unsigned k = 0; k < threads; ++k) threads_.emplace_back([this] { io_.run(); });
+}
+
+HttpServer::~HttpServer() { stop(); }
+
+void HttpServer::stop() {
+  io_.stop();
+  for (auto& thread : threads_) {
+    if (thread.joinable()) thread.join();
+  }
+}
+
+void HttpServer::accept() {
+  acceptor_.async_accept(boost::asio::make_strand(io_),
+                         [this](beast::error_code error, tcp::socket socket) {
+                           if (!error) {
+                             std::make_shared<Connection>(std::move(socket), routes_)->read();
+                           }
+                           if (acceptor_.is_open()) accept();
+                         });
+}
+
+}  // namespace fluidcast::server

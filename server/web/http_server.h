@@ -1,0 +1,40 @@
+// The server's HTTP side (Boost.Beast): GET /metrics (Prometheus text) and GET /healthz. One
+// io_context on its own threads; each connection handles one request at a time.
+#pragma once
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <functional>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace fluidcast::server {
+
+class HttpServer {
+ public:
+  struct Routes {
+    std::function<std::string()> metrics;  // the body of /metrics
+    std::function<bool()> healthy;         // /healthz: 200 when true, else 503
+  };
+  // Listens on address:port (port 0: any free one); throws std::runtime_error naming the address
+  // when it cannot.
+  HttpServer(const std::string& address, unsigned short port, Routes routes, unsigned threads = 2);
+  ~HttpServer();
+  HttpServer(const HttpServer&) = delete;
+  HttpServer& operator=(const HttpServer&) = delete;
+
+  unsigned short port() const { return port_; }
+  void stop();
+
+ private:
+  void accept();
+
+  Routes routes_;
+  boost::asio::io_context io_;
+  boost::asio::ip::tcp::acceptor acceptor_;
+  unsigned short port_ = 0;
+  std::vector<std::thread> threads_;
+};
+
+}  // namespace fluidcast::server
