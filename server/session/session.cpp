@@ -43,7 +43,7 @@ void Session::rebuild(SessionSetup setup) {
   scene.particles = static_cast<int>(setup.particles);
   sim::SolverParams params;
   params.max_particles = static_cast<int>(services_.limits->max_particles);
-  params.threads = 1;  // the worker runs many sessions; one core each keeps them fair
+  params.threads = 0;  // a CPU solver (lavapipe machines) uses every core between frames
   try {
     auto built = sim::build_scene(scene);
     solver_ = services_.gpu_solver

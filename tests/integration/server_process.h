@@ -1,0 +1,77 @@
+// The real fluidcast-server as a child process on an ephemeral loopback port: started with the
+// given flags, its gRPC and HTTP ports read from its first lines, stopped with SIGTERM.
+#pragma once
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <regex>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace fluidcast::testing {
+
+class ServerProcess {
+ public:
+  explicit ServerProcess(std::vector<std::string> flags = {}) {
+    int out[2];
+    if (pipe(out) != 0) throw std::runtime_error("pipe failed");
+    std::vector<std::string> args = {FLUIDCAST_SERVER_PATH, "--listen", "127.0.0.1",
+                                     "--grpc-port", "0", "--http-port", "0"};
+    args.insert(args.end(), flags.begin(), flags.end());
+    pid_ = fork();
+    if (pid_ == 0) {
+      dup2(out[1], STDOUT_FILENO);
+      close(out[0]);
+      std::vector<char*> argv;
+      for (auto& arg : args) argv.push_back(arg.data());
+      argv.push_back(nullptr);
+      execv(argv[0], argv.data());
+      _exit(127);
+    }
+    close(out[1]);
+    output_ = fdopen(out[0], "r");
+    char line[1024];
+    const std::regex listening("grpc=([0-9.]+):([0-9]+) http=[0-9.]+:([0-9]+)");
+    while (std::fgets(line, sizeof line, output_)) {
+      std::cmatch match;
+      if (std::regex_search(line, match, listening)) {
+        grpc_address_ = match[1].str() + ":" + match[2].str();
+        http_port_ = std::stoi(match[3].str());
+        return;
+      }
+    }
+    throw std::runtime_error("fluidcast-server did not say where it listens");
+  }
+
+  ~ServerProcess() {
+    if (pid_ > 0) stop();
+    if (output_) fclose(output_);
+  }
+
+  const std::string& grpc_address() const { return grpc_address_; }
+  int http_port() const { return http_port_; }
+
+  // SIGTERM; returns the exit status (-1 when it did not exit normally).
+  int stop() {
+    if (pid_ <= 0) return exit_status_;
+    kill(pid_, SIGTERM);
+    int status = 0;
+    waitpid(pid_, &status, 0);
+    pid_ = -1;
+    exit_status_ = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return exit_status_;
+  }
+
+ private:
+  pid_t pid_ = -1;
+  FILE* output_ = nullptr;
+  std::string grpc_address_;
+  int http_port_ = 0;
+  int exit_status_ = -1;
+};
+
+}  // namespace fluidcast::testing

@@ -1,0 +1,222 @@
+// The real server on loopback (lavapipe), driven by the real client library: handshake, frames,
+// sessions, interaction, and every bad input with its documented status while others stream on.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+
+#include "fluidcast/codec/jpeg.h"
+#include "server_process.h"
+#include "stream_client.h"
+
+namespace fluidcast {
+namespace {
+
+using client::StreamClient;
+using client::StreamError;
+using std::chrono::milliseconds;
+using std::chrono::seconds;
+
+// Small enough for two cores: a fast session, a small frame.
+v1::Hello small_hello(std::uint32_t particles = 1000) {
+  v1::Hello hello;
+  hello.mutable_viewport()->set_width(160);
+  hello.mutable_viewport()->set_height(120);
+  hello.mutable_create()->set_scene("dam_break");
+  hello.mutable_create()->set_particles(particles);
+  return hello;
+}
+
+v1::Frame frame_from(StreamClient& stream) {
+  auto frame = stream.next_frame(seconds(30));
+  if (!frame) throw std::runtime_error("no frame within 30 s: " + stream.status().error_message());
+  return *frame;
+}
+
+// Sends one message after a valid Hello, and returns how the server ended the stream.
+grpc::Status status_after(const std::string& address, const v1::ClientMessage& message) {
+  StreamClient stream(client::connect(address), small_hello());
+  stream.send_raw(message);
+  for (int k = 0; k < 300 && !stream.ended(); ++k) stream.next_frame(milliseconds(100));
+  return stream.ended() ? stream.status() : grpc::Status(grpc::StatusCode::OK, "still streaming");
+}
+
+grpc::StatusCode refusal_of(const std::string& address, const v1::Hello& hello) {
+  try {
+    StreamClient stream(client::connect(address), hello);
+  } catch (const StreamError& e) {
+    std::printf("refused: %s\n", e.what());
+    return e.code();
+  }
+  return grpc::StatusCode::OK;
+}
+
+TEST(ServerTest, HandshakeThenFramesThatDecodeAtTheRequestedSize) {
+  testing::ServerProcess server;
+  auto channel = client::connect(server.grpc_address());
+  grpc::ClientContext context;
+  v1::ServerInfo info;
+  ASSERT_TRUE(v1::Fluidcast::NewStub(channel)->GetServerInfo(&context, {}, &info).ok());
+  EXPECT_FALSE(info.device().empty());
+  EXPECT_GT(info.scenes_size(), 0);
+
+  StreamClient stream(channel, small_hello());
+  EXPECT_EQ(stream.welcome().session_id().size(), 32u);
+  EXPECT_EQ(stream.welcome().state().particles(), 1000u);
+  std::uint64_t last_sequence = 0;
+  for (int k = 0; k < 3; ++k) {
+    const v1::Frame frame = frame_from(stream);
+    EXPECT_GT(frame.sequence(), last_sequence);
+    last_sequence = frame.sequence();
+    const auto image = codec::decode_jpeg(
+        {reinterpret_cast<const std::uint8_t*>(frame.jpeg().data()), frame.jpeg().size()});
+    EXPECT_EQ(image.width, 160);
+    EXPECT_EQ(image.height, 120);
+    EXPECT_EQ(frame.width(), 160u);
+    EXPECT_GT(frame.timings().encode_ms(), 0.0f);
+  }
+  EXPECT_TRUE(stream.finish().ok());
+  EXPECT_EQ(server.stop(), 0);
+}
+
+TEST(ServerTest, EveryBadInputEndsOnlyItsOwnStreamWithItsStatus) {
+  testing::ServerProcess server({"--max-width", "640", "--max-height", "480"});
+  const std::string& address = server.grpc_address();
+  StreamClient bystander(client::connect(address), small_hello());
+  frame_from(bystander);
+
+  v1::ClientMessage nan_pointer;
+  nan_pointer.mutable_pointer()->set_phase(v1::PointerEvent::DOWN);
+  nan_pointer.mutable_pointer()->set_x(std::numeric_limits<float>::quiet_NaN());
+  EXPECT_EQ(status_after(address, nan_pointer).error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+
+  v1::ClientMessage outside;
+  outside.mutable_pointer()->set_phase(v1::PointerEvent::MOVE);
+  outside.mutable_pointer()->set_x(1.5f);
+  EXPECT_EQ(status_after(address, outside).error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+
+  v1::ClientMessage second_hello;
+  *second_hello.mutable_hello() = small_hello();
+  EXPECT_EQ(status_after(address, second_hello).error_code(),
+            grpc::StatusCode::FAILED_PRECONDITION);
+
+  v1::ClientMessage empty;
+  EXPECT_EQ(status_after(address, empty).error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+
+  v1::Hello unknown = small_hello();
+  unknown.set_join("0123456789abcdef0123456789abcdef");
+  EXPECT_EQ(refusal_of(address, unknown), grpc::StatusCode::NOT_FOUND);
+
+  v1::Hello huge = small_hello();
+  huge.mutable_viewport()->set_width(4000);
+  EXPECT_EQ(refusal_of(address, huge), grpc::StatusCode::RESOURCE_EXHAUSTED);
+
+  v1::Hello bad_scene = small_hello();
+  bad_scene.mutable_create()->set_scene("ocean");
+  EXPECT_EQ(refusal_of(address, bad_scene), grpc::StatusCode::INVALID_ARGUMENT);
+
+  {  // A first message that is not a Hello.
+    auto stub = v1::Fluidcast::NewStub(client::connect(address));
+    grpc::ClientContext context;
+    auto stream = stub->Stream(&context);
+    v1::ClientMessage tilt;
+    tilt.mutable_tilt()->set_y(-9.81f);
+    stream->Write(tilt);
+    v1::ServerMessage reply;
+    EXPECT_FALSE(stream->Read(&reply));
+    EXPECT_EQ(stream->Finish().error_code(), grpc::StatusCode::FAILED_PRECONDITION);
+  }
+
+  // The bystander streamed through all of it.
+  EXPECT_FALSE(bystander.ended());
+  frame_from(bystander);
+  frame_from(bystander);
+}
+
+TEST(ServerTest, LimitsAndTokensAreEnforcedWithTheirStatus) {
+  const auto token_file = std::filesystem::temp_directory_path() / "fluidcast_test_token";
+  std::ofstream(token_file) << "open sesame\n";
+  testing::ServerProcess server({"--max-sessions", "1", "--token-file", token_file.string(),
+                                 "--max-input-rate", "50"});
+  const std::string& address = server.grpc_address();
+  v1::Hello hello = small_hello();
+  EXPECT_EQ(refusal_of(address, hello), grpc::StatusCode::UNAUTHENTICATED);
+  hello.set_token("wrong");
+  EXPECT_EQ(refusal_of(address, hello), grpc::StatusCode::UNAUTHENTICATED);
+  hello.set_token("open sesame");
+  StreamClient first(client::connect(address), hello);
+  EXPECT_EQ(refusal_of(address, hello), grpc::StatusCode::RESOURCE_EXHAUSTED);  // one session
+
+  // An input flood beyond 50 events a second ends the stream.
+  for (int k = 0; k < 200 && !first.ended(); ++k) {
+    first.pointer(0, v1::PointerEvent::MOVE, 0.5f, 0.5f);
+  }
+  for (int k = 0; k < 100 && !first.ended(); ++k) first.next_frame(milliseconds(100));
+  ASSERT_TRUE(first.ended());
+  EXPECT_EQ(first.status().error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+  std::filesystem::remove(token_file);
+}
+
+TEST(ServerTest, TwoViewersShareASessionAndResumeFindsTheFluidAsItWas) {
+  testing::ServerProcess server;
+  const std::string& address = server.grpc_address();
+  auto first = std::make_unique<StreamClient>(client::connect(address), small_hello());
+  const std::string session = first->welcome().session_id();
+  v1::Hello join = small_hello();
+  join.set_join(session);
+  StreamClient second(client::connect(address), join);
+  EXPECT_EQ(second.welcome().session_id(), session);
+  EXPECT_NE(second.welcome().viewer_id(), first->welcome().viewer_id());
+  frame_from(second);
+  double time_before = 0.0;
+  for (int k = 0; k < 3; ++k) time_before = frame_from(*first).sim_time();
+  const std::uint32_t viewer = first->welcome().viewer_id();
+  first->drop();  // the network goes away
+  first.reset();
+
+  v1::Hello resume = small_hello();
+  resume.mutable_resume()->set_session_id(session);
+  resume.mutable_resume()->set_viewer_id(viewer);
+  StreamClient back(client::connect(address), resume);
+  EXPECT_EQ(back.welcome().session_id(), session);
+  // Not a new fluid: time went on from where it was.
+  EXPECT_GE(frame_from(back).sim_time(), time_before);
+}
+
+TEST(ServerTest, TiltTurnsGravity) {
+  testing::ServerProcess server;
+  StreamClient stream(client::connect(server.grpc_address()), small_hello());
+  frame_from(stream);
+  stream.tilt(9.81f, 0.0f, 0.0f);  // the device's right is down
+  // Wait for a frame that reflects the tilt.
+  const std::uint64_t tilt_event = 1;
+  for (int k = 0; k < 100; ++k) {
+    if (frame_from(stream).input_event_id() >= tilt_event) break;
+  }
+  auto stub = v1::Fluidcast::NewStub(client::connect(server.grpc_address()));
+  grpc::ClientContext context;
+  v1::SnapshotRequest request;
+  request.set_session_id(stream.welcome().session_id());
+  v1::Snapshot snapshot;
+  ASSERT_TRUE(stub->GetSnapshot(&context, request, &snapshot).ok());
+  const v1::Vec3& g = snapshot.gravity();
+  EXPECT_NEAR(std::sqrt(g.x() * g.x() + g.y() * g.y() + g.z() * g.z()), 9.81f, 1e-3f);
+  EXPECT_NEAR(g.y(), 0.0f, 1e-3f);  // the camera's right is horizontal
+  EXPECT_EQ(snapshot.positions_size(), 3 * 1000);
+}
+
+TEST(ServerTest, ShutdownEndsEveryStreamWithUnavailableAndExitsZero) {
+  testing::ServerProcess server;
+  StreamClient stream(client::connect(server.grpc_address()), small_hello());
+  frame_from(stream);
+  EXPECT_EQ(server.stop(), 0);
+  for (int k = 0; k < 100 && !stream.ended(); ++k) stream.next_frame(milliseconds(100));
+  ASSERT_TRUE(stream.ended());
+  EXPECT_EQ(stream.status().error_code(), grpc::StatusCode::UNAVAILABLE);
+}
+
+}  // namespace
+}  // namespace fluidcast
