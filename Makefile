@@ -12,10 +12,10 @@ build: deps
 	cmake --preset $(PRESET)
 	cmake --build --preset $(PRESET) -j $(JOBS)
 
-# Until the server exists, the main job is the dam break, on the GPU solver when a hardware Vulkan
-# device is present (else the CPU solver), printing progress.
+# The main job: the streaming server, headless, on the best Vulkan device present; it prints where
+# to connect and runs until Ctrl-C. Flags and FLUIDCAST_* variables: build/bin/fluidcast-server --help
 run: build
-	$(BIN)/fluidcast-sim --scene dam_break --solver pbf --particles 20000 --iterations 4 --until 5 --progress --backend auto
+	$(BIN)/fluidcast-server
 
 test: build
 	ctest --preset $(PRESET) -j $(JOBS)

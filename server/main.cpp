@@ -130,6 +130,9 @@ int serve(const ServerOptions& options) {
                   static_cast<unsigned>(http.port()));
     }
   }
+  std::printf("fluidcast-server: try: build/bin/fluidcast-client --headless --server %s:%d "
+              "--seconds 10\n",
+              options.listen == "0.0.0.0" ? "127.0.0.1" : options.listen.c_str(), grpc_port);
   std::fflush(stdout);
 
   int signal = 0;
