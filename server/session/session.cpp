@@ -36,7 +36,14 @@ Session::Session(std::string id, SessionSetup setup, SessionServices services)
 
 Session::~Session() = default;
 
+void Session::finish_frames() {
+  for (auto& [id, viewer] : viewers_) {
+    while (auto finished = viewer->take_finished(Clock::now())) encode(*viewer, std::move(*finished));
+  }
+}
+
 void Session::rebuild(SessionSetup setup) {
+  finish_frames();
   if (setup.particles == 0) setup.particles = services_.limits->default_particles;
   sim::SceneParams scene;
   scene.kind = setup.scene;
@@ -152,6 +159,7 @@ std::uint32_t Session::load(const v1::Snapshot& snapshot) {
       velocities[k][axis] = snapshot.velocities(static_cast<int>(3 * k) + axis);
     }
   }
+  finish_frames();
   const sim::Box tank = solver_->tank();
   const glm::vec3 centre = 0.5f * (tank.min + tank.max);
   solver_->remove_particles_in_sphere(centre, glm::length(tank.size()));
@@ -185,7 +193,10 @@ void Session::apply(Viewer& viewer, const v1::ClientMessage& message, Clock::tim
       SessionSetup setup = setup_;
       switch (command.kind_case()) {
         case v1::Command::kReset:
-          if (command.reset()) solver_->reset();
+          if (command.reset()) {
+            finish_frames();
+            solver_->reset();
+          }
           break;
         case v1::Command::kPause:
           paused_ = command.pause();
@@ -262,9 +273,7 @@ void Session::tick(Clock::time_point now) {
     }
   }
   // Frames submitted last tick are done by now: hand them to the encoders first.
-  for (auto& [id, viewer] : viewers_) {
-    while (auto finished = viewer->take_finished(now)) encode(*viewer, std::move(*finished));
-  }
+  finish_frames();
   const auto sim_start = Clock::now();
   step(now);
   const double sim_ms = services_.gpu_solver

@@ -61,6 +61,9 @@ class Session {
 
  private:
   void rebuild(SessionSetup setup);
+  // Takes every frame in flight to the encoders: before the particles' buffers change (reset,
+  // rebuild, load), since those frames read them.
+  void finish_frames();
   void apply(Viewer& viewer, const v1::ClientMessage& message, Clock::time_point now);
   void step(Clock::time_point now);
   void encode(Viewer& viewer, Viewer::Finished frame);

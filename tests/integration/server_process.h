@@ -53,6 +53,18 @@ class ServerProcess {
   }
 
   const std::string& grpc_address() const { return grpc_address_; }
+  // Resident memory now, from /proc (kB).
+  long resident_kb() const {
+    std::FILE* status = std::fopen(("/proc/" + std::to_string(pid_) + "/status").c_str(), "r");
+    if (!status) return -1;
+    char line[256];
+    long kb = -1;
+    while (std::fgets(line, sizeof line, status)) {
+      if (std::sscanf(line, "VmRSS: %ld kB", &kb) == 1) break;
+    }
+    std::fclose(status);
+    return kb;
+  }
   int http_port() const { return http_port_; }
 
   // SIGTERM; returns the exit status (-1 when it did not exit normally).

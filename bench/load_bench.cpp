@@ -1,0 +1,136 @@
+// The load test: N headless clients, each with its own session, against one fluidcast-server on
+// loopback for S seconds. Prints a Markdown table (fps per client, touch-to-photon percentiles,
+// server memory) and exits 1 when a client got no frames, a stream failed, or the server's memory
+// grew past --max-growth-mb after the first seconds.
+//   fluidcast-bench-load [--clients 8] [--seconds 30] [--width 320] [--height 240]
+//                        [--particles 1000] [--server-flag=--device=0 ...]
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <mutex>
+#include <thread>
+
+#include "server_process.h"
+#include "stream_client.h"
+
+namespace fluidcast {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct ClientResult {
+  std::size_t frames = 0;
+  std::size_t bytes = 0;
+  std::vector<double> latencies_ms;
+  std::string error;
+};
+
+double percentile(std::vector<double> values, double p) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  return values[std::min(values.size() - 1, std::size_t(p * double(values.size())))];
+}
+
+ClientResult run_client(const std::string& address, const v1::Hello& hello, double seconds) {
+  ClientResult result;
+  try {
+    client::StreamClient stream(client::connect(address), hello);
+    const auto start = Clock::now();
+    double next_move = 0.0;
+    bool down = false;
+    while (!stream.ended()) {
+      const double t = std::chrono::duration<double>(Clock::now() - start).count();
+      if (t >= seconds) break;
+      if (t >= next_move) {  // a finger to and fro, 20 moves a second
+        const float x = 0.5f + 0.3f * float(std::sin(t * 3.0));
+        stream.pointer(0, down ? v1::PointerEvent::MOVE : v1::PointerEvent::DOWN, x, 0.6f);
+        down = true;
+        next_move += 0.05;
+      }
+      if (auto frame = stream.next_frame(std::chrono::milliseconds(10))) {
+        ++result.frames;
+        result.bytes += frame->jpeg().size();
+      }
+    }
+    const grpc::Status status = stream.ended() ? stream.status() : stream.finish();
+    if (!status.ok()) result.error = status.error_message();
+    result.latencies_ms = stream.latencies_ms();
+  } catch (const std::exception& e) {
+    result.error = e.what();
+  }
+  return result;
+}
+
+int run(int argc, char** argv) {
+  unsigned clients = 8, width = 320, height = 240, particles = 1000;
+  double seconds = 30.0, max_growth_mb = 64.0;
+  std::vector<std::string> server_flags;
+  CLI::App app{"fluidcast-bench-load: N clients against one server on loopback"};
+  app.add_option("--clients", clients)->check(CLI::Range(1u, 256u));
+  app.add_option("--seconds", seconds)->check(CLI::Range(1.0, 3600.0));
+  app.add_option("--width", width);
+  app.add_option("--height", height);
+  app.add_option("--particles", particles);
+  app.add_option("--max-growth-mb", max_growth_mb, "Server memory growth allowed after warm-up");
+  app.add_option("--server-flag", server_flags, "A flag for fluidcast-server (repeatable)");
+  CLI11_PARSE(app, argc, argv);
+
+  server_flags.insert(server_flags.end(), {"--max-sessions", std::to_string(clients)});
+  testing::ServerProcess server(server_flags);
+  v1::Hello hello;
+  hello.mutable_viewport()->set_width(width);
+  hello.mutable_viewport()->set_height(height);
+  hello.mutable_create()->set_particles(particles);
+
+  std::vector<ClientResult> results(clients);
+  std::vector<std::thread> threads;
+  std::atomic<unsigned> finished{0};
+  for (unsigned k = 0; k < clients; ++k) {
+    threads.emplace_back([&, k] {
+      results[k] = run_client(server.grpc_address(), hello, seconds);
+      ++finished;
+    });
+  }
+  // Memory: after a quarter of the run (sessions built, windows full), then the peak after it.
+  std::this_thread::sleep_for(std::chrono::duration<double>(seconds / 4));
+  const long warm_kb = server.resident_kb();
+  long peak_kb = warm_kb;
+  while (finished < clients) {
+    peak_kb = std::max(peak_kb, server.resident_kb());
+    std::this_thread::sleep_for(std::chrono::milliseconds(250));
+  }
+  for (auto& thread : threads) thread.join();
+  const int server_exit = server.stop();
+
+  std::printf("| client | frames | fps | kbit/s | latency p50 ms | p95 ms | max ms | error |\n");
+  std::printf("|---|---|---|---|---|---|---|---|\n");
+  bool failed = server_exit != 0;
+  std::vector<double> all;
+  for (unsigned k = 0; k < clients; ++k) {
+    const ClientResult& r = results[k];
+    all.insert(all.end(), r.latencies_ms.begin(), r.latencies_ms.end());
+    std::printf("| %u | %zu | %.1f | %.0f | %.0f | %.0f | %.0f | %s |\n", k, r.frames,
+                double(r.frames) / seconds, 8.0 * double(r.bytes) / seconds / 1000.0,
+                percentile(r.latencies_ms, 0.5), percentile(r.latencies_ms, 0.95),
+                r.latencies_ms.empty() ? 0.0 : *std::max_element(r.latencies_ms.begin(), r.latencies_ms.end()),
+                r.error.empty() ? "" : r.error.c_str());
+    failed = failed || r.frames == 0 || !r.error.empty();
+  }
+  const double growth_mb = double(peak_kb - warm_kb) / 1024.0;
+  std::printf("\n%u clients × %.0f s at %ux%u, %u particles each: latency over all p50 %.0f ms, "
+              "p95 %.0f ms; server resident memory %.0f MB after warm-up, peak %.0f MB (growth "
+              "%.1f MB, allowed %.0f); server exit %d\n",
+              clients, seconds, width, height, particles, percentile(all, 0.5),
+              percentile(all, 0.95), double(warm_kb) / 1024.0, double(peak_kb) / 1024.0, growth_mb,
+              max_growth_mb, server_exit);
+  failed = failed || growth_mb > max_growth_mb;
+  std::printf("%s\n", failed ? "FAILED" : "passed");
+  return failed ? 1 : 0;
+}
+
+}  // namespace
+}  // namespace fluidcast
+
+int main(int argc, char** argv) { return fluidcast::run(argc, argv); }

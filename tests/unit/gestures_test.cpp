@@ -1,0 +1,57 @@
+// Pointer events to gestures: one finger drags, two orbit and zoom, and a finger left behind
+// after two does not drag.
+#include <gtest/gtest.h>
+
+#include "session/gestures.h"
+
+namespace fluidcast::server {
+namespace {
+
+v1::PointerEvent pointer(std::uint32_t id, v1::PointerEvent::Phase phase, float x, float y) {
+  v1::PointerEvent event;
+  event.set_pointer_id(id);
+  event.set_phase(phase);
+  event.set_x(x);
+  event.set_y(y);
+  return event;
+}
+
+TEST(GesturesTest, OneFingerDragsWhereItIs) {
+  Gestures gestures;
+  EXPECT_FALSE(gestures.drag());
+  EXPECT_TRUE(gestures.apply(pointer(3, v1::PointerEvent::DOWN, 0.2f, 0.4f)).drag_started);
+  gestures.apply(pointer(3, v1::PointerEvent::MOVE, 0.3f, 0.5f));
+  ASSERT_TRUE(gestures.drag());
+  EXPECT_FLOAT_EQ(gestures.drag()->x, 0.3f);
+  EXPECT_FLOAT_EQ(gestures.drag()->y, 0.5f);
+  gestures.apply(pointer(3, v1::PointerEvent::UP, 0.3f, 0.5f));
+  EXPECT_FALSE(gestures.drag());
+}
+
+TEST(GesturesTest, TwoFingersOrbitAndZoomAndTheOneLeftDoesNotDrag) {
+  Gestures gestures;
+  gestures.apply(pointer(0, v1::PointerEvent::DOWN, 0.4f, 0.5f));
+  EXPECT_FALSE(gestures.apply(pointer(1, v1::PointerEvent::DOWN, 0.6f, 0.5f)).drag_started);
+  EXPECT_FALSE(gestures.drag());
+  // Both move right by 0.1: the centre moves 0.05 → yaw −9°.
+  const GestureChange orbit = gestures.apply(pointer(1, v1::PointerEvent::MOVE, 0.7f, 0.5f));
+  EXPECT_NEAR(orbit.yaw_degrees, -0.05f * Gestures::kOrbitDegreesPerFrame, 1e-4f);
+  EXPECT_NEAR(orbit.zoom, 0.2f / 0.3f, 1e-5f);  // spread 0.2 → 0.3: closer
+  const GestureChange pinch = gestures.apply(pointer(0, v1::PointerEvent::MOVE, 0.5f, 0.5f));
+  EXPECT_NEAR(pinch.zoom, 0.3f / 0.2f, 1e-5f);
+  gestures.apply(pointer(1, v1::PointerEvent::UP, 0.7f, 0.5f));
+  EXPECT_FALSE(gestures.drag());
+  gestures.apply(pointer(0, v1::PointerEvent::UP, 0.5f, 0.5f));
+  EXPECT_TRUE(gestures.apply(pointer(0, v1::PointerEvent::DOWN, 0.5f, 0.5f)).drag_started);
+  EXPECT_TRUE(gestures.drag());
+}
+
+TEST(GesturesTest, MovesOfUnknownPointersAreIgnored) {
+  Gestures gestures;
+  const GestureChange change = gestures.apply(pointer(5, v1::PointerEvent::MOVE, 0.5f, 0.5f));
+  EXPECT_FALSE(change.drag_started);
+  EXPECT_FALSE(gestures.drag());
+}
+
+}  // namespace
+}  // namespace fluidcast::server

@@ -1,0 +1,131 @@
+// Every rule of the protocol that the transport adapter checks, with the code it answers.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "session/refusal.h"
+#include "session/validation.h"
+
+namespace fluidcast::server {
+namespace {
+
+RefusalCode code_of(const std::function<void()>& check) {
+  try {
+    check();
+  } catch (const Refusal& refusal) {
+    return refusal.code();
+  }
+  ADD_FAILURE() << "accepted";
+  return RefusalCode::unavailable;
+}
+
+v1::ClientMessage hello() {
+  v1::ClientMessage message;
+  message.mutable_hello()->mutable_viewport()->set_width(320);
+  message.mutable_hello()->mutable_viewport()->set_height(240);
+  return message;
+}
+
+TEST(ValidationTest, AGoodHelloPassesAndEachBadOneGetsItsCode) {
+  const ServerLimits limits;
+  EXPECT_NO_THROW(validate_hello(hello(), limits, std::nullopt));
+  const std::optional<std::string> token = "secret";
+  EXPECT_EQ(code_of([&] { validate_hello(hello(), limits, token); }), RefusalCode::unauthenticated);
+  auto with_token = hello();
+  with_token.mutable_hello()->set_token("secret");
+  EXPECT_NO_THROW(validate_hello(with_token, limits, token));
+
+  v1::ClientMessage tilt;
+  tilt.mutable_tilt()->set_y(-9.81f);
+  EXPECT_EQ(code_of([&] { validate_hello(tilt, limits, std::nullopt); }),
+            RefusalCode::failed_precondition);
+  auto zero = hello();
+  zero.mutable_hello()->mutable_viewport()->set_width(0);
+  EXPECT_EQ(code_of([&] { validate_hello(zero, limits, std::nullopt); }),
+            RefusalCode::invalid_argument);
+  auto huge = hello();
+  huge.mutable_hello()->mutable_viewport()->set_height(limits.max_height + 1);
+  EXPECT_EQ(code_of([&] { validate_hello(huge, limits, std::nullopt); }),
+            RefusalCode::resource_exhausted);
+  auto many = hello();
+  many.mutable_hello()->mutable_create()->set_particles(limits.max_particles + 1);
+  EXPECT_EQ(code_of([&] { validate_hello(many, limits, std::nullopt); }),
+            RefusalCode::resource_exhausted);
+  auto scene = hello();
+  scene.mutable_hello()->mutable_create()->set_scene("ocean");
+  EXPECT_EQ(code_of([&] { validate_hello(scene, limits, std::nullopt); }),
+            RefusalCode::invalid_argument);
+  auto renderer = hello();
+  renderer.mutable_hello()->mutable_quality()->set_renderer("raytrace");
+  EXPECT_EQ(code_of([&] { validate_hello(renderer, limits, std::nullopt); }),
+            RefusalCode::invalid_argument);
+  auto quality = hello();
+  quality.mutable_hello()->mutable_quality()->set_jpeg_quality(101);
+  EXPECT_EQ(code_of([&] { validate_hello(quality, limits, std::nullopt); }),
+            RefusalCode::invalid_argument);
+}
+
+TEST(ValidationTest, InputOutOfItsRangeIsRefused) {
+  const ServerLimits limits;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  v1::ClientMessage message;
+  EXPECT_EQ(code_of([&] { validate_event(message, limits); }), RefusalCode::invalid_argument);
+  EXPECT_EQ(code_of([&] { validate_event(hello(), limits); }), RefusalCode::failed_precondition);
+
+  auto& pointer = *message.mutable_pointer();
+  pointer.set_phase(v1::PointerEvent::DOWN);
+  pointer.set_x(0.5f);
+  pointer.set_y(1.0f);
+  EXPECT_NO_THROW(validate_event(message, limits));
+  for (float bad : {nan, -0.01f, 1.01f, std::numeric_limits<float>::infinity()}) {
+    pointer.set_x(bad);
+    EXPECT_EQ(code_of([&] { validate_event(message, limits); }), RefusalCode::invalid_argument)
+        << bad;
+  }
+  pointer.set_x(0.5f);
+  pointer.set_pointer_id(16);
+  EXPECT_EQ(code_of([&] { validate_event(message, limits); }), RefusalCode::invalid_argument);
+  pointer.set_pointer_id(0);
+  pointer.set_phase(v1::PointerEvent::PHASE_UNSPECIFIED);
+  EXPECT_EQ(code_of([&] { validate_event(message, limits); }), RefusalCode::invalid_argument);
+
+  auto& tilt = *message.mutable_tilt();
+  tilt.set_y(-9.81f);
+  EXPECT_NO_THROW(validate_event(message, limits));
+  tilt.set_y(nan);
+  EXPECT_EQ(code_of([&] { validate_event(message, limits); }), RefusalCode::invalid_argument);
+  tilt.set_y(1e6f);
+  EXPECT_EQ(code_of([&] { validate_event(message, limits); }), RefusalCode::invalid_argument);
+  tilt.set_y(0.0f);
+  EXPECT_EQ(code_of([&] { validate_event(message, limits); }), RefusalCode::invalid_argument);
+
+  auto& camera = *message.mutable_command()->mutable_camera();
+  camera.set_distance(2.0f);
+  EXPECT_NO_THROW(validate_event(message, limits));
+  camera.set_pitch_degrees(95.0f);
+  EXPECT_EQ(code_of([&] { validate_event(message, limits); }), RefusalCode::invalid_argument);
+  camera.set_pitch_degrees(0.0f);
+  camera.set_distance(nan);
+  EXPECT_EQ(code_of([&] { validate_event(message, limits); }), RefusalCode::invalid_argument);
+  message.mutable_command()->set_particles(limits.max_particles + 1);
+  EXPECT_EQ(code_of([&] { validate_event(message, limits); }), RefusalCode::resource_exhausted);
+  message.mutable_command()->set_particles(0);
+  EXPECT_EQ(code_of([&] { validate_event(message, limits); }), RefusalCode::invalid_argument);
+}
+
+TEST(ValidationTest, TheRateLimitAllowsASecondsBurstThenTheRate) {
+  InputRateLimit limit(10);
+  auto now = std::chrono::steady_clock::now();
+  int allowed = 0;
+  for (int k = 0; k < 30; ++k) allowed += limit.allow(now) ? 1 : 0;
+  EXPECT_LE(allowed, 10);
+  EXPECT_GE(allowed, 9);
+  now += std::chrono::milliseconds(500);
+  allowed = 0;
+  for (int k = 0; k < 30; ++k) allowed += limit.allow(now) ? 1 : 0;
+  EXPECT_EQ(allowed, 5);
+}
+
+}  // namespace
+}  // namespace fluidcast::server
