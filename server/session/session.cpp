@@ -10,8 +10,11 @@
 namespace fluidcast::server {
 namespace {
 
-// Steps one tick may take to catch up with real time; past it the fluid runs slow instead.
+// Steps one tick may owe to real time; past it the fluid runs slow instead.
 constexpr int kMaxStepsPerTick = 4;
+// Of a tick's interval, the share the steps of one session may take on the worker's thread (a
+// GPU solver's steps return at once; a CPU solver's take their time). One step always runs.
+constexpr double kStepShareOfTick = 0.5;
 
 double total_ms(const sim::StageTimes& times) {
   return times.grid_ms + times.predict_ms + times.solve_ms + times.velocity_ms +
@@ -245,9 +248,16 @@ void Session::step(Clock::time_point now) {
     }
   }
   solver_->set_colliders(colliders);
-  if (paused_) return;
+  // Nobody watching: the fluid waits as it is, for a resume.
+  if (paused_ || viewers_.empty()) return;
   lag_seconds_ = std::min(lag_seconds_ + elapsed, kMaxStepsPerTick * double(dt));
-  while (lag_seconds_ >= dt) {
+  const double budget = kStepShareOfTick / services_.limits->target_fps;
+  const auto start = Clock::now();
+  for (int steps = 0; lag_seconds_ >= dt; ++steps) {
+    if (steps > 0 && std::chrono::duration<double>(Clock::now() - start).count() > budget) {
+      lag_seconds_ = 0.0;  // the machine cannot keep up: slow motion, not a growing debt
+      break;
+    }
     solver_->step();
     lag_seconds_ -= dt;
   }
