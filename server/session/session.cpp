@@ -282,8 +282,8 @@ void Session::tick(Clock::time_point now) {
       remove_viewer(id);
     }
   }
-  // Frames submitted last tick are done by now: hand them to the encoders first.
-  finish_frames();
+  // The step first: it runs while the GPU still draws last tick's frames (they read uploaded or
+  // GPU-side particles, which the queue orders), then those frames go to the encoders.
   const auto sim_start = Clock::now();
   step(now);
   const double sim_ms = services_.gpu_solver
@@ -291,6 +291,7 @@ void Session::tick(Clock::time_point now) {
                             : std::chrono::duration<double, std::milli>(Clock::now() - sim_start).count();
   solver_->clear_stage_times();
   if (sim_ms > 0.0) services_.metrics->sim_ms.observe(sim_ms);
+  finish_frames();
   bool any_due = false;
   for (auto& [id, viewer] : viewers_) any_due = any_due || viewer->due(now);
   if (!any_due) {
