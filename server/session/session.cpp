@@ -68,8 +68,9 @@ void Session::rebuild(SessionSetup setup) {
 }
 
 void Session::post(std::uint32_t viewer, v1::ClientMessage message) {
+  const auto received = Clock::now();
   std::lock_guard lock(inbox_mutex_);
-  inbox_.emplace_back(viewer, std::move(message));
+  inbox_.push_back({viewer, std::move(message), received});
 }
 
 std::uint32_t Session::add_viewer(const v1::Hello& hello, std::shared_ptr<ViewerSink> sink) {
@@ -178,7 +179,8 @@ std::uint32_t Session::load(const v1::Snapshot& snapshot) {
   return static_cast<std::uint32_t>(count);
 }
 
-void Session::apply(Viewer& viewer, const v1::ClientMessage& message, Clock::time_point now) {
+void Session::apply(Viewer& viewer, const v1::ClientMessage& message,
+                    Clock::time_point received) {
   viewer.note_input(message.event_id());
   switch (message.kind_case()) {
     case v1::ClientMessage::kPointer:
@@ -188,7 +190,7 @@ void Session::apply(Viewer& viewer, const v1::ClientMessage& message, Clock::tim
       solver_->set_gravity(viewer.gravity_from_tilt(message.tilt()));
       break;
     case v1::ClientMessage::kAck:
-      viewer.acknowledge(message.ack().sequence(), now);
+      viewer.acknowledge(message.ack().sequence(), received);
       if (viewer.round_trip_ms()) services_.metrics->round_trip_ms.observe(*viewer.round_trip_ms());
       break;
     case v1::ClientMessage::kCommand: {
@@ -264,16 +266,16 @@ void Session::step(Clock::time_point now) {
 }
 
 void Session::tick(Clock::time_point now) {
-  std::vector<std::pair<std::uint32_t, v1::ClientMessage>> inbox;
+  std::vector<Posted> inbox;
   {
     std::lock_guard lock(inbox_mutex_);
     inbox.swap(inbox_);
   }
-  for (auto& [id, message] : inbox) {
+  for (auto& [id, message, received] : inbox) {
     const auto found = viewers_.find(id);
     if (found == viewers_.end()) continue;  // its stream ended meanwhile
     try {
-      apply(*found->second, message, now);
+      apply(*found->second, message, received);
     } catch (const Refusal& refusal) {
       found->second->sink().end(refusal);
       remove_viewer(id);

@@ -64,7 +64,7 @@ class Session {
   // Takes every frame in flight to the encoders: before the particles' buffers change (reset,
   // rebuild, load), since those frames read them.
   void finish_frames();
-  void apply(Viewer& viewer, const v1::ClientMessage& message, Clock::time_point now);
+  void apply(Viewer& viewer, const v1::ClientMessage& message, Clock::time_point received);
   void step(Clock::time_point now);
   void encode(Viewer& viewer, Viewer::Finished frame);
   float collider_radius() const;
@@ -82,8 +82,13 @@ class Session {
   double lag_seconds_ = 0.0;  // real time the simulation still owes
   Clock::time_point empty_since_;
 
+  struct Posted {
+    std::uint32_t viewer;
+    v1::ClientMessage message;
+    Clock::time_point received;  // acknowledgements time the round trip from here
+  };
   std::mutex inbox_mutex_;
-  std::vector<std::pair<std::uint32_t, v1::ClientMessage>> inbox_;
+  std::vector<Posted> inbox_;
 };
 
 }  // namespace fluidcast::server

@@ -169,8 +169,9 @@ void Viewer::acknowledge(std::uint64_t sequence, Clock::time_point now) {
 void Viewer::adapt(Clock::time_point now) {
   if (!adaptive_ || now - last_adapted_ < std::chrono::milliseconds(250)) return;
   last_adapted_ = now;
-  const bool behind = sequence_ - acknowledged_ >= 2 || round_trip_ms_.value_or(0.0) > 120.0;
-  const bool keeping_up = sequence_ - acknowledged_ <= 1 && round_trip_ms_.value_or(0.0) < 50.0;
+  const double round_trip = round_trip_ms_.value_or(0.0);
+  const bool behind = round_trip > 120.0 || throttled();
+  const bool keeping_up = round_trip < 50.0 && !throttled();
   if (behind) {
     if (jpeg_quality_ > kLowestAdaptiveQuality) {
       jpeg_quality_ = std::max(kLowestAdaptiveQuality, jpeg_quality_ - 10);

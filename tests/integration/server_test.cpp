@@ -287,6 +287,46 @@ TEST(ServerTest, AClientThatStopsReadingDoesNotGrowTheServersMemory) {
   context.TryCancel();
 }
 
+// An adaptive viewer whose acknowledgements come late (a slow network): the server lowers JPEG
+// quality first, then the frame size; a viewer that keeps up keeps what it asked for.
+TEST(ServerTest, AdaptiveQualityFallsForAViewerThatFallsBehind) {
+  testing::ServerProcess server;
+  auto stub = v1::Fluidcast::NewStub(client::connect(server.grpc_address()));
+  grpc::ClientContext context;
+  auto stream = stub->Stream(&context);
+  v1::ClientMessage hello;
+  *hello.mutable_hello() = small_hello();
+  hello.mutable_hello()->mutable_quality()->set_adaptive(true);
+  hello.mutable_hello()->mutable_quality()->set_jpeg_quality(80);
+  hello.mutable_hello()->mutable_viewport()->set_width(320);
+  hello.mutable_hello()->mutable_viewport()->set_height(240);
+  ASSERT_TRUE(stream->Write(hello));
+  v1::ServerMessage message;
+  ASSERT_TRUE(stream->Read(&message));
+  ASSERT_TRUE(message.has_welcome());
+  std::uint32_t lowest_quality = 100, narrowest = 1000;
+  for (int k = 0; k < 40 && stream->Read(&message); ++k) {
+    lowest_quality = std::min(lowest_quality, message.frame().jpeg_quality());
+    narrowest = std::min(narrowest, message.frame().width());
+    std::this_thread::sleep_for(milliseconds(200));  // the acknowledgement is late
+    v1::ClientMessage ack;
+    ack.mutable_ack()->set_sequence(message.frame().sequence());
+    stream->Write(ack);
+  }
+  std::printf("late acknowledgements: quality down to %u, width down to %u\n", lowest_quality,
+              narrowest);
+  EXPECT_LT(lowest_quality, 80u);
+  EXPECT_LT(narrowest, 320u);
+  context.TryCancel();
+
+  StreamClient keeping_up(client::connect(server.grpc_address()), *hello.mutable_hello());
+  for (int k = 0; k < 10; ++k) {
+    const v1::Frame frame = frame_from(keeping_up);
+    EXPECT_EQ(frame.width(), 320u);
+    EXPECT_EQ(frame.jpeg_quality(), 80u);
+  }
+}
+
 TEST(ServerTest, ShutdownEndsEveryStreamWithUnavailableAndExitsZero) {
   testing::ServerProcess server;
   StreamClient stream(client::connect(server.grpc_address()), small_hello());
