@@ -22,6 +22,9 @@ packages=(
   nlohmann-json3-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
+  # the phone page: npm fetches protobufjs (and playwright-core for the browser test, which drives
+  # Debian's Chromium headless)
+  nodejs chromium
 )
 
 missing=()
@@ -30,12 +33,12 @@ for package in "${packages[@]}"; do
   [[ "$status" == "install ok installed" ]] || missing+=("$package")
 done
 
-if ((${#missing[@]} == 0)); then
+# Debian's nodejs comes without npm; some archives' nodejs includes it.
+if ((${#missing[@]} == 0)) && command -v npm >/dev/null; then
   echo "install-deps: all ${#packages[@]} packages present"
   exit 0
 fi
 
-echo "install-deps: installing ${missing[*]}"
 sudo_cmd=()
 if ((EUID != 0)); then
   command -v sudo >/dev/null || { echo "install-deps: run as root or install sudo" >&2; exit 1; }
@@ -43,4 +46,11 @@ if ((EUID != 0)); then
 fi
 export DEBIAN_FRONTEND=noninteractive
 "${sudo_cmd[@]}" apt-get update -qq
-"${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+if ((${#missing[@]} > 0)); then
+  echo "install-deps: installing ${missing[*]}"
+  "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+if ! command -v npm >/dev/null; then
+  echo "install-deps: installing npm"
+  "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends npm
+fi

@@ -11,6 +11,7 @@
 #include <atomic>
 #include <csignal>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -19,6 +20,7 @@
 #include "options.h"
 #include "session/session_hub.h"
 #include "web/http_server.h"
+#include "web/websocket_session.h"
 
 namespace fluidcast::server {
 namespace {
@@ -114,8 +116,20 @@ int serve(const ServerOptions& options) {
   health->SetServingStatus(true);
 
   std::atomic<bool> serving{true};
-  HttpServer http(options.listen, options.http_port,
-                  {[&] { return metrics.prometheus_text(); }, [&] { return serving.load(); }});
+  const std::filesystem::path web = options.web_root;
+  HttpServer http(
+      options.listen, options.http_port,
+      {[&] { return metrics.prometheus_text(); }, [&] { return serving.load(); },
+       [&hub](boost::beast::tcp_stream stream,
+              boost::beast::http::request<boost::beast::http::string_body> request) {
+         serve_websocket(std::move(stream), std::move(request), hub);
+       },
+       {{"/", web / "index.html"},
+        {"/app.js", web / "app.js"},
+        {"/style.css", web / "style.css"},
+        {"/fluidcast.proto", options.proto_file},
+        {"/vendor/protobuf.min.js",
+         std::filesystem::path(options.web_vendor) / "protobufjs/dist/protobuf.min.js"}}});
 
   std::printf("fluidcast-server: listening: grpc=%s:%d http=%s:%u\n", options.listen.c_str(),
               grpc_port, options.listen.c_str(), static_cast<unsigned>(http.port()));
@@ -125,14 +139,19 @@ int serve(const ServerOptions& options) {
               options.limits.target_fps);
   if (options.listen == "0.0.0.0") {
     for (const std::string& address : lan_addresses()) {
-      std::printf("fluidcast-server: connect: grpc %s:%d, metrics http://%s:%u/metrics\n",
-                  address.c_str(), grpc_port, address.c_str(),
-                  static_cast<unsigned>(http.port()));
+      std::printf("fluidcast-server: on a phone on this network, open http://%s:%u/ (gRPC: %s:%d)\n",
+                  address.c_str(), static_cast<unsigned>(http.port()), address.c_str(), grpc_port);
     }
   }
-  std::printf("fluidcast-server: try: build/bin/fluidcast-client --headless --server %s:%d "
-              "--seconds 10\n",
-              options.listen == "0.0.0.0" ? "127.0.0.1" : options.listen.c_str(), grpc_port);
+  const char* local = options.listen == "0.0.0.0" ? "127.0.0.1" : options.listen.c_str();
+  std::printf("fluidcast-server: here: open http://%s:%u/ in a browser, or run "
+              "build/bin/fluidcast-client --headless --server %s:%d --seconds 10\n",
+              local, static_cast<unsigned>(http.port()), local, grpc_port);
+  if (!std::filesystem::exists(std::filesystem::path(options.web_vendor) /
+                               "protobufjs/dist/protobuf.min.js")) {
+    std::printf("fluidcast-server: warning: %s has no protobufjs (npm ci at build time); the "
+                "page will say it cannot start\n", options.web_vendor.c_str());
+  }
   std::fflush(stdout);
 
   int signal = 0;

@@ -69,6 +69,15 @@ ServerOptions parse_server_options(int argc, char** argv) {
                  "File whose first line is the token every client must send in Hello.token")
       ->envname("FLUIDCAST_TOKEN_FILE")
       ->check(CLI::ExistingFile);
+  app.add_option("--web-root", o.web_root, "Folder of the phone page (index.html, app.js)")
+      ->envname("FLUIDCAST_WEB_ROOT")
+      ->check(CLI::ExistingDirectory);
+  app.add_option("--web-vendor", o.web_vendor,
+                 "node_modules folder with protobufjs, which the page loads")
+      ->envname("FLUIDCAST_WEB_VENDOR");
+  app.add_option("--proto", o.proto_file, "proto/fluidcast/v1/fluidcast.proto, which the page reads")
+      ->envname("FLUIDCAST_PROTO")
+      ->check(CLI::ExistingFile);
   try {
     app.parse(argc, argv);
     if (o.tls_certificate.empty() != o.tls_key.empty()) {

@@ -20,6 +20,9 @@ struct ServerOptions {
   ServerLimits limits;
   std::string tls_certificate, tls_key;  // PEM files; both or neither
   std::string token_file;                // a file whose first line is the token clients must send
+  std::string web_root = FLUIDCAST_WEB_ROOT;      // the phone page's files
+  std::string web_vendor = FLUIDCAST_WEB_VENDOR;  // node_modules with protobufjs (npm ci at build)
+  std::string proto_file = FLUIDCAST_PROTO_FILE;  // the schema the page reads
 };
 
 // Exits the process with CLI11's message and status for --help or bad flags.

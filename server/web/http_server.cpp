@@ -3,8 +3,11 @@
 #include <boost/asio/strand.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
+#include <boost/beast/websocket/rfc6455.hpp>
 #include <chrono>
+#include <fstream>
 #include <memory>
+#include <sstream>
 #include <stdexcept>
 
 namespace fluidcast::server {
@@ -13,6 +16,15 @@ namespace {
 namespace beast = boost::beast;
 namespace http = beast::http;
 using tcp = boost::asio::ip::tcp;
+
+std::string content_type(const std::filesystem::path& path) {
+  const std::string extension = path.extension().string();
+  if (extension == ".html") return "text/html; charset=utf-8";
+  if (extension == ".js") return "text/javascript; charset=utf-8";
+  if (extension == ".css") return "text/css; charset=utf-8";
+  if (extension == ".png") return "image/png";
+  return "text/plain; charset=utf-8";
+}
 
 class Connection : public std::enable_shared_from_this<Connection> {
  public:
@@ -24,7 +36,15 @@ class Connection : public std::enable_shared_from_this<Connection> {
     stream_.expires_after(std::chrono::seconds(30));
     http::async_read(stream_, buffer_, request_,
                      [self = shared_from_this()](beast::error_code error, std::size_t) {
-                       if (!error) self->respond();
+                       if (error) return;
+                       if (beast::websocket::is_upgrade(self->request_) &&
+                           self->request_.target() == "/ws" && self->routes_->websocket) {
+                         self->stream_.expires_never();
+                         self->routes_->websocket(std::move(self->stream_),
+                                                  std::move(self->request_));
+                         return;
+                       }
+                       self->respond();
                      });
   }
 
@@ -34,7 +54,8 @@ class Connection : public std::enable_shared_from_this<Connection> {
     response->version(request_.version());
     response->keep_alive(request_.keep_alive());
     response->set(http::field::server, "fluidcast");
-    const std::string target(request_.target());
+    std::string target(request_.target());
+    target = target.substr(0, target.find('?'));  // the page's own parameters are not a path
     if (request_.method() != http::verb::get && request_.method() != http::verb::head) {
       response->result(http::status::method_not_allowed);
       response->body() = "only GET\n";
@@ -45,9 +66,21 @@ class Connection : public std::enable_shared_from_this<Connection> {
       const bool healthy = routes_->healthy();
       response->result(healthy ? http::status::ok : http::status::service_unavailable);
       response->body() = healthy ? "ok\n" : "stopping\n";
+    } else if (const auto file = routes_->files.find(target); file != routes_->files.end()) {
+      std::ifstream in(file->second, std::ios::binary);
+      std::ostringstream body;
+      body << in.rdbuf();
+      if (in) {
+        response->set(http::field::content_type, content_type(file->second));
+        response->set(http::field::cache_control, "no-cache");
+        response->body() = body.str();
+      } else {
+        response->result(http::status::not_found);
+        response->body() = file->second.string() + " is missing on the server\n";
+      }
     } else {
       response->result(http::status::not_found);
-      response->body() = "not found: try /metrics or /healthz\n";
+      response->body() = "not found: try /, /metrics or /healthz\n";
     }
     if (request_.method() == http::verb::head) response->body().clear();
     response->prepare_payload();

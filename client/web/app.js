@@ -1,0 +1,377 @@
+// The phone page: shows a fluidcast session's frames on a full-screen canvas and sends touches,
+// tilt and commands back. It speaks proto/fluidcast/v1/fluidcast.proto (read here by protobufjs)
+// in binary WebSocket frames on /ws, with the same rules as the gRPC Stream.
+'use strict';
+
+const page = {
+  canvas: document.getElementById('view'),
+  status: document.getElementById('status'),
+  stats: document.getElementById('stats'),
+  panel: document.getElementById('panel'),
+};
+const context = page.canvas.getContext('2d');
+
+// What the browser test (tests/browser) and a curious person can read.
+const state = window.fluidcast = {
+  connected: false,
+  frames: 0,
+  fps: 0,
+  latencyMs: [],  // touch-to-photon, the last 100
+  bitrateKbps: 0,
+  sessionId: '',
+  viewerId: 0,
+  lastFrame: null,  // sequence, sim time, size, renderer, timings
+  reconnects: 0,
+  tilt: null,       // the last gravity sent
+  // Drops the connection as a lost network would (for tests, and to try the reconnect).
+  drop: () => { if (socket) socket.close(); },
+};
+
+let types = null;      // protobufjs message types
+let socket = null;
+let nextEventId = 1;
+const sentAt = new Map();  // event id → time sent
+let token = localStorage.getItem('fluidcast.token') || '';
+// ?scene=pool&particles=2000&renderer=ssfr&adaptive=0 in the address: what a new session
+// starts with, and how this viewer wants it.
+const query = new URLSearchParams(location.search);
+let wanted = {
+  quality: 0, renderer: query.get('renderer') || '', adaptive: query.get('adaptive') !== '0',
+  scene: query.get('scene') || '', particles: Number(query.get('particles')) || 0,
+};
+let paused = false;
+let retryDelayMs = 500;
+let giveUp = false;
+
+function say(text) { page.status.textContent = text; }
+
+// ---- protocol ------------------------------------------------------------------------------
+
+async function loadProtocol() {
+  if (typeof protobuf === 'undefined') {
+    throw new Error('the page could not load protobufjs from the server (/vendor/protobuf.min.js)');
+  }
+  const root = await protobuf.load('/fluidcast.proto');
+  return {
+    ClientMessage: root.lookupType('fluidcast.v1.ClientMessage'),
+    ServerMessage: root.lookupType('fluidcast.v1.ServerMessage'),
+  };
+}
+
+function send(fields, isInput) {
+  if (!socket || socket.readyState !== WebSocket.OPEN) return 0;
+  const message = Object.assign({}, fields);
+  if (isInput) {
+    message.eventId = nextEventId++;
+    sentAt.set(message.eventId, performance.now());
+  }
+  // fromObject turns enum names ('DOWN') into their numbers.
+  socket.send(types.ClientMessage.encode(types.ClientMessage.fromObject(message)).finish());
+  return message.eventId || 0;
+}
+
+function viewport() {
+  // Device pixels, capped: a phone's 3× screen does not need 3× the pixels streamed.
+  const scale = Math.min(window.devicePixelRatio || 1, 2);
+  const width = Math.max(1, Math.min(1920, Math.round(page.canvas.clientWidth * scale)));
+  const height = Math.max(1, Math.min(1080, Math.round(page.canvas.clientHeight * scale)));
+  return { width, height };
+}
+
+function quality() {
+  return { jpegQuality: wanted.quality, renderer: wanted.renderer, adaptive: wanted.adaptive };
+}
+
+function connect() {
+  giveUp = false;
+  const scheme = location.protocol === 'https:' ? 'wss:' : 'ws:';
+  socket = new WebSocket(scheme + '//' + location.host + '/ws');
+  socket.binaryType = 'arraybuffer';
+  say(state.sessionId ? 'Reconnecting…' : 'Connecting…');
+  socket.onopen = () => {
+    const hello = { token, viewport: viewport(), quality: quality() };
+    if (state.sessionId) {
+      hello.resume = { sessionId: state.sessionId, viewerId: state.viewerId };
+    } else {
+      hello.create = { scene: wanted.scene, particles: wanted.particles };
+    }
+    send({ hello }, false);
+  };
+  socket.onmessage = (event) => receive(new Uint8Array(event.data));
+  socket.onclose = () => {
+    state.connected = false;
+    socket = null;
+    if (giveUp) return;
+    // The network dropped or the server went away: try again, resuming the session.
+    say('The connection dropped; reconnecting in ' + (retryDelayMs / 1000).toFixed(1) + ' s…');
+    setTimeout(() => { state.reconnects++; connect(); }, retryDelayMs);
+    retryDelayMs = Math.min(retryDelayMs * 2, 8000);
+  };
+}
+
+function receive(bytes) {
+  const message = types.ServerMessage.decode(bytes);
+  if (message.welcome) {
+    state.connected = true;
+    state.sessionId = message.welcome.sessionId;
+    state.viewerId = message.welcome.viewerId;
+    retryDelayMs = 500;
+    history.replaceState(null, '', '#' + state.sessionId);
+    say('');
+    showSession(message.welcome.state);
+  } else if (message.frame) {
+    showFrame(message.frame);
+  } else if (message.end) {
+    ended(message.end.code, message.end.message);
+  }
+}
+
+function ended(code, text) {
+  if (code === 'UNAUTHENTICATED') {
+    giveUp = true;
+    const given = window.prompt('This server needs a token. ' + text, '');
+    if (given !== null) {
+      token = given;
+      localStorage.setItem('fluidcast.token', token);
+      giveUp = false;  // onclose reconnects
+      retryDelayMs = 100;
+    } else {
+      say('No token given: ' + text);
+    }
+  } else if (code === 'NOT_FOUND') {
+    // The session ended while we were away: start a new one.
+    state.sessionId = '';
+    retryDelayMs = 100;
+  } else if (code === 'UNAVAILABLE') {
+    say('The server stopped: ' + text + ' — retrying.');
+  } else {
+    giveUp = true;
+    say('The server ended the stream (' + code + '): ' + text);
+  }
+}
+
+// ---- frames --------------------------------------------------------------------------------
+
+let frameTimes = [];
+let bytesWindow = [];
+let pendingFrame = null;  // the newest frame not yet drawn: a newer one replaces it
+let decoding = false;
+
+// Decodes off the main thread and draws, newest frame first; never a queue.
+async function present(blob) {
+  pendingFrame = blob;
+  if (decoding) return;
+  decoding = true;
+  while (pendingFrame) {
+    const next = pendingFrame;
+    pendingFrame = null;
+    try {
+      const image = await createImageBitmap(next);
+      draw(image);
+      image.close();
+    } catch (error) {
+      say('A frame could not be shown: ' + error.message);
+    }
+  }
+  decoding = false;
+}
+
+function showFrame(frame) {
+  const now = performance.now();
+  send({ ack: { sequence: frame.sequence, clientReceiveTimeUs: Math.round(Date.now() * 1000) } },
+       false);
+  for (const [id, at] of sentAt) {
+    if (id > frame.inputEventId) continue;
+    state.latencyMs.push(now - at);
+    sentAt.delete(id);
+  }
+  if (state.latencyMs.length > 100) state.latencyMs.splice(0, state.latencyMs.length - 100);
+  frameTimes.push(now);
+  bytesWindow.push([now, frame.jpeg.length]);
+  while (frameTimes.length && now - frameTimes[0] > 2000) frameTimes.shift();
+  while (bytesWindow.length && now - bytesWindow[0][0] > 2000) bytesWindow.shift();
+  state.fps = frameTimes.length / 2;
+  state.bitrateKbps = bytesWindow.reduce((sum, entry) => sum + entry[1], 0) * 8 / 2 / 1000;
+  state.frames++;
+  state.lastFrame = {
+    sequence: frame.sequence, simTime: frame.simTime, width: frame.width, height: frame.height,
+    renderer: frame.renderer, quality: frame.jpegQuality, timings: frame.timings || {},
+  };
+  present(new Blob([frame.jpeg], { type: 'image/jpeg' }));
+  updateStats();
+}
+
+// Where the frame lies in the canvas (letterboxed, aspect kept): for drawing and for touches.
+function frameRect(width, height) {
+  const cw = page.canvas.width, ch = page.canvas.height;
+  const scale = Math.min(cw / width, ch / height);
+  const w = width * scale, h = height * scale;
+  return { x: (cw - w) / 2, y: (ch - h) / 2, w, h };
+}
+
+function draw(image) {
+  const rect = frameRect(image.width, image.height);
+  context.fillStyle = '#111';
+  context.fillRect(0, 0, page.canvas.width, page.canvas.height);
+  context.drawImage(image, rect.x, rect.y, rect.w, rect.h);
+}
+
+function percentile(values, p) {
+  if (!values.length) return 0;
+  const sorted = values.slice().sort((a, b) => a - b);
+  return sorted[Math.min(sorted.length - 1, Math.floor(p * sorted.length))];
+}
+
+function updateStats() {
+  if (page.stats.hidden) return;
+  const f = state.lastFrame || {};
+  const t = f.timings || {};
+  page.stats.textContent =
+    `${state.fps.toFixed(1)} fps  ${state.bitrateKbps.toFixed(0)} kbit/s\n` +
+    `touch→photon p50 ${percentile(state.latencyMs, 0.5).toFixed(0)} ms, ` +
+    `p95 ${percentile(state.latencyMs, 0.95).toFixed(0)} ms\n` +
+    `${f.width}×${f.height} ${f.renderer} q${f.quality}  t=${(f.simTime || 0).toFixed(2)} s\n` +
+    `server: sim ${(t.simMs || 0).toFixed(1)} render ${(t.renderMs || 0).toFixed(1)} ` +
+    `read-back ${(t.readbackMs || 0).toFixed(2)} encode ${(t.encodeMs || 0).toFixed(1)} ms`;
+}
+
+function showSession(session) {
+  state.particles = session.particles;
+  state.scene = session.scene;
+  page.panel.querySelector('#scene').value = session.scene;
+  page.panel.querySelector('#pause').textContent = session.paused ? 'Go on' : 'Pause';
+  paused = session.paused;
+}
+
+// ---- input ---------------------------------------------------------------------------------
+
+const pointerIds = new Map();  // the browser's pointer id → ours, below 16
+
+function normalised(event) {
+  const bounds = page.canvas.getBoundingClientRect();  // the page may be scrolled or offset
+  const scale = page.canvas.width / bounds.width;
+  const px = (event.clientX - bounds.left) * scale, py = (event.clientY - bounds.top) * scale;
+  const f = state.lastFrame || viewport();
+  const rect = frameRect(f.width, f.height);
+  const clamp = (v) => Math.min(1, Math.max(0, v));
+  return { x: clamp((px - rect.x) / rect.w), y: clamp((py - rect.y) / rect.h) };
+}
+
+function pointer(event, phase) {
+  let id = pointerIds.get(event.pointerId);
+  if (id === undefined) {
+    if (phase !== 'DOWN') return;
+    const used = new Set(pointerIds.values());
+    for (id = 0; id < 16 && used.has(id); id++);
+    if (id === 16) return;
+    pointerIds.set(event.pointerId, id);
+  }
+  const at = normalised(event);
+  send({ pointer: { pointerId: id, phase, x: at.x, y: at.y } }, true);
+  if (phase === 'UP' || phase === 'CANCEL') pointerIds.delete(event.pointerId);
+}
+
+page.canvas.addEventListener('pointerdown', (e) => {
+  page.canvas.setPointerCapture(e.pointerId);
+  pointer(e, 'DOWN');
+});
+page.canvas.addEventListener('pointermove', (e) => {
+  if (pointerIds.has(e.pointerId)) pointer(e, 'MOVE');
+});
+page.canvas.addEventListener('pointerup', (e) => pointer(e, 'UP'));
+page.canvas.addEventListener('pointercancel', (e) => pointer(e, 'CANCEL'));
+page.canvas.addEventListener('contextmenu', (e) => e.preventDefault());
+
+// Tilt: the accelerometer's reading includes the reaction to gravity (up when still); gravity is
+// its opposite, turned into screen axes for the screen's orientation.
+let lastTiltSent = 0;
+function onMotion(event) {
+  const a = event.accelerationIncludingGravity;
+  if (!a || a.x === null) return;
+  const angle = ((screen.orientation && screen.orientation.angle) || window.orientation || 0) *
+                Math.PI / 180;
+  const c = Math.cos(angle), s = Math.sin(angle);
+  const gravity = { x: -(a.x * c + a.y * s), y: -(-a.x * s + a.y * c), z: -a.z };
+  const magnitude = Math.hypot(gravity.x, gravity.y, gravity.z);
+  const now = performance.now();
+  if (magnitude < 0.1 || magnitude > 200 || now - lastTiltSent < 50) return;  // 20 a second
+  lastTiltSent = now;
+  state.tilt = gravity;
+  send({ tilt: gravity }, true);
+}
+
+async function enableTilt() {
+  try {
+    // iOS asks the person first, and only from a tap.
+    if (typeof DeviceMotionEvent !== 'undefined' &&
+        typeof DeviceMotionEvent.requestPermission === 'function') {
+      const answer = await DeviceMotionEvent.requestPermission();
+      if (answer !== 'granted') {
+        say('Tilt needs permission for motion sensors.');
+        return;
+      }
+    }
+    window.addEventListener('devicemotion', onMotion);
+    page.panel.querySelector('#tilt').textContent = 'Tilt on';
+  } catch (error) {
+    say('Tilt is not available here: ' + error.message);
+  }
+}
+
+// ---- controls ------------------------------------------------------------------------------
+
+function command(fields) { send({ command: fields }, true); }
+
+function setupControls() {
+  const scene = page.panel.querySelector('#scene');
+  for (const name of ['dam_break', 'double_dam_break', 'drop', 'pool']) {
+    scene.add(new Option(name.replace(/_/g, ' '), name));
+  }
+  const renderer = page.panel.querySelector('#renderer');
+  for (const name of ['auto', 'ssfr', 'mc', 'points']) renderer.add(new Option(name, name));
+  renderer.value = wanted.renderer || 'auto';
+  page.panel.querySelector('#adaptive').checked = wanted.adaptive;
+  scene.onchange = () => command({ scene: scene.value });
+  renderer.onchange = () => { wanted.renderer = renderer.value; command({ quality: quality() }); };
+  const jpeg = page.panel.querySelector('#quality');
+  jpeg.onchange = () => { wanted.quality = Number(jpeg.value); command({ quality: quality() }); };
+  const adaptive = page.panel.querySelector('#adaptive');
+  adaptive.onchange = () => { wanted.adaptive = adaptive.checked; command({ quality: quality() }); };
+  page.panel.querySelector('#reset').onclick = () => command({ reset: true });
+  page.panel.querySelector('#pause').onclick = (e) => {
+    paused = !paused;
+    command({ pause: paused });
+    e.target.textContent = paused ? 'Go on' : 'Pause';
+  };
+  page.panel.querySelector('#tilt').onclick = enableTilt;
+  page.panel.querySelector('#toggle-stats').onclick = (e) => {
+    page.stats.hidden = !page.stats.hidden;
+    e.target.textContent = page.stats.hidden ? 'Show stats' : 'Hide stats';
+  };
+  document.getElementById('menu').onclick = () => { page.panel.hidden = !page.panel.hidden; };
+}
+
+function fitCanvas() {
+  const scale = window.devicePixelRatio || 1;
+  page.canvas.width = Math.round(page.canvas.clientWidth * scale);
+  page.canvas.height = Math.round(page.canvas.clientHeight * scale);
+}
+
+let resizeTimer = 0;
+window.addEventListener('resize', () => {
+  fitCanvas();
+  clearTimeout(resizeTimer);
+  resizeTimer = setTimeout(() => command({ viewport: viewport() }), 250);
+});
+
+(async () => {
+  try {
+    fitCanvas();
+    types = await loadProtocol();
+    setupControls();
+    if (location.hash.length > 1) state.sessionId = location.hash.slice(1);  // a shared link joins
+    connect();
+  } catch (error) {
+    say('The page cannot start: ' + error.message);
+  }
+})();

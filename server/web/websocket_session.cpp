@@ -1,0 +1,217 @@
+#include "websocket_session.h"
+
+#include <boost/asio/post.hpp>
+#include <boost/beast/core/flat_buffer.hpp>
+#include <boost/beast/websocket.hpp>
+#include <deque>
+
+#include "session/validation.h"
+
+namespace fluidcast::server {
+namespace {
+
+namespace beast = boost::beast;
+namespace websocket = beast::websocket;
+
+// Larger than any valid ClientMessage (a Hello is well under 1 KiB); a bigger frame ends the
+// socket before it is buffered.
+constexpr std::size_t kMaxMessageBytes = 64 * 1024;
+
+const char* code_name(RefusalCode code) {
+  switch (code) {
+    case RefusalCode::invalid_argument: return "INVALID_ARGUMENT";
+    case RefusalCode::unauthenticated: return "UNAUTHENTICATED";
+    case RefusalCode::not_found: return "NOT_FOUND";
+    case RefusalCode::resource_exhausted: return "RESOURCE_EXHAUSTED";
+    case RefusalCode::failed_precondition: return "FAILED_PRECONDITION";
+    case RefusalCode::unavailable: return "UNAVAILABLE";
+  }
+  return "INTERNAL";
+}
+
+class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
+ public:
+  WebSocketSession(beast::tcp_stream stream, SessionHub& hub)
+      : socket_(std::move(stream)), hub_(&hub), rate_(hub.limits().max_input_events_per_second) {}
+
+  void start(beast::http::request<beast::http::string_body> request) {
+    socket_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
+    socket_.read_message_max(kMaxMessageBytes);
+    socket_.binary(true);
+    socket_.async_accept(request, [self = shared_from_this()](beast::error_code error) {
+      if (!error) self->read();
+    });
+  }
+
+  // From any thread: onto the strand.
+  void post_send(std::shared_ptr<const v1::ServerMessage> message) {
+    boost::asio::post(socket_.get_executor(),
+                      [self = shared_from_this(), message = std::move(message)] {
+                        self->send(message);
+                      });
+  }
+  void post_end(const Refusal& why) {
+    boost::asio::post(socket_.get_executor(),
+                      [self = shared_from_this(), why] { self->end(why.code(), why.what()); });
+  }
+
+ private:
+  class Sink;
+
+  void read() {
+    if (ending_) return;
+    socket_.async_read(buffer_, [self = shared_from_this()](beast::error_code error, std::size_t) {
+      self->on_read(error);
+    });
+  }
+
+  void on_read(beast::error_code error) {
+    if (error) {  // closed, broken, or a frame over the limit
+      if (error == websocket::error::message_too_big) {
+        end(RefusalCode::resource_exhausted, "a WebSocket message over 64 KiB");
+      }
+      leave();
+      return;
+    }
+    v1::ClientMessage message;
+    const bool parsed = message.ParseFromArray(buffer_.data().data(),
+                                               static_cast<int>(buffer_.size()));
+    buffer_.consume(buffer_.size());
+    try {
+      if (!parsed) throw Refusal(RefusalCode::invalid_argument, "not a fluidcast.v1.ClientMessage");
+      if (!session_) {
+        validate_hello(message, hub_->limits(), hub_->token());
+        open(message.hello());
+        return;  // the next read starts once the session is open
+      }
+      validate_event(message, hub_->limits());
+      if (!message.has_ack() && !rate_.allow(Clock::now())) {
+        throw Refusal(RefusalCode::resource_exhausted,
+                      "more than " + std::to_string(hub_->limits().max_input_events_per_second) +
+                          " input events per second");
+      }
+      session_->post(viewer_, std::move(message));
+      read();
+    } catch (const Refusal& refusal) {
+      hub_->metrics().streams_refused++;
+      end(refusal.code(), refusal.what());
+    }
+  }
+
+  void open(const v1::Hello& hello);
+
+  void send(std::shared_ptr<const v1::ServerMessage> message) {
+    if (ending_ && !message->has_end()) return;
+    if (message->has_frame()) {
+      if (waiting_frame_) hub_->metrics().frames_dropped++;
+      waiting_frame_ = std::move(message);
+    } else {
+      control_.push_back(std::move(message));
+    }
+    if (!writing_) write_next();
+  }
+
+  void write_next() {
+    std::shared_ptr<const v1::ServerMessage> next;
+    if (!control_.empty()) {
+      next = std::move(control_.front());
+      control_.pop_front();
+    } else if (waiting_frame_) {
+      next = std::move(waiting_frame_);
+    } else {
+      if (ending_ && !closed_) close();
+      return;
+    }
+    writing_ = std::make_shared<std::string>(next->SerializeAsString());
+    socket_.async_write(boost::asio::buffer(*writing_),
+                        [self = shared_from_this()](beast::error_code error, std::size_t) {
+                          self->writing_.reset();
+                          if (error) {
+                            self->leave();
+                            return;
+                          }
+                          self->write_next();
+                        });
+  }
+
+  // Says why in a StreamEnd, then closes once it is written.
+  void end(RefusalCode code, const std::string& why) {
+    if (ending_) return;
+    ending_ = true;
+    waiting_frame_.reset();
+    auto message = std::make_shared<v1::ServerMessage>();
+    message->mutable_end()->set_code(code_name(code));
+    message->mutable_end()->set_message(why);
+    control_.push_back(std::move(message));
+    if (!writing_) write_next();
+  }
+
+  void close() {
+    closed_ = true;
+    socket_.async_close(websocket::close_code::normal,
+                        [self = shared_from_this()](beast::error_code) { self->leave(); });
+  }
+
+  // The viewer leaves its session (once).
+  void leave() {
+    ending_ = true;
+    if (session_) hub_->close(std::move(session_), viewer_);
+    session_.reset();
+  }
+
+  websocket::stream<beast::tcp_stream> socket_;
+  SessionHub* hub_;
+  beast::flat_buffer buffer_;
+  InputRateLimit rate_;
+  std::shared_ptr<Session> session_;
+  std::uint32_t viewer_ = 0;
+  std::shared_ptr<std::string> writing_;
+  std::deque<std::shared_ptr<const v1::ServerMessage>> control_;  // Welcome, StreamEnd
+  std::shared_ptr<const v1::ServerMessage> waiting_frame_;
+  bool ending_ = false, closed_ = false;
+};
+
+// The session's way in: a weak link, so a closed socket is simply gone.
+class WebSocketSession::Sink final : public ViewerSink {
+ public:
+  explicit Sink(std::weak_ptr<WebSocketSession> owner) : owner_(std::move(owner)) {}
+  bool deliver(std::shared_ptr<const v1::ServerMessage> message) override {
+    if (auto owner = owner_.lock()) owner->post_send(std::move(message));
+    return true;  // replacements are counted on the strand
+  }
+  void end(const Refusal& why) override {
+    if (auto owner = owner_.lock()) owner->post_end(why);
+  }
+
+ private:
+  std::weak_ptr<WebSocketSession> owner_;
+};
+
+void WebSocketSession::open(const v1::Hello& hello) {
+  auto sink = std::make_shared<Sink>(weak_from_this());
+  hub_->open(hello, sink, [self = shared_from_this()](SessionHub::Opened opened) {
+    boost::asio::post(self->socket_.get_executor(), [self, opened = std::move(opened)]() mutable {
+      if (opened.refusal) {
+        self->hub_->metrics().streams_refused++;
+        self->end(opened.refusal->code(), opened.refusal->what());
+        return;
+      }
+      if (self->ending_) {  // the socket went away while the session opened
+        self->hub_->close(std::move(opened.session), opened.viewer);
+        return;
+      }
+      self->session_ = std::move(opened.session);
+      self->viewer_ = opened.viewer;
+      self->read();
+    });
+  });
+}
+
+}  // namespace
+
+void serve_websocket(beast::tcp_stream stream,
+                     beast::http::request<beast::http::string_body> request, SessionHub& hub) {
+  std::make_shared<WebSocketSession>(std::move(stream), hub)->start(std::move(request));
+}
+
+}  // namespace fluidcast::server

@@ -1,0 +1,21 @@
+// One browser's stream on /ws: the same ClientMessage and ServerMessage as gRPC's Stream, one per
+// binary WebSocket frame, with the same validation and session rules. All its work runs on its
+// connection's strand; the session side reaches it only through its sink. At most one write in
+// flight and one frame waiting behind it: a newer frame replaces the waiting one.
+#pragma once
+
+#include <boost/beast/core/tcp_stream.hpp>
+#include <boost/beast/http/message.hpp>
+#include <boost/beast/http/string_body.hpp>
+#include <memory>
+
+#include "session/session_hub.h"
+
+namespace fluidcast::server {
+
+// Takes over an upgrade request's connection; keeps itself alive while the socket is open.
+void serve_websocket(boost::beast::tcp_stream stream,
+                     boost::beast::http::request<boost::beast::http::string_body> request,
+                     SessionHub& hub);
+
+}  // namespace fluidcast::server

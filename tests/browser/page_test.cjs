@@ -1,0 +1,169 @@
+// The phone page in Debian's Chromium, headless, as a phone (touch, small screen), driven by
+// playwright-core against the real server on loopback: frames arrive and the canvas shows them,
+// a touch drag stirs the fluid, an emulated tilt turns gravity, a dropped WebSocket reconnects
+// and resumes the same session. Screenshots go to test-output/browser_*.png.
+//   node tests/browser/page_test.cjs   (env: FLUIDCAST_SERVER, FLUIDCAST_WEB_MODULES, CHROMIUM)
+'use strict';
+
+const { spawn } = require('child_process');
+const fs = require('fs');
+const path = require('path');
+const { chromium } = require(path.join(process.env.FLUIDCAST_WEB_MODULES, 'playwright-core'));
+
+const server = process.env.FLUIDCAST_SERVER;
+const browserPath = process.env.CHROMIUM || '/usr/bin/chromium';
+const out = 'test-output';
+let failures = 0, passes = 0;
+
+function check(ok, what) {
+  console.log((ok ? 'ok   ' : 'FAIL ') + what);
+  if (ok) passes++; else failures++;
+}
+
+function startServer() {
+  return new Promise((resolve, reject) => {
+    const child = spawn(server, ['--listen', '127.0.0.1', '--grpc-port', '0', '--http-port', '0'],
+                        { stdio: ['ignore', 'pipe', 'inherit'] });
+    let text = '';
+    child.stdout.on('data', (chunk) => {
+      text += chunk;
+      const match = /http=127\.0\.0\.1:(\d+)/.exec(text);
+      if (match) resolve({ child, port: Number(match[1]) });
+    });
+    child.on('exit', (code) => reject(new Error('fluidcast-server exited with ' + code)));
+  });
+}
+
+const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+
+async function waitFor(page, predicate, what, timeoutMs = 60000) {
+  const start = Date.now();
+  while (Date.now() - start < timeoutMs) {
+    if (await page.evaluate(predicate)) return true;
+    await sleep(100);
+  }
+  throw new Error('timed out waiting for ' + what);
+}
+
+// The canvas's pixels, as the person sees them.
+async function pixels(page) {
+  return page.evaluate(() => {
+    const canvas = document.getElementById('view');
+    const data = canvas.getContext('2d').getImageData(0, 0, canvas.width, canvas.height).data;
+    return Array.from(data.filter((_, k) => k % 4 !== 3 && (k >> 2) % 7 === 0));
+  });
+}
+
+function meanDifference(a, b) {
+  let sum = 0;
+  for (let k = 0; k < a.length; k++) sum += Math.abs(a[k] - b[k]);
+  return sum / a.length;
+}
+
+function spread(values) {
+  const mean = values.reduce((s, v) => s + v, 0) / values.length;
+  return Math.sqrt(values.reduce((s, v) => s + (v - mean) * (v - mean), 0) / values.length);
+}
+
+async function touchDrag(page, cdp, from, to, steps) {
+  const point = (x, y) => [{ x, y, id: 1, radiusX: 4, radiusY: 4, force: 1 }];
+  await cdp.send('Input.dispatchTouchEvent', { type: 'touchStart', touchPoints: point(from.x, from.y) });
+  for (let k = 1; k <= steps; k++) {
+    const x = from.x + (to.x - from.x) * k / steps, y = from.y + (to.y - from.y) * k / steps;
+    await cdp.send('Input.dispatchTouchEvent', { type: 'touchMove', touchPoints: point(x, y) });
+    await sleep(50);
+  }
+  await cdp.send('Input.dispatchTouchEvent', { type: 'touchEnd', touchPoints: [] });
+}
+
+async function main() {
+  fs.mkdirSync(out, { recursive: true });
+  const { child, port } = await startServer();
+  const browser = await chromium.launch({ executablePath: browserPath, headless: true,
+                                          args: ['--no-sandbox'] });
+  try {
+    const context = await browser.newContext({
+      viewport: { width: 300, height: 400 }, deviceScaleFactor: 1, isMobile: true, hasTouch: true,
+    });
+    const page = await context.newPage();
+    page.on('console', (m) => console.log('page: ' + m.text()));
+    page.on('pageerror', (e) => { console.log('page error: ' + e.message); failures++; });
+    await page.goto(`http://127.0.0.1:${port}/?scene=pool&particles=2000&renderer=ssfr&adaptive=0`);
+
+    // Frames arrive and show.
+    await waitFor(page, () => window.fluidcast.frames >= 5, 'five frames');
+    const first = await pixels(page);
+    check(spread(first) > 10, 'the canvas shows a picture, not a blank (spread ' +
+          spread(first).toFixed(1) + ')');
+    const state = await page.evaluate(() => ({ ...window.fluidcast, latencyMs: undefined }));
+    check(state.fps > 0, `fps > 0 (${state.fps})`);
+    check(state.lastFrame.width === 300 && state.lastFrame.height === 400,
+          `frames at the canvas's size (${state.lastFrame.width}×${state.lastFrame.height})`);
+    await page.screenshot({ path: path.join(out, 'browser_page.png') });
+
+    // A calm pool changes little by itself; a finger dragged through it changes it a lot.
+    await sleep(1500);
+    const calmBefore = await pixels(page);
+    await sleep(1500);
+    const calmAfter = await pixels(page);
+    const calm = meanDifference(calmBefore, calmAfter);
+    const cdp = await context.newCDPSession(page);
+    await touchDrag(page, cdp, { x: 60, y: 250 }, { x: 240, y: 250 }, 30);
+    await sleep(300);
+    const stirred = meanDifference(calmAfter, await pixels(page));
+    await page.screenshot({ path: path.join(out, 'browser_drag.png') });
+    check(stirred > 2 * calm + 0.5,
+          `a touch drag stirs the fluid (image change ${stirred.toFixed(2)} vs ${calm.toFixed(2)} calm)`);
+    const latencies = await page.evaluate(() => window.fluidcast.latencyMs.length);
+    check(latencies > 0, `frames reflect the touches (${latencies} latency samples)`);
+
+    // Tilt: reset to a calm pool, then gravity along the screen's x axis tips the water over.
+    await page.click('#menu');
+    await page.click('#reset');
+    await page.click('#tilt');
+    await page.click('#menu');
+    await sleep(2000);
+    const level = await pixels(page);
+    for (let k = 0; k < 60; k++) {
+      await page.evaluate(() => window.dispatchEvent(new DeviceMotionEvent('devicemotion', {
+        accelerationIncludingGravity: { x: -9.81, y: 0, z: 0 },  // reaction: gravity along +x
+      })));
+      await sleep(50);
+    }
+    const tilted = meanDifference(level, await pixels(page));
+    await page.screenshot({ path: path.join(out, 'browser_tilt.png') });
+    const sent = await page.evaluate(() => window.fluidcast.tilt);
+    check(sent && Math.abs(sent.x - 9.81) < 1e-3, 'the tilt sent is gravity along the screen\'s x');
+    check(tilted > 2 * calm + 0.5,
+          `the tilt tips the water (image change ${tilted.toFixed(2)} vs ${calm.toFixed(2)} calm)`);
+
+    // The WebSocket drops: the page reconnects and resumes the same session.
+    const before = await page.evaluate(() => ({ id: window.fluidcast.sessionId,
+                                                frames: window.fluidcast.frames }));
+    await page.evaluate(() => window.fluidcast.drop());
+    await waitFor(page, () => window.fluidcast.reconnects >= 1 && window.fluidcast.connected,
+                  'a reconnect');
+    await waitFor(page, `window.fluidcast.frames > ${before.frames + 3}`, 'frames after it');
+    const after = await page.evaluate(() => window.fluidcast.sessionId);
+    check(after === before.id, 'the same session after the reconnect');
+    await page.screenshot({ path: path.join(out, 'browser_reconnected.png') });
+
+    // The server goes away: the page says so instead of a blank screen.
+    child.kill('SIGTERM');
+    await waitFor(page, () => document.getElementById('status').textContent.length > 0,
+                  'a message when the server is gone', 15000);
+    const message = await page.evaluate(() => document.getElementById('status').textContent);
+    check(/server|connection|reconnect/i.test(message), `it says why: "${message}"`);
+  } finally {
+    await browser.close();
+    child.kill('SIGTERM');
+  }
+  console.log(`${passes} passed, ${failures} failed`);
+  process.exit(failures === 0 ? 0 : 1);
+}
+
+main().catch((error) => {
+  console.log('FAIL ' + error.message);
+  console.log(`${passes} passed, ${failures + 1} failed`);
+  process.exit(1);
+});
