@@ -85,6 +85,23 @@ int serve(const ServerOptions& options) {
   SessionHub hub(context, gpu_solver, options.limits, read_token(options.token_file), metrics);
   FluidcastService service(hub);
 
+  // HTTP first: if its port is taken, nothing else has started yet.
+  std::atomic<bool> serving{true};
+  const std::filesystem::path web = options.web_root;
+  HttpServer http(
+      options.listen, options.http_port,
+      {[&] { return metrics.prometheus_text(); }, [&] { return serving.load(); },
+       [&hub](boost::beast::tcp_stream stream,
+              boost::beast::http::request<boost::beast::http::string_body> request) {
+         serve_websocket(std::move(stream), std::move(request), hub);
+       },
+       {{"/", web / "index.html"},
+        {"/app.js", web / "app.js"},
+        {"/style.css", web / "style.css"},
+        {"/fluidcast.proto", options.proto_file},
+        {"/vendor/protobuf.min.js",
+         std::filesystem::path(options.web_vendor) / "protobufjs/dist/protobuf.min.js"}}});
+
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
@@ -114,22 +131,6 @@ int serve(const ServerOptions& options) {
   }
   grpc::HealthCheckServiceInterface* health = server->GetHealthCheckService();
   health->SetServingStatus(true);
-
-  std::atomic<bool> serving{true};
-  const std::filesystem::path web = options.web_root;
-  HttpServer http(
-      options.listen, options.http_port,
-      {[&] { return metrics.prometheus_text(); }, [&] { return serving.load(); },
-       [&hub](boost::beast::tcp_stream stream,
-              boost::beast::http::request<boost::beast::http::string_body> request) {
-         serve_websocket(std::move(stream), std::move(request), hub);
-       },
-       {{"/", web / "index.html"},
-        {"/app.js", web / "app.js"},
-        {"/style.css", web / "style.css"},
-        {"/fluidcast.proto", options.proto_file},
-        {"/vendor/protobuf.min.js",
-         std::filesystem::path(options.web_vendor) / "protobufjs/dist/protobuf.min.js"}}});
 
   std::printf("fluidcast-server: listening: grpc=%s:%d http=%s:%u\n", options.listen.c_str(),
               grpc_port, options.listen.c_str(), static_cast<unsigned>(http.port()));

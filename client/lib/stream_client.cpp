@@ -6,6 +6,9 @@ namespace {
 using Clock = std::chrono::steady_clock;
 // Frames kept for a caller that reads slower than they come; older ones are dropped.
 constexpr std::size_t kKeptFrames = 4;
+// Inputs awaiting a frame, and latencies kept: the newest.
+constexpr std::size_t kKeptInputs = 1024;
+constexpr std::size_t kKeptLatencies = 100000;
 
 }  // namespace
 
@@ -68,6 +71,9 @@ void StreamClient::read_loop() {
       latencies_ms_.push_back(std::chrono::duration<double, std::milli>(now - it->second).count());
       it = unanswered_.erase(it);
     }
+    if (latencies_ms_.size() > kKeptLatencies) {
+      latencies_ms_.erase(latencies_ms_.begin(), latencies_ms_.begin() + kKeptLatencies / 2);
+    }
     frames_.push_back(std::move(*message.mutable_frame()));
     while (frames_.size() > kKeptFrames) frames_.pop_front();
     changed_.notify_all();
@@ -84,8 +90,10 @@ std::uint64_t StreamClient::send_input(v1::ClientMessage message) {
   std::uint64_t id;
   {
     std::lock_guard lock(mutex_);
+    if (ended_) return 0;
     id = next_event_++;
     unanswered_[id] = Clock::now();
+    if (unanswered_.size() > kKeptInputs) unanswered_.erase(unanswered_.begin());
   }
   message.set_event_id(id);
   if (!writes_done_) stream_->Write(message);

@@ -16,6 +16,7 @@ inline grpc::Status to_status(const Refusal& refusal) {
       case RefusalCode::resource_exhausted: return grpc::StatusCode::RESOURCE_EXHAUSTED;
       case RefusalCode::failed_precondition: return grpc::StatusCode::FAILED_PRECONDITION;
       case RefusalCode::unavailable: return grpc::StatusCode::UNAVAILABLE;
+      case RefusalCode::internal: return grpc::StatusCode::INTERNAL;
     }
     return grpc::StatusCode::INTERNAL;
   }();

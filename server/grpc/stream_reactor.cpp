@@ -15,6 +15,11 @@ class GrpcViewerSink final : public ViewerSink {
   bool deliver(std::shared_ptr<const v1::ServerMessage> message) override {
     std::lock_guard lock(mutex_);
     if (!reactor_ || finishing_) return true;
+    if (message->has_frame()) {
+      // Encoders finish in any order: a frame older than one already sent is dropped.
+      if (message->frame().sequence() <= newest_sequence_) return false;
+      newest_sequence_ = message->frame().sequence();
+    }
     if (!writing_) {
       start_write(std::move(message));
       return true;
@@ -38,9 +43,10 @@ class GrpcViewerSink final : public ViewerSink {
     }
   }
 
-  bool finishing() {
+  // The next read, unless the stream is finishing (no operation may follow Finish).
+  void read_next(v1::ClientMessage* into) {
     std::lock_guard lock(mutex_);
-    return finishing_;
+    if (reactor_ && !finishing_) reactor_->StartRead(into);
   }
 
   void on_write_done(bool ok) {
@@ -90,18 +96,22 @@ class GrpcViewerSink final : public ViewerSink {
   bool finishing_ = false;
   std::shared_ptr<const v1::ServerMessage> writing_message_, waiting_;
   std::optional<grpc::Status> status_after_write_;
+  std::uint64_t newest_sequence_ = 0;
 };
 
 StreamReactor::StreamReactor(SessionHub& hub)
     : hub_(&hub),
       sink_(std::make_shared<GrpcViewerSink>(this)),
-      rate_(hub.limits().max_input_events_per_second) {
+      rate_(hub.limits().max_input_events_per_second),
+      ack_rate_(kAcknowledgementsPerFrame * hub.limits().max_fps) {
   StartRead(&incoming_);
 }
 
 void StreamReactor::refuse(const Refusal& refusal) {
   hub_->metrics().streams_refused++;
   sink_->end(refusal);
+  // The viewer leaves now, even if a client that stopped reading holds the last write open.
+  if (session_) hub_->close(session_, viewer_);
 }
 
 void StreamReactor::OnReadDone(bool ok) {
@@ -123,14 +133,10 @@ void StreamReactor::OnReadDone(bool ok) {
       return;
     }
     validate_event(incoming_, hub_->limits());
-    if (!incoming_.has_ack() && !rate_.allow(Clock::now())) {
-      throw Refusal(RefusalCode::resource_exhausted,
-                    "more than " + std::to_string(hub_->limits().max_input_events_per_second) +
-                        " input events per second");
-    }
+    check_rate(incoming_, rate_, ack_rate_, hub_->limits());
     session_->post(viewer_, std::move(incoming_));
     incoming_.Clear();
-    if (!sink_->finishing()) StartRead(&incoming_);
+    sink_->read_next(&incoming_);
   } catch (const Refusal& refusal) {
     refuse(refusal);
   }

@@ -14,6 +14,7 @@ enum class RefusalCode {
   resource_exhausted,
   failed_precondition,
   unavailable,
+  internal,  // the server failed (out of GPU memory, a device lost): not the client's doing
 };
 
 class Refusal : public std::runtime_error {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 
 #include "fluidcast/render/frame_renderer.h"
 #include "fluidcast/sim/param_spec.h"
@@ -10,6 +11,11 @@
 namespace fluidcast::server {
 namespace {
 
+// Cameras kept for viewers that may resume.
+constexpr std::size_t kMaxDepartedViewers = 64;
+// Scene, solver and count changes rebuild the simulation: at most one per this interval, the
+// newest wish winning, so no client can keep the worker busy rebuilding.
+constexpr auto kRebuildInterval = std::chrono::milliseconds(500);
 // Steps one tick may owe to real time; past it the fluid runs slow instead.
 constexpr int kMaxStepsPerTick = 4;
 // Of a tick's interval, the share the steps of one session may take on the worker's thread (a
@@ -99,6 +105,8 @@ void Session::remove_viewer(std::uint32_t id) {
   const auto found = viewers_.find(id);
   if (found == viewers_.end()) return;
   departed_[id] = found->second->camera();
+  // Only the most recent leavers can still resume; older cameras are forgotten.
+  while (departed_.size() > kMaxDepartedViewers) departed_.erase(departed_.begin());
   viewers_.erase(found);
   services_.metrics->viewers--;
   if (viewers_.empty()) empty_since_ = Clock::now();
@@ -108,6 +116,7 @@ void Session::end_all(const Refusal& why) {
   for (auto& [id, viewer] : viewers_) viewer->sink().end(why);
   services_.metrics->viewers -= viewers_.size();
   viewers_.clear();
+  empty_since_ = Clock::now();
 }
 
 float Session::collider_radius() const {
@@ -163,6 +172,25 @@ std::uint32_t Session::load(const v1::Snapshot& snapshot) {
       velocities[k][axis] = snapshot.velocities(static_cast<int>(3 * k) + axis);
     }
   }
+  // Checked before the fluid is touched: a refused snapshot leaves the session as it was.
+  const sim::Box& box = solver_->tank();
+  for (std::size_t k = 0; k < count; ++k) {
+    const glm::vec3 p = positions[k], v = velocities[k];
+    if (!std::isfinite(p.x + p.y + p.z) || !std::isfinite(v.x + v.y + v.z) ||
+        glm::any(glm::lessThan(p, box.min)) || glm::any(glm::greaterThan(p, box.max)) ||
+        glm::length(v) > sim::kMaxSpeed) {
+      throw Refusal(RefusalCode::invalid_argument,
+                    "Snapshot: particle " + std::to_string(k) +
+                        " is not finite, outside the tank, or faster than " +
+                        std::to_string(int(sim::kMaxSpeed)) + " m/s");
+    }
+  }
+  if (snapshot.has_gravity()) {
+    const glm::vec3 g(snapshot.gravity().x(), snapshot.gravity().y(), snapshot.gravity().z());
+    if (!std::isfinite(g.x + g.y + g.z) || glm::length(g) > sim::kMaxGravity) {
+      throw Refusal(RefusalCode::invalid_argument, "Snapshot: gravity is not finite or too large");
+    }
+  }
   finish_frames();
   const sim::Box tank = solver_->tank();
   const glm::vec3 centre = 0.5f * (tank.min + tank.max);
@@ -195,28 +223,28 @@ void Session::apply(Viewer& viewer, const v1::ClientMessage& message,
       break;
     case v1::ClientMessage::kCommand: {
       const v1::Command& command = message.command();
-      SessionSetup setup = setup_;
+      SessionSetup setup = setup_wanted_.value_or(setup_);
       switch (command.kind_case()) {
         case v1::Command::kReset:
-          if (command.reset()) {
-            finish_frames();
-            solver_->reset();
-          }
+          if (command.reset()) reset_wanted_ = true;
           break;
         case v1::Command::kPause:
           paused_ = command.pause();
           break;
         case v1::Command::kScene:
           setup.scene = sim::parse_scene(command.scene());
-          rebuild(setup);
+          setup_wanted_ = setup;
+          setup_requester_ = viewer.id();
           break;
         case v1::Command::kSolver:
           setup.solver = sim::parse_solver(command.solver());
-          rebuild(setup);
+          setup_wanted_ = setup;
+          setup_requester_ = viewer.id();
           break;
         case v1::Command::kParticles:
           setup.particles = command.particles();
-          rebuild(setup);
+          setup_wanted_ = setup;
+          setup_requester_ = viewer.id();
           break;
         case v1::Command::kQuality:
           viewer.apply_quality(command.quality());
@@ -234,6 +262,29 @@ void Session::apply(Viewer& viewer, const v1::ClientMessage& message,
     }
     default:
       break;
+  }
+}
+
+void Session::apply_rebuilds(Clock::time_point now) {
+  if ((!setup_wanted_ && !reset_wanted_) || now - last_rebuild_ < kRebuildInterval) return;
+  last_rebuild_ = now;
+  if (setup_wanted_) {
+    const SessionSetup setup = *setup_wanted_;
+    setup_wanted_.reset();
+    reset_wanted_ = false;
+    try {
+      rebuild(setup);
+    } catch (const Refusal& refusal) {  // the count does not fit the GPU: the old fluid stays
+      const auto asked = viewers_.find(setup_requester_);
+      if (asked != viewers_.end()) {
+        asked->second->sink().end(refusal);
+        remove_viewer(setup_requester_);
+      }
+    }
+  } else {
+    reset_wanted_ = false;
+    finish_frames();
+    solver_->reset();
   }
 }
 
@@ -284,6 +335,7 @@ void Session::tick(Clock::time_point now) {
       remove_viewer(id);
     }
   }
+  apply_rebuilds(now);
   // The step first: it runs while the GPU still draws last tick's frames (they read uploaded or
   // GPU-side particles, which the queue orders), then those frames go to the encoders.
   const auto sim_start = Clock::now();
@@ -303,14 +355,21 @@ void Session::tick(Clock::time_point now) {
     return;
   }
   const render::ParticleView particles = source_.view_of(*solver_);
+  std::vector<std::uint32_t> failed;
   for (auto& [id, viewer] : viewers_) {
     if (!viewer->due(now)) {
       if (viewer->throttled()) services_.metrics->frames_skipped++;
       continue;
     }
-    viewer->submit(particles, solver_->tank(),
-                   {viewer->newest_input(), solver_->time(), sim_ms, {}}, now);
+    try {
+      viewer->submit(particles, solver_->tank(),
+                     {viewer->newest_input(), solver_->time(), sim_ms, {}}, now);
+    } catch (const std::invalid_argument& e) {  // this viewer's choice the device cannot draw
+      viewer->sink().end(Refusal(RefusalCode::failed_precondition, e.what()));
+      failed.push_back(id);
+    }
   }
+  for (std::uint32_t id : failed) remove_viewer(id);
 }
 
 void Session::encode(Viewer& viewer, Viewer::Finished frame) {
@@ -333,10 +392,13 @@ void Session::encode(Viewer& viewer, Viewer::Finished frame) {
   timings.set_readback_ms(static_cast<float>(frame.times.readback_ms));
   codec::JpegOptions options;
   options.quality = frame.jpeg_quality;
+  ++*viewer.encoding();
   services_.encoders->encode(
       std::move(frame.image), options,
-      [message, sink = viewer.shared_sink(), metrics = services_.metrics](
-          std::vector<std::uint8_t> jpeg, double milliseconds, std::exception_ptr error) {
+      [message, sink = viewer.shared_sink(), metrics = services_.metrics,
+       encoding = viewer.encoding()](std::vector<std::uint8_t> jpeg, double milliseconds,
+                                     std::exception_ptr error) {
+        --*encoding;
         if (error) return;  // options are ours and valid; nothing a client could fix
         v1::Frame& encoded = *message->mutable_frame();
         encoded.mutable_timings()->set_encode_ms(static_cast<float>(milliseconds));

@@ -6,6 +6,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -61,6 +62,8 @@ class Session {
 
  private:
   void rebuild(SessionSetup setup);
+  // Applies the newest scene, solver or count wish, or a reset, at most once per interval.
+  void apply_rebuilds(Clock::time_point now);
   // Takes every frame in flight to the encoders: before the particles' buffers change (reset,
   // rebuild, load), since those frames read them.
   void finish_frames();
@@ -78,6 +81,10 @@ class Session {
   std::map<std::uint32_t, render::OrbitCamera> departed_;  // cameras kept for a resume
   std::uint32_t next_viewer_ = 1;
   bool paused_ = false;
+  std::optional<SessionSetup> setup_wanted_;
+  std::uint32_t setup_requester_ = 0;  // told when the wish cannot be met
+  bool reset_wanted_ = false;
+  Clock::time_point last_rebuild_{};
   Clock::time_point last_tick_{};
   double lag_seconds_ = 0.0;  // real time the simulation still owes
   Clock::time_point empty_since_;

@@ -99,6 +99,10 @@ void SessionHub::open(v1::Hello hello, std::shared_ptr<ViewerSink> sink,
     } catch (const Refusal& refusal) {
       opened.session.reset();
       opened.refusal = refusal;
+    } catch (const std::exception& e) {  // out of GPU memory, say: this request fails alone
+      opened.session.reset();
+      opened.refusal = Refusal(RefusalCode::internal,
+                               std::string("the server could not open the session: ") + e.what());
     }
     if (opened.refusal) {
       done(std::move(opened));
@@ -122,12 +126,23 @@ void SessionHub::snapshot(
     std::string session_id,
     std::function<void(std::optional<v1::Snapshot>, std::optional<Refusal>)> done) {
   post([this, session_id = std::move(session_id), done = std::move(done)] {
+    if (closed_) {
+      done(std::nullopt, Refusal(RefusalCode::unavailable, "the server is shutting down"));
+      return;
+    }
     const auto session = find(session_id);
-    if (!session || closed_) {
+    if (!session) {
       done(std::nullopt, Refusal(RefusalCode::not_found, "there is no session " + session_id));
       return;
     }
-    done(session->snapshot(), std::nullopt);
+    std::optional<v1::Snapshot> snapshot;
+    try {
+      snapshot = session->snapshot();
+    } catch (const std::exception& e) {
+      done(std::nullopt, Refusal(RefusalCode::internal, std::string("snapshot: ") + e.what()));
+      return;
+    }
+    done(std::move(snapshot), std::nullopt);
   });
 }
 
@@ -135,16 +150,26 @@ void SessionHub::load(std::string session_id, v1::Snapshot snapshot,
                       std::function<void(std::uint32_t, std::optional<Refusal>)> done) {
   post([this, session_id = std::move(session_id), snapshot = std::move(snapshot),
         done = std::move(done)] {
+    if (closed_) {
+      done(0, Refusal(RefusalCode::unavailable, "the server is shutting down"));
+      return;
+    }
     const auto session = find(session_id);
-    if (!session || closed_) {
+    if (!session) {
       done(0, Refusal(RefusalCode::not_found, "there is no session " + session_id));
       return;
     }
+    std::uint32_t particles = 0;
     try {
-      done(session->load(snapshot), std::nullopt);
+      particles = session->load(snapshot);
     } catch (const Refusal& refusal) {
       done(0, refusal);
+      return;
+    } catch (const std::exception& e) {
+      done(0, Refusal(RefusalCode::internal, std::string("snapshot: ") + e.what()));
+      return;
     }
+    done(particles, std::nullopt);
   });
 }
 
@@ -177,7 +202,7 @@ void SessionHub::tick_all(Clock::time_point now) {
     } catch (const std::exception& e) {
       // A session that fails ends alone; the others go on.
       std::fprintf(stderr, "session %s failed: %s\n", session.id().c_str(), e.what());
-      session.end_all(Refusal(RefusalCode::unavailable,
+      session.end_all(Refusal(RefusalCode::internal,
                               std::string("the session failed on the server: ") + e.what()));
     }
     const bool expired = session.viewer_count() == 0 &&
@@ -201,7 +226,7 @@ void SessionHub::run() {
       if (stopping_) break;
       jobs.swap(jobs_);
     }
-    for (auto& job : jobs) job();
+    run_jobs(jobs);
     const auto now = Clock::now();
     if (now < next_tick) continue;
     tick_all(now);
@@ -218,8 +243,19 @@ void SessionHub::run() {
     closed_ = true;
     jobs.swap(jobs_);
   }
-  for (auto& job : jobs) job();
+  run_jobs(jobs);
   metrics_->sessions = 0;
+}
+
+void SessionHub::run_jobs(std::vector<std::function<void()>>& jobs) {
+  for (auto& job : jobs) {
+    try {
+      job();
+    } catch (const std::exception& e) {  // each job answers its caller; this is a last guard
+      std::fprintf(stderr, "fluidcast-server: a worker job failed: %s\n", e.what());
+    }
+  }
+  jobs.clear();  // the jobs' captures (sessions among them) are released here, on the worker
 }
 
 }  // namespace fluidcast::server

@@ -55,6 +55,7 @@ class SessionHub {
  private:
   void post(std::function<void()> job);
   void run();
+  void run_jobs(std::vector<std::function<void()>>& jobs);
   void tick_all(Clock::time_point now);
   std::shared_ptr<Session> find(const std::string& id) const;  // worker thread
   std::string new_session_id();

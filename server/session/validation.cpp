@@ -17,9 +17,20 @@ namespace {
 
 std::string text(std::uint32_t value) { return std::to_string(value); }
 
+// Names, ids and tokens are short; a long one is refused before it is copied anywhere.
+constexpr std::size_t kMaxStringBytes = 256;
+
+void check_length(const std::string& value, const char* field) {
+  if (value.size() > kMaxStringBytes) {
+    refuse(RefusalCode::invalid_argument,
+           std::string(field) + " is longer than " + std::to_string(kMaxStringBytes) + " bytes");
+  }
+}
+
 bool finite(float value) { return std::isfinite(value); }
 
 void validate_scene(const std::string& scene) {
+  check_length(scene, "the scene");
   if (scene.empty()) return;
   try {
     sim::parse_scene(scene);
@@ -29,6 +40,7 @@ void validate_scene(const std::string& scene) {
 }
 
 void validate_solver(const std::string& solver) {
+  check_length(solver, "the solver");
   if (solver.empty()) return;
   try {
     sim::parse_solver(solver);
@@ -118,6 +130,7 @@ void validate_command(const v1::Command& command, const ServerLimits& limits) {
 }  // namespace
 
 void validate_token(const std::string& given, const std::optional<std::string>& token) {
+  check_length(given, "the token");
   if (token && given != *token) {
     refuse(RefusalCode::unauthenticated,
            given.empty() ? "this server needs a token: set Hello.token"
@@ -145,6 +158,7 @@ void validate_quality(const v1::Quality& quality, const ServerLimits& limits) {
     refuse(RefusalCode::invalid_argument, "Quality.max_fps must be 0 (default) or 1 to " +
                                               text(limits.max_fps));
   }
+  check_length(quality.renderer(), "Quality.renderer");
   if (!quality.renderer().empty()) {
     try {
       render::parse_renderer(quality.renderer());
@@ -171,9 +185,11 @@ void validate_hello(const v1::ClientMessage& message, const ServerLimits& limits
       validate_particles(hello.create().particles(), limits);
       break;
     case v1::Hello::kJoin:
+      check_length(hello.join(), "Hello.join");
       if (hello.join().empty()) refuse(RefusalCode::invalid_argument, "Hello.join is empty");
       break;
     case v1::Hello::kResume:
+      check_length(hello.resume().session_id(), "Hello.resume.session_id");
       if (hello.resume().session_id().empty()) {
         refuse(RefusalCode::invalid_argument, "Hello.resume.session_id is empty");
       }
@@ -199,6 +215,21 @@ void validate_event(const v1::ClientMessage& message, const ServerLimits& limits
       break;
   }
   refuse(RefusalCode::invalid_argument, "ClientMessage: no message kind was set");
+}
+
+void check_rate(const v1::ClientMessage& message, InputRateLimit& input, InputRateLimit& acks,
+                const ServerLimits& limits) {
+  const auto now = std::chrono::steady_clock::now();
+  if (message.has_ack()) {
+    if (!acks.allow(now)) {
+      refuse(RefusalCode::resource_exhausted,
+             "more than " + text(kAcknowledgementsPerFrame * limits.max_fps) +
+                 " acknowledgements per second");
+    }
+  } else if (!input.allow(now)) {
+    refuse(RefusalCode::resource_exhausted,
+           "more than " + text(limits.max_input_events_per_second) + " input events per second");
+  }
 }
 
 InputRateLimit::InputRateLimit(std::uint32_t per_second)

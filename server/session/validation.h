@@ -38,4 +38,10 @@ class InputRateLimit {
   std::chrono::steady_clock::time_point last_;
 };
 
+// Input events beyond `input`'s rate, or acknowledgements beyond `acks`' (a few per frame the
+// server may send), throw RESOURCE_EXHAUSTED naming the limit.
+inline constexpr std::uint32_t kAcknowledgementsPerFrame = 4;
+void check_rate(const v1::ClientMessage& message, InputRateLimit& input, InputRateLimit& acks,
+                const ServerLimits& limits);
+
 }  // namespace fluidcast::server

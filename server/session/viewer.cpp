@@ -122,7 +122,9 @@ bool Viewer::throttled() const {
   return acknowledges_ && sequence_ - acknowledged_ >= kMaxFramesInFlight;
 }
 
-bool Viewer::due(Clock::time_point now) const { return now >= next_frame_ && !throttled(); }
+bool Viewer::due(Clock::time_point now) const {
+  return now >= next_frame_ && !throttled() && *encoding_ < kMaxFramesEncoding;
+}
 
 void Viewer::submit(const render::ParticleView& particles, const sim::Box& tank, Shows shows,
                     Clock::time_point now) {

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <deque>
@@ -28,6 +29,9 @@ class Viewer {
   // Frames sent and not yet acknowledged, beyond which a viewer that acknowledges gets no new
   // frame rendered: the newest frame wins, and a slow viewer gets fewer.
   static constexpr std::uint64_t kMaxFramesInFlight = 3;
+  // Frames of this viewer waiting for or in the JPEG encoders, beyond which none is rendered:
+  // a client that never acknowledges cannot make the encoder queue grow.
+  static constexpr int kMaxFramesEncoding = 2;
 
   Viewer(gpu::Context& context, std::uint32_t id, const v1::Viewport& viewport,
          const v1::Quality& quality, const ServerLimits& limits, std::shared_ptr<ViewerSink> sink);
@@ -77,6 +81,8 @@ class Viewer {
   std::uint64_t newest_input() const { return newest_input_; }
 
   render::OrbitCamera& camera() { return camera_; }
+  // Counts frames in the encoders; the encoder's callback decrements it.
+  const std::shared_ptr<std::atomic<int>>& encoding() const { return encoding_; }
   std::optional<double> round_trip_ms() const { return round_trip_ms_; }
   std::uint32_t render_width() const { return render_width_; }
   int jpeg_quality() const { return jpeg_quality_; }
@@ -105,6 +111,7 @@ class Viewer {
   std::optional<glm::vec3> collider_centre_;
   std::deque<Shows> in_flight_;  // what each frame in the renderer's ring shows
   std::uint64_t newest_input_ = 0;
+  std::shared_ptr<std::atomic<int>> encoding_ = std::make_shared<std::atomic<int>>(0);
   // Flow control.
   std::uint64_t sequence_ = 0;
   std::uint64_t acknowledged_ = 0;

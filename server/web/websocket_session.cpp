@@ -25,6 +25,7 @@ const char* code_name(RefusalCode code) {
     case RefusalCode::resource_exhausted: return "RESOURCE_EXHAUSTED";
     case RefusalCode::failed_precondition: return "FAILED_PRECONDITION";
     case RefusalCode::unavailable: return "UNAVAILABLE";
+    case RefusalCode::internal: return "INTERNAL";
   }
   return "INTERNAL";
 }
@@ -32,7 +33,10 @@ const char* code_name(RefusalCode code) {
 class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
  public:
   WebSocketSession(beast::tcp_stream stream, SessionHub& hub)
-      : socket_(std::move(stream)), hub_(&hub), rate_(hub.limits().max_input_events_per_second) {}
+      : socket_(std::move(stream)),
+        hub_(&hub),
+        rate_(hub.limits().max_input_events_per_second),
+        ack_rate_(kAcknowledgementsPerFrame * hub.limits().max_fps) {}
 
   void start(beast::http::request<beast::http::string_body> request) {
     socket_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
@@ -85,16 +89,13 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
         return;  // the next read starts once the session is open
       }
       validate_event(message, hub_->limits());
-      if (!message.has_ack() && !rate_.allow(Clock::now())) {
-        throw Refusal(RefusalCode::resource_exhausted,
-                      "more than " + std::to_string(hub_->limits().max_input_events_per_second) +
-                          " input events per second");
-      }
+      check_rate(message, rate_, ack_rate_, hub_->limits());
       session_->post(viewer_, std::move(message));
       read();
     } catch (const Refusal& refusal) {
       hub_->metrics().streams_refused++;
       end(refusal.code(), refusal.what());
+      leave();  // the viewer leaves now; the socket closes once StreamEnd is written
     }
   }
 
@@ -103,7 +104,12 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
   void send(std::shared_ptr<const v1::ServerMessage> message) {
     if (ending_ && !message->has_end()) return;
     if (message->has_frame()) {
-      if (waiting_frame_) hub_->metrics().frames_dropped++;
+      // Encoders finish in any order: a frame older than one already queued is dropped.
+      if (message->frame().sequence() <= newest_sequence_ || waiting_frame_) {
+        hub_->metrics().frames_dropped++;
+      }
+      if (message->frame().sequence() <= newest_sequence_) return;
+      newest_sequence_ = message->frame().sequence();
       waiting_frame_ = std::move(message);
     } else {
       control_.push_back(std::move(message));
@@ -162,13 +168,14 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
   websocket::stream<beast::tcp_stream> socket_;
   SessionHub* hub_;
   beast::flat_buffer buffer_;
-  InputRateLimit rate_;
+  InputRateLimit rate_, ack_rate_;
   std::shared_ptr<Session> session_;
   std::uint32_t viewer_ = 0;
   std::shared_ptr<std::string> writing_;
   std::deque<std::shared_ptr<const v1::ServerMessage>> control_;  // Welcome, StreamEnd
   std::shared_ptr<const v1::ServerMessage> waiting_frame_;
   bool ending_ = false, closed_ = false;
+  std::uint64_t newest_sequence_ = 0;
 };
 
 // The session's way in: a weak link, so a closed socket is simply gone.

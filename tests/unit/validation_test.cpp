@@ -60,6 +60,14 @@ TEST(ValidationTest, AGoodHelloPassesAndEachBadOneGetsItsCode) {
   renderer.mutable_hello()->mutable_quality()->set_renderer("raytrace");
   EXPECT_EQ(code_of([&] { validate_hello(renderer, limits, std::nullopt); }),
             RefusalCode::invalid_argument);
+  auto long_join = hello();
+  long_join.mutable_hello()->set_join(std::string(257, 'a'));
+  EXPECT_EQ(code_of([&] { validate_hello(long_join, limits, std::nullopt); }),
+            RefusalCode::invalid_argument);
+  auto long_token = hello();
+  long_token.mutable_hello()->set_token(std::string(100000, 't'));
+  EXPECT_EQ(code_of([&] { validate_hello(long_token, limits, token); }),
+            RefusalCode::invalid_argument);
   auto quality = hello();
   quality.mutable_hello()->mutable_quality()->set_jpeg_quality(101);
   EXPECT_EQ(code_of([&] { validate_hello(quality, limits, std::nullopt); }),
