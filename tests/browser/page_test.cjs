@@ -119,6 +119,7 @@ async function main() {
 
     // Tilt: reset to a calm pool, then gravity along the screen's x axis tips the water over.
     await page.click('#menu');
+    await page.screenshot({ path: path.join(out, 'browser_controls.png') });
     await page.click('#reset');
     await page.click('#tilt');
     await page.click('#menu');
