@@ -3,12 +3,8 @@
 namespace fluidcast::client {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 // Frames kept for a caller that reads slower than they come; older ones are dropped.
 constexpr std::size_t kKeptFrames = 4;
-// Inputs awaiting a frame, and latencies kept: the newest.
-constexpr std::size_t kKeptInputs = 1024;
-constexpr std::size_t kKeptLatencies = 100000;
 
 }  // namespace
 
@@ -54,7 +50,6 @@ void StreamClient::read_loop() {
   v1::ServerMessage message;
   while (stream_->Read(&message)) {
     if (!message.has_frame()) continue;
-    const auto now = Clock::now();
     v1::ClientMessage ack;
     ack.mutable_ack()->set_sequence(message.frame().sequence());
     ack.mutable_ack()->set_client_receive_time_us(
@@ -65,15 +60,8 @@ void StreamClient::read_loop() {
       std::lock_guard lock(write_mutex_);
       if (!writes_done_) stream_->Write(ack);
     }
+    latency_.frame_reflects(message.frame().input_event_id());
     std::lock_guard lock(mutex_);
-    const std::uint64_t reflected = message.frame().input_event_id();
-    for (auto it = unanswered_.begin(); it != unanswered_.end() && it->first <= reflected;) {
-      latencies_ms_.push_back(std::chrono::duration<double, std::milli>(now - it->second).count());
-      it = unanswered_.erase(it);
-    }
-    if (latencies_ms_.size() > kKeptLatencies) {
-      latencies_ms_.erase(latencies_ms_.begin(), latencies_ms_.begin() + kKeptLatencies / 2);
-    }
     frames_.push_back(std::move(*message.mutable_frame()));
     while (frames_.size() > kKeptFrames) frames_.pop_front();
     changed_.notify_all();
@@ -85,44 +73,13 @@ void StreamClient::read_loop() {
   changed_.notify_all();
 }
 
-std::uint64_t StreamClient::send_input(v1::ClientMessage message) {
+std::uint64_t StreamClient::send(v1::ClientMessage message) {
   std::lock_guard write_lock(write_mutex_);
-  std::uint64_t id;
-  {
-    std::lock_guard lock(mutex_);
-    if (ended_) return 0;
-    id = next_event_++;
-    unanswered_[id] = Clock::now();
-    if (unanswered_.size() > kKeptInputs) unanswered_.erase(unanswered_.begin());
-  }
+  if (ended() || writes_done_) return 0;
+  const std::uint64_t id = latency_.sent();
   message.set_event_id(id);
-  if (!writes_done_) stream_->Write(message);
+  stream_->Write(message);
   return id;
-}
-
-std::uint64_t StreamClient::pointer(std::uint32_t id, v1::PointerEvent::Phase phase, float x,
-                                    float y) {
-  v1::ClientMessage message;
-  v1::PointerEvent& event = *message.mutable_pointer();
-  event.set_pointer_id(id);
-  event.set_phase(phase);
-  event.set_x(x);
-  event.set_y(y);
-  return send_input(std::move(message));
-}
-
-std::uint64_t StreamClient::tilt(float x, float y, float z) {
-  v1::ClientMessage message;
-  message.mutable_tilt()->set_x(x);
-  message.mutable_tilt()->set_y(y);
-  message.mutable_tilt()->set_z(z);
-  return send_input(std::move(message));
-}
-
-std::uint64_t StreamClient::command(const v1::Command& command) {
-  v1::ClientMessage message;
-  *message.mutable_command() = command;
-  return send_input(std::move(message));
 }
 
 bool StreamClient::send_raw(const v1::ClientMessage& message) {
@@ -166,9 +123,28 @@ void StreamClient::drop() {
   if (reader_.joinable()) reader_.join();
 }
 
-std::vector<double> StreamClient::latencies_ms() const {
-  std::lock_guard lock(mutex_);
-  return latencies_ms_;
+v1::Snapshot StreamClient::snapshot(const std::string& token) {
+  grpc::ClientContext context;
+  context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(5));
+  v1::SnapshotRequest request;
+  request.set_token(token);
+  request.set_session_id(welcome_.session_id());
+  v1::Snapshot snapshot;
+  const grpc::Status status = stub_->GetSnapshot(&context, request, &snapshot);
+  if (!status.ok()) throw StreamError(status);
+  return snapshot;
+}
+
+void StreamClient::put_snapshot(const std::string& token, const v1::Snapshot& snapshot) {
+  grpc::ClientContext context;
+  context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(10));
+  v1::PutSnapshotRequest request;
+  request.set_token(token);
+  request.set_session_id(welcome_.session_id());
+  *request.mutable_snapshot() = snapshot;
+  v1::PutSnapshotReply reply;
+  const grpc::Status status = stub_->PutSnapshot(&context, request, &reply);
+  if (!status.ok()) throw StreamError(status);
 }
 
 }  // namespace fluidcast::client

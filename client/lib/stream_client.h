@@ -18,6 +18,7 @@
 #include <thread>
 #include <vector>
 
+#include "fluid_stream.h"
 #include "fluidcast/v1/fluidcast.grpc.pb.h"
 
 namespace fluidcast::client {
@@ -34,7 +35,7 @@ class StreamError : public std::runtime_error {
 
 std::shared_ptr<grpc::Channel> connect(const std::string& server);
 
-class StreamClient {
+class StreamClient final : public FluidStream {
  public:
   // Opens a stream and sends `hello`; waits for the Welcome (throws StreamError when the server
   // refuses, with its status).
@@ -43,30 +44,26 @@ class StreamClient {
   StreamClient(const StreamClient&) = delete;
   StreamClient& operator=(const StreamClient&) = delete;
 
-  const v1::Welcome& welcome() const { return welcome_; }
-
-  // Input; each returns the event id it was sent with.
-  std::uint64_t pointer(std::uint32_t id, v1::PointerEvent::Phase phase, float x, float y);
-  std::uint64_t tilt(float x, float y, float z);
-  std::uint64_t command(const v1::Command& command);
+  const v1::Welcome& welcome() const override { return welcome_; }
+  std::uint64_t send(v1::ClientMessage message) override;
   // Any message, as given (for tests of what the server refuses).
   bool send_raw(const v1::ClientMessage& message);
 
-  // The next frame, acknowledged; nothing when none came within `timeout` or the stream ended.
-  std::optional<v1::Frame> next_frame(std::chrono::milliseconds timeout);
-  // Whether the stream has ended, and how (after it has).
-  bool ended() const;
+  std::optional<v1::Frame> next_frame(std::chrono::milliseconds timeout) override;
+  bool ended() const override;
+  std::string end_reason() const override { return status().error_message(); }
   grpc::Status status() const;
   // Closes the sending side and waits for the server's status.
   grpc::Status finish();
   // Drops the connection without a goodbye, as a phone losing its network does.
   void drop();
 
-  // Touch-to-photon latencies measured so far, milliseconds.
-  std::vector<double> latencies_ms() const;
+  // A second call on this stream's channel: the session's state now, for a local continuation.
+  v1::Snapshot snapshot(const std::string& token);
+  // Puts a fluid simulated elsewhere into this stream's session (after a local continuation).
+  void put_snapshot(const std::string& token, const v1::Snapshot& snapshot);
 
  private:
-  std::uint64_t send_input(v1::ClientMessage message);
   void read_loop();
 
   grpc::ClientContext context_;
@@ -79,9 +76,6 @@ class StreamClient {
   std::deque<v1::Frame> frames_;
   bool ended_ = false, writes_done_ = false;
   grpc::Status status_;
-  std::uint64_t next_event_ = 1;
-  std::map<std::uint64_t, std::chrono::steady_clock::time_point> unanswered_;
-  std::vector<double> latencies_ms_;
   std::mutex write_mutex_;
   std::thread reader_;
 };

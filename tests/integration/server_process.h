@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <regex>
 #include <stdexcept>
@@ -20,7 +21,11 @@ class ServerProcess {
     int out[2];
     if (pipe(out) != 0) throw std::runtime_error("pipe failed");
     std::vector<std::string> args = {FLUIDCAST_SERVER_PATH, "--listen", "127.0.0.1",
-                                     "--grpc-port", "0", "--http-port", "0"};
+                                     "--http-port", "0"};
+    // Any free port, unless the flags name one (a restart on the same address).
+    if (std::find(flags.begin(), flags.end(), "--grpc-port") == flags.end()) {
+      args.insert(args.end(), {"--grpc-port", "0"});
+    }
     args.insert(args.end(), flags.begin(), flags.end());
     pid_ = fork();
     if (pid_ == 0) {

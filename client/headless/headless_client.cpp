@@ -1,7 +1,5 @@
-// fluidcast-client --headless: connects to a server, plays a gesture script (or a default drag),
-// decodes every frame, and reports frames, fps, bitrate and touch-to-photon latency. With --json
-// its last line is one JSON object.
-#include <CLI/CLI.hpp>
+#include "headless_client.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -18,15 +16,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-struct Options {
-  bool headless = false;
-  std::string server = "127.0.0.1:50051";
-  std::uint32_t width = 320, height = 240, particles = 0, quality = 0, fps = 0;
-  std::string scene, solver, renderer, token, join, script, save_frames;
-  double seconds = 5.0;
-  bool json = false, adaptive = false;
-};
-
 double percentile(std::vector<double> values, double p) {
   if (values.empty()) return 0.0;
   std::sort(values.begin(), values.end());
@@ -34,22 +23,10 @@ double percentile(std::vector<double> values, double p) {
   return values[index];
 }
 
-int run(const Options& o) {
-  v1::Hello hello;
-  hello.set_token(o.token);
-  hello.mutable_viewport()->set_width(o.width);
-  hello.mutable_viewport()->set_height(o.height);
-  hello.mutable_quality()->set_jpeg_quality(o.quality);
-  hello.mutable_quality()->set_max_fps(o.fps);
-  hello.mutable_quality()->set_renderer(o.renderer);
-  hello.mutable_quality()->set_adaptive(o.adaptive);
-  if (!o.join.empty()) {
-    hello.set_join(o.join);
-  } else {
-    hello.mutable_create()->set_scene(o.scene);
-    hello.mutable_create()->set_solver(o.solver);
-    hello.mutable_create()->set_particles(o.particles);
-  }
+}  // namespace
+
+int run_headless(const HeadlessOptions& o) {
+  const v1::Hello& hello = o.hello;
   const std::vector<ScriptedEvent> script =
       o.script.empty() ? default_gesture(o.seconds) : read_gesture_script(o.script);
   if (!o.save_frames.empty()) std::filesystem::create_directories(o.save_frames);
@@ -130,42 +107,5 @@ int run(const Options& o) {
   return bad_frames == 0 ? 0 : 1;
 }
 
-}  // namespace
 }  // namespace fluidcast::client
 
-int main(int argc, char** argv) {
-  fluidcast::client::Options o;
-  CLI::App app{"fluidcast-client: watch and touch a fluidcast session"};
-  app.option_defaults()->always_capture_default();
-  app.add_flag("--headless", o.headless, "No window: play a script and report (the only mode so far)");
-  app.add_option("--server", o.server, "HOST:PORT of the server's gRPC");
-  app.add_option("--width", o.width, "Frame width, pixels");
-  app.add_option("--height", o.height, "Frame height, pixels");
-  app.add_option("--particles", o.particles, "Particles of a new session (0: server default)");
-  app.add_option("--scene", o.scene, "Scene of a new session (server default when empty)");
-  app.add_option("--solver", o.solver, "pbf or sph (server default when empty)");
-  app.add_option("--renderer", o.renderer, "auto, ssfr, mc or points");
-  app.add_option("--quality", o.quality, "JPEG quality 1-100 (0: server default)");
-  app.add_option("--fps", o.fps, "Highest frame rate wanted (0: server's rate)");
-  app.add_flag("--adaptive", o.adaptive, "Let the server lower quality and size to keep up");
-  app.add_option("--token", o.token, "Token, when the server wants one")->envname("FLUIDCAST_TOKEN");
-  app.add_option("--join", o.join, "Join this session instead of creating one");
-  app.add_option("--script", o.script, "Gesture script (JSON; see gesture_script.h)");
-  app.add_option("--seconds", o.seconds, "How long to stream")->check(CLI::Range(0.1, 86400.0));
-  app.add_option("--save-frames", o.save_frames, "Write every frame received as JPEG here");
-  app.add_flag("--json", o.json, "Last line: one JSON object with the figures");
-  CLI11_PARSE(app, argc, argv);
-  if (!o.headless) {
-    std::fprintf(stderr, "fluidcast-client: the window client is not built yet; use --headless\n");
-    return 2;
-  }
-  try {
-    return fluidcast::client::run(o);
-  } catch (const fluidcast::client::StreamError& e) {
-    std::fprintf(stderr, "fluidcast-client: the server refused: %s\n", e.what());
-    return 1;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "fluidcast-client: %s\n", e.what());
-    return 2;
-  }
-}

@@ -1,0 +1,62 @@
+#include "fluid_stream.h"
+
+namespace fluidcast::client {
+namespace {
+
+// Inputs awaiting a frame, and latencies kept: the newest.
+constexpr std::size_t kKeptInputs = 1024;
+constexpr std::size_t kKeptLatencies = 100000;
+
+}  // namespace
+
+std::uint64_t LatencyTracker::sent() {
+  std::lock_guard lock(mutex_);
+  const std::uint64_t id = next_++;
+  unanswered_[id] = std::chrono::steady_clock::now();
+  if (unanswered_.size() > kKeptInputs) unanswered_.erase(unanswered_.begin());
+  return id;
+}
+
+void LatencyTracker::frame_reflects(std::uint64_t newest_event) {
+  const auto now = std::chrono::steady_clock::now();
+  std::lock_guard lock(mutex_);
+  for (auto it = unanswered_.begin(); it != unanswered_.end() && it->first <= newest_event;) {
+    latencies_ms_.push_back(std::chrono::duration<double, std::milli>(now - it->second).count());
+    it = unanswered_.erase(it);
+  }
+  if (latencies_ms_.size() > kKeptLatencies) {
+    latencies_ms_.erase(latencies_ms_.begin(), latencies_ms_.begin() + kKeptLatencies / 2);
+  }
+}
+
+std::vector<double> LatencyTracker::latencies_ms() const {
+  std::lock_guard lock(mutex_);
+  return latencies_ms_;
+}
+
+std::uint64_t FluidStream::pointer(std::uint32_t id, v1::PointerEvent::Phase phase, float x,
+                                   float y) {
+  v1::ClientMessage message;
+  v1::PointerEvent& event = *message.mutable_pointer();
+  event.set_pointer_id(id);
+  event.set_phase(phase);
+  event.set_x(x);
+  event.set_y(y);
+  return send(std::move(message));
+}
+
+std::uint64_t FluidStream::tilt(float x, float y, float z) {
+  v1::ClientMessage message;
+  message.mutable_tilt()->set_x(x);
+  message.mutable_tilt()->set_y(y);
+  message.mutable_tilt()->set_z(z);
+  return send(std::move(message));
+}
+
+std::uint64_t FluidStream::command(const v1::Command& command) {
+  v1::ClientMessage message;
+  *message.mutable_command() = command;
+  return send(std::move(message));
+}
+
+}  // namespace fluidcast::client

@@ -1,0 +1,51 @@
+// A fluid to watch and touch, wherever it runs: a server's session over gRPC (StreamClient) or a
+// session simulated and rendered in this process (LocalStream). The window client shows either,
+// and hands over from one to the other.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "fluidcast/v1/fluidcast.pb.h"
+
+namespace fluidcast::client {
+
+// Touch-to-photon: from sending input event N to the first frame that reflects it. Thread-safe.
+class LatencyTracker {
+ public:
+  std::uint64_t sent();  // a new event id, timed from now
+  void frame_reflects(std::uint64_t newest_event);
+  std::vector<double> latencies_ms() const;
+
+ private:
+  mutable std::mutex mutex_;
+  std::uint64_t next_ = 1;
+  std::map<std::uint64_t, std::chrono::steady_clock::time_point> unanswered_;
+  std::vector<double> latencies_ms_;
+};
+
+class FluidStream {
+ public:
+  virtual ~FluidStream() = default;
+  virtual const v1::Welcome& welcome() const = 0;
+  // Input; each returns the event id it was sent with (0 when the stream has ended).
+  virtual std::uint64_t send(v1::ClientMessage message) = 0;
+  std::uint64_t pointer(std::uint32_t id, v1::PointerEvent::Phase phase, float x, float y);
+  std::uint64_t tilt(float x, float y, float z);
+  std::uint64_t command(const v1::Command& command);
+  // The next frame (acknowledged); nothing when none came within `timeout` or the stream ended.
+  virtual std::optional<v1::Frame> next_frame(std::chrono::milliseconds timeout) = 0;
+  virtual bool ended() const = 0;
+  virtual std::string end_reason() const = 0;
+  std::vector<double> latencies_ms() const { return latency_.latencies_ms(); }
+
+ protected:
+  LatencyTracker latency_;
+};
+
+}  // namespace fluidcast::client

@@ -1,0 +1,431 @@
+#include "window_client.h"
+
+#include <SDL.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <future>
+#include <map>
+#include <memory>
+
+#include "fluidcast/codec/jpeg.h"
+#include "fluidcast/codec/png.h"
+#include "local_stream.h"
+#include "stream_client.h"
+
+namespace fluidcast::client {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr auto kSnapshotEvery = std::chrono::seconds(1);
+constexpr auto kRetryEvery = std::chrono::seconds(2);
+
+// Owns an SDL object.
+template <typename T, void (*Destroy)(T*)>
+struct SdlDeleter {
+  void operator()(T* p) const { Destroy(p); }
+};
+using Window = std::unique_ptr<SDL_Window, SdlDeleter<SDL_Window, SDL_DestroyWindow>>;
+using Renderer = std::unique_ptr<SDL_Renderer, SdlDeleter<SDL_Renderer, SDL_DestroyRenderer>>;
+using Texture = std::unique_ptr<SDL_Texture, SdlDeleter<SDL_Texture, SDL_DestroyTexture>>;
+using Sensor = std::unique_ptr<SDL_Sensor, SdlDeleter<SDL_Sensor, SDL_SensorClose>>;
+
+struct SdlLibrary {
+  SdlLibrary() {
+    if (SDL_Init(SDL_INIT_VIDEO | SDL_INIT_EVENTS | SDL_INIT_SENSOR) != 0) {
+      throw std::runtime_error(std::string("SDL cannot start: ") + SDL_GetError() +
+                               " (no display? run it under a desktop, or use --headless)");
+    }
+  }
+  ~SdlLibrary() { SDL_Quit(); }
+};
+
+double percentile(std::vector<double> values, double p) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  return values[std::min(values.size() - 1, std::size_t(p * double(values.size())))];
+}
+
+// What the window shows, and where it comes from.
+class Client {
+ public:
+  explicit Client(const WindowOptions& options) : options_(options) {}
+
+  int run();
+
+ private:
+  void open_first();
+  void handle(const SDL_Event& event);
+  void pointer(std::uint32_t id, v1::PointerEvent::Phase phase, float window_x, float window_y);
+  void show(const v1::Frame& frame);
+  void draw();
+  void keep_snapshot();
+  void on_remote_lost();
+  void try_reconnect();
+  void update_title(Clock::time_point now);
+  void screenshot() const;
+  v1::Hello hello_for_window() const;
+
+  WindowOptions options_;
+  Window window_;
+  Renderer renderer_;
+  Texture texture_;
+  int frame_width_ = 0, frame_height_ = 0;
+  Sensor accelerometer_;
+
+  std::unique_ptr<FluidStream> stream_;
+  bool remote_ = false;
+  std::string status_;  // what the title says besides the figures
+  std::future<v1::Snapshot> snapshot_request_;
+  std::optional<v1::Snapshot> snapshot_;
+  Clock::time_point last_snapshot_{}, last_retry_{}, last_remote_frame_{}, last_title_{};
+  std::future<std::unique_ptr<StreamClient>> reconnect_;
+  std::optional<double> handoff_gap_ms_;
+  bool awaiting_first_local_frame_ = false;
+  std::map<SDL_FingerID, std::uint32_t> fingers_;
+  Clock::time_point last_tilt_{};
+  std::size_t frames_ = 0;
+  std::vector<Clock::time_point> recent_frames_;
+  bool quit_ = false;
+  int renderer_choice_ = 0;
+  bool paused_ = false;
+};
+
+v1::Hello Client::hello_for_window() const {
+  v1::Hello hello = options_.hello;
+  int width = 0, height = 0;
+  SDL_GetRendererOutputSize(renderer_.get(), &width, &height);
+  hello.mutable_viewport()->set_width(static_cast<std::uint32_t>(std::max(1, width)));
+  hello.mutable_viewport()->set_height(static_cast<std::uint32_t>(std::max(1, height)));
+  return hello;
+}
+
+void Client::open_first() {
+  if (options_.local) {
+    stream_ = std::make_unique<LocalStream>(hello_for_window(), options_.max_local_particles);
+    status_ = "local";
+    return;
+  }
+  stream_ = std::make_unique<StreamClient>(connect(options_.server), hello_for_window());
+  remote_ = true;
+  status_ = "streaming from " + options_.server;
+}
+
+void Client::pointer(std::uint32_t id, v1::PointerEvent::Phase phase, float window_x,
+                     float window_y) {
+  if (!stream_ || frame_width_ == 0) return;
+  int width = 0, height = 0;
+  SDL_GetWindowSize(window_.get(), &width, &height);
+  // The frame is letterboxed in the window: positions are normalised to the frame.
+  const float scale = std::min(float(width) / frame_width_, float(height) / frame_height_);
+  const float w = frame_width_ * scale, h = frame_height_ * scale;
+  const float x = std::clamp((window_x - (width - w) / 2) / w, 0.0f, 1.0f);
+  const float y = std::clamp((window_y - (height - h) / 2) / h, 0.0f, 1.0f);
+  stream_->pointer(id, phase, x, y);
+}
+
+void Client::handle(const SDL_Event& event) {
+  switch (event.type) {
+    case SDL_QUIT:
+      quit_ = true;
+      break;
+    case SDL_MOUSEBUTTONDOWN:
+      if (event.button.which != SDL_TOUCH_MOUSEID) {
+        pointer(15, v1::PointerEvent::DOWN, float(event.button.x), float(event.button.y));
+      }
+      break;
+    case SDL_MOUSEMOTION:
+      if (event.motion.which != SDL_TOUCH_MOUSEID && (event.motion.state & SDL_BUTTON_LMASK)) {
+        pointer(15, v1::PointerEvent::MOVE, float(event.motion.x), float(event.motion.y));
+      }
+      break;
+    case SDL_MOUSEBUTTONUP:
+      if (event.button.which != SDL_TOUCH_MOUSEID) {
+        pointer(15, v1::PointerEvent::UP, float(event.button.x), float(event.button.y));
+      }
+      break;
+    case SDL_FINGERDOWN:
+    case SDL_FINGERMOTION:
+    case SDL_FINGERUP: {
+      int width = 0, height = 0;
+      SDL_GetWindowSize(window_.get(), &width, &height);
+      auto found = fingers_.find(event.tfinger.fingerId);
+      if (found == fingers_.end()) {
+        if (event.type != SDL_FINGERDOWN || fingers_.size() >= 15) break;
+        std::uint32_t id = 0;
+        for (const auto& [finger, used] : fingers_) id = std::max(id, used + 1);
+        found = fingers_.emplace(event.tfinger.fingerId, id % 15).first;
+      }
+      const auto phase = event.type == SDL_FINGERDOWN   ? v1::PointerEvent::DOWN
+                         : event.type == SDL_FINGERUP   ? v1::PointerEvent::UP
+                                                        : v1::PointerEvent::MOVE;
+      pointer(found->second, phase, event.tfinger.x * width, event.tfinger.y * height);
+      if (event.type == SDL_FINGERUP) fingers_.erase(found);
+      break;
+    }
+    case SDL_SENSORUPDATE: {
+      const auto now = Clock::now();
+      if (!stream_ || now - last_tilt_ < std::chrono::milliseconds(50)) break;
+      last_tilt_ = now;
+      // The accelerometer reads the reaction to gravity: gravity is its opposite.
+      const float* a = event.sensor.data;
+      stream_->tilt(-a[0], -a[1], -a[2]);
+      break;
+    }
+    case SDL_KEYDOWN: {
+      if (!stream_) break;
+      v1::Command command;
+      const SDL_Keycode key = event.key.keysym.sym;
+      static const char* const kScenes[] = {"dam_break", "double_dam_break", "drop", "pool"};
+      static const char* const kRenderers[] = {"auto", "ssfr", "mc", "points"};
+      if (key == SDLK_ESCAPE || key == SDLK_q) {
+        quit_ = true;
+      } else if (key == SDLK_r) {
+        command.set_reset(true);
+      } else if (key >= SDLK_1 && key <= SDLK_4) {
+        command.set_scene(kScenes[key - SDLK_1]);
+      } else if (key == SDLK_m) {
+        renderer_choice_ = (renderer_choice_ + 1) % 4;
+        *command.mutable_quality() = options_.hello.quality();
+        command.mutable_quality()->set_renderer(kRenderers[renderer_choice_]);
+      } else if (key == SDLK_p) {
+        paused_ = !paused_;
+        command.set_pause(paused_);
+      } else if (key == SDLK_F12) {
+        screenshot();
+      }
+      if (command.kind_case() != v1::Command::KIND_NOT_SET) stream_->command(command);
+      break;
+    }
+    case SDL_WINDOWEVENT:
+      if (event.window.event == SDL_WINDOWEVENT_SIZE_CHANGED && stream_) {
+        v1::Command command;
+        *command.mutable_viewport() = hello_for_window().viewport();
+        stream_->command(command);
+      }
+      break;
+    default:
+      break;
+  }
+}
+
+void Client::show(const v1::Frame& frame) {
+  const codec::ImageRgba image = codec::decode_jpeg(
+      {reinterpret_cast<const std::uint8_t*>(frame.jpeg().data()), frame.jpeg().size()});
+  if (!texture_ || image.width != frame_width_ || image.height != frame_height_) {
+    texture_.reset(SDL_CreateTexture(renderer_.get(), SDL_PIXELFORMAT_ABGR8888,
+                                     SDL_TEXTUREACCESS_STREAMING, image.width, image.height));
+    if (!texture_) throw std::runtime_error(std::string("SDL texture: ") + SDL_GetError());
+    frame_width_ = image.width;
+    frame_height_ = image.height;
+  }
+  SDL_UpdateTexture(texture_.get(), nullptr, image.pixels.data(), image.width * 4);
+  ++frames_;
+  recent_frames_.push_back(Clock::now());
+}
+
+void Client::draw() {
+  SDL_SetRenderDrawColor(renderer_.get(), 17, 17, 17, 255);
+  SDL_RenderClear(renderer_.get());
+  if (texture_) {
+    int width = 0, height = 0;
+    SDL_GetRendererOutputSize(renderer_.get(), &width, &height);
+    const float scale = std::min(float(width) / frame_width_, float(height) / frame_height_);
+    const SDL_Rect rect{int((width - frame_width_ * scale) / 2),
+                        int((height - frame_height_ * scale) / 2), int(frame_width_ * scale),
+                        int(frame_height_ * scale)};
+    SDL_RenderCopy(renderer_.get(), texture_.get(), nullptr, &rect);
+  }
+  SDL_RenderPresent(renderer_.get());
+}
+
+// While streaming a session small enough to simulate here, keep its state, fetched on the side.
+void Client::keep_snapshot() {
+  if (!remote_ || !options_.handoff) return;
+  if (snapshot_request_.valid() &&
+      snapshot_request_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
+    try {
+      snapshot_ = snapshot_request_.get();
+    } catch (const std::exception&) {  // the server may be going: keep the one we have
+    }
+  }
+  const auto now = Clock::now();
+  if (snapshot_request_.valid() || now - last_snapshot_ < kSnapshotEvery) return;
+  if (stream_->welcome().state().particles() > options_.max_local_particles) return;
+  last_snapshot_ = now;
+  auto* remote = static_cast<StreamClient*>(stream_.get());
+  snapshot_request_ = std::async(std::launch::async, [remote, token = options_.hello.token()] {
+    return remote->snapshot(token);
+  });
+}
+
+void Client::on_remote_lost() {
+  const std::string why = stream_->end_reason();
+  if (snapshot_request_.valid()) snapshot_request_.wait();
+  snapshot_request_ = {};
+  const v1::SessionState state = stream_->welcome().state();
+  stream_.reset();
+  remote_ = false;
+  if (!options_.handoff || !snapshot_ || state.particles() > options_.max_local_particles) {
+    status_ = "the server is gone (" + why + "); " +
+              (state.particles() > options_.max_local_particles
+                   ? "this session is too big to continue here (" +
+                         std::to_string(state.particles()) + " particles); "
+                   : std::string()) +
+              "retrying";
+    std::fprintf(stderr, "fluidcast-client: %s\n", status_.c_str());
+    return;
+  }
+  v1::Hello hello = hello_for_window();
+  hello.mutable_create()->set_scene(state.scene());
+  hello.mutable_create()->set_solver(state.solver());
+  hello.mutable_create()->set_particles(state.particles());
+  hello.mutable_quality()->set_renderer("mc");
+  auto local = std::make_unique<LocalStream>(hello, options_.max_local_particles);
+  local->load(*snapshot_);
+  stream_ = std::move(local);
+  awaiting_first_local_frame_ = true;
+  status_ = "the server is gone (" + why + "): continuing locally, retrying";
+  std::fprintf(stderr, "fluidcast-client: %s\n", status_.c_str());
+}
+
+// In local mode after a drop, or with no stream at all: try the server again, on the side.
+void Client::try_reconnect() {
+  const auto now = Clock::now();
+  if (reconnect_.valid()) {
+    if (reconnect_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
+    std::unique_ptr<StreamClient> back;
+    try {
+      back = reconnect_.get();
+    } catch (const std::exception&) {
+      return;  // still gone
+    }
+    if (auto* local = dynamic_cast<LocalStream*>(stream_.get())) {
+      try {
+        const v1::Snapshot state = local->snapshot();
+        back->put_snapshot(options_.hello.token(), state);
+        std::fprintf(stderr, "fluidcast-client: the server is back and took the state (%d particles)\n",
+                     state.positions_size() / 3);
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "fluidcast-client: the server is back but took no state: %s\n",
+                     e.what());
+      }
+    }
+    stream_ = std::move(back);
+    remote_ = true;
+    snapshot_.reset();
+    status_ = "streaming from " + options_.server + " again";
+    std::fprintf(stderr, "fluidcast-client: %s\n", status_.c_str());
+    return;
+  }
+  if (now - last_retry_ < kRetryEvery) return;
+  last_retry_ = now;
+  v1::Hello hello = hello_for_window();
+  if (stream_) {  // continue the local fluid's scene on the server
+    hello.mutable_create()->set_scene(stream_->welcome().state().scene());
+    hello.mutable_create()->set_solver(stream_->welcome().state().solver());
+    hello.mutable_create()->set_particles(stream_->welcome().state().particles());
+  }
+  reconnect_ = std::async(std::launch::async, [server = options_.server, hello] {
+    return std::make_unique<StreamClient>(connect(server), hello);
+  });
+}
+
+void Client::update_title(Clock::time_point now) {
+  if (now - last_title_ < std::chrono::milliseconds(500)) return;
+  last_title_ = now;
+  std::erase_if(recent_frames_, [&](Clock::time_point t) { return now - t > std::chrono::seconds(2); });
+  const auto latencies = stream_ ? stream_->latencies_ms() : std::vector<double>{};
+  char title[512];
+  std::snprintf(title, sizeof title,
+                "fluidcast — %s — %.1f fps, touch→photon p50 %.0f ms, p95 %.0f ms%s",
+                status_.c_str(), recent_frames_.size() / 2.0, percentile(latencies, 0.5),
+                percentile(latencies, 0.95),
+                handoff_gap_ms_ ? (", handoff " + std::to_string(int(*handoff_gap_ms_)) + " ms").c_str()
+                                : "");
+  SDL_SetWindowTitle(window_.get(), title);
+}
+
+void Client::screenshot() const {
+  if (options_.screenshot.empty()) return;
+  int width = 0, height = 0;
+  SDL_GetRendererOutputSize(renderer_.get(), &width, &height);
+  codec::ImageRgba image(width, height);
+  if (SDL_RenderReadPixels(renderer_.get(), nullptr, SDL_PIXELFORMAT_ABGR8888,
+                           image.pixels.data(), width * 4) != 0) {
+    std::fprintf(stderr, "fluidcast-client: screenshot: %s\n", SDL_GetError());
+    return;
+  }
+  codec::write_png(options_.screenshot, image);
+}
+
+int Client::run() {
+  SdlLibrary sdl;
+  window_.reset(SDL_CreateWindow("fluidcast", SDL_WINDOWPOS_UNDEFINED, SDL_WINDOWPOS_UNDEFINED,
+                                 options_.width, options_.height,
+                                 SDL_WINDOW_RESIZABLE | SDL_WINDOW_ALLOW_HIGHDPI));
+  if (!window_) throw std::runtime_error(std::string("SDL window: ") + SDL_GetError());
+  renderer_.reset(SDL_CreateRenderer(window_.get(), -1, 0));
+  if (!renderer_) throw std::runtime_error(std::string("SDL renderer: ") + SDL_GetError());
+  for (int k = 0; k < SDL_NumSensors(); ++k) {
+    if (SDL_SensorGetDeviceType(k) == SDL_SENSOR_ACCEL) {
+      accelerometer_.reset(SDL_SensorOpen(k));
+      break;
+    }
+  }
+  try {
+    open_first();
+  } catch (const std::exception& e) {
+    status_ = std::string(options_.local ? "cannot start: " : "cannot connect: ") + e.what();
+    std::fprintf(stderr, "fluidcast-client: %s\n", status_.c_str());
+    if (options_.local || !options_.handoff) {
+      SDL_SetWindowTitle(window_.get(), ("fluidcast — " + status_).c_str());
+      return 1;
+    }
+  }
+  const auto start = Clock::now();
+  while (!quit_) {
+    SDL_Event event;
+    while (SDL_PollEvent(&event)) handle(event);
+    const auto now = Clock::now();
+    if (options_.seconds > 0 && now - start > std::chrono::duration<double>(options_.seconds)) break;
+    if (stream_) {
+      if (auto frame = stream_->next_frame(std::chrono::milliseconds(5))) {
+        show(*frame);
+        if (remote_) last_remote_frame_ = Clock::now();
+        if (awaiting_first_local_frame_) {
+          awaiting_first_local_frame_ = false;
+          handoff_gap_ms_ =
+              std::chrono::duration<double, std::milli>(Clock::now() - last_remote_frame_).count();
+          std::fprintf(stderr, "fluidcast-client: handoff gap %.0f ms\n", *handoff_gap_ms_);
+        }
+      }
+      keep_snapshot();
+      if (remote_ && stream_->ended()) on_remote_lost();
+    } else {
+      SDL_Delay(5);
+    }
+    if (!options_.local && !remote_) try_reconnect();
+    draw();
+    update_title(now);
+  }
+  screenshot();
+  if (reconnect_.valid()) reconnect_.wait();
+  std::printf("fluidcast-client: %zu frames, %s\n", frames_, status_.c_str());
+  return 0;
+}
+
+}  // namespace
+
+int run_window(const WindowOptions& options) {
+  try {
+    Client client(options);
+    return client.run();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "fluidcast-client: %s\n", e.what());
+    return 2;
+  }
+}
+
+}  // namespace fluidcast::client

@@ -1,0 +1,131 @@
+// The native client with a window, under Xvfb: a streamed frame on screen, local mode on its own,
+// the local cap, and the handoff (the server dies mid-stream, the client carries the fluid on,
+// the server comes back and the client streams again).
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <regex>
+#include <string>
+#include <thread>
+
+#include "fluidcast/codec/png.h"
+#include "server_process.h"
+
+namespace fluidcast {
+namespace {
+
+struct ClientRun {
+  int status = -1;
+  std::string output;  // stdout and stderr together
+};
+
+// Runs the client under a virtual display, collecting what it prints.
+ClientRun run_client(const std::string& flags) {
+  const std::string command = "xvfb-run -a -s '-screen 0 1280x800x24' " +
+                              std::string(FLUIDCAST_CLIENT_PATH) + " " + flags + " 2>&1";
+  ClientRun run;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return run;
+  std::array<char, 4096> chunk;
+  while (std::fgets(chunk.data(), chunk.size(), pipe)) run.output += chunk.data();
+  const int status = pclose(pipe);
+  run.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return run;
+}
+
+// Standard deviation of brightness: a picture, not a blank window.
+double spread(const codec::ImageRgba& image) {
+  double sum = 0, squares = 0;
+  const std::size_t pixels = std::size_t(image.width) * image.height;
+  for (std::size_t k = 0; k < pixels; ++k) {
+    const double v = image.pixels[4 * k] + image.pixels[4 * k + 1] + image.pixels[4 * k + 2];
+    sum += v;
+    squares += v * v;
+  }
+  const double mean = sum / pixels;
+  return std::sqrt(std::max(0.0, squares / pixels - mean * mean));
+}
+
+int frames_in(const std::string& output) {
+  std::smatch match;
+  return std::regex_search(output, match, std::regex("fluidcast-client: ([0-9]+) frames"))
+             ? std::stoi(match[1])
+             : 0;
+}
+
+const std::string kOut = "test-output/";
+
+TEST(WindowClientTest, ShowsAStreamedFrame) {
+  std::filesystem::create_directories(kOut);
+  testing::ServerProcess server;
+  const ClientRun run = run_client("--server " + server.grpc_address() +
+                             " --particles 1000 --width 320 --height 240 --seconds 5 "
+                             "--screenshot " + kOut + "window_streamed.png");
+  std::printf("%s", run.output.c_str());
+  ASSERT_EQ(run.status, 0);
+  EXPECT_GT(frames_in(run.output), 5);
+  const auto image = codec::read_png(kOut + "window_streamed.png");
+  EXPECT_EQ(image.width, 320);
+  EXPECT_GT(spread(image), 20.0);
+}
+
+TEST(WindowClientTest, LocalModeSimulatesAndRendersWithoutAServer) {
+  std::filesystem::create_directories(kOut);
+  const ClientRun run = run_client("--local --particles 2000 --width 320 --height 240 --seconds 5 "
+                             "--screenshot " + kOut + "window_local.png");
+  std::printf("%s", run.output.c_str());
+  ASSERT_EQ(run.status, 0);
+  EXPECT_GT(frames_in(run.output), 10);
+  EXPECT_GT(spread(codec::read_png(kOut + "window_local.png")), 20.0);
+}
+
+TEST(WindowClientTest, LocalModeRefusesMoreThanItsCap) {
+  const ClientRun run = run_client("--local --particles 9000 --seconds 2");
+  std::printf("%s", run.output.c_str());
+  EXPECT_NE(run.status, 0);
+  EXPECT_NE(run.output.find("at most 8000 particles"), std::string::npos);
+}
+
+TEST(WindowClientTest, AnAddressWithNoServerSaysSo) {
+  const ClientRun run = run_client("--server 127.0.0.1:1 --no-handoff --seconds 2");
+  std::printf("%s", run.output.c_str());
+  EXPECT_NE(run.status, 0);
+  EXPECT_NE(run.output.find("cannot connect"), std::string::npos);
+}
+
+// The server dies mid-stream: the client continues the same fluid locally, keeps retrying, and
+// streams again when the server is back on the same port, with its state put into the session.
+TEST(WindowClientTest, HandsOffToLocalAndBack) {
+  std::filesystem::create_directories(kOut);
+  auto server = std::make_unique<testing::ServerProcess>();
+  const std::string address = server->grpc_address();
+  const std::string port = address.substr(address.rfind(':') + 1);
+  std::thread outage([&] {
+    std::this_thread::sleep_for(std::chrono::seconds(5));
+    server.reset();  // SIGTERM: every stream ends with UNAVAILABLE
+    std::this_thread::sleep_for(std::chrono::seconds(5));
+    server = std::make_unique<testing::ServerProcess>(
+        std::vector<std::string>{"--grpc-port", port});
+  });
+  const ClientRun run = run_client("--server " + address +
+                             " --scene drop --particles 1500 --width 320 --height 240 "
+                             "--seconds 20 --screenshot " + kOut + "window_handoff.png");
+  outage.join();
+  std::printf("%s", run.output.c_str());
+  ASSERT_EQ(run.status, 0);
+  EXPECT_NE(run.output.find("continuing locally"), std::string::npos);
+  std::smatch gap;
+  ASSERT_TRUE(std::regex_search(run.output, gap, std::regex("handoff gap ([0-9]+) ms")));
+  std::printf("handoff gap: %s ms\n", gap[1].str().c_str());
+  EXPECT_NE(run.output.find("took the state"), std::string::npos);
+  EXPECT_NE(run.output.find("again"), std::string::npos);
+  EXPECT_GT(spread(codec::read_png(kOut + "window_handoff.png")), 20.0);
+}
+
+}  // namespace
+}  // namespace fluidcast
