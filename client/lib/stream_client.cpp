@@ -20,7 +20,7 @@ std::shared_ptr<grpc::Channel> connect(const std::string& server) {
 }
 
 StreamClient::StreamClient(std::shared_ptr<grpc::Channel> channel, const v1::Hello& hello)
-    : stub_(v1::Fluidcast::NewStub(channel)) {
+    : channel_(channel), stub_(v1::Fluidcast::NewStub(channel)) {
   stream_ = stub_->Stream(&context_);
   v1::ClientMessage message;
   *message.mutable_hello() = hello;
@@ -123,14 +123,16 @@ void StreamClient::drop() {
   if (reader_.joinable()) reader_.join();
 }
 
-v1::Snapshot StreamClient::snapshot(const std::string& token) {
+v1::Snapshot get_snapshot(const std::shared_ptr<grpc::Channel>& channel,
+                          const std::string& session_id, const std::string& token) {
   grpc::ClientContext context;
   context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(5));
   v1::SnapshotRequest request;
   request.set_token(token);
-  request.set_session_id(welcome_.session_id());
+  request.set_session_id(session_id);
   v1::Snapshot snapshot;
-  const grpc::Status status = stub_->GetSnapshot(&context, request, &snapshot);
+  const grpc::Status status =
+      v1::Fluidcast::NewStub(channel)->GetSnapshot(&context, request, &snapshot);
   if (!status.ok()) throw StreamError(status);
   return snapshot;
 }

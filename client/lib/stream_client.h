@@ -35,6 +35,10 @@ class StreamError : public std::runtime_error {
 
 std::shared_ptr<grpc::Channel> connect(const std::string& server);
 
+// A session's state now, for a local continuation (GetSnapshot). Throws StreamError.
+v1::Snapshot get_snapshot(const std::shared_ptr<grpc::Channel>& channel,
+                          const std::string& session_id, const std::string& token);
+
 class StreamClient final : public FluidStream {
  public:
   // Opens a stream and sends `hello`; waits for the Welcome (throws StreamError when the server
@@ -58,14 +62,14 @@ class StreamClient final : public FluidStream {
   // Drops the connection without a goodbye, as a phone losing its network does.
   void drop();
 
-  // A second call on this stream's channel: the session's state now, for a local continuation.
-  v1::Snapshot snapshot(const std::string& token);
+  const std::shared_ptr<grpc::Channel>& channel() const { return channel_; }
   // Puts a fluid simulated elsewhere into this stream's session (after a local continuation).
   void put_snapshot(const std::string& token, const v1::Snapshot& snapshot);
 
  private:
   void read_loop();
 
+  std::shared_ptr<grpc::Channel> channel_;
   grpc::ClientContext context_;
   std::unique_ptr<v1::Fluidcast::Stub> stub_;
   std::unique_ptr<grpc::ClientReaderWriter<v1::ClientMessage, v1::ServerMessage>> stream_;

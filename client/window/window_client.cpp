@@ -61,6 +61,7 @@ class Client {
   void show(const v1::Frame& frame);
   void draw();
   void keep_snapshot();
+  void keep_standby();
   void on_remote_lost();
   void try_reconnect();
   void update_title(Clock::time_point now);
@@ -78,9 +79,14 @@ class Client {
   bool remote_ = false;
   std::string status_;  // what the title says besides the figures
   std::future<v1::Snapshot> snapshot_request_;
+  std::vector<std::future<v1::Snapshot>> abandoned_;  // finished (or waited for) at exit
   std::optional<v1::Snapshot> snapshot_;
   Clock::time_point last_snapshot_{}, last_retry_{}, last_remote_frame_{}, last_title_{};
   std::future<std::unique_ptr<StreamClient>> reconnect_;
+  // A local session kept warm while streaming (paused, one frame a second), so that a handoff
+  // needs no start-up: Vulkan context, pipelines and solver are ready.
+  std::future<std::unique_ptr<LocalStream>> standby_;
+  std::uint64_t local_from_event_ = 0;  // local frames older than this event show the standby
   std::optional<double> handoff_gap_ms_;
   bool awaiting_first_local_frame_ = false;
   std::map<SDL_FingerID, std::uint32_t> fingers_;
@@ -242,6 +248,9 @@ void Client::draw() {
 
 // While streaming a session small enough to simulate here, keep its state, fetched on the side.
 void Client::keep_snapshot() {
+  std::erase_if(abandoned_, [](const std::future<v1::Snapshot>& request) {
+    return request.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+  });
   if (!remote_ || !options_.handoff) return;
   if (snapshot_request_.valid() &&
       snapshot_request_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
@@ -255,15 +264,37 @@ void Client::keep_snapshot() {
   if (stream_->welcome().state().particles() > options_.max_local_particles) return;
   last_snapshot_ = now;
   auto* remote = static_cast<StreamClient*>(stream_.get());
-  snapshot_request_ = std::async(std::launch::async, [remote, token = options_.hello.token()] {
-    return remote->snapshot(token);
+  snapshot_request_ =
+      std::async(std::launch::async, [channel = remote->channel(),
+                                      session = remote->welcome().session_id(),
+                                      token = options_.hello.token()] {
+        return get_snapshot(channel, session, token);
+      });
+}
+
+void Client::keep_standby() {
+  if (!remote_ || !options_.handoff || standby_.valid()) return;
+  const v1::SessionState state = stream_->welcome().state();
+  if (state.particles() > options_.max_local_particles) return;
+  v1::Hello hello = hello_for_window();
+  hello.mutable_create()->set_scene(state.scene());
+  hello.mutable_create()->set_solver(state.solver());
+  hello.mutable_create()->set_particles(state.particles());
+  hello.mutable_quality()->set_renderer("mc");
+  hello.mutable_quality()->set_max_fps(1);
+  standby_ = std::async(std::launch::async, [hello, cap = options_.max_local_particles] {
+    auto local = std::make_unique<LocalStream>(hello, cap);
+    v1::Command pause;
+    pause.set_pause(true);
+    local->command(pause);
+    return local;
   });
 }
 
 void Client::on_remote_lost() {
   const std::string why = stream_->end_reason();
-  if (snapshot_request_.valid()) snapshot_request_.wait();
-  snapshot_request_ = {};
+  // A request still on its way to a dying server is not waited for: the last state will do.
+  if (snapshot_request_.valid()) abandoned_.push_back(std::move(snapshot_request_));
   const v1::SessionState state = stream_->welcome().state();
   stream_.reset();
   remote_ = false;
@@ -277,13 +308,21 @@ void Client::on_remote_lost() {
     std::fprintf(stderr, "fluidcast-client: %s\n", status_.c_str());
     return;
   }
-  v1::Hello hello = hello_for_window();
-  hello.mutable_create()->set_scene(state.scene());
-  hello.mutable_create()->set_solver(state.solver());
-  hello.mutable_create()->set_particles(state.particles());
-  hello.mutable_quality()->set_renderer("mc");
-  auto local = std::make_unique<LocalStream>(hello, options_.max_local_particles);
+  std::unique_ptr<LocalStream> local;
+  try {
+    local = standby_.get();  // waits if it is still starting
+  } catch (const std::exception& e) {
+    status_ = std::string("the server is gone and the local fluid cannot start: ") + e.what();
+    std::fprintf(stderr, "fluidcast-client: %s\n", status_.c_str());
+    return;
+  }
   local->load(*snapshot_);
+  v1::Command wake;
+  *wake.mutable_quality() = options_.hello.quality();
+  if (wake.quality().renderer().empty()) wake.mutable_quality()->set_renderer("mc");
+  local->command(wake);
+  wake.set_pause(false);
+  local_from_event_ = local->command(wake);
   stream_ = std::move(local);
   awaiting_first_local_frame_ = true;
   status_ = "the server is gone (" + why + "): continuing locally, retrying";
@@ -315,6 +354,7 @@ void Client::try_reconnect() {
     stream_ = std::move(back);
     remote_ = true;
     snapshot_.reset();
+    local_from_event_ = 0;
     status_ = "streaming from " + options_.server + " again";
     std::fprintf(stderr, "fluidcast-client: %s\n", status_.c_str());
     return;
@@ -391,7 +431,9 @@ int Client::run() {
     const auto now = Clock::now();
     if (options_.seconds > 0 && now - start > std::chrono::duration<double>(options_.seconds)) break;
     if (stream_) {
-      if (auto frame = stream_->next_frame(std::chrono::milliseconds(5))) {
+      auto frame = stream_->next_frame(std::chrono::milliseconds(5));
+      if (frame && !remote_ && frame->input_event_id() < local_from_event_) frame.reset();
+      if (frame) {
         show(*frame);
         if (remote_) last_remote_frame_ = Clock::now();
         if (awaiting_first_local_frame_) {
@@ -402,6 +444,7 @@ int Client::run() {
         }
       }
       keep_snapshot();
+      keep_standby();
       if (remote_ && stream_->ended()) on_remote_lost();
     } else {
       SDL_Delay(5);

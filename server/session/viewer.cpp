@@ -51,6 +51,7 @@ void Viewer::apply_quality(const v1::Quality& quality) {
   adaptive_ = quality.adaptive();
   const std::uint32_t fps = quality.max_fps() == 0 ? limits_->target_fps : quality.max_fps();
   frame_interval_ = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / fps));
+  next_frame_ = {};  // a new rate starts now, not after the old interval
   renderer_kind_ = quality.renderer().empty() ? render::RendererKind::automatic
                                               : render::parse_renderer(quality.renderer());
   if (renderer_ && (render_width_ != width_ || render_height_ != height_)) resize(width_, height_);
