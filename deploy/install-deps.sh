@@ -22,8 +22,8 @@ packages=(
   nlohmann-json3-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
-  # the native client's window, and a virtual display for its tests
-  libsdl2-dev xvfb xauth
+  # the native client's window, its overlay's text and font, and a virtual display for its tests
+  libsdl2-dev libsdl2-ttf-dev fonts-dejavu-core xvfb xauth
   # the phone page: npm fetches protobufjs (and playwright-core for the browser test, which drives
   # Debian's Chromium headless)
   nodejs chromium

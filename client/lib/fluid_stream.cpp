@@ -34,6 +34,33 @@ std::vector<double> LatencyTracker::latencies_ms() const {
   return latencies_ms_;
 }
 
+void FrameQueue::push(v1::Frame frame) {
+  std::lock_guard lock(mutex_);
+  frames_.push_back(std::move(frame));
+  while (frames_.size() > keep_) frames_.pop_front();
+  changed_.notify_all();
+}
+
+void FrameQueue::close() {
+  std::lock_guard lock(mutex_);
+  closed_ = true;
+  changed_.notify_all();
+}
+
+std::optional<v1::Frame> FrameQueue::pop(std::chrono::milliseconds timeout) {
+  std::unique_lock lock(mutex_);
+  changed_.wait_for(lock, timeout, [this] { return !frames_.empty() || closed_; });
+  if (frames_.empty()) return std::nullopt;
+  v1::Frame frame = std::move(frames_.front());
+  frames_.pop_front();
+  return frame;
+}
+
+bool FrameQueue::closed() const {
+  std::lock_guard lock(mutex_);
+  return closed_;
+}
+
 std::uint64_t FluidStream::pointer(std::uint32_t id, v1::PointerEvent::Phase phase, float x,
                                    float y) {
   v1::ClientMessage message;

@@ -4,6 +4,8 @@
 #pragma once
 
 #include <chrono>
+#include <condition_variable>
+#include <deque>
 #include <cstdint>
 #include <map>
 #include <mutex>
@@ -27,6 +29,23 @@ class LatencyTracker {
   std::uint64_t next_ = 1;
   std::map<std::uint64_t, std::chrono::steady_clock::time_point> unanswered_;
   std::vector<double> latencies_ms_;
+};
+
+// Frames received and not yet shown: the newest `keep`, waited for with a timeout. Thread-safe.
+class FrameQueue {
+ public:
+  explicit FrameQueue(std::size_t keep) : keep_(keep) {}
+  void push(v1::Frame frame);
+  void close();  // no more frames will come: waiters return at once
+  std::optional<v1::Frame> pop(std::chrono::milliseconds timeout);
+  bool closed() const;
+
+ private:
+  const std::size_t keep_;
+  mutable std::mutex mutex_;
+  std::condition_variable changed_;
+  std::deque<v1::Frame> frames_;
+  bool closed_ = false;
 };
 
 class FluidStream {

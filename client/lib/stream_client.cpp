@@ -1,13 +1,6 @@
 #include "stream_client.h"
 
 namespace fluidcast::client {
-namespace {
-
-// Frames kept for a caller that reads slower than they come; older ones are dropped.
-constexpr std::size_t kKeptFrames = 4;
-
-}  // namespace
-
 StreamError::StreamError(const grpc::Status& status)
     : std::runtime_error(status.error_message()), code_(status.error_code()) {}
 
@@ -61,16 +54,14 @@ void StreamClient::read_loop() {
       if (!writes_done_) stream_->Write(ack);
     }
     latency_.frame_reflects(message.frame().input_event_id());
-    std::lock_guard lock(mutex_);
-    frames_.push_back(std::move(*message.mutable_frame()));
-    while (frames_.size() > kKeptFrames) frames_.pop_front();
-    changed_.notify_all();
+    frames_.push(std::move(*message.mutable_frame()));
   }
   const grpc::Status status = stream_->Finish();
-  std::lock_guard lock(mutex_);
-  status_ = status;
-  ended_ = true;
-  changed_.notify_all();
+  {
+    std::lock_guard lock(mutex_);
+    status_ = status;
+  }
+  frames_.close();
 }
 
 std::uint64_t StreamClient::send(v1::ClientMessage message) {
@@ -88,18 +79,10 @@ bool StreamClient::send_raw(const v1::ClientMessage& message) {
 }
 
 std::optional<v1::Frame> StreamClient::next_frame(std::chrono::milliseconds timeout) {
-  std::unique_lock lock(mutex_);
-  changed_.wait_for(lock, timeout, [this] { return !frames_.empty() || ended_; });
-  if (frames_.empty()) return std::nullopt;
-  v1::Frame frame = std::move(frames_.front());
-  frames_.pop_front();
-  return frame;
+  return frames_.pop(timeout);
 }
 
-bool StreamClient::ended() const {
-  std::lock_guard lock(mutex_);
-  return ended_;
-}
+bool StreamClient::ended() const { return frames_.closed(); }
 
 grpc::Status StreamClient::status() const {
   std::lock_guard lock(mutex_);

@@ -7,8 +7,6 @@
 #include <grpcpp/grpcpp.h>
 
 #include <chrono>
-#include <condition_variable>
-#include <deque>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -75,11 +73,11 @@ class StreamClient final : public FluidStream {
   std::unique_ptr<grpc::ClientReaderWriter<v1::ClientMessage, v1::ServerMessage>> stream_;
   v1::Welcome welcome_;
 
+  // Frames kept for a caller that reads slower than they come; older ones are dropped.
+  FrameQueue frames_{4};
   mutable std::mutex mutex_;
-  std::condition_variable changed_;
-  std::deque<v1::Frame> frames_;
-  bool ended_ = false, writes_done_ = false;
-  grpc::Status status_;
+  bool writes_done_ = false;  // under write_mutex_
+  grpc::Status status_;       // once frames_ is closed
   std::mutex write_mutex_;
   std::thread reader_;
 };

@@ -10,35 +10,31 @@ namespace fluidcast::client {
 // Frames from the in-process session: the newest few, as a remote stream keeps them.
 class LocalStream::Sink final : public server::ViewerSink {
  public:
+  FrameQueue frames{2};
+
   bool deliver(std::shared_ptr<const v1::ServerMessage> message) override {
-    std::lock_guard lock(mutex_);
-    if (message->has_welcome()) {
-      welcome_ = message->welcome();
-    } else if (message->has_frame()) {
-      frames_.push_back(message->frame());
-      if (frames_.size() > 2) frames_.pop_front();
+    if (message->has_frame()) {
+      frames.push(message->frame());
+      return true;
     }
+    std::lock_guard lock(mutex_);
+    if (message->has_welcome()) welcome_ = message->welcome();
     changed_.notify_all();
     return true;
   }
   void end(const server::Refusal& why) override {
-    std::lock_guard lock(mutex_);
-    ended_ = why.what();
-    changed_.notify_all();
+    {
+      std::lock_guard lock(mutex_);
+      ended_ = why.what();
+      changed_.notify_all();
+    }
+    frames.close();
   }
 
   std::optional<v1::Welcome> wait_welcome(std::chrono::seconds timeout) {
     std::unique_lock lock(mutex_);
     changed_.wait_for(lock, timeout, [this] { return welcome_.has_value() || ended_; });
     return welcome_;
-  }
-  std::optional<v1::Frame> next(std::chrono::milliseconds timeout) {
-    std::unique_lock lock(mutex_);
-    changed_.wait_for(lock, timeout, [this] { return !frames_.empty() || ended_; });
-    if (frames_.empty()) return std::nullopt;
-    v1::Frame frame = std::move(frames_.front());
-    frames_.pop_front();
-    return frame;
   }
   std::optional<std::string> ended() const {
     std::lock_guard lock(mutex_);
@@ -49,7 +45,6 @@ class LocalStream::Sink final : public server::ViewerSink {
   mutable std::mutex mutex_;
   std::condition_variable changed_;
   std::optional<v1::Welcome> welcome_;
-  std::deque<v1::Frame> frames_;
   std::optional<std::string> ended_;
 };
 
@@ -111,7 +106,7 @@ std::uint64_t LocalStream::send(v1::ClientMessage message) {
 }
 
 std::optional<v1::Frame> LocalStream::next_frame(std::chrono::milliseconds timeout) {
-  auto frame = sink_->next(timeout);
+  auto frame = sink_->frames.pop(timeout);
   if (frame) {
     latency_.frame_reflects(frame->input_event_id());
     v1::ClientMessage ack;

@@ -3,8 +3,6 @@
 // solver (or the GPU one on a hardware device), Marching Cubes by default at these counts.
 #pragma once
 
-#include <condition_variable>
-#include <deque>
 #include <memory>
 
 #include "fluid_stream.h"

@@ -12,6 +12,7 @@
 #include "fluidcast/codec/jpeg.h"
 #include "fluidcast/codec/png.h"
 #include "local_stream.h"
+#include "stats_overlay.h"
 #include "stream_client.h"
 
 namespace fluidcast::client {
@@ -73,6 +74,8 @@ class Client {
   Renderer renderer_;
   Texture texture_;
   int frame_width_ = 0, frame_height_ = 0;
+  std::unique_ptr<StatsOverlay> overlay_;
+  v1::Frame last_frame_;  // without its JPEG: what the overlay reports
   Sensor accelerometer_;
 
   std::unique_ptr<FluidStream> stream_;
@@ -92,7 +95,7 @@ class Client {
   std::map<SDL_FingerID, std::uint32_t> fingers_;
   Clock::time_point last_tilt_{};
   std::size_t frames_ = 0;
-  std::vector<Clock::time_point> recent_frames_;
+  std::vector<std::pair<Clock::time_point, std::size_t>> recent_frames_;  // arrival, JPEG bytes
   bool quit_ = false;
   int renderer_choice_ = 0;
   bool paused_ = false;
@@ -200,6 +203,8 @@ void Client::handle(const SDL_Event& event) {
         command.set_pause(paused_);
       } else if (key == SDLK_F12) {
         screenshot();
+      } else if (key == SDLK_h) {
+        overlay_->toggle();
       }
       if (command.kind_case() != v1::Command::KIND_NOT_SET) stream_->command(command);
       break;
@@ -228,7 +233,9 @@ void Client::show(const v1::Frame& frame) {
   }
   SDL_UpdateTexture(texture_.get(), nullptr, image.pixels.data(), image.width * 4);
   ++frames_;
-  recent_frames_.push_back(Clock::now());
+  recent_frames_.emplace_back(Clock::now(), frame.jpeg().size());
+  last_frame_ = frame;
+  last_frame_.clear_jpeg();
 }
 
 void Client::draw() {
@@ -243,6 +250,7 @@ void Client::draw() {
                         int(frame_height_ * scale)};
     SDL_RenderCopy(renderer_.get(), texture_.get(), nullptr, &rect);
   }
+  overlay_->draw();
   SDL_RenderPresent(renderer_.get());
 }
 
@@ -375,16 +383,36 @@ void Client::try_reconnect() {
 void Client::update_title(Clock::time_point now) {
   if (now - last_title_ < std::chrono::milliseconds(500)) return;
   last_title_ = now;
-  std::erase_if(recent_frames_, [&](Clock::time_point t) { return now - t > std::chrono::seconds(2); });
+  std::erase_if(recent_frames_, [&](const auto& frame) {
+    return now - frame.first > std::chrono::seconds(2);
+  });
+  std::size_t bytes = 0;
+  for (const auto& frame : recent_frames_) bytes += frame.second;
+  const double fps = recent_frames_.size() / 2.0, kbps = 8.0 * bytes / 2.0 / 1000.0;
   const auto latencies = stream_ ? stream_->latencies_ms() : std::vector<double>{};
-  char title[512];
-  std::snprintf(title, sizeof title,
-                "fluidcast — %s — %.1f fps, touch→photon p50 %.0f ms, p95 %.0f ms%s",
-                status_.c_str(), recent_frames_.size() / 2.0, percentile(latencies, 0.5),
-                percentile(latencies, 0.95),
-                handoff_gap_ms_ ? (", handoff " + std::to_string(int(*handoff_gap_ms_)) + " ms").c_str()
-                                : "");
-  SDL_SetWindowTitle(window_.get(), title);
+  char line[256];
+  std::vector<std::string> lines;
+  std::snprintf(line, sizeof line, "%.1f fps  %.0f kbit/s", fps, kbps);
+  lines.emplace_back(line);
+  std::snprintf(line, sizeof line, "touch→photon p50 %.0f ms, p95 %.0f ms",
+                percentile(latencies, 0.5), percentile(latencies, 0.95));
+  lines.emplace_back(line);
+  const v1::StageTimings& t = last_frame_.timings();
+  std::snprintf(line, sizeof line, "%u×%u %s q%u  t=%.2f s", last_frame_.width(),
+                last_frame_.height(), last_frame_.renderer().c_str(), last_frame_.jpeg_quality(),
+                last_frame_.sim_time());
+  lines.emplace_back(line);
+  std::snprintf(line, sizeof line, "%s: sim %.1f render %.1f read-back %.2f encode %.1f ms",
+                remote_ ? "server" : "here", t.sim_ms(), t.render_ms(), t.readback_ms(),
+                t.encode_ms());
+  lines.emplace_back(line);
+  lines.push_back(status_ + (handoff_gap_ms_
+                                 ? "; handoff gap " + std::to_string(int(*handoff_gap_ms_)) + " ms"
+                                 : std::string()));
+  overlay_->set_lines(lines);
+  std::snprintf(line, sizeof line, "fluidcast — %s — %.1f fps, touch→photon p50 %.0f ms",
+                status_.c_str(), fps, percentile(latencies, 0.5));
+  SDL_SetWindowTitle(window_.get(), line);
 }
 
 void Client::screenshot() const {
@@ -408,6 +436,7 @@ int Client::run() {
   if (!window_) throw std::runtime_error(std::string("SDL window: ") + SDL_GetError());
   renderer_.reset(SDL_CreateRenderer(window_.get(), -1, 0));
   if (!renderer_) throw std::runtime_error(std::string("SDL renderer: ") + SDL_GetError());
+  overlay_ = std::make_unique<StatsOverlay>(renderer_.get());
   for (int k = 0; k < SDL_NumSensors(); ++k) {
     if (SDL_SensorGetDeviceType(k) == SDL_SENSOR_ACCEL) {
       accelerometer_.reset(SDL_SensorOpen(k));

@@ -138,6 +138,13 @@ std::size_t Solver::remove_particles_in_sphere(glm::vec3 centre, float radius) {
   return erase_particles_in_sphere(centre, radius);
 }
 
+void Solver::set_time(double seconds) {
+  if (!(std::isfinite(seconds) && seconds >= 0.0)) {
+    throw std::invalid_argument("the simulated time must be finite and not negative");
+  }
+  time_ = seconds;
+}
+
 void Solver::reset() {
   load_particles(scene_.particles);
   time_ = 0.0;

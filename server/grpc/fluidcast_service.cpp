@@ -1,9 +1,25 @@
 #include "fluidcast_service.h"
 
+#include "session/validation.h"
 #include "status.h"
 #include "stream_reactor.h"
 
 namespace fluidcast::server {
+namespace {
+
+// Finishes the call with UNAUTHENTICATED when the token is wrong; true when it did.
+bool refused_token(grpc::ServerUnaryReactor* reactor, const std::string& given,
+                   const std::optional<std::string>& token) {
+  try {
+    validate_token(given, token);
+    return false;
+  } catch (const Refusal& refusal) {
+    reactor->Finish(to_status(refusal));
+    return true;
+  }
+}
+
+}  // namespace
 
 grpc::ServerBidiReactor<v1::ClientMessage, v1::ServerMessage>* FluidcastService::Stream(
     grpc::CallbackServerContext*) {
@@ -23,12 +39,7 @@ grpc::ServerUnaryReactor* FluidcastService::GetSnapshot(grpc::CallbackServerCont
                                                         const v1::SnapshotRequest* request,
                                                         v1::Snapshot* reply) {
   auto* reactor = context->DefaultReactor();
-  try {
-    validate_token(request->token(), hub_->token());
-  } catch (const Refusal& refusal) {
-    reactor->Finish(to_status(refusal));
-    return reactor;
-  }
+  if (refused_token(reactor, request->token(), hub_->token())) return reactor;
   hub_->snapshot(request->session_id(),
                  [reactor, reply](std::optional<v1::Snapshot> snapshot,
                                   std::optional<Refusal> refusal) {
@@ -46,12 +57,7 @@ grpc::ServerUnaryReactor* FluidcastService::PutSnapshot(grpc::CallbackServerCont
                                                         const v1::PutSnapshotRequest* request,
                                                         v1::PutSnapshotReply* reply) {
   auto* reactor = context->DefaultReactor();
-  try {
-    validate_token(request->token(), hub_->token());
-  } catch (const Refusal& refusal) {
-    reactor->Finish(to_status(refusal));
-    return reactor;
-  }
+  if (refused_token(reactor, request->token(), hub_->token())) return reactor;
   hub_->load(request->session_id(), request->snapshot(),
              [reactor, reply](std::uint32_t particles, std::optional<Refusal> refusal) {
                if (refusal) {

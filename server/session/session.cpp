@@ -191,12 +191,16 @@ std::uint32_t Session::load(const v1::Snapshot& snapshot) {
       throw Refusal(RefusalCode::invalid_argument, "Snapshot: gravity is not finite or too large");
     }
   }
+  if (!(std::isfinite(snapshot.time()) && snapshot.time() >= 0.0)) {
+    throw Refusal(RefusalCode::invalid_argument, "Snapshot: time must be finite, not negative");
+  }
   finish_frames();
   const sim::Box tank = solver_->tank();
   const glm::vec3 centre = 0.5f * (tank.min + tank.max);
   solver_->remove_particles_in_sphere(centre, glm::length(tank.size()));
   try {
     solver_->add_particles(positions, velocities);
+    solver_->set_time(snapshot.time());
     if (snapshot.has_gravity()) {
       solver_->set_gravity({snapshot.gravity().x(), snapshot.gravity().y(), snapshot.gravity().z()});
     }

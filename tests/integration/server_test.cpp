@@ -263,6 +263,43 @@ TEST(ServerTest, ADragStirsTheFluidWhereItTouches) {
   EXPECT_GT(stirred_speed, 3.0 * still_speed + 0.02);
 }
 
+// A fluid moves from one session to another (what a client's handoff does): particles, gravity
+// and clock; a snapshot with a NaN is refused and leaves the session as it was.
+TEST(ServerTest, SnapshotsMoveAFluidBetweenSessionsAndBadOnesChangeNothing) {
+  testing::ServerProcess server;
+  const std::string& address = server.grpc_address();
+  StreamClient from(client::connect(address), small_hello(800));
+  StreamClient into(client::connect(address), small_hello(1000));
+  for (int k = 0; k < 5; ++k) frame_from(from);
+  from.tilt(3.0f, -9.0f, 0.0f);
+  for (int k = 0; k < 5; ++k) frame_from(from);
+  const v1::Snapshot moved = snapshot_of(address, from.welcome().session_id());
+  EXPECT_GT(moved.time(), 0.0);
+
+  auto stub = v1::Fluidcast::NewStub(client::connect(address));
+  v1::PutSnapshotRequest put;
+  put.set_session_id(into.welcome().session_id());
+  *put.mutable_snapshot() = moved;
+  v1::PutSnapshotReply reply;
+  {
+    grpc::ClientContext context;
+    ASSERT_TRUE(stub->PutSnapshot(&context, put, &reply).ok());
+  }
+  EXPECT_EQ(reply.particles(), 800u);
+  const v1::Snapshot landed = snapshot_of(address, into.welcome().session_id());
+  EXPECT_EQ(landed.positions_size(), 3 * 800);
+  EXPECT_GE(landed.time(), moved.time());
+  EXPECT_NEAR(landed.gravity().x(), moved.gravity().x(), 1e-4f);
+
+  put.mutable_snapshot()->set_positions(7, std::numeric_limits<float>::quiet_NaN());
+  {
+    grpc::ClientContext context;
+    EXPECT_EQ(stub->PutSnapshot(&context, put, &reply).error_code(),
+              grpc::StatusCode::INVALID_ARGUMENT);
+  }
+  EXPECT_EQ(snapshot_of(address, into.welcome().session_id()).positions_size(), 3 * 800);
+}
+
 // A client that never reads: frames wait in the server at most one behind the one being written,
 // so its memory stays bounded while the session goes on rendering large frames.
 TEST(ServerTest, AClientThatStopsReadingDoesNotGrowTheServersMemory) {

@@ -90,6 +90,9 @@ class Solver {
   std::size_t remove_particles_in_sphere(glm::vec3 centre, float radius);
   // Back to the scene's initial particles at t = 0. Gravity and colliders stay as they are.
   void reset();
+  // Sets the simulated clock: a fluid continued from a snapshot keeps its time. Throws
+  // std::invalid_argument for a time that is negative or not finite.
+  void set_time(double seconds);
 
   double time() const { return time_; }
   std::uint64_t steps() const { return steps_; }
