@@ -1,6 +1,11 @@
 #include "stream_client.h"
 
 namespace fluidcast::client {
+namespace {
+
+constexpr auto kConnectTimeout = std::chrono::seconds(5);
+
+}  // namespace
 StreamError::StreamError(const grpc::Status& status)
     : std::runtime_error(status.error_message()), code_(status.error_code()) {}
 
@@ -14,6 +19,11 @@ std::shared_ptr<grpc::Channel> connect(const std::string& server) {
 
 StreamClient::StreamClient(std::shared_ptr<grpc::Channel> channel, const v1::Hello& hello)
     : channel_(channel), stub_(v1::Fluidcast::NewStub(channel)) {
+  // A server that cannot be reached is said in seconds, not after gRPC's long backoff.
+  if (!channel->WaitForConnected(std::chrono::system_clock::now() + kConnectTimeout)) {
+    throw StreamError(grpc::Status(grpc::StatusCode::UNAVAILABLE,
+                                   "no server answered within 5 s"));
+  }
   stream_ = stub_->Stream(&context_);
   v1::ClientMessage message;
   *message.mutable_hello() = hello;

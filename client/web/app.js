@@ -64,6 +64,7 @@ function send(fields, isInput) {
   if (isInput) {
     message.eventId = nextEventId++;
     sentAt.set(message.eventId, performance.now());
+    if (sentAt.size > 200) sentAt.delete(sentAt.keys().next().value);  // frames stopped coming
   }
   // fromObject turns enum names ('DOWN') into their numbers.
   socket.send(types.ClientMessage.encode(types.ClientMessage.fromObject(message)).finish());
@@ -72,10 +73,12 @@ function send(fields, isInput) {
 
 function viewport() {
   // Device pixels, capped: a phone's 3× screen does not need 3× the pixels streamed.
-  const scale = Math.min(window.devicePixelRatio || 1, 2);
-  const width = Math.max(1, Math.min(1920, Math.round(page.canvas.clientWidth * scale)));
-  const height = Math.max(1, Math.min(1080, Math.round(page.canvas.clientHeight * scale)));
-  return { width, height };
+  const cssWidth = page.canvas.clientWidth, cssHeight = page.canvas.clientHeight;
+  const scale = Math.min(window.devicePixelRatio || 1, 2,
+                         Math.max(cssWidth, cssHeight) > 0 ? 1920 / Math.max(cssWidth, cssHeight) : 1,
+                         Math.min(cssWidth, cssHeight) > 0 ? 1080 / Math.min(cssWidth, cssHeight) : 1);
+  return { width: Math.max(1, Math.round(cssWidth * scale)),
+           height: Math.max(1, Math.round(cssHeight * scale)) };
 }
 
 function quality() {
@@ -90,8 +93,10 @@ function connect() {
   say(state.sessionId ? 'Reconnecting…' : 'Connecting…');
   socket.onopen = () => {
     const hello = { token, viewport: viewport(), quality: quality() };
-    if (state.sessionId) {
+    if (state.sessionId && state.viewerId) {
       hello.resume = { sessionId: state.sessionId, viewerId: state.viewerId };
+    } else if (state.sessionId) {
+      hello.join = state.sessionId;  // a shared link
     } else {
       hello.create = { scene: wanted.scene, particles: wanted.particles };
     }
@@ -142,8 +147,8 @@ function ended(code, text) {
     // The session ended while we were away: start a new one.
     state.sessionId = '';
     retryDelayMs = 100;
-  } else if (code === 'UNAVAILABLE') {
-    say('The server stopped: ' + text + ' — retrying.');
+  } else if (code === 'UNAVAILABLE' || code === 'RESOURCE_EXHAUSTED' || code === 'INTERNAL') {
+    say('The server ended the stream (' + code + '): ' + text + ' — retrying.');
   } else {
     giveUp = true;
     say('The server ended the stream (' + code + '): ' + text);
@@ -268,15 +273,24 @@ function pointer(event, phase) {
   }
   const at = normalised(event);
   send({ pointer: { pointerId: id, phase, x: at.x, y: at.y } }, true);
-  if (phase === 'UP' || phase === 'CANCEL') pointerIds.delete(event.pointerId);
+  if (phase === 'UP' || phase === 'CANCEL') {
+    pointerIds.delete(event.pointerId);
+    lastMove.delete(event.pointerId);
+  }
 }
 
 page.canvas.addEventListener('pointerdown', (e) => {
   page.canvas.setPointerCapture(e.pointerId);
   pointer(e, 'DOWN');
 });
+// Moves at most 60 a second per finger: the server's input rate limit is for all of them.
+const lastMove = new Map();
 page.canvas.addEventListener('pointermove', (e) => {
-  if (pointerIds.has(e.pointerId)) pointer(e, 'MOVE');
+  if (!pointerIds.has(e.pointerId)) return;
+  const now = performance.now();
+  if (now - (lastMove.get(e.pointerId) || 0) < 16) return;
+  lastMove.set(e.pointerId, now);
+  pointer(e, 'MOVE');
 });
 page.canvas.addEventListener('pointerup', (e) => pointer(e, 'UP'));
 page.canvas.addEventListener('pointercancel', (e) => pointer(e, 'CANCEL'));
@@ -291,7 +305,8 @@ function onMotion(event) {
   const angle = ((screen.orientation && screen.orientation.angle) || window.orientation || 0) *
                 Math.PI / 180;
   const c = Math.cos(angle), s = Math.sin(angle);
-  const gravity = { x: -(a.x * c + a.y * s), y: -(-a.x * s + a.y * c), z: -a.z };
+  // The sensor's axes are the device's (portrait); the screen's turn with its orientation.
+  const gravity = { x: -(a.x * c - a.y * s), y: -(a.x * s + a.y * c), z: -a.z };
   const magnitude = Math.hypot(gravity.x, gravity.y, gravity.z);
   const now = performance.now();
   if (magnitude < 0.1 || magnitude > 200 || now - lastTiltSent < 50) return;  // 20 a second

@@ -3,6 +3,7 @@
 #include <SDL.h>
 
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <future>
@@ -21,6 +22,12 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr auto kSnapshotEvery = std::chrono::seconds(1);
 constexpr auto kRetryEvery = std::chrono::seconds(2);
+// A stream that sends nothing for this long is treated as lost (a wedged server, a dead route).
+constexpr auto kStallAfter = std::chrono::seconds(5);
+// Pointer moves sent per finger at most: the server limits input events per second.
+constexpr auto kMoveInterval = std::chrono::milliseconds(16);
+// Frames asked for are at most this many pixels along each side (aspect kept).
+constexpr int kMaxViewportWidth = 1920, kMaxViewportHeight = 1080;
 
 // Owns an SDL object.
 template <typename T, void (*Destroy)(T*)>
@@ -70,6 +77,7 @@ class Client {
   v1::Hello hello_for_window() const;
 
   WindowOptions options_;
+  SdlLibrary sdl_;  // first in, last out: SDL_Quit after every SDL object is gone
   Window window_;
   Renderer renderer_;
   Texture texture_;
@@ -93,6 +101,7 @@ class Client {
   std::optional<double> handoff_gap_ms_;
   bool awaiting_first_local_frame_ = false;
   std::map<SDL_FingerID, std::uint32_t> fingers_;
+  std::map<std::uint32_t, Clock::time_point> last_move_;
   Clock::time_point last_tilt_{};
   std::size_t frames_ = 0;
   std::vector<std::pair<Clock::time_point, std::size_t>> recent_frames_;  // arrival, JPEG bytes
@@ -105,8 +114,10 @@ v1::Hello Client::hello_for_window() const {
   v1::Hello hello = options_.hello;
   int width = 0, height = 0;
   SDL_GetRendererOutputSize(renderer_.get(), &width, &height);
-  hello.mutable_viewport()->set_width(static_cast<std::uint32_t>(std::max(1, width)));
-  hello.mutable_viewport()->set_height(static_cast<std::uint32_t>(std::max(1, height)));
+  const double scale = std::min({1.0, double(kMaxViewportWidth) / std::max(1, width),
+                                 double(kMaxViewportHeight) / std::max(1, height)});
+  hello.mutable_viewport()->set_width(static_cast<std::uint32_t>(std::max(1.0, width * scale)));
+  hello.mutable_viewport()->set_height(static_cast<std::uint32_t>(std::max(1.0, height * scale)));
   return hello;
 }
 
@@ -118,12 +129,18 @@ void Client::open_first() {
   }
   stream_ = std::make_unique<StreamClient>(connect(options_.server), hello_for_window());
   remote_ = true;
+  last_remote_frame_ = Clock::now();
   status_ = "streaming from " + options_.server;
 }
 
 void Client::pointer(std::uint32_t id, v1::PointerEvent::Phase phase, float window_x,
                      float window_y) {
   if (!stream_ || frame_width_ == 0) return;
+  const auto now = Clock::now();
+  if (phase == v1::PointerEvent::MOVE) {
+    if (now - last_move_[id] < kMoveInterval) return;
+    last_move_[id] = now;
+  }
   int width = 0, height = 0;
   SDL_GetWindowSize(window_.get(), &width, &height);
   // The frame is letterboxed in the window: positions are normalised to the frame.
@@ -162,9 +179,12 @@ void Client::handle(const SDL_Event& event) {
       auto found = fingers_.find(event.tfinger.fingerId);
       if (found == fingers_.end()) {
         if (event.type != SDL_FINGERDOWN || fingers_.size() >= 15) break;
-        std::uint32_t id = 0;
-        for (const auto& [finger, used] : fingers_) id = std::max(id, used + 1);
-        found = fingers_.emplace(event.tfinger.fingerId, id % 15).first;
+        std::uint32_t id = 0;  // the smallest free: 15 is the mouse's
+        while (std::any_of(fingers_.begin(), fingers_.end(),
+                           [id](const auto& entry) { return entry.second == id; })) {
+          ++id;
+        }
+        found = fingers_.emplace(event.tfinger.fingerId, id).first;
       }
       const auto phase = event.type == SDL_FINGERDOWN   ? v1::PointerEvent::DOWN
                          : event.type == SDL_FINGERUP   ? v1::PointerEvent::UP
@@ -179,6 +199,8 @@ void Client::handle(const SDL_Event& event) {
       last_tilt_ = now;
       // The accelerometer reads the reaction to gravity: gravity is its opposite.
       const float* a = event.sensor.data;
+      const float magnitude = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+      if (!(magnitude >= 0.1f && magnitude <= 200.0f)) break;  // free fall, or a first zero
       stream_->tilt(-a[0], -a[1], -a[2]);
       break;
     }
@@ -324,7 +346,13 @@ void Client::on_remote_lost() {
     std::fprintf(stderr, "fluidcast-client: %s\n", status_.c_str());
     return;
   }
-  local->load(*snapshot_);
+  try {
+    local->load(*snapshot_);
+  } catch (const std::exception& e) {
+    status_ = std::string("the server is gone and its state does not fit here: ") + e.what();
+    std::fprintf(stderr, "fluidcast-client: %s\n", status_.c_str());
+    return;
+  }
   v1::Command wake;
   *wake.mutable_quality() = options_.hello.quality();
   if (wake.quality().renderer().empty()) wake.mutable_quality()->set_renderer("mc");
@@ -361,6 +389,7 @@ void Client::try_reconnect() {
     }
     stream_ = std::move(back);
     remote_ = true;
+    last_remote_frame_ = Clock::now();
     snapshot_.reset();
     local_from_event_ = 0;
     status_ = "streaming from " + options_.server + " again";
@@ -429,7 +458,6 @@ void Client::screenshot() const {
 }
 
 int Client::run() {
-  SdlLibrary sdl;
   window_.reset(SDL_CreateWindow("fluidcast", SDL_WINDOWPOS_UNDEFINED, SDL_WINDOWPOS_UNDEFINED,
                                  options_.width, options_.height,
                                  SDL_WINDOW_RESIZABLE | SDL_WINDOW_ALLOW_HIGHDPI));
@@ -456,14 +484,24 @@ int Client::run() {
   const auto start = Clock::now();
   while (!quit_) {
     SDL_Event event;
-    while (SDL_PollEvent(&event)) handle(event);
+    while (SDL_PollEvent(&event)) {
+      try {
+        handle(event);
+      } catch (const std::exception& e) {  // input the session refused: say so, go on
+        status_ = std::string("refused: ") + e.what();
+      }
+    }
     const auto now = Clock::now();
     if (options_.seconds > 0 && now - start > std::chrono::duration<double>(options_.seconds)) break;
     if (stream_) {
       auto frame = stream_->next_frame(std::chrono::milliseconds(5));
       if (frame && !remote_ && frame->input_event_id() < local_from_event_) frame.reset();
       if (frame) {
-        show(*frame);
+        try {
+          show(*frame);
+        } catch (const std::exception& e) {
+          status_ = std::string("a frame could not be shown: ") + e.what();
+        }
         if (remote_) last_remote_frame_ = Clock::now();
         if (awaiting_first_local_frame_) {
           awaiting_first_local_frame_ = false;
@@ -474,6 +512,9 @@ int Client::run() {
       }
       keep_snapshot();
       keep_standby();
+      if (remote_ && !stream_->ended() && Clock::now() - last_remote_frame_ > kStallAfter) {
+        static_cast<StreamClient*>(stream_.get())->drop();  // silent too long: lost
+      }
       if (remote_ && stream_->ended()) on_remote_lost();
     } else {
       SDL_Delay(5);

@@ -80,6 +80,16 @@ void Session::post(std::uint32_t viewer, v1::ClientMessage message) {
 }
 
 std::uint32_t Session::add_viewer(const v1::Hello& hello, std::shared_ptr<ViewerSink> sink) {
+  if (hello.has_resume()) {
+    // The old connection may not be known dead yet (a phone that changed networks): the resume
+    // replaces it.
+    const auto old = viewers_.find(hello.resume().viewer_id());
+    if (old != viewers_.end()) {
+      old->second->sink().end(
+          Refusal(RefusalCode::unavailable, "another connection resumed this viewer"));
+      remove_viewer(old->first);
+    }
+  }
   if (viewers_.size() >= services_.limits->max_viewers_per_session) {
     throw Refusal(RefusalCode::resource_exhausted,
                   "session " + id_ + " has its limit of " +

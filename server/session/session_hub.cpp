@@ -30,6 +30,7 @@ void SessionHub::stop() {
   }
   wake_.notify_all();
   worker_.join();
+  encoders_.reset();
 }
 
 void SessionHub::post(std::function<void()> job) {
@@ -90,7 +91,7 @@ void SessionHub::open(v1::Hello hello, std::shared_ptr<ViewerSink> sink,
         setup.particles = hello.create().particles();
         const std::string id = new_session_id();
         opened.session = std::make_shared<Session>(
-            id, setup, SessionServices{context_, gpu_solver_, &limits_, metrics_, &encoders_});
+            id, setup, SessionServices{context_, gpu_solver_, &limits_, metrics_, encoders_.get()});
         sessions_.emplace(id, opened.session);
         session_count_ = static_cast<std::uint32_t>(sessions_.size());
         metrics_->sessions = sessions_.size();

@@ -65,7 +65,9 @@ class SessionHub {
   ServerLimits limits_;
   std::optional<std::string> token_;
   Metrics* metrics_;
-  codec::JpegEncoderPool encoders_;
+  // Reset when the hub stops, after the worker: frames still encoding reach their sinks while
+  // the transports are still there.
+  std::unique_ptr<codec::JpegEncoderPool> encoders_ = std::make_unique<codec::JpegEncoderPool>();
 
   // Worker state: only the worker touches it.
   std::map<std::string, std::shared_ptr<Session>> sessions_;

@@ -39,7 +39,10 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
         ack_rate_(kAcknowledgementsPerFrame * hub.limits().max_fps) {}
 
   void start(beast::http::request<beast::http::string_body> request) {
-    socket_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
+    // Pings after 5 s of silence; a phone that does not answer within 15 s is gone, and its
+    // viewer leaves (a resume finds its camera).
+    socket_.set_option(websocket::stream_base::timeout{std::chrono::seconds(10),
+                                                       std::chrono::seconds(15), true});
     socket_.read_message_max(kMaxMessageBytes);
     socket_.binary(true);
     socket_.async_accept(request, [self = shared_from_this()](beast::error_code error) {
