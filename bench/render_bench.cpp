@@ -1,8 +1,9 @@
-// Rendering and encoding: GPU ms per pass (scene, particles, smoothing, shading, read-back) from
-// timestamps, frames/s with the read-back ring kept full, and JPEG encode ms (quality 80, 4:2:0,
-// one thread) and throughput on the encoder pool (one thread per core), at 640×360, 1280×720 and
-// 1920×1080 with 64k and 1M particles (the dam break after a few GPU steps). `--smoke` runs one
-// small case (for CI, on lavapipe); `--device N` picks the device.
+// Rendering and encoding: GPU ms per pass (MC field and triangles, scene, particles, smoothing,
+// shading, read-back) from timestamps, frames/s with the read-back ring kept full, and JPEG
+// encode ms (quality 80, 4:2:0, one thread) and throughput on the encoder pool (one thread per
+// core), at 640×360, 1280×720 and 1920×1080 with 64k and 1M particles (the dam break after a few
+// GPU steps); Marching Cubes in a cubic 1 m tank on a 128³ grid (the target). `--smoke`
+// runs small cases (for CI, on lavapipe); `--device N` picks the device.
 #include <benchmark/benchmark.h>
 
 #include <chrono>
@@ -32,6 +33,10 @@ void run_render(benchmark::State& state, render::RendererKind kind, int frames_p
   const auto height = static_cast<std::uint32_t>(state.range(1));
   sim::SceneParams scene;
   scene.particles = static_cast<int>(state.range(2));
+  const int mc_nodes = static_cast<int>(state.range(3));
+  if (kind == render::RendererKind::mc) {  // a cube, so the grid is mc_nodes³
+    scene.tank_length = scene.tank_height = scene.depth = 1.0f;
+  }
   sim::SolverParams params;
   params.max_particles = std::max(params.max_particles, scene.particles);
   auto solver = sim::make_gpu_solver(sim::SolverKind::pbf, bench::gpu_context(),
@@ -40,6 +45,7 @@ void run_render(benchmark::State& state, render::RendererKind kind, int frames_p
   render::ParticleSource source(bench::gpu_context());
   const render::ParticleView view = source.view_of(*solver);
   render::FrameRenderer renderer(bench::gpu_context(), width, height);
+  renderer.mc.resolution = mc_nodes;
   render::OrbitCamera camera;
   camera.target = 0.5f * (solver->tank().min + solver->tank().max);
   camera.distance = 1.3f * glm::length(solver->tank().size());
@@ -60,6 +66,8 @@ void run_render(benchmark::State& state, render::RendererKind kind, int frames_p
         sum.smoothing_ms += t.smoothing_ms;
         sum.shading_ms += t.shading_ms;
         sum.readback_ms += t.readback_ms;
+        sum.mc_field_ms += t.mc_field_ms;
+        sum.mc_triangles_ms += t.mc_triangles_ms;
         ++frames;
       }
     }
@@ -78,6 +86,10 @@ void run_render(benchmark::State& state, render::RendererKind kind, int frames_p
   state.counters["smoothing_ms"] = sum.smoothing_ms / timed;
   state.counters["shading_ms"] = sum.shading_ms / timed;
   state.counters["readback_ms"] = sum.readback_ms / timed;
+  if (kind == render::RendererKind::mc) {
+    state.counters["mc_field_ms"] = sum.mc_field_ms / timed;
+    state.counters["mc_triangles_ms"] = sum.mc_triangles_ms / timed;
+  }
 
   // Encoding the frame just rendered: one thread, then the pool at one thread per core.
   const codec::JpegOptions jpeg{80, codec::ChromaSubsampling::s420};
@@ -96,10 +108,10 @@ void run_render(benchmark::State& state, render::RendererKind kind, int frames_p
 }
 
 void add(const char* name, render::RendererKind kind, int width, int height, int particles,
-         int frames) {
+         int frames, int mc_nodes = 80) {
   benchmark::RegisterBenchmark(name, run_render, kind, frames)
-      ->Args({width, height, particles})
-      ->ArgNames({"width", "height", "particles"})
+      ->Args({width, height, particles, mc_nodes})
+      ->ArgNames({"width", "height", "particles", "mc_nodes"})
       ->Iterations(1)
       ->UseManualTime()
       ->Unit(benchmark::kMillisecond);
@@ -109,7 +121,11 @@ void register_cases(bool smoke) {
   if (smoke) {
     add("Ssfr", render::RendererKind::ssfr, 320, 180, 4000, 3);
     add("Points", render::RendererKind::points, 320, 180, 4000, 3);
+    add("Mc", render::RendererKind::mc, 320, 180, 4000, 3, 48);
     return;
+  }
+  for (int particles : {64000, 1000000}) {
+    add("Mc", render::RendererKind::mc, 1920, 1080, particles, 100, 128);
   }
   for (int particles : {64000, 1000000}) {
     for (auto [w, h] : {std::pair{640, 360}, {1280, 720}, {1920, 1080}}) {

@@ -94,16 +94,21 @@ std::size_t FrameRenderer::frames_pending() const {
 codec::ImageRgba FrameRenderer::collect(Slot& slot) {
   slot.commands.wait();
   slot.in_flight = false;
-  // Marks: start, scene, particles; SSFR: smoothing (with the copy of the scene), shading; then
-  // the read-back.
+  // Marks: start, [MC: field, triangles,] scene, particles; SSFR and MC: smoothing (with the copy
+  // of the scene), shading; then the read-back.
   slot.timestamps.fetch();
   const std::uint32_t marks = slot.timestamps.marks();
+  const std::uint32_t mesh = slot.meshed ? 2 : 0;
   RenderTimes times;
-  times.scene_ms = slot.timestamps.elapsed_ms(0, 1);
-  times.particles_ms = slot.timestamps.elapsed_ms(1, 2);
-  if (marks == 6) {
-    times.smoothing_ms = slot.timestamps.elapsed_ms(2, 3);
-    times.shading_ms = slot.timestamps.elapsed_ms(3, 4);
+  if (slot.meshed) {
+    times.mc_field_ms = slot.timestamps.elapsed_ms(0, 1);
+    times.mc_triangles_ms = slot.timestamps.elapsed_ms(1, 2);
+  }
+  times.scene_ms = slot.timestamps.elapsed_ms(mesh, mesh + 1);
+  times.particles_ms = slot.timestamps.elapsed_ms(mesh + 1, mesh + 2);
+  if (marks == mesh + 6) {
+    times.smoothing_ms = slot.timestamps.elapsed_ms(mesh + 2, mesh + 3);
+    times.shading_ms = slot.timestamps.elapsed_ms(mesh + 3, mesh + 4);
   }
   times.readback_ms = slot.timestamps.elapsed_ms(marks - 2, marks - 1);
   last_times_ = times;
@@ -234,7 +239,8 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
   slot.timestamps.reset(commands);
   slot.timestamps.mark(commands);
   const bool mesh = kind == RendererKind::mc && particles.count > 0;
-  if (mesh) marching_cubes_->record(commands, particles, mc.threshold);
+  slot.meshed = mesh;
+  if (mesh) marching_cubes_->record(commands, particles, mc.threshold, slot.timestamps);
   // For the mesh, `position` is the vertex buffer.
   const DrawConstants draw{
       frame_params_.address(), mesh ? marching_cubes_->vertices() : particles.position,

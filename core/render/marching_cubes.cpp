@@ -84,7 +84,7 @@ bool MarchingCubes::fits(const sim::Box& tank, int resolution, float particle_ra
 }
 
 void MarchingCubes::record(VkCommandBuffer commands, const ParticleView& particles,
-                           float threshold) const {
+                           float threshold, gpu::TimestampQueries& timestamps) const {
   const McConstants constants{particles.position,
                               field_.address(),
                               tables_.address(),
@@ -102,10 +102,12 @@ void MarchingCubes::record(VkCommandBuffer commands, const ParticleView& particl
   gpu::transfer_to_compute_barrier(commands);
   field_pass_.dispatch(commands, constants, particles.count);
   gpu::compute_barrier(commands);
+  timestamps.mark(commands);
   const std::uint64_t cells = std::uint64_t(nodes_.x - 1) * (nodes_.y - 1) * (nodes_.z - 1);
   triangles_pass_.dispatch(commands, constants, cells);
   gpu::compute_barrier(commands);
   clamp_pass_.dispatch(commands, constants, 1);
+  timestamps.mark(commands);
   gpu::memory_barrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                       VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_VERTEX_SHADER_BIT,
                       VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT);

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "fluidcast/gpu/buffer.h"
+#include "fluidcast/gpu/command_slot.h"
 #include "fluidcast/gpu/compute_pipeline.h"
 #include "fluidcast/render/frame_renderer.h"
 
@@ -31,7 +32,9 @@ class MarchingCubes {
   bool fits(const sim::Box& tank, int resolution, float particle_radius) const;
   // Records the field and triangle passes; afterwards vertices() and draw_buffer() are ready for
   // the vertex shader and vkCmdDrawIndirect.
-  void record(VkCommandBuffer commands, const ParticleView& particles, float threshold) const;
+  // Marks `timestamps` after the field and after the triangles (two marks).
+  void record(VkCommandBuffer commands, const ParticleView& particles, float threshold,
+              gpu::TimestampQueries& timestamps) const;
   VkDeviceAddress vertices() const { return vertices_.address(); }
   VkBuffer draw_buffer() const { return draw_.get(); }
   glm::ivec3 nodes() const { return nodes_; }

@@ -387,8 +387,7 @@ void Session::tick(Clock::time_point now) {
 }
 
 void Session::encode(Viewer& viewer, Viewer::Finished frame) {
-  services_.metrics->render_ms.observe(frame.times.scene_ms + frame.times.particles_ms +
-                                       frame.times.smoothing_ms + frame.times.shading_ms);
+  services_.metrics->render_ms.observe(frame.times.drawing_ms());
   services_.metrics->readback_ms.observe(frame.times.readback_ms);
   auto message = std::make_shared<v1::ServerMessage>();
   v1::Frame& out = *message->mutable_frame();
@@ -401,8 +400,7 @@ void Session::encode(Viewer& viewer, Viewer::Finished frame) {
   out.set_renderer(frame.shows.renderer);
   v1::StageTimings& timings = *out.mutable_timings();
   timings.set_sim_ms(static_cast<float>(frame.shows.sim_ms));
-  timings.set_render_ms(static_cast<float>(frame.times.scene_ms + frame.times.particles_ms +
-                                           frame.times.smoothing_ms + frame.times.shading_ms));
+  timings.set_render_ms(static_cast<float>(frame.times.drawing_ms()));
   timings.set_readback_ms(static_cast<float>(frame.times.readback_ms));
   codec::JpegOptions options;
   options.quality = frame.jpeg_quality;

@@ -76,6 +76,13 @@ struct RenderTimes {
   double smoothing_ms = 0;  // SSFR: the depth filter passes
   double shading_ms = 0;    // SSFR: normals and shading (and the copy of the scene it refracts)
   double readback_ms = 0;   // the copy of the finished frame to host-visible memory
+  double mc_field_ms = 0;      // MC: the scalar field splatted from the particles
+  double mc_triangles_ms = 0;  // MC: triangles and normals from the tables
+
+  // Every pass but the read-back.
+  double drawing_ms() const {
+    return mc_field_ms + mc_triangles_ms + scene_ms + particles_ms + smoothing_ms + shading_ms;
+  }
 };
 
 struct McStyle {
@@ -130,6 +137,7 @@ class FrameRenderer {
     bool in_flight = false;
     std::uint64_t frame = 0;
     std::optional<glm::vec2> probe;  // where this frame read the surface back, if it did
+    bool meshed = false;             // drew Marching Cubes: two more timestamps
     glm::mat4 view{1.0f}, projection{1.0f};
   };
   void record(VkCommandBuffer commands, RendererKind kind, const ParticleView& particles,
