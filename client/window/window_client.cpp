@@ -97,7 +97,10 @@ class Client {
   // A local session kept warm while streaming (paused, one frame a second), so that a handoff
   // needs no start-up: Vulkan context, pipelines and solver are ready.
   std::future<std::unique_ptr<LocalStream>> standby_;
-  std::uint64_t local_from_event_ = 0;  // local frames older than this event show the standby
+  // Frames reflecting events older than this show a state from before a handoff (the standby's,
+  // or a new server session's before our state went in): not shown.
+  std::uint64_t show_from_event_ = 0;
+  bool report_next_frame_ = false;  // say the first frame's time after handing back
   std::optional<double> handoff_gap_ms_;
   bool awaiting_first_local_frame_ = false;
   std::map<SDL_FingerID, std::uint32_t> fingers_;
@@ -358,7 +361,7 @@ void Client::on_remote_lost() {
   if (wake.quality().renderer().empty()) wake.mutable_quality()->set_renderer("mc");
   local->command(wake);
   wake.set_pause(false);
-  local_from_event_ = local->command(wake);
+  show_from_event_ = local->command(wake);
   stream_ = std::move(local);
   awaiting_first_local_frame_ = true;
   status_ = "the server is gone (" + why + "): continuing locally, retrying";
@@ -376,12 +379,19 @@ void Client::try_reconnect() {
     } catch (const std::exception&) {
       return;  // still gone
     }
+    show_from_event_ = 0;
     if (auto* local = dynamic_cast<LocalStream*>(stream_.get())) {
       try {
         const v1::Snapshot state = local->snapshot();
         back->put_snapshot(options_.hello.token(), state);
-        std::fprintf(stderr, "fluidcast-client: the server is back and took the state (%d particles)\n",
-                     state.positions_size() / 3);
+        std::fprintf(stderr,
+                     "fluidcast-client: the server is back and took the state (%d particles, "
+                     "t = %.3f s)\n",
+                     state.positions_size() / 3, state.time());
+        v1::Command marker;  // frames from before the state went in reflect no later event
+        *marker.mutable_quality() = options_.hello.quality();
+        show_from_event_ = back->command(marker);
+        report_next_frame_ = true;
       } catch (const std::exception& e) {
         std::fprintf(stderr, "fluidcast-client: the server is back but took no state: %s\n",
                      e.what());
@@ -391,7 +401,6 @@ void Client::try_reconnect() {
     remote_ = true;
     last_remote_frame_ = Clock::now();
     snapshot_.reset();
-    local_from_event_ = 0;
     status_ = "streaming from " + options_.server + " again";
     std::fprintf(stderr, "fluidcast-client: %s\n", status_.c_str());
     return;
@@ -495,7 +504,12 @@ int Client::run() {
     if (options_.seconds > 0 && now - start > std::chrono::duration<double>(options_.seconds)) break;
     if (stream_) {
       auto frame = stream_->next_frame(std::chrono::milliseconds(5));
-      if (frame && !remote_ && frame->input_event_id() < local_from_event_) frame.reset();
+      if (frame && frame->input_event_id() < show_from_event_) frame.reset();
+      if (frame && report_next_frame_) {
+        report_next_frame_ = false;
+        std::fprintf(stderr, "fluidcast-client: first frame streamed after the handoff: t = %.3f s\n",
+                     frame->sim_time());
+      }
       if (frame) {
         try {
           show(*frame);

@@ -122,7 +122,15 @@ TEST(WindowClientTest, HandsOffToLocalAndBack) {
   std::smatch gap;
   ASSERT_TRUE(std::regex_search(run.output, gap, std::regex("handoff gap ([0-9]+) ms")));
   std::printf("handoff gap: %s ms\n", gap[1].str().c_str());
-  EXPECT_NE(run.output.find("took the state"), std::string::npos);
+  // The server's new session goes on from the client's fluid, clock included: its first frame
+  // is not earlier than the state put in (a fresh session would start at t = 0).
+  std::smatch put, first;
+  ASSERT_TRUE(std::regex_search(run.output, put,
+                                std::regex("took the state \\([0-9]+ particles, t = ([0-9.]+) s")));
+  ASSERT_TRUE(std::regex_search(run.output, first,
+                                std::regex("first frame streamed after the handoff: t = ([0-9.]+)")));
+  EXPECT_GT(std::stod(put[1]), 0.05);
+  EXPECT_GE(std::stod(first[1]), std::stod(put[1]));
   EXPECT_NE(run.output.find("again"), std::string::npos);
   EXPECT_GT(spread(codec::read_png(kOut + "window_handoff.png")), 20.0);
 }
