@@ -360,21 +360,18 @@ void Session::tick(Clock::time_point now) {
   solver_->clear_stage_times();
   if (sim_ms > 0.0) services_.metrics->sim_ms.observe(sim_ms);
   finish_frames();
-  bool any_due = false;
-  for (auto& [id, viewer] : viewers_) any_due = any_due || viewer->due(now);
-  if (!any_due) {
-    for (auto& [id, viewer] : viewers_) {
-      if (viewer->throttled()) services_.metrics->frames_skipped++;
+  std::vector<std::pair<std::uint32_t, Viewer*>> due;
+  for (auto& [id, viewer] : viewers_) {
+    if (viewer->due(now)) {
+      due.emplace_back(id, viewer.get());
+    } else if (viewer->throttled()) {
+      services_.metrics->frames_skipped++;
     }
-    return;
   }
+  if (due.empty()) return;  // no upload of a CPU solver's particles for nobody
   const render::ParticleView particles = source_.view_of(*solver_);
   std::vector<std::uint32_t> failed;
-  for (auto& [id, viewer] : viewers_) {
-    if (!viewer->due(now)) {
-      if (viewer->throttled()) services_.metrics->frames_skipped++;
-      continue;
-    }
+  for (auto [id, viewer] : due) {
     try {
       viewer->submit(particles, solver_->tank(),
                      {viewer->newest_input(), solver_->time(), sim_ms, {}}, now);

@@ -84,8 +84,6 @@ class Viewer {
   // Counts frames in the encoders; the encoder's callback decrements it.
   const std::shared_ptr<std::atomic<int>>& encoding() const { return encoding_; }
   std::optional<double> round_trip_ms() const { return round_trip_ms_; }
-  std::uint32_t render_width() const { return render_width_; }
-  int jpeg_quality() const { return jpeg_quality_; }
 
  private:
   void adapt(Clock::time_point now);
