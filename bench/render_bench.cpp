@@ -2,7 +2,8 @@
 // shading, read-back) from timestamps, frames/s with the read-back ring kept full, and JPEG
 // encode ms (quality 80, 4:2:0, one thread) and throughput on the encoder pool (one thread per
 // core), at 640×360, 1280×720 and 1920×1080 with 64k and 1M particles (the dam break after a few
-// GPU steps); Marching Cubes in a cubic 1 m tank on a 128³ grid (the target). `--smoke`
+// GPU steps); Marching Cubes in a cubic 1 m tank on a 128³ grid (the target), and as the
+// client's local mode draws it (5000 particles, 640×360, the grid from the particle size). `--smoke`
 // runs small cases (for CI, on lavapipe); `--device N` picks the device.
 #include <benchmark/benchmark.h>
 
@@ -34,7 +35,7 @@ void run_render(benchmark::State& state, render::RendererKind kind, int frames_p
   sim::SceneParams scene;
   scene.particles = static_cast<int>(state.range(2));
   const int mc_nodes = static_cast<int>(state.range(3));
-  if (kind == render::RendererKind::mc) {  // a cube, so the grid is mc_nodes³
+  if (state.range(4) != 0) {  // a cube, so the grid is mc_nodes³
     scene.tank_length = scene.tank_height = scene.depth = 1.0f;
   }
   sim::SolverParams params;
@@ -107,11 +108,13 @@ void run_render(benchmark::State& state, render::RendererKind kind, int frames_p
   state.counters["pool_encodes_per_s"] = static_cast<double>(jobs.size()) / seconds_since(start);
 }
 
+enum class Tank { dam_break, cube };
+
 void add(const char* name, render::RendererKind kind, int width, int height, int particles,
-         int frames, int mc_nodes = 80) {
+         int frames, int mc_nodes = 0, Tank tank = Tank::dam_break) {
   benchmark::RegisterBenchmark(name, run_render, kind, frames)
-      ->Args({width, height, particles, mc_nodes})
-      ->ArgNames({"width", "height", "particles", "mc_nodes"})
+      ->Args({width, height, particles, mc_nodes, tank == Tank::cube ? 1 : 0})
+      ->ArgNames({"width", "height", "particles", "mc_nodes", "cube"})
       ->Iterations(1)
       ->UseManualTime()
       ->Unit(benchmark::kMillisecond);
@@ -121,12 +124,14 @@ void register_cases(bool smoke) {
   if (smoke) {
     add("Ssfr", render::RendererKind::ssfr, 320, 180, 4000, 3);
     add("Points", render::RendererKind::points, 320, 180, 4000, 3);
-    add("Mc", render::RendererKind::mc, 320, 180, 4000, 3, 48);
+    add("Mc", render::RendererKind::mc, 320, 180, 4000, 3, 48, Tank::cube);
+    add("Mc", render::RendererKind::mc, 640, 360, 5000, 10);  // the client's local mode
     return;
   }
   for (int particles : {64000, 1000000}) {
-    add("Mc", render::RendererKind::mc, 1920, 1080, particles, 100, 128);
+    add("Mc", render::RendererKind::mc, 1920, 1080, particles, 100, 128, Tank::cube);
   }
+  add("Mc", render::RendererKind::mc, 640, 360, 5000, 100);
   for (int particles : {64000, 1000000}) {
     for (auto [w, h] : {std::pair{640, 360}, {1280, 720}, {1920, 1080}}) {
       add("Ssfr", render::RendererKind::ssfr, w, h, particles, 100);

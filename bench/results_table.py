@@ -25,8 +25,10 @@ if runs and "frames_per_s" in runs[0]:
         f = fields_of(r)
         renderer = r['name'].split('/')[0]
         mc = renderer == "Mc"
+        nodes = f['mc_nodes'] if f['mc_nodes'] != "0" else "auto"
+        nodes = (f"{nodes}³" if f.get("cube") == "1" else f"{nodes} (long side)") if mc else "–"
         print(f"| {renderer} | {f['width']}×{f['height']} | {f['particles']} | "
-              f"{f['mc_nodes'] + '³' if mc else '–'} | {r['frames_per_s']:.1f} | "
+              f"{nodes} | {r['frames_per_s']:.1f} | "
               f"{r.get('mc_field_ms', 0):.3f} | {r.get('mc_triangles_ms', 0):.3f} | "
               f"{r['scene_ms']:.3f} | {r['particles_ms']:.3f} | "
               f"{r['smoothing_ms']:.3f} | {r['shading_ms']:.3f} | {r['readback_ms']:.3f} | "

@@ -140,7 +140,7 @@ std::uint64_t FrameRenderer::submit(RendererKind requested, const ParticleView& 
         "not positive");
   }
   if (!(ssfr.smoothing_radii > 0.0f && ssfr.depth_falloff_radii > 0.0f &&
-        ssfr.smoothing_passes >= 0 && mc.smoothing_passes >= 0)) {
+        mc.smoothing_radii > 0.0f && ssfr.smoothing_passes >= 0 && mc.smoothing_passes >= 0)) {
     throw std::invalid_argument(
         "renderer: smoothing radius and depth falloff must be positive, passes not negative");
   }
@@ -150,10 +150,11 @@ std::uint64_t FrameRenderer::submit(RendererKind requested, const ParticleView& 
                                 "(fragmentStoresAndAtomics); use points");
   }
   if (kind == RendererKind::mc &&
-      (!marching_cubes_ || !marching_cubes_->fits(tank, mc.resolution, particles.radius))) {
+      (!marching_cubes_ || !marching_cubes_->fits(tank, mc_resolution(tank, particles.radius),
+                                                  particles.radius))) {
     for (Slot& in_flight : slots_) in_flight.commands.wait();  // frames may still read the old one
-    marching_cubes_ =
-        std::make_unique<MarchingCubes>(*context_, tank, mc.resolution, particles.radius);
+    marching_cubes_ = std::make_unique<MarchingCubes>(
+        *context_, tank, mc_resolution(tank, particles.radius), particles.radius);
   }
   Slot& slot = slots_[next_frame_ % slots_.size()];
   if (slot.in_flight) {
@@ -173,6 +174,13 @@ std::uint64_t FrameRenderer::submit(RendererKind requested, const ParticleView& 
   slot.in_flight = true;
   slot.frame = next_frame_;
   return next_frame_++;
+}
+
+int FrameRenderer::mc_resolution(const sim::Box& tank, float particle_radius) const {
+  if (mc.resolution != 0) return mc.resolution;
+  const glm::vec3 size = tank.size();
+  const float longest = std::max({size.x, size.y, size.z});
+  return std::clamp(static_cast<int>(std::ceil(longest / (2.0f * particle_radius))) + 1, 16, 256);
 }
 
 codec::ImageRgba FrameRenderer::take_oldest() {
@@ -215,7 +223,8 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
   frame.absorption = glm::vec4(ssfr.absorption, 0.0f);
   frame.particle_radius = particles.radius;
   frame.full_speed = points.full_speed;
-  frame.smoothing_radius = ssfr.smoothing_radii * particles.radius;
+  frame.smoothing_radius =
+      (kind == RendererKind::mc ? mc.smoothing_radii : ssfr.smoothing_radii) * particles.radius;
   frame.depth_falloff = ssfr.depth_falloff_radii * particles.radius;
   frame.width = width;
   frame.height = height;
@@ -246,9 +255,16 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
       frame_params_.address(), mesh ? marching_cubes_->vertices() : particles.position,
       particles.velocity,      depth_.address(),
       thickness_.address(),    particles.density_ratio};
+  // The scene depends on the camera and the tank only: while they stay, fluid frames keep the
+  // scene's depth in the attachment and its colour in scene_ from the frame that drew it.
+  const SceneKey scene_key{frame.view, frame.projection, tank.min, tank.max};
+  const bool scene_kept = fluid && scene_drawn_for_ == scene_key;
   const float clear[4] = {0.0f, 0.0f, 0.0f, 1.0f};
-  target_.begin(commands, clear);
-  background_->draw(commands, draw, 3);
+  target_.begin(commands, clear,
+                scene_kept ? RenderTarget::Start::keep_depth : RenderTarget::Start::clear);
+  if (!scene_kept) background_->draw(commands, draw, 3);
+  // Points write colour and depth over the scene.
+  scene_drawn_for_ = fluid ? std::optional(scene_key) : std::nullopt;
   slot.timestamps.mark(commands);
   if (mesh) {
     mc_surface_->draw_indirect(commands, draw, marching_cubes_->draw_buffer());
@@ -265,8 +281,10 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
     vkCmdCopyImageToBuffer(commands, target_.colour().get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                            readback.get(), 1, &region);
   } else {
-    vkCmdCopyImageToBuffer(commands, target_.colour().get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                           scene_.get(), 1, &region);
+    if (!scene_kept) {
+      vkCmdCopyImageToBuffer(commands, target_.colour().get(),
+                             VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, scene_.get(), 1, &region);
+    }
     memory_barrier(commands, kTransfer | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
                    VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT, kCompute,
                    kShaderAccess);

@@ -1,7 +1,8 @@
 // Marching Cubes on the GPU (Lorensen & Cline 1987), for small counts and near views: a density
-// field splatted from the particles onto a grid over the tank, then per cell the case table's
-// triangles, with normals from the field's gradient, appended to a vertex buffer whose size the
-// GPU writes into an indirect draw. Nothing returns to the host.
+// field over a grid around the tank — each particle splats onto its cell's 8 nodes, then a
+// separable Gaussian blur (three passes, no atomics) — then per cell the case table's triangles,
+// with normals from the field's gradient, appended to a vertex buffer whose size the GPU writes
+// into an indirect draw. Nothing returns to the host.
 #pragma once
 
 #include "fluidcast/gpu/buffer.h"
@@ -13,26 +14,33 @@ namespace fluidcast::render {
 
 // Mirrors shaders/common/mc_pass.glsl.
 struct McConstants {
-  VkDeviceAddress position, field, tables, vertices, draw;
-  alignas(16) glm::vec4 origin;  // w: node spacing
-  glm::ivec4 nodes;              // w: particles
-  float radius;
-  float inverse_rest_sum;
+  VkDeviceAddress position, splat, blur_in, blur_out, field, tables, vertices, draw;
+  glm::vec4 origin;  // w: node spacing
+  glm::ivec4 nodes;  // w: particles
+  std::int32_t reach;
+  std::int32_t axis;
+  float inverse_rest;
   float threshold;
   std::uint32_t max_vertices;
 };
-static_assert(offsetof(McConstants, origin) == 48 && offsetof(McConstants, radius) == 80);
+// Within the 128 bytes of push constants every device has.
+static_assert(offsetof(McConstants, origin) == 64 && offsetof(McConstants, reach) == 96 &&
+              offsetof(McConstants, max_vertices) == 112 && sizeof(McConstants) <= 128);
 
 class MarchingCubes {
  public:
   // A grid of `resolution` nodes along the tank's longest side (and as fine on the others), with
   // a layer of nodes outside so the surface closes; the field of particles of `radius`.
+  // The blur's σ: kSigmaRadii particle radii (about the width of the kernel Müller et al. use for
+  // surfaces), never under kMinSigmaNodes node spacings (else the trilinear splat shows).
+  static constexpr float kSigmaRadii = 1.6f;
+  static constexpr float kMinSigmaNodes = 0.7f;
   MarchingCubes(gpu::Context& context, const sim::Box& tank, int resolution, float particle_radius);
 
   bool fits(const sim::Box& tank, int resolution, float particle_radius) const;
   // Records the field and triangle passes; afterwards vertices() and draw_buffer() are ready for
   // the vertex shader and vkCmdDrawIndirect.
-  // Marks `timestamps` after the field and after the triangles (two marks).
+  // Marks `timestamps` after the field (splat and blur) and after the triangles (two marks).
   void record(VkCommandBuffer commands, const ParticleView& particles, float threshold,
               gpu::TimestampQueries& timestamps) const;
   VkDeviceAddress vertices() const { return vertices_.address(); }
@@ -46,10 +54,11 @@ class MarchingCubes {
   glm::vec3 origin_;
   float spacing_;
   glm::ivec3 nodes_;
-  float field_radius_, inverse_rest_sum_;
+  float inverse_rest_;
+  int reach_;
   std::uint32_t max_vertices_;
-  gpu::ComputePipeline field_pass_, triangles_pass_, clamp_pass_;
-  gpu::Buffer tables_, field_, vertices_, draw_;
+  gpu::ComputePipeline splat_pass_, blur_pass_, triangles_pass_, clamp_pass_;
+  gpu::Buffer tables_, splat_, field_, scratch_, vertices_, draw_;
 };
 
 }  // namespace fluidcast::render

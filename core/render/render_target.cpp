@@ -21,28 +21,26 @@ void check_size(const gpu::Context& context, std::uint32_t width, std::uint32_t 
   }
 }
 
-}  // namespace
 
-RenderTarget::RenderTarget(gpu::Context& context, std::uint32_t width, std::uint32_t height)
-    : colour_((check_size(context, width, height),
-               gpu::Image(context, width, height, kColourFormat,
-                          VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                          VK_IMAGE_ASPECT_COLOR_BIT))),
-      depth_(context, width, height, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
-             VK_IMAGE_ASPECT_DEPTH_BIT) {
-  const VkDevice device = context.device();
+// The two passes differ only in how they start (so one framebuffer and the pipelines serve both):
+// `clear` clears colour and depth; `keep_depth` starts from the depth the previous pass stored and
+// leaves the colour undefined. Both store the depth for a later keep_depth pass.
+gpu::UniqueRenderPass make_render_pass(VkDevice device, RenderTarget::Start start) {
+  const bool keep = start == RenderTarget::Start::keep_depth;
   VkAttachmentDescription attachments[2] = {};
-  attachments[0].format = kColourFormat;
+  attachments[0].format = RenderTarget::kColourFormat;
   attachments[0].samples = VK_SAMPLE_COUNT_1_BIT;
-  attachments[0].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+  attachments[0].loadOp = keep ? VK_ATTACHMENT_LOAD_OP_DONT_CARE : VK_ATTACHMENT_LOAD_OP_CLEAR;
   attachments[0].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
   attachments[0].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
   attachments[0].stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
   attachments[0].initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
   attachments[0].finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
   attachments[1] = attachments[0];
-  attachments[1].format = kDepthFormat;
-  attachments[1].storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+  attachments[1].format = RenderTarget::kDepthFormat;
+  attachments[1].loadOp = keep ? VK_ATTACHMENT_LOAD_OP_LOAD : VK_ATTACHMENT_LOAD_OP_CLEAR;
+  attachments[1].initialLayout =
+      keep ? VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL : VK_IMAGE_LAYOUT_UNDEFINED;
   attachments[1].finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
   const VkAttachmentReference colour_ref{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
   const VkAttachmentReference depth_ref{1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
@@ -51,17 +49,20 @@ RenderTarget::RenderTarget(gpu::Context& context, std::uint32_t width, std::uint
   subpass.colorAttachmentCount = 1;
   subpass.pColorAttachments = &colour_ref;
   subpass.pDepthStencilAttachment = &depth_ref;
-  // The previous frame's copy out of the colour image, and its depth use, come before this clear.
+  // The previous frame's copy out of the colour image, and its depth use, come before this
+  // frame's clear or depth tests.
   VkSubpassDependency dependency{};
   dependency.srcSubpass = VK_SUBPASS_EXTERNAL;
   dependency.dstSubpass = 0;
   dependency.srcStageMask =
       VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
   dependency.srcAccessMask = VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
-  dependency.dstStageMask =
-      VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT;
-  dependency.dstAccessMask =
-      VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+  dependency.dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
+                            VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT |
+                            VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
+  dependency.dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT |
+                             VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
+                             VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
   // And the colour written here comes before the copy to the host.
   VkSubpassDependency to_copy{};
   to_copy.srcSubpass = 0;
@@ -80,27 +81,41 @@ RenderTarget::RenderTarget(gpu::Context& context, std::uint32_t width, std::uint
   info.pDependencies = dependencies;
   VkRenderPass raw_pass;
   FLUIDCAST_VK_CHECK(vkCreateRenderPass(device, &info, nullptr, &raw_pass));
-  render_pass_ = gpu::UniqueRenderPass(device, raw_pass);
+  return gpu::UniqueRenderPass(device, raw_pass);
+}
+
+}  // namespace
+
+RenderTarget::RenderTarget(gpu::Context& context, std::uint32_t width, std::uint32_t height)
+    : colour_((check_size(context, width, height),
+               gpu::Image(context, width, height, kColourFormat,
+                          VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                          VK_IMAGE_ASPECT_COLOR_BIT))),
+      depth_(context, width, height, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
+             VK_IMAGE_ASPECT_DEPTH_BIT) {
+  clearing_pass_ = make_render_pass(context.device(), Start::clear);
+  keeping_pass_ = make_render_pass(context.device(), Start::keep_depth);
 
   const VkImageView views[2] = {colour_.view(), depth_.view()};
   VkFramebufferCreateInfo framebuffer{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
-  framebuffer.renderPass = raw_pass;
+  framebuffer.renderPass = clearing_pass_.get();  // compatible with the keeping one
   framebuffer.attachmentCount = 2;
   framebuffer.pAttachments = views;
   framebuffer.width = width;
   framebuffer.height = height;
   framebuffer.layers = 1;
   VkFramebuffer raw_framebuffer;
-  FLUIDCAST_VK_CHECK(vkCreateFramebuffer(device, &framebuffer, nullptr, &raw_framebuffer));
-  framebuffer_ = gpu::UniqueFramebuffer(device, raw_framebuffer);
+  FLUIDCAST_VK_CHECK(
+      vkCreateFramebuffer(context.device(), &framebuffer, nullptr, &raw_framebuffer));
+  framebuffer_ = gpu::UniqueFramebuffer(context.device(), raw_framebuffer);
 }
 
-void RenderTarget::begin(VkCommandBuffer commands, const float background[4]) const {
+void RenderTarget::begin(VkCommandBuffer commands, const float background[4], Start start) const {
   VkClearValue clear[2];
   clear[0].color = {{background[0], background[1], background[2], background[3]}};
   clear[1].depthStencil = {1.0f, 0};
   VkRenderPassBeginInfo info{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
-  info.renderPass = render_pass_.get();
+  info.renderPass = start == Start::clear ? clearing_pass_.get() : keeping_pass_.get();
   info.framebuffer = framebuffer_.get();
   info.renderArea = {{0, 0}, {width(), height()}};
   info.clearValueCount = 2;

@@ -4,19 +4,25 @@ layout(buffer_reference, std430, buffer_reference_align = 4) buffer Ints { int v
 
 layout(push_constant, std430) uniform McPass {
   Vec4s position;   // the particles (w unused)
-  Uints field;      // per node: Σ kernel weight, in 1/kFieldUnit
-  Ints tables;      // 256 × 16 edges (−1 ends a case), then 256 triangle counts
+  Uints splat;      // per node: Σ trilinear weights of the particles around it, in kSplatUnit
+  Floats blur_in;   // the blur pass's input (the x pass reads `splat` instead)
+  Floats blur_out;  // and output
+  Floats field;     // per node: the finished field, 1 inside fluid at rest
+  Ints tables;      // 256 × 16 edges (−1 ends a case), 256 triangle counts, then the blur's
+                    // 2·reach + 1 weights (float bits, summing to 1) at kBlurWeightsAt
   Vec4s vertices;   // out: per vertex, position then normal
   Uints draw;       // VkDrawIndirectCommand; vertexCount counts the vertices written
   vec4 origin;      // xyz: node (0,0,0), m; w: node spacing, m
   ivec4 nodes;      // xyz: nodes per axis; w: particles
-  float radius;     // of a particle's contribution to the field, m
-  float inverse_rest_sum;  // 1 / the field's value inside fluid at rest
-  float threshold;  // the surface: where the normalised field crosses it
+  int reach;        // the blur's taps on each side
+  int axis;         // of this blur pass: 0 x (from `splat`), 1 y, 2 z
+  float inverse_rest;  // 1 / a node's splat sum inside fluid at rest
+  float threshold;  // the surface: where the field crosses it
   uint max_vertices;
 } pass;
 
-const float kFieldUnit = 1.0 / 1024.0;
+const float kSplatUnit = 1.0 / 65536.0;
+const int kBlurWeightsAt = 256 * 16 + 256;
 
 // Vectors loaded whole (lavapipe reads single components of some as 0; see sim_kernels.glsl).
 uint node_index(ivec3 p) {

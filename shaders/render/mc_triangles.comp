@@ -14,7 +14,7 @@ const ivec2 kEdges[12] = ivec2[](ivec2(0, 1), ivec2(1, 2), ivec2(2, 3), ivec2(3,
 float field_at(ivec3 p) {
   const ivec4 nodes = pass.nodes;
   p = clamp(p, ivec3(0), nodes.xyz - 1);
-  return float(pass.field.v[node_index(p)]) * kFieldUnit * pass.inverse_rest_sum;
+  return pass.field.v[node_index(p)];
 }
 
 vec3 gradient_at(ivec3 p) {

@@ -80,6 +80,35 @@ TEST_F(RenderTest, AnEmptySceneIsTheSameInEveryMode) {
   EXPECT_GT(colours.size(), 20u);
 }
 
+// The scene is drawn once per camera and kept for the fluid frames after it: a kept scene must
+// give the very image a fresh one does, and a moved camera, a points frame (which draws over the
+// scene) or another tank must not keep a stale one.
+TEST_F(RenderTest, AKeptSceneGivesTheSameFrameAsAFreshOne) {
+  auto pool = drop_of(1500);
+  ParticleSource source(context());
+  const ParticleView view = source.view_of(*pool);
+  const OrbitCamera near = camera_on(pool->tank(), 2.0f);
+  OrbitCamera turned = near;
+  turned.yaw_degrees += 30.0f;
+  for (auto kind : {RendererKind::ssfr, RendererKind::mc}) {
+    FrameRenderer fresh_renderer(context(), 160, 90);
+    const auto fresh = fresh_renderer.render(kind, view, pool->tank(), near);
+    FrameRenderer renderer(context(), 160, 90);
+    const auto first = renderer.render(kind, view, pool->tank(), near);
+    EXPECT_EQ(renderer.render(kind, view, pool->tank(), near).pixels, fresh.pixels);
+    const auto other = renderer.render(kind, view, pool->tank(), turned);
+    EXPECT_NE(other.pixels, fresh.pixels);
+    EXPECT_EQ(renderer.render(kind, view, pool->tank(), near).pixels, fresh.pixels);
+    renderer.render(RendererKind::points, view, pool->tank(), near);
+    EXPECT_EQ(renderer.render(kind, view, pool->tank(), near).pixels, fresh.pixels);
+    sim::Box wider = pool->tank();
+    wider.max.x += 0.5f;
+    EXPECT_NE(renderer.render(kind, view, wider, near).pixels, fresh.pixels);
+    EXPECT_EQ(renderer.render(kind, view, pool->tank(), near).pixels, fresh.pixels);
+    EXPECT_EQ(first.pixels, fresh.pixels);
+  }
+}
+
 TEST_F(RenderTest, OneByOneOddAndLargestSizesAndBeyond) {
   for (auto [w, h] : {std::pair{1u, 1u}, {33u, 17u}}) {
     FrameRenderer renderer(context(), w, h);
@@ -225,15 +254,18 @@ TEST_F(RenderTest, MarchingCubesShowsTheFluidAtAnyResolutionAndAutoPicksByCount)
   FrameRenderer renderer(context(), 240, 135);
   const OrbitCamera camera = camera_on(pool->tank(), 2.0f);
   const auto empty = renderer.render(RendererKind::mc, {}, pool->tank(), camera);
-  for (int resolution : {40, 80, 128}) {
+  for (int resolution : {0, 40, 80, 128}) {  // 0: from the particle size
     renderer.mc.resolution = resolution;
     const auto image = renderer.render(RendererKind::mc, view, pool->tank(), camera);
     keep(image, "render_pool_mc_" + std::to_string(resolution));
     EXPECT_GT(pixels_differing(image, empty), 3000u) << resolution;
   }
-  renderer.mc.resolution = 3;
-  EXPECT_THROW(renderer.render(RendererKind::mc, view, pool->tank(), camera),
-               std::invalid_argument);
+  for (int resolution : {3, -1, 513}) {
+    renderer.mc.resolution = resolution;
+    EXPECT_THROW(renderer.render(RendererKind::mc, view, pool->tank(), camera),
+                 std::invalid_argument)
+        << resolution;
+  }
   renderer.mc.resolution = 80;
   // 3000 particles are fewer than kMarchingCubesBelow: auto draws Marching Cubes.
   EXPECT_EQ(renderer.render(RendererKind::automatic, view, pool->tank(), camera).pixels,

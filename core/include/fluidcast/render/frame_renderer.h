@@ -1,6 +1,7 @@
 // Renders frames offscreen and reads them back: the particles are read where they are (the GPU
 // solver's buffers, or a ParticleUpload of a CPU solver's), nothing else crosses to the GPU.
-// Two modes today: points (diagnosis) and SSFR; Marching Cubes is still to come (issue 4).
+// Three modes: points (diagnosis), SSFR and Marching Cubes. The ray-cast scene around the fluid
+// is drawn again only when the camera or the tank changes.
 #pragma once
 
 #include <deque>
@@ -71,7 +72,7 @@ struct SsfrStyle {
 
 // GPU milliseconds of one frame's passes, from timestamps (0 where the device has none).
 struct RenderTimes {
-  double scene_ms = 0;      // the ray-cast tank, floor and sky
+  double scene_ms = 0;      // the ray-cast tank, floor and sky (near 0 while the camera stays)
   double particles_ms = 0;  // points: the spheres; SSFR: surface depth and thickness
   double smoothing_ms = 0;  // SSFR: the depth filter passes
   double shading_ms = 0;    // SSFR: normals and shading (and the copy of the scene it refracts)
@@ -86,9 +87,14 @@ struct RenderTimes {
 };
 
 struct McStyle {
-  int resolution = 80;       // grid nodes along the tank's longest side (the talk: 80×40×40)
+  // Grid nodes along the tank's longest side, 4 to 512 (the talk: 80×40×40); 0: from the
+  // particles' size, a node per particle spacing (finer adds cost, not detail: the field is a
+  // blur of about a particle's width).
+  int resolution = 0;
   float threshold = 0.5f;    // the surface: where the field is this fraction of fluid at rest
   int smoothing_passes = 1;  // of the depth filter before shading (the mesh is smooth already)
+  // Of that filter, in particle radii: it only has to hide the facets, a node or so wide.
+  float smoothing_radii = 2.0f;
 };
 
 class FrameRenderer {
@@ -140,9 +146,15 @@ class FrameRenderer {
     bool meshed = false;             // drew Marching Cubes: two more timestamps
     glm::mat4 view{1.0f}, projection{1.0f};
   };
+  struct SceneKey {
+    glm::mat4 view, projection;
+    glm::vec3 tank_min, tank_max;
+    bool operator==(const SceneKey&) const = default;
+  };
   void record(VkCommandBuffer commands, RendererKind kind, const ParticleView& particles,
               const sim::Box& tank, const OrbitCamera& camera, Slot& slot);
   codec::ImageRgba collect(Slot& slot);
+  int mc_resolution(const sim::Box& tank, float particle_radius) const;  // resolves 0
 
   gpu::Context* context_;
   RenderTarget target_;
@@ -154,6 +166,8 @@ class FrameRenderer {
   // scene behind, and the finished frame.
   gpu::Buffer depth_, depth_scratch_, thickness_, scene_, image_;
   std::vector<Slot> slots_;
+  // The camera and tank whose scene the depth attachment and scene_ hold, if they hold one.
+  std::optional<SceneKey> scene_drawn_for_;
   std::uint64_t next_frame_ = 0;
   std::deque<codec::ImageRgba> kept_;  // finished frames collected early, oldest first
   std::uint64_t dropped_ = 0;

@@ -10,23 +10,27 @@ class RenderTarget {
  public:
   static constexpr VkFormat kColourFormat = VK_FORMAT_R8G8B8A8_UNORM;
   static constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
+  // clear: colour and depth cleared. keep_depth: the depth the previous pass left (a scene drawn
+  // earlier for the same camera), the colour undefined.
+  enum class Start { clear, keep_depth };
 
   // Throws std::invalid_argument for a size of zero or beyond the device's limits, naming them.
   RenderTarget(gpu::Context& context, std::uint32_t width, std::uint32_t height);
 
   std::uint32_t width() const { return colour_.width(); }
   std::uint32_t height() const { return colour_.height(); }
-  VkRenderPass render_pass() const { return render_pass_.get(); }
+  // Pipelines made for it work in both passes (they differ only in load operations).
+  VkRenderPass render_pass() const { return clearing_pass_.get(); }
   const gpu::Image& colour() const { return colour_; }
 
-  // Begins the render pass, clearing to `background`; viewport and scissor cover the target.
-  // The pass ends with the colour image ready to be copied from.
-  void begin(VkCommandBuffer commands, const float background[4]) const;
+  // Begins the render pass, clearing to `background` (or keeping the depth); viewport and scissor
+  // cover the target. The pass ends with the colour image ready to be copied from.
+  void begin(VkCommandBuffer commands, const float background[4], Start start) const;
   void end(VkCommandBuffer commands) const;
 
  private:
   gpu::Image colour_, depth_;
-  gpu::UniqueRenderPass render_pass_;
+  gpu::UniqueRenderPass clearing_pass_, keeping_pass_;
   gpu::UniqueFramebuffer framebuffer_;
 };
 
