@@ -9,6 +9,7 @@
 #include <future>
 #include <map>
 #include <memory>
+#include <mutex>
 
 #include "fluidcast/codec/jpeg.h"
 #include "fluidcast/codec/png.h"
@@ -20,7 +21,8 @@ namespace fluidcast::client {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-constexpr auto kSnapshotEvery = std::chrono::seconds(1);
+// How far back in time a handoff may go: the fluid continues from the newest snapshot.
+constexpr auto kSnapshotEvery = std::chrono::milliseconds(250);
 constexpr auto kRetryEvery = std::chrono::seconds(2);
 // A stream that sends nothing for this long is treated as lost (a wedged server, a dead route).
 constexpr auto kStallAfter = std::chrono::seconds(5);
@@ -95,8 +97,15 @@ class Client {
   Clock::time_point last_snapshot_{}, last_retry_{}, last_remote_frame_{}, last_title_{};
   std::future<std::unique_ptr<StreamClient>> reconnect_;
   // A local session kept warm while streaming (paused, one frame a second), so that a handoff
-  // needs no start-up: Vulkan context, pipelines and solver are ready.
-  std::future<std::unique_ptr<LocalStream>> standby_;
+  // needs no start-up: Vulkan context, pipelines and solver are ready. Each snapshot goes into it
+  // as it arrives, off this thread, so that on a drop it only has to resume.
+  struct Standby {
+    std::mutex mutex;  // held while a snapshot goes in, and while the standby is taken
+    std::unique_ptr<LocalStream> local;  // null until started, and once taken
+    bool holds_state = false;            // the newest snapshot went in
+  };
+  std::shared_ptr<Standby> standby_;
+  std::future<void> standby_start_;
   // Frames reflecting events older than this show a state from before a handoff (the standby's,
   // or a new server session's before our state went in): not shown.
   std::uint64_t show_from_event_ = 0;
@@ -297,16 +306,27 @@ void Client::keep_snapshot() {
   if (stream_->welcome().state().particles() > options_.max_local_particles) return;
   last_snapshot_ = now;
   auto* remote = static_cast<StreamClient*>(stream_.get());
-  snapshot_request_ =
-      std::async(std::launch::async, [channel = remote->channel(),
-                                      session = remote->welcome().session_id(),
-                                      token = options_.hello.token()] {
-        return get_snapshot(channel, session, token);
+  snapshot_request_ = std::async(
+      std::launch::async, [channel = remote->channel(), session = remote->welcome().session_id(),
+                           token = options_.hello.token(), standby = standby_] {
+        v1::Snapshot snapshot = get_snapshot(channel, session, token);
+        if (standby) {
+          const std::lock_guard lock(standby->mutex);
+          standby->holds_state = false;
+          if (standby->local) {
+            try {
+              standby->local->load(snapshot);
+              standby->holds_state = true;
+            } catch (const std::exception&) {  // said when a handoff loads it again
+            }
+          }
+        }
+        return snapshot;
       });
 }
 
 void Client::keep_standby() {
-  if (!remote_ || !options_.handoff || standby_.valid()) return;
+  if (!remote_ || !options_.handoff || standby_) return;
   const v1::SessionState state = stream_->welcome().state();
   if (state.particles() > options_.max_local_particles) return;
   v1::Hello hello = hello_for_window();
@@ -315,13 +335,16 @@ void Client::keep_standby() {
   hello.mutable_create()->set_particles(state.particles());
   hello.mutable_quality()->set_renderer("mc");
   hello.mutable_quality()->set_max_fps(1);
-  standby_ = std::async(std::launch::async, [hello, cap = options_.max_local_particles] {
-    auto local = std::make_unique<LocalStream>(hello, cap);
-    v1::Command pause;
-    pause.set_pause(true);
-    local->command(pause);
-    return local;
-  });
+  standby_ = std::make_shared<Standby>();
+  standby_start_ = std::async(
+      std::launch::async, [standby = standby_, hello, cap = options_.max_local_particles] {
+        auto local = std::make_unique<LocalStream>(hello, cap);
+        v1::Command pause;
+        pause.set_pause(true);
+        local->command(pause);
+        const std::lock_guard lock(standby->mutex);
+        standby->local = std::move(local);
+      });
 }
 
 void Client::on_remote_lost() {
@@ -342,15 +365,21 @@ void Client::on_remote_lost() {
     return;
   }
   std::unique_ptr<LocalStream> local;
+  bool holds_state = false;
   try {
-    local = standby_.get();  // waits if it is still starting
+    standby_start_.get();  // waits if it is still starting; says why it could not
+    const std::lock_guard lock(standby_->mutex);  // and for a snapshot going in
+    local = std::move(standby_->local);
+    holds_state = standby_->holds_state;
   } catch (const std::exception& e) {
+    standby_.reset();
     status_ = std::string("the server is gone and the local fluid cannot start: ") + e.what();
     std::fprintf(stderr, "fluidcast-client: %s\n", status_.c_str());
     return;
   }
+  standby_.reset();
   try {
-    local->load(*snapshot_);
+    if (!holds_state) local->load(*snapshot_);
   } catch (const std::exception& e) {
     status_ = std::string("the server is gone and its state does not fit here: ") + e.what();
     std::fprintf(stderr, "fluidcast-client: %s\n", status_.c_str());
