@@ -354,7 +354,13 @@ void Client::on_remote_lost() {
   const v1::SessionState state = stream_->welcome().state();
   stream_.reset();
   remote_ = false;
-  if (!options_.handoff || !snapshot_ || state.particles() > options_.max_local_particles) {
+  // A state the standby took on the side counts even before this thread collected it.
+  const bool standby_has_state = standby_ && [this] {
+    const std::lock_guard lock(standby_->mutex);
+    return standby_->holds_state;
+  }();
+  if (!options_.handoff || !(snapshot_ || standby_has_state) ||
+      state.particles() > options_.max_local_particles) {
     status_ = "the server is gone (" + why + "); " +
               (state.particles() > options_.max_local_particles
                    ? "this session is too big to continue here (" +
@@ -379,7 +385,7 @@ void Client::on_remote_lost() {
   }
   standby_.reset();
   try {
-    if (!holds_state) local->load(*snapshot_);
+    if (!holds_state) local->load(snapshot_.value());  // throws if there is none after all
   } catch (const std::exception& e) {
     status_ = std::string("the server is gone and its state does not fit here: ") + e.what();
     std::fprintf(stderr, "fluidcast-client: %s\n", status_.c_str());

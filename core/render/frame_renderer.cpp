@@ -169,8 +169,13 @@ std::uint64_t FrameRenderer::submit(RendererKind requested, const ParticleView& 
     throw std::invalid_argument("renderer: the probe must lie in the frame, 0 to 1 each way");
   }
   slot.probe = kind == RendererKind::points ? std::nullopt : probe;
-  record(slot.commands.begin(), kind, particles, tank, camera, slot);
-  slot.commands.submit();
+  try {
+    record(slot.commands.begin(), kind, particles, tank, camera, slot);
+    slot.commands.submit();
+  } catch (...) {
+    scene_drawn_for_.reset();  // the scene this frame was to draw may never have been drawn
+    throw;
+  }
   slot.in_flight = true;
   slot.frame = next_frame_;
   return next_frame_++;
@@ -178,9 +183,12 @@ std::uint64_t FrameRenderer::submit(RendererKind requested, const ParticleView& 
 
 int FrameRenderer::mc_resolution(const sim::Box& tank, float particle_radius) const {
   if (mc.resolution != 0) return mc.resolution;
+  if (!(particle_radius > 0.0f && std::isfinite(particle_radius))) {
+    throw std::invalid_argument("marching cubes: the particle radius must be positive");
+  }
   const glm::vec3 size = tank.size();
   const float longest = std::max({size.x, size.y, size.z});
-  return std::clamp(static_cast<int>(std::ceil(longest / (2.0f * particle_radius))) + 1, 16, 256);
+  return static_cast<int>(std::clamp(std::ceil(longest / (2.0f * particle_radius)) + 1.0f, 16.0f, 256.0f));
 }
 
 codec::ImageRgba FrameRenderer::take_oldest() {

@@ -73,7 +73,8 @@ MarchingCubes::MarchingCubes(gpu::Context& context, const sim::Box& tank, int re
     *buffer = gpu::Buffer(context, node_bytes, gpu::MemoryDomain::device);
   }
   // Zero before the first frame; afterwards the blur's y pass clears it behind itself.
-  gpu::upload<std::uint32_t>(context, splat_, std::vector<std::uint32_t>(node_bytes / 4, 0u));
+  context.run_now(
+      [this](VkCommandBuffer commands) { vkCmdFillBuffer(commands, splat_.get(), 0, VK_WHOLE_SIZE, 0); });
   vertices_ = gpu::Buffer(context, std::uint64_t(max_vertices_) * 32, gpu::MemoryDomain::device);
   draw_ = gpu::Buffer(context, sizeof(VkDrawIndirectCommand), gpu::MemoryDomain::device);
 }

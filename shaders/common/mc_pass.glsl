@@ -4,7 +4,8 @@ layout(buffer_reference, std430, buffer_reference_align = 4) buffer Ints { int v
 
 layout(push_constant, std430) uniform McPass {
   Vec4s position;   // the particles (w unused)
-  Uints splat;      // per node: Σ trilinear weights of the particles around it, in kSplatUnit
+  Uints splat;      // per node: Σ trilinear weights × inverse_rest of the particles around it,
+                    // in kSplatUnit
   Floats blur_in;   // the blur pass's input (the x pass reads `splat` instead)
   Floats blur_out;  // and output
   Floats field;     // per node: the finished field, 1 inside fluid at rest

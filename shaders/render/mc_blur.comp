@@ -22,13 +22,12 @@ void main() {
   Floats blur_in = pass.blur_in;
   Uints splat = pass.splat;
   Ints tables = pass.tables;
-  const float unit = kSplatUnit * pass.inverse_rest;
   float sum = 0.0;
   for (int k = -reach; k <= reach; ++k) {
     const int at = along + k;
     const bool inside = at >= 0 && at < size;
     const int j = int(index) + (clamp(at, 0, size - 1) - along) * stride;
-    const float value = axis == 0 ? float(splat.v[j]) * unit : blur_in.v[j];
+    const float value = axis == 0 ? float(splat.v[j]) * kSplatUnit : blur_in.v[j];
     sum += inside ? intBitsToFloat(tables.v[kBlurWeightsAt + k + reach]) * value : 0.0;
   }
   pass.blur_out.v[index] = sum;
