@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "fluidcast/gpu/shader_module.h"
 #include "fluidcast/gpu/vk_check.h"
@@ -9,7 +10,8 @@
 namespace fluidcast::gpu {
 
 ComputePipeline::ComputePipeline(Context& context, std::span<const std::uint32_t> spirv,
-                                 std::uint32_t push_constant_bytes, std::uint32_t group_size)
+                                 std::uint32_t push_constant_bytes, std::uint32_t group_size,
+                                 std::span<const std::uint32_t> constants)
     : push_constant_bytes_(push_constant_bytes),
       group_size_(group_size),
       max_groups_x_(context.limits().maxComputeWorkGroupCount[0]),
@@ -31,8 +33,15 @@ ComputePipeline::ComputePipeline(Context& context, std::span<const std::uint32_t
   FLUIDCAST_VK_CHECK(vkCreatePipelineLayout(device, &layout_info, nullptr, &raw_layout));
   layout_ = UniquePipelineLayout(device, raw_layout);
 
-  const VkSpecializationMapEntry entry{0, 0, sizeof(std::uint32_t)};
-  VkSpecializationInfo specialization{1, &entry, sizeof(group_size), &group_size};
+  std::vector<std::uint32_t> values{group_size};
+  values.insert(values.end(), constants.begin(), constants.end());
+  std::vector<VkSpecializationMapEntry> entries;
+  for (std::uint32_t id = 0; id < values.size(); ++id) {
+    entries.push_back({id, id * std::uint32_t(sizeof(std::uint32_t)), sizeof(std::uint32_t)});
+  }
+  const VkSpecializationInfo specialization{static_cast<std::uint32_t>(entries.size()),
+                                            entries.data(), values.size() * sizeof(std::uint32_t),
+                                            values.data()};
   VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
   info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
   info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;

@@ -1,9 +1,9 @@
 #include "marching_cubes.h"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
-#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -18,9 +18,7 @@ namespace {
 constexpr std::uint32_t kGroup = 64;
 constexpr std::uint32_t kVertexCap = 3u << 20;  // 96 MiB of vertices at most; whole triangles
 
-// The case tables, then the blur's weights: a Gaussian of `sigma` node spacings over ±reach,
-// normalised.
-std::vector<std::int32_t> packed_tables(float sigma, int reach) {
+std::vector<std::int32_t> packed_tables() {
   const auto& tables = MarchingCubesTables::get();
   std::vector<std::int32_t> packed(256 * 16 + 256, -1);
   for (int pattern = 0; pattern < 256; ++pattern) {
@@ -29,11 +27,34 @@ std::vector<std::int32_t> packed_tables(float sigma, int reach) {
     }
     packed[256 * 16 + pattern] = tables.triangle_count[pattern];
   }
-  std::vector<float> weights;
-  for (int k = -reach; k <= reach; ++k) weights.push_back(std::exp(-0.5f * k * k / (sigma * sigma)));
-  const float sum = std::accumulate(weights.begin(), weights.end(), 0.0f);
-  for (float weight : weights) packed.push_back(std::bit_cast<std::int32_t>(weight / sum));
   return packed;
+}
+
+int checked_resolution(int resolution) {
+  if (resolution < 4 || resolution > 512) {
+    throw std::invalid_argument("marching cubes: resolution " + std::to_string(resolution) +
+                                " is outside 4 to 512 nodes (0: from the particle size)");
+  }
+  return resolution;
+}
+
+// The blur's specialisation constants: the taps a side, then the weights of taps 0 to 16 (a
+// Gaussian of σ nodes, normalised over −reach…reach; 0 beyond).
+std::array<std::uint32_t, 18> blur_constants(float sigma, int reach) {
+  std::array<float, 17> weights{};
+  float sum = 0.0f;
+  for (int k = 0; k <= reach; ++k) {
+    weights[k] = std::exp(-0.5f * float(k * k) / (sigma * sigma));
+    sum += k == 0 ? weights[k] : 2.0f * weights[k];
+  }
+  std::array<std::uint32_t, 18> constants{static_cast<std::uint32_t>(reach)};
+  for (int k = 0; k <= 16; ++k) constants[k + 1] = std::bit_cast<std::uint32_t>(weights[k] / sum);
+  return constants;
+}
+
+float longest_side(const sim::Box& tank) {
+  const glm::vec3 size = tank.size();
+  return std::max({size.x, size.y, size.z});
 }
 
 }  // namespace
@@ -41,31 +62,28 @@ std::vector<std::int32_t> packed_tables(float sigma, int reach) {
 MarchingCubes::MarchingCubes(gpu::Context& context, const sim::Box& tank, int resolution,
                              float particle_radius)
     : tank_(tank),
-      resolution_(resolution),
+      resolution_(checked_resolution(resolution)),
       particle_radius_(particle_radius),
+      spacing_(longest_side(tank) / static_cast<float>(resolution - 1)),
+      sigma_nodes_(
+          std::clamp(kSigmaRadii * particle_radius / spacing_, kMinSigmaNodes, kMaxSigmaNodes)),
+      reach_(static_cast<int>(std::ceil(3.0f * sigma_nodes_ - 1e-4f))),
       splat_pass_(context, shaders::render_mc_splat_comp, sizeof(McConstants), kGroup),
-      blur_pass_(context, shaders::render_mc_blur_comp, sizeof(McConstants), kGroup),
+      blur_pass_(context, shaders::render_mc_blur_comp, sizeof(McConstants), kGroup,
+                 blur_constants(sigma_nodes_, reach_)),
       triangles_pass_(context, shaders::render_mc_triangles_comp, sizeof(McConstants), kGroup),
       clamp_pass_(context, shaders::render_mc_clamp_comp, sizeof(McConstants), kGroup) {
-  if (resolution < 4 || resolution > 512) {
-    throw std::invalid_argument("marching cubes: resolution " + std::to_string(resolution) +
-                                " is outside 4 to 512 nodes (0: from the particle size)");
-  }
-  const glm::vec3 size = tank.size();
-  spacing_ = std::max({size.x, size.y, size.z}) / static_cast<float>(resolution - 1);
-  const float sigma_nodes = std::max(kSigmaRadii * particle_radius / spacing_, kMinSigmaNodes);
-  reach_ = static_cast<int>(std::ceil(3.0f * sigma_nodes));
   // Enough nodes outside the tank that the field falls to zero there and the surface closes.
   const int margin = reach_ + 2;
   origin_ = tank.min - glm::vec3(static_cast<float>(margin) * spacing_);
-  nodes_ = glm::ivec3(glm::ceil(size / spacing_)) + 2 * margin + 1;
+  nodes_ = glm::ivec3(glm::ceil(tank.size() / spacing_)) + 2 * margin + 1;
   // At rest a node's cell of the grid holds (spacing / particle spacing)³ particles, each
   // splatting a unit weight; the blur keeps the mean.
   inverse_rest_ = std::pow(2.0f * particle_radius / spacing_, 3.0f);
   const std::uint64_t cells = std::uint64_t(nodes_.x - 1) * (nodes_.y - 1) * (nodes_.z - 1);
   max_vertices_ = static_cast<std::uint32_t>(std::min<std::uint64_t>(cells * 15, kVertexCap));
 
-  const auto tables = packed_tables(sigma_nodes, reach_);
+  const auto tables = packed_tables();
   tables_ = gpu::Buffer(context, tables.size() * sizeof(std::int32_t), gpu::MemoryDomain::device);
   gpu::upload<std::int32_t>(context, tables_, tables);
   const std::uint64_t node_bytes = std::uint64_t(nodes_.x) * nodes_.y * nodes_.z * 4;
@@ -96,7 +114,6 @@ void MarchingCubes::record(VkCommandBuffer commands, const ParticleView& particl
                         draw_.address(),
                         glm::vec4(origin_, spacing_),
                         glm::ivec4(nodes_, static_cast<int>(particles.count)),
-                        reach_,
                         0,
                         inverse_rest_,
                         threshold,

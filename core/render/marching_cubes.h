@@ -17,24 +17,26 @@ struct McConstants {
   VkDeviceAddress position, splat, blur_in, blur_out, field, tables, vertices, draw;
   glm::vec4 origin;  // w: node spacing
   glm::ivec4 nodes;  // w: particles
-  std::int32_t reach;
   std::int32_t axis;
   float inverse_rest;
   float threshold;
   std::uint32_t max_vertices;
 };
 // Within the 128 bytes of push constants every device has.
-static_assert(offsetof(McConstants, origin) == 64 && offsetof(McConstants, reach) == 96 &&
-              offsetof(McConstants, max_vertices) == 112 && sizeof(McConstants) <= 128);
+static_assert(offsetof(McConstants, origin) == 64 && offsetof(McConstants, axis) == 96 &&
+              offsetof(McConstants, max_vertices) == 108 && sizeof(McConstants) <= 128);
 
 class MarchingCubes {
  public:
   // A grid of `resolution` nodes along the tank's longest side (and as fine on the others), with
   // a layer of nodes outside so the surface closes; the field of particles of `radius`.
   // The blur's σ: kSigmaRadii particle radii (about the width of the kernel Müller et al. use for
-  // surfaces), never under kMinSigmaNodes node spacings (else the trilinear splat shows).
+  // surfaces), within kMinSigmaNodes (else the trilinear splat shows) and kMaxSigmaNodes node
+  // spacings (the blur's 16 taps a side: grids much finer than the particles get a narrower
+  // blur, and a bumpier surface).
   static constexpr float kSigmaRadii = 1.6f;
   static constexpr float kMinSigmaNodes = 0.7f;
+  static constexpr float kMaxSigmaNodes = 16.0f / 3.0f;
   MarchingCubes(gpu::Context& context, const sim::Box& tank, int resolution, float particle_radius);
 
   bool fits(const sim::Box& tank, int resolution, float particle_radius) const;
@@ -51,11 +53,11 @@ class MarchingCubes {
   sim::Box tank_;
   int resolution_;
   float particle_radius_;
+  float spacing_, sigma_nodes_;
+  int reach_;  // the blur's taps on each side
   glm::vec3 origin_;
-  float spacing_;
   glm::ivec3 nodes_;
   float inverse_rest_;
-  int reach_;
   std::uint32_t max_vertices_;
   gpu::ComputePipeline splat_pass_, blur_pass_, triangles_pass_, clamp_pass_;
   gpu::Buffer tables_, splat_, field_, scratch_, vertices_, draw_;

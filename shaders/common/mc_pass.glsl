@@ -9,13 +9,11 @@ layout(push_constant, std430) uniform McPass {
   Floats blur_in;   // the blur pass's input (the x pass reads `splat` instead)
   Floats blur_out;  // and output
   Floats field;     // per node: the finished field, 1 inside fluid at rest
-  Ints tables;      // 256 × 16 edges (−1 ends a case), 256 triangle counts, then the blur's
-                    // 2·reach + 1 weights (float bits, summing to 1) at kBlurWeightsAt
+  Ints tables;      // 256 × 16 edges (−1 ends a case), then 256 triangle counts
   Vec4s vertices;   // out: per vertex, position then normal
   Uints draw;       // VkDrawIndirectCommand; vertexCount counts the vertices written
   vec4 origin;      // xyz: node (0,0,0), m; w: node spacing, m
   ivec4 nodes;      // xyz: nodes per axis; w: particles
-  int reach;        // the blur's taps on each side
   int axis;         // of this blur pass: 0 x (from `splat`), 1 y, 2 z
   float inverse_rest;  // 1 / a node's splat sum inside fluid at rest
   float threshold;  // the surface: where the field crosses it
@@ -23,7 +21,6 @@ layout(push_constant, std430) uniform McPass {
 } pass;
 
 const float kSplatUnit = 1.0 / 65536.0;
-const int kBlurWeightsAt = 256 * 16 + 256;
 
 // Vectors loaded whole (lavapipe reads single components of some as 0; see sim_kernels.glsl).
 uint node_index(ivec3 p) {

@@ -1,6 +1,7 @@
 // One compute shader, ready to dispatch: the pipeline and its layout. Shaders take everything
 // through push constants (buffer device addresses and counts), so there are no descriptor sets.
-// The workgroup size is specialisation constant 0, set here, so C++ and GLSL cannot disagree.
+// The workgroup size is specialisation constant 0, set here, so C++ and GLSL cannot disagree;
+// `constants` are 32-bit values for constant_id 1, 2, … (sizes a driver can unroll loops by).
 #pragma once
 
 #include <cstdint>
@@ -14,7 +15,8 @@ namespace fluidcast::gpu {
 class ComputePipeline {
  public:
   ComputePipeline(Context& context, std::span<const std::uint32_t> spirv,
-                  std::uint32_t push_constant_bytes, std::uint32_t group_size);
+                  std::uint32_t push_constant_bytes, std::uint32_t group_size,
+                  std::span<const std::uint32_t> constants = {});
 
   std::uint32_t group_size() const { return group_size_; }
 
