@@ -95,7 +95,14 @@ class Client {
   std::vector<std::future<v1::Snapshot>> abandoned_;  // finished (or waited for) at exit
   std::optional<v1::Snapshot> snapshot_;
   Clock::time_point last_snapshot_{}, last_retry_{}, last_remote_frame_{}, last_title_{};
-  std::future<std::unique_ptr<StreamClient>> reconnect_;
+  // A new stream to the server, with the local fluid's state put into it on the same thread (a
+  // slow server never stalls the window).
+  struct Reconnected {
+    std::unique_ptr<StreamClient> stream;
+    std::optional<v1::Snapshot> state_put;  // what went in, if the fluid here did
+    std::string put_error;                  // else why not, when it should have
+  };
+  std::future<Reconnected> reconnect_;
   // A local session kept warm while streaming (paused, one frame a second), so that a handoff
   // needs no start-up: Vulkan context, pipelines and solver are ready. Each snapshot goes into it
   // as it arrives, off this thread, so that on a drop it only has to resume.
@@ -408,29 +415,30 @@ void Client::try_reconnect() {
   const auto now = Clock::now();
   if (reconnect_.valid()) {
     if (reconnect_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
-    std::unique_ptr<StreamClient> back;
+    Reconnected reconnected;
     try {
-      back = reconnect_.get();
+      reconnected = reconnect_.get();
     } catch (const std::exception&) {
       return;  // still gone
     }
+    std::unique_ptr<StreamClient> back = std::move(reconnected.stream);
     show_from_event_ = 0;
-    if (auto* local = dynamic_cast<LocalStream*>(stream_.get())) {
+    if (const auto& state = reconnected.state_put) {
+      std::fprintf(stderr,
+                   "fluidcast-client: the server is back and took the state (%d particles, "
+                   "t = %.3f s)\n",
+                   state->positions_size() / 3, state->time());
       try {
-        const v1::Snapshot state = local->snapshot();
-        back->put_snapshot(options_.hello.token(), state);
-        std::fprintf(stderr,
-                     "fluidcast-client: the server is back and took the state (%d particles, "
-                     "t = %.3f s)\n",
-                     state.positions_size() / 3, state.time());
         v1::Command marker;  // frames from before the state went in reflect no later event
         *marker.mutable_quality() = options_.hello.quality();
         show_from_event_ = back->command(marker);
         report_next_frame_ = true;
       } catch (const std::exception& e) {
-        std::fprintf(stderr, "fluidcast-client: the server is back but took no state: %s\n",
-                     e.what());
+        std::fprintf(stderr, "fluidcast-client: %s\n", e.what());
       }
+    } else if (!reconnected.put_error.empty()) {
+      std::fprintf(stderr, "fluidcast-client: the server is back but took no state: %s\n",
+                   reconnected.put_error.c_str());
     }
     stream_ = std::move(back);
     remote_ = true;
@@ -448,8 +456,21 @@ void Client::try_reconnect() {
     hello.mutable_create()->set_solver(stream_->welcome().state().solver());
     hello.mutable_create()->set_particles(stream_->welcome().state().particles());
   }
-  reconnect_ = std::async(std::launch::async, [server = options_.server, hello] {
-    return std::make_unique<StreamClient>(connect(server), hello);
+  // The local stream outlives the task: stream_ changes only once the task is done, and
+  // reconnect_ is destroyed (waited for) before stream_.
+  auto* local = dynamic_cast<LocalStream*>(stream_.get());
+  reconnect_ = std::async(std::launch::async, [server = options_.server, hello, local,
+                                               token = options_.hello.token()] {
+    Reconnected reconnected{std::make_unique<StreamClient>(connect(server), hello), {}, {}};
+    if (!local) return reconnected;
+    try {
+      v1::Snapshot state = local->snapshot();
+      reconnected.stream->put_snapshot(token, state);
+      reconnected.state_put = std::move(state);
+    } catch (const std::exception& e) {
+      reconnected.put_error = e.what();
+    }
+    return reconnected;
   });
 }
 
