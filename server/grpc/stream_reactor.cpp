@@ -2,12 +2,13 @@
 
 #include <mutex>
 
+#include "session/outgoing_messages.h"
 #include "status.h"
 
 namespace fluidcast::server {
 
-// Holds at most the message being written and one waiting behind it; a newer frame replaces the
-// waiting one. Reached from the worker, the encoders and the reactions, so all under a lock.
+// One message being written, the rest in OutgoingMessages. Reached from the worker, the encoders
+// and the reactions, so all under a lock.
 class GrpcViewerSink final : public ViewerSink {
  public:
   explicit GrpcViewerSink(StreamReactor* reactor) : reactor_(reactor) {}
@@ -15,18 +16,9 @@ class GrpcViewerSink final : public ViewerSink {
   bool deliver(std::shared_ptr<const v1::ServerMessage> message) override {
     std::lock_guard lock(mutex_);
     if (!reactor_ || finishing_) return true;
-    if (message->has_frame()) {
-      // Encoders finish in any order: a frame older than one already sent is dropped.
-      if (message->frame().sequence() <= newest_sequence_) return false;
-      newest_sequence_ = message->frame().sequence();
-    }
-    if (!writing_) {
-      start_write(std::move(message));
-      return true;
-    }
-    const bool replaced = waiting_ != nullptr;
-    waiting_ = std::move(message);
-    return !replaced;
+    const bool kept = outgoing_.push(std::move(message));
+    if (!writing_) write_next();
+    return kept;
   }
 
   void end(const Refusal& why) override { finish(to_status(why)); }
@@ -35,7 +27,7 @@ class GrpcViewerSink final : public ViewerSink {
     std::lock_guard lock(mutex_);
     if (!reactor_ || finishing_) return;
     finishing_ = true;
-    waiting_.reset();
+    outgoing_.stop_frames();
     if (writing_) {
       status_after_write_ = status;
     } else {
@@ -60,7 +52,7 @@ class GrpcViewerSink final : public ViewerSink {
       return;
     }
     if (!ok || finishing_) return;  // the stream broke: OnDone follows
-    if (waiting_) start_write(std::move(waiting_));
+    write_next();
   }
 
   void detach() {
@@ -84,9 +76,10 @@ class GrpcViewerSink final : public ViewerSink {
   }
 
  private:
-  void start_write(std::shared_ptr<const v1::ServerMessage> message) {
+  void write_next() {
+    writing_message_ = outgoing_.next();  // kept alive until the write is done
+    if (!writing_message_) return;
     writing_ = true;
-    writing_message_ = std::move(message);  // kept alive until the write is done
     reactor_->StartWrite(writing_message_.get());
   }
 
@@ -94,9 +87,9 @@ class GrpcViewerSink final : public ViewerSink {
   StreamReactor* reactor_;
   bool writing_ = false;
   bool finishing_ = false;
-  std::shared_ptr<const v1::ServerMessage> writing_message_, waiting_;
+  std::shared_ptr<const v1::ServerMessage> writing_message_;
+  OutgoingMessages outgoing_;
   std::optional<grpc::Status> status_after_write_;
-  std::uint64_t newest_sequence_ = 0;
 };
 
 StreamReactor::StreamReactor(SessionHub& hub)

@@ -3,8 +3,8 @@
 #include <boost/asio/post.hpp>
 #include <boost/beast/core/flat_buffer.hpp>
 #include <boost/beast/websocket.hpp>
-#include <deque>
 
+#include "session/outgoing_messages.h"
 #include "session/validation.h"
 
 namespace fluidcast::server {
@@ -106,28 +106,13 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
 
   void send(std::shared_ptr<const v1::ServerMessage> message) {
     if (ending_ && !message->has_end()) return;
-    if (message->has_frame()) {
-      // Encoders finish in any order: a frame older than one already queued is dropped.
-      if (message->frame().sequence() <= newest_sequence_ || waiting_frame_) {
-        hub_->metrics().frames_dropped++;
-      }
-      if (message->frame().sequence() <= newest_sequence_) return;
-      newest_sequence_ = message->frame().sequence();
-      waiting_frame_ = std::move(message);
-    } else {
-      control_.push_back(std::move(message));
-    }
+    if (!outgoing_.push(std::move(message))) hub_->metrics().frames_dropped++;
     if (!writing_) write_next();
   }
 
   void write_next() {
-    std::shared_ptr<const v1::ServerMessage> next;
-    if (!control_.empty()) {
-      next = std::move(control_.front());
-      control_.pop_front();
-    } else if (waiting_frame_) {
-      next = std::move(waiting_frame_);
-    } else {
+    const std::shared_ptr<const v1::ServerMessage> next = outgoing_.next();
+    if (!next) {
       if (ending_ && !closed_) close();
       return;
     }
@@ -147,11 +132,11 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
   void end(RefusalCode code, const std::string& why) {
     if (ending_) return;
     ending_ = true;
-    waiting_frame_.reset();
+    outgoing_.stop_frames();
     auto message = std::make_shared<v1::ServerMessage>();
     message->mutable_end()->set_code(code_name(code));
     message->mutable_end()->set_message(why);
-    control_.push_back(std::move(message));
+    outgoing_.push(std::move(message));
     if (!writing_) write_next();
   }
 
@@ -175,10 +160,8 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
   std::shared_ptr<Session> session_;
   std::uint32_t viewer_ = 0;
   std::shared_ptr<std::string> writing_;
-  std::deque<std::shared_ptr<const v1::ServerMessage>> control_;  // Welcome, StreamEnd
-  std::shared_ptr<const v1::ServerMessage> waiting_frame_;
+  OutgoingMessages outgoing_;
   bool ending_ = false, closed_ = false;
-  std::uint64_t newest_sequence_ = 0;
 };
 
 // The session's way in: a weak link, so a closed socket is simply gone.

@@ -1,0 +1,31 @@
+#include "outgoing_messages.h"
+
+namespace fluidcast::server {
+
+bool OutgoingMessages::push(std::shared_ptr<const v1::ServerMessage> message) {
+  if (!message->has_frame()) {
+    control_.push_back(std::move(message));
+    return true;
+  }
+  if (frames_stopped_ || message->frame().sequence() <= newest_sequence_) return false;
+  newest_sequence_ = message->frame().sequence();
+  const bool replaced = frame_ != nullptr;
+  frame_ = std::move(message);
+  return !replaced;
+}
+
+std::shared_ptr<const v1::ServerMessage> OutgoingMessages::next() {
+  if (!control_.empty()) {
+    auto message = std::move(control_.front());
+    control_.pop_front();
+    return message;
+  }
+  return std::move(frame_);
+}
+
+void OutgoingMessages::stop_frames() {
+  frames_stopped_ = true;
+  frame_.reset();
+}
+
+}  // namespace fluidcast::server

@@ -1,0 +1,33 @@
+// What a transport has yet to write to one viewer, behind its one write in flight: control
+// messages (Welcome, StreamEnd) in order and never dropped, and at most one frame — a newer
+// frame replaces the waiting one, and a frame no newer than one already queued (encoders finish
+// in any order) is dropped. Memory per viewer stays bounded however slowly the client reads.
+// Not thread-safe: each transport calls it under its own lock or strand.
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <memory>
+
+#include "fluidcast/v1/fluidcast.pb.h"
+
+namespace fluidcast::server {
+
+class OutgoingMessages {
+ public:
+  // False when a frame was dropped: this one (stale, or frames are stopped) or the one it
+  // replaced.
+  bool push(std::shared_ptr<const v1::ServerMessage> message);
+  // The next message to write, control messages first; null when there is none.
+  std::shared_ptr<const v1::ServerMessage> next();
+  // The stream is ending: the waiting frame and later ones are dropped; control messages still go.
+  void stop_frames();
+
+ private:
+  std::deque<std::shared_ptr<const v1::ServerMessage>> control_;
+  std::shared_ptr<const v1::ServerMessage> frame_;
+  std::uint64_t newest_sequence_ = 0;
+  bool frames_stopped_ = false;
+};
+
+}  // namespace fluidcast::server

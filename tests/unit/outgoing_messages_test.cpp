@@ -1,0 +1,49 @@
+#include "session/outgoing_messages.h"
+
+#include <gtest/gtest.h>
+
+namespace fluidcast::server {
+namespace {
+
+std::shared_ptr<const v1::ServerMessage> frame(std::uint64_t sequence) {
+  auto message = std::make_shared<v1::ServerMessage>();
+  message->mutable_frame()->set_sequence(sequence);
+  return message;
+}
+
+std::shared_ptr<const v1::ServerMessage> welcome() {
+  auto message = std::make_shared<v1::ServerMessage>();
+  message->mutable_welcome()->set_viewer_id(7);
+  return message;
+}
+
+TEST(OutgoingMessagesTest, ControlFirstThenOnlyTheNewestFrame) {
+  OutgoingMessages queue;
+  EXPECT_FALSE(queue.next());
+  EXPECT_TRUE(queue.push(frame(1)));
+  EXPECT_FALSE(queue.push(frame(3)));  // replaces 1
+  EXPECT_FALSE(queue.push(frame(2)));  // older than 3: dropped
+  const auto hello = welcome();
+  EXPECT_TRUE(queue.push(hello));
+  EXPECT_TRUE(queue.next() == hello);
+  EXPECT_EQ(queue.next()->frame().sequence(), 3u);
+  EXPECT_FALSE(queue.next());
+  EXPECT_FALSE(queue.push(frame(3)));  // already taken
+  EXPECT_TRUE(queue.push(frame(4)));
+  EXPECT_EQ(queue.next()->frame().sequence(), 4u);
+}
+
+TEST(OutgoingMessagesTest, AnEndingStreamDropsFramesButNotControl) {
+  OutgoingMessages queue;
+  EXPECT_TRUE(queue.push(frame(1)));
+  queue.stop_frames();
+  EXPECT_FALSE(queue.push(frame(2)));
+  auto end = std::make_shared<v1::ServerMessage>();
+  end->mutable_end();
+  EXPECT_TRUE(queue.push(end));
+  EXPECT_TRUE(queue.next() == end);
+  EXPECT_FALSE(queue.next());
+}
+
+}  // namespace
+}  // namespace fluidcast::server
