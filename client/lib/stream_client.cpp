@@ -41,6 +41,7 @@ StreamClient::StreamClient(std::shared_ptr<grpc::Channel> channel, const v1::Hel
         grpc::Status(grpc::StatusCode::INTERNAL, "the server's first message is not a Welcome"));
   }
   welcome_ = reply.welcome();
+  writer_ = std::thread([this] { write_loop(); });
   reader_ = std::thread([this] { read_loop(); });
 }
 
@@ -61,12 +62,26 @@ void StreamClient::read_loop() {
             .count());
     {
       std::lock_guard lock(write_mutex_);
-      if (!writes_done_) stream_->Write(ack);
+      queue(std::move(ack));
     }
     latency_.frame_reflects(message.frame().input_event_id());
     frames_.push(std::move(*message.mutable_frame()));
   }
-  const grpc::Status status = stream_->Finish();
+  // The call is over, so a write still in progress fails at once; Finish comes after it.
+  bool overflowed = false;
+  {
+    std::lock_guard lock(write_mutex_);
+    stopping_ = true;
+    overflowed = overflowed_;
+  }
+  write_wanted_.notify_all();
+  writer_.join();
+  grpc::Status status = stream_->Finish();
+  if (overflowed) {
+    status = grpc::Status(grpc::StatusCode::UNAVAILABLE,
+                          "the server stopped reading (" + std::to_string(kMaxOutgoing) +
+                              " messages waiting to be sent)");
+  }
   {
     std::lock_guard lock(mutex_);
     status_ = status;
@@ -74,18 +89,51 @@ void StreamClient::read_loop() {
   frames_.close();
 }
 
+void StreamClient::write_loop() {
+  std::unique_lock lock(write_mutex_);
+  for (;;) {
+    write_wanted_.wait(lock, [this] { return stopping_ || closing_ || !outgoing_.empty(); });
+    if (stopping_) return;
+    if (outgoing_.empty()) {  // closing, everything written
+      lock.unlock();
+      stream_->WritesDone();
+      return;
+    }
+    const v1::ClientMessage message = std::move(outgoing_.front());
+    outgoing_.pop_front();
+    lock.unlock();
+    const bool written = stream_->Write(message);
+    lock.lock();
+    if (!written) {  // the stream broke: the reader sees its end
+      stopping_ = true;
+      return;
+    }
+  }
+}
+
+bool StreamClient::queue(v1::ClientMessage message) {
+  if (stopping_ || closing_ || overflowed_) return false;
+  if (outgoing_.size() >= kMaxOutgoing) {
+    overflowed_ = true;
+    context_.TryCancel();
+    return false;
+  }
+  outgoing_.push_back(std::move(message));
+  write_wanted_.notify_one();
+  return true;
+}
+
 std::uint64_t StreamClient::send(v1::ClientMessage message) {
-  std::lock_guard write_lock(write_mutex_);
-  if (ended() || writes_done_) return 0;
+  std::lock_guard lock(write_mutex_);
+  if (stopping_ || closing_ || overflowed_) return 0;
   const std::uint64_t id = latency_.sent();
   message.set_event_id(id);
-  stream_->Write(message);
-  return id;
+  return queue(std::move(message)) ? id : 0;
 }
 
 bool StreamClient::send_raw(const v1::ClientMessage& message) {
   std::lock_guard lock(write_mutex_);
-  return !writes_done_ && stream_->Write(message);
+  return queue(message);
 }
 
 std::optional<v1::Frame> StreamClient::next_frame(std::chrono::milliseconds timeout) {
@@ -102,11 +150,9 @@ grpc::Status StreamClient::status() const {
 grpc::Status StreamClient::finish() {
   {
     std::lock_guard lock(write_mutex_);
-    if (!writes_done_) {
-      writes_done_ = true;
-      stream_->WritesDone();
-    }
+    closing_ = true;
   }
+  write_wanted_.notify_all();
   if (reader_.joinable()) reader_.join();
   return status();
 }

@@ -1,12 +1,14 @@
 // The client side of a Stream, for the headless client, the native client and the integration
 // tests: connects, says Hello, sends input, and receives frames (acknowledging each one) on a
-// reader thread. Measures touch-to-photon latency: from sending an input event to receiving the
+// reader thread. Messages go out on a writer thread, so no caller ever waits on the network. Measures touch-to-photon latency: from sending an input event to receiving the
 // first frame that reflects it.
 #pragma once
 
 #include <grpcpp/grpcpp.h>
 
 #include <chrono>
+#include <condition_variable>
+#include <deque>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -47,9 +49,13 @@ class StreamClient final : public FluidStream {
   StreamClient& operator=(const StreamClient&) = delete;
 
   const v1::Welcome& welcome() const override { return welcome_; }
+  // Queues the message for the writer thread; 0 once the stream ended or is closing.
   std::uint64_t send(v1::ClientMessage message) override;
-  // Any message, as given (for tests of what the server refuses).
+  // Any message, as given (for tests of what the server refuses); false when not queued.
   bool send_raw(const v1::ClientMessage& message);
+  // Messages waiting at most; more means the server stopped reading, and the stream is dropped
+  // (its status then says so).
+  static constexpr std::size_t kMaxOutgoing = 1024;
 
   std::optional<v1::Frame> next_frame(std::chrono::milliseconds timeout) override;
   bool ended() const override;
@@ -66,6 +72,8 @@ class StreamClient final : public FluidStream {
 
  private:
   void read_loop();
+  void write_loop();
+  bool queue(v1::ClientMessage message);  // under write_mutex_
 
   std::shared_ptr<grpc::Channel> channel_;
   grpc::ClientContext context_;
@@ -76,10 +84,15 @@ class StreamClient final : public FluidStream {
   // Frames kept for a caller that reads slower than they come; older ones are dropped.
   FrameQueue frames_{4};
   mutable std::mutex mutex_;
-  bool writes_done_ = false;  // under write_mutex_
-  grpc::Status status_;       // once frames_ is closed
-  std::mutex write_mutex_;
-  std::thread reader_;
+  grpc::Status status_;  // once frames_ is closed
+
+  std::mutex write_mutex_;  // guards what follows, up to the threads
+  std::condition_variable write_wanted_;
+  std::deque<v1::ClientMessage> outgoing_;
+  bool closing_ = false;     // finish(): WritesDone once the queue is written
+  bool stopping_ = false;    // the stream ended: the writer stops
+  bool overflowed_ = false;  // dropped because the server stopped reading
+  std::thread writer_, reader_;
 };
 
 }  // namespace fluidcast::client

@@ -1,0 +1,66 @@
+// The client library against a server that misbehaves on purpose (a stand-in service here, not
+// fluidcast-server): a caller's sends never wait on the network, and a server that stops
+// reading ends the stream with a status that says so.
+#include <grpcpp/grpcpp.h>
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <thread>
+
+#include "stream_client.h"
+
+namespace fluidcast::client {
+namespace {
+
+// Welcomes, then never reads again until the client goes away.
+class ServerThatStopsReading final : public v1::Fluidcast::Service {
+ public:
+  grpc::Status Stream(grpc::ServerContext* context,
+                      grpc::ServerReaderWriter<v1::ServerMessage, v1::ClientMessage>* stream)
+      override {
+    v1::ClientMessage hello;
+    if (!stream->Read(&hello)) return grpc::Status::CANCELLED;
+    v1::ServerMessage welcome;
+    welcome.mutable_welcome()->set_viewer_id(1);
+    stream->Write(welcome);
+    while (!context->IsCancelled()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    return grpc::Status::CANCELLED;
+  }
+};
+
+TEST(StreamClientTest, SendsNeverWaitAndAServerThatStopsReadingEndsTheStream) {
+  ServerThatStopsReading service;
+  int port = 0;
+  grpc::ServerBuilder builder;
+  builder.AddListeningPort("127.0.0.1:0", grpc::InsecureServerCredentials(), &port);
+  builder.RegisterService(&service);
+  const std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
+  ASSERT_GT(port, 0);
+
+  StreamClient client(connect("127.0.0.1:" + std::to_string(port)), v1::Hello{});
+  v1::ClientMessage move;
+  move.mutable_pointer()->set_phase(v1::PointerEvent::MOVE);
+  move.mutable_pointer()->set_x(0.5f);
+  move.mutable_pointer()->set_y(0.5f);
+  // Far more than the transport's windows hold: the writer blocks, the queue fills.
+  const auto start = std::chrono::steady_clock::now();
+  std::uint64_t accepted = 0;
+  for (int k = 0; k < 400000 && !client.ended(); ++k) accepted += client.send(move) != 0 ? 1 : 0;
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_LT(seconds, 10.0) << "a send waited on the network";
+  EXPECT_GT(accepted, StreamClient::kMaxOutgoing);
+  EXPECT_EQ(client.send(move), 0u) << "a send after the overflow was taken";
+  for (int k = 0; k < 500 && !client.ended(); ++k) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_TRUE(client.ended());
+  EXPECT_EQ(client.status().error_code(), grpc::StatusCode::UNAVAILABLE);
+  EXPECT_NE(client.end_reason().find("stopped reading"), std::string::npos)
+      << client.end_reason();
+  server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(1));
+}
+
+}  // namespace
+}  // namespace fluidcast::client
