@@ -56,6 +56,11 @@ std::optional<v1::Frame> FrameQueue::pop(std::chrono::milliseconds timeout) {
   return frame;
 }
 
+bool FrameQueue::wait_closed(std::chrono::milliseconds timeout) {
+  std::unique_lock lock(mutex_);
+  return changed_.wait_for(lock, timeout, [this] { return closed_; });
+}
+
 bool FrameQueue::closed() const {
   std::lock_guard lock(mutex_);
   return closed_;

@@ -39,6 +39,7 @@ class FrameQueue {
   void close();  // no more frames will come: waiters return at once
   std::optional<v1::Frame> pop(std::chrono::milliseconds timeout);
   bool closed() const;
+  bool wait_closed(std::chrono::milliseconds timeout);  // true once closed
 
  private:
   const std::size_t keep_;

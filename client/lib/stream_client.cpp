@@ -42,7 +42,19 @@ StreamClient::StreamClient(std::shared_ptr<grpc::Channel> channel, const v1::Hel
   }
   welcome_ = reply.welcome();
   writer_ = std::thread([this] { write_loop(); });
-  reader_ = std::thread([this] { read_loop(); });
+  try {
+    reader_ = std::thread([this] { read_loop(); });
+  } catch (...) {  // no thread: the writer stops, the call ends, the error goes to the caller
+    {
+      std::lock_guard lock(write_mutex_);
+      stopping_ = true;
+    }
+    write_wanted_.notify_all();
+    writer_.join();
+    context_.TryCancel();
+    stream_->Finish();
+    throw;
+  }
 }
 
 StreamClient::~StreamClient() {
@@ -68,19 +80,17 @@ void StreamClient::read_loop() {
     frames_.push(std::move(*message.mutable_frame()));
   }
   // The call is over, so a write still in progress fails at once; Finish comes after it.
-  bool overflowed = false;
+  std::string cancelled_because;
   {
     std::lock_guard lock(write_mutex_);
     stopping_ = true;
-    overflowed = overflowed_;
+    cancelled_because = cancelled_because_;
   }
   write_wanted_.notify_all();
   writer_.join();
   grpc::Status status = stream_->Finish();
-  if (overflowed) {
-    status = grpc::Status(grpc::StatusCode::UNAVAILABLE,
-                          "the server stopped reading (" + std::to_string(kMaxOutgoing) +
-                              " messages waiting to be sent)");
+  if (!cancelled_because.empty() && status.error_code() == grpc::StatusCode::CANCELLED) {
+    status = grpc::Status(grpc::StatusCode::UNAVAILABLE, cancelled_because);  // our cancel
   }
   {
     std::lock_guard lock(mutex_);
@@ -91,6 +101,15 @@ void StreamClient::read_loop() {
 
 void StreamClient::write_loop() {
   std::unique_lock lock(write_mutex_);
+  struct Done {  // however the loop ends, finish() hears of it (under the lock)
+    StreamClient* client;
+    std::unique_lock<std::mutex>& lock;
+    ~Done() {
+      if (!lock.owns_lock()) lock.lock();
+      client->writer_done_ = true;
+      client->write_wanted_.notify_all();
+    }
+  } done{this, lock};
   for (;;) {
     write_wanted_.wait(lock, [this] { return stopping_ || closing_ || !outgoing_.empty(); });
     if (stopping_) return;
@@ -112,10 +131,10 @@ void StreamClient::write_loop() {
 }
 
 bool StreamClient::queue(v1::ClientMessage message) {
-  if (stopping_ || closing_ || overflowed_) return false;
+  if (stopping_ || closing_ || !cancelled_because_.empty()) return false;
   if (outgoing_.size() >= kMaxOutgoing) {
-    overflowed_ = true;
-    context_.TryCancel();
+    cancel_because("the server stopped reading (" + std::to_string(kMaxOutgoing) +
+                   " messages waiting to be sent)");
     return false;
   }
   outgoing_.push_back(std::move(message));
@@ -125,7 +144,7 @@ bool StreamClient::queue(v1::ClientMessage message) {
 
 std::uint64_t StreamClient::send(v1::ClientMessage message) {
   std::lock_guard lock(write_mutex_);
-  if (stopping_ || closing_ || overflowed_) return 0;
+  if (stopping_ || closing_ || !cancelled_because_.empty()) return 0;
   const std::uint64_t id = latency_.sent();
   message.set_event_id(id);
   return queue(std::move(message)) ? id : 0;
@@ -149,12 +168,26 @@ grpc::Status StreamClient::status() const {
 
 grpc::Status StreamClient::finish() {
   {
-    std::lock_guard lock(write_mutex_);
+    std::unique_lock lock(write_mutex_);
     closing_ = true;
+    write_wanted_.notify_all();
+    if (!write_wanted_.wait_for(lock, kFinishWithin, [this] { return writer_done_; })) {
+      cancel_because("the server stopped reading (what was sent is not written after " +
+                     std::to_string(kFinishWithin.count()) + " s)");
+    }
   }
-  write_wanted_.notify_all();
+  if (!frames_.wait_closed(kFinishWithin)) {
+    std::lock_guard lock(write_mutex_);
+    cancel_because("the server did not end the stream within " +
+                   std::to_string(kFinishWithin.count()) + " s");
+  }
   if (reader_.joinable()) reader_.join();
   return status();
+}
+
+void StreamClient::cancel_because(std::string why) {
+  if (cancelled_because_.empty()) cancelled_because_ = std::move(why);
+  context_.TryCancel();
 }
 
 void StreamClient::drop() {

@@ -1,6 +1,7 @@
 // The client side of a Stream, for the headless client, the native client and the integration
 // tests: connects, says Hello, sends input, and receives frames (acknowledging each one) on a
-// reader thread. Messages go out on a writer thread, so no caller ever waits on the network. Measures touch-to-photon latency: from sending an input event to receiving the
+// reader thread. Messages go out on a writer thread, so no caller ever waits on the
+// network. Measures touch-to-photon latency: from sending an input event to receiving the
 // first frame that reflects it.
 #pragma once
 
@@ -61,8 +62,11 @@ class StreamClient final : public FluidStream {
   bool ended() const override;
   std::string end_reason() const override { return status().error_message(); }
   grpc::Status status() const;
-  // Closes the sending side and waits for the server's status.
+  // Closes the sending side once what is queued is written, and waits for the server's status;
+  // each of the two waits is at most kFinishWithin, then the call is cancelled and its status
+  // says which wait ran out.
   grpc::Status finish();
+  static constexpr std::chrono::seconds kFinishWithin{5};
   // Drops the connection without a goodbye, as a phone losing its network does.
   void drop();
 
@@ -74,6 +78,7 @@ class StreamClient final : public FluidStream {
   void read_loop();
   void write_loop();
   bool queue(v1::ClientMessage message);  // under write_mutex_
+  void cancel_because(std::string why);   // under write_mutex_
 
   std::shared_ptr<grpc::Channel> channel_;
   grpc::ClientContext context_;
@@ -91,7 +96,8 @@ class StreamClient final : public FluidStream {
   std::deque<v1::ClientMessage> outgoing_;
   bool closing_ = false;     // finish(): WritesDone once the queue is written
   bool stopping_ = false;    // the stream ended: the writer stops
-  bool overflowed_ = false;  // dropped because the server stopped reading
+  std::string cancelled_because_;  // why we cancelled the call, if we did: the status says so
+  bool writer_done_ = false;
   std::thread writer_, reader_;
 };
 

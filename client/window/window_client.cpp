@@ -463,12 +463,18 @@ void Client::try_reconnect() {
                                                token = options_.hello.token()] {
     Reconnected reconnected{std::make_unique<StreamClient>(connect(server), hello), {}, {}};
     if (!local) return reconnected;
+    // The fluid here stops while its state goes over, so that nothing done meanwhile is lost.
+    v1::ClientMessage pause;
+    pause.mutable_command()->set_pause(true);
     try {
+      local->send(pause);
       v1::Snapshot state = local->snapshot();
       reconnected.stream->put_snapshot(token, state);
       reconnected.state_put = std::move(state);
     } catch (const std::exception& e) {
       reconnected.put_error = e.what();
+      pause.mutable_command()->set_pause(false);
+      local->send(pause);
     }
     return reconnected;
   });

@@ -149,6 +149,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
   // The viewer leaves its session (once).
   void leave() {
     ending_ = true;
+    outgoing_.stop_frames();
     if (session_) hub_->close(std::move(session_), viewer_);
     session_.reset();
   }
