@@ -29,16 +29,26 @@ class ServerThatStopsReading final : public v1::Fluidcast::Service {
   }
 };
 
-TEST(StreamClientTest, SendsNeverWaitAndAServerThatStopsReadingEndsTheStream) {
-  ServerThatStopsReading service;
-  int port = 0;
-  grpc::ServerBuilder builder;
-  builder.AddListeningPort("127.0.0.1:0", grpc::InsecureServerCredentials(), &port);
-  builder.RegisterService(&service);
-  const std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
-  ASSERT_GT(port, 0);
+class StreamClientTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    grpc::ServerBuilder builder;
+    builder.AddListeningPort("127.0.0.1:0", grpc::InsecureServerCredentials(), &port_);
+    builder.RegisterService(&service_);
+    server_ = builder.BuildAndStart();
+    ASSERT_GT(port_, 0);
+  }
+  void TearDown() override {
+    if (server_) server_->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(1));
+  }
 
-  StreamClient client(connect("127.0.0.1:" + std::to_string(port)), v1::Hello{});
+  ServerThatStopsReading service_;
+  int port_ = 0;
+  std::unique_ptr<grpc::Server> server_;
+};
+
+TEST_F(StreamClientTest, SendsNeverWaitAndAServerThatStopsReadingEndsTheStream) {
+  StreamClient client(connect("127.0.0.1:" + std::to_string(port_)), v1::Hello{});
   v1::ClientMessage move;
   move.mutable_pointer()->set_phase(v1::PointerEvent::MOVE);
   move.mutable_pointer()->set_x(0.5f);
@@ -59,19 +69,10 @@ TEST(StreamClientTest, SendsNeverWaitAndAServerThatStopsReadingEndsTheStream) {
   EXPECT_EQ(client.status().error_code(), grpc::StatusCode::UNAVAILABLE);
   EXPECT_NE(client.end_reason().find("stopped reading"), std::string::npos)
       << client.end_reason();
-  server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(1));
 }
 
-TEST(StreamClientTest, FinishingWithAServerThatNeverEndsTheStreamTakesBoundedTime) {
-  ServerThatStopsReading service;
-  int port = 0;
-  grpc::ServerBuilder builder;
-  builder.AddListeningPort("127.0.0.1:0", grpc::InsecureServerCredentials(), &port);
-  builder.RegisterService(&service);
-  const std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
-  ASSERT_GT(port, 0);
-
-  StreamClient client(connect("127.0.0.1:" + std::to_string(port)), v1::Hello{});
+TEST_F(StreamClientTest, FinishingWithAServerThatNeverEndsTheStreamTakesBoundedTime) {
+  StreamClient client(connect("127.0.0.1:" + std::to_string(port_)), v1::Hello{});
   v1::ClientMessage tilt;
   tilt.mutable_tilt()->set_y(-1.0f);
   for (int k = 0; k < 10; ++k) EXPECT_NE(client.send(tilt), 0u);
@@ -83,7 +84,6 @@ TEST(StreamClientTest, FinishingWithAServerThatNeverEndsTheStreamTakesBoundedTim
   EXPECT_EQ(status.error_code(), grpc::StatusCode::UNAVAILABLE);
   EXPECT_NE(status.error_message().find("did not end the stream"), std::string::npos)
       << status.error_message();
-  server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(1));
 }
 
 }  // namespace
