@@ -3,7 +3,7 @@
 // encode ms (quality 80, 4:2:0, one thread) and throughput on the encoder pool (one thread per
 // core), at 640×360, 1280×720 and 1920×1080 with 64k and 1M particles (the dam break after a few
 // GPU steps); Marching Cubes in a cubic 1 m tank on a 128³ grid (the target), and as the
-// client's local mode draws it (5000 particles, 640×360, the grid from the particle size). `--smoke`
+// client's local mode draws it (5000 particles, 640×360, grid from the particle size). `--smoke`
 // runs small cases (for CI, on lavapipe); `--device N` picks the device.
 #include <benchmark/benchmark.h>
 

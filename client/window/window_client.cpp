@@ -28,6 +28,8 @@ constexpr auto kRetryEvery = std::chrono::seconds(2);
 constexpr auto kStallAfter = std::chrono::seconds(5);
 // Pointer moves sent per finger at most: the server limits input events per second.
 constexpr auto kMoveInterval = std::chrono::milliseconds(16);
+// Pointer ids are below 16 (the server's limit): fingers take 0 to 14, the mouse the last one.
+constexpr std::uint32_t kMousePointer = 15;
 // Frames asked for are at most this many pixels along each side (aspect kept).
 constexpr int kMaxViewportWidth = 1920, kMaxViewportHeight = 1080;
 
@@ -176,18 +178,17 @@ void Client::handle(const SDL_Event& event) {
       quit_ = true;
       break;
     case SDL_MOUSEBUTTONDOWN:
+    case SDL_MOUSEBUTTONUP:  // touches also arrive as fingers: their mouse copies are skipped
       if (event.button.which != SDL_TOUCH_MOUSEID) {
-        pointer(15, v1::PointerEvent::DOWN, float(event.button.x), float(event.button.y));
+        pointer(kMousePointer,
+                event.type == SDL_MOUSEBUTTONDOWN ? v1::PointerEvent::DOWN : v1::PointerEvent::UP,
+                float(event.button.x), float(event.button.y));
       }
       break;
     case SDL_MOUSEMOTION:
       if (event.motion.which != SDL_TOUCH_MOUSEID && (event.motion.state & SDL_BUTTON_LMASK)) {
-        pointer(15, v1::PointerEvent::MOVE, float(event.motion.x), float(event.motion.y));
-      }
-      break;
-    case SDL_MOUSEBUTTONUP:
-      if (event.button.which != SDL_TOUCH_MOUSEID) {
-        pointer(15, v1::PointerEvent::UP, float(event.button.x), float(event.button.y));
+        pointer(kMousePointer, v1::PointerEvent::MOVE, float(event.motion.x),
+                float(event.motion.y));
       }
       break;
     case SDL_FINGERDOWN:
@@ -197,8 +198,8 @@ void Client::handle(const SDL_Event& event) {
       SDL_GetWindowSize(window_.get(), &width, &height);
       auto found = fingers_.find(event.tfinger.fingerId);
       if (found == fingers_.end()) {
-        if (event.type != SDL_FINGERDOWN || fingers_.size() >= 15) break;
-        std::uint32_t id = 0;  // the smallest free: 15 is the mouse's
+        if (event.type != SDL_FINGERDOWN || fingers_.size() >= kMousePointer) break;
+        std::uint32_t id = 0;  // the smallest free
         while (std::any_of(fingers_.begin(), fingers_.end(),
                            [id](const auto& entry) { return entry.second == id; })) {
           ++id;
@@ -563,7 +564,9 @@ int Client::run() {
       }
     }
     const auto now = Clock::now();
-    if (options_.seconds > 0 && now - start > std::chrono::duration<double>(options_.seconds)) break;
+    if (options_.seconds > 0 && now - start > std::chrono::duration<double>(options_.seconds)) {
+      break;
+    }
     if (stream_) {
       auto frame = stream_->next_frame(std::chrono::milliseconds(5));
       if (frame && frame->input_event_id() < show_from_event_) frame.reset();

@@ -149,12 +149,15 @@ std::uint64_t FrameRenderer::submit(RendererKind requested, const ParticleView& 
                                 " cannot write buffers from fragment shaders "
                                 "(fragmentStoresAndAtomics); use points");
   }
-  if (kind == RendererKind::mc &&
-      (!marching_cubes_ || !marching_cubes_->fits(tank, mc_resolution(tank, particles.radius),
-                                                  particles.radius))) {
-    for (Slot& in_flight : slots_) in_flight.commands.wait();  // frames may still read the old one
-    marching_cubes_ = std::make_unique<MarchingCubes>(
-        *context_, tank, mc_resolution(tank, particles.radius), particles.radius);
+  if (kind == RendererKind::mc) {
+    const int resolution = mc.resolution != 0
+                               ? mc.resolution
+                               : MarchingCubes::resolution_for(tank, particles.radius);
+    if (!marching_cubes_ || !marching_cubes_->fits(tank, resolution, particles.radius)) {
+      for (Slot& in_flight : slots_) in_flight.commands.wait();  // they may read the old one
+      marching_cubes_ =
+          std::make_unique<MarchingCubes>(*context_, tank, resolution, particles.radius);
+    }
   }
   Slot& slot = slots_[next_frame_ % slots_.size()];
   if (slot.in_flight) {
@@ -179,16 +182,6 @@ std::uint64_t FrameRenderer::submit(RendererKind requested, const ParticleView& 
   slot.in_flight = true;
   slot.frame = next_frame_;
   return next_frame_++;
-}
-
-int FrameRenderer::mc_resolution(const sim::Box& tank, float particle_radius) const {
-  if (mc.resolution != 0) return mc.resolution;
-  if (!(particle_radius > 0.0f && std::isfinite(particle_radius))) {
-    throw std::invalid_argument("marching cubes: the particle radius must be positive");
-  }
-  const glm::vec3 size = tank.size();
-  const float longest = std::max({size.x, size.y, size.z});
-  return static_cast<int>(std::clamp(std::ceil(longest / (2.0f * particle_radius)) + 1.0f, 16.0f, 256.0f));
 }
 
 codec::ImageRgba FrameRenderer::take_oldest() {

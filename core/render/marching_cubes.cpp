@@ -91,10 +91,19 @@ MarchingCubes::MarchingCubes(gpu::Context& context, const sim::Box& tank, int re
     *buffer = gpu::Buffer(context, node_bytes, gpu::MemoryDomain::device);
   }
   // Zero before the first frame; afterwards the blur's y pass clears it behind itself.
-  context.run_now(
-      [this](VkCommandBuffer commands) { vkCmdFillBuffer(commands, splat_.get(), 0, VK_WHOLE_SIZE, 0); });
+  context.run_now([this](VkCommandBuffer commands) {
+    vkCmdFillBuffer(commands, splat_.get(), 0, VK_WHOLE_SIZE, 0);
+  });
   vertices_ = gpu::Buffer(context, std::uint64_t(max_vertices_) * 32, gpu::MemoryDomain::device);
   draw_ = gpu::Buffer(context, sizeof(VkDrawIndirectCommand), gpu::MemoryDomain::device);
+}
+
+int MarchingCubes::resolution_for(const sim::Box& tank, float particle_radius) {
+  if (!(particle_radius > 0.0f && std::isfinite(particle_radius))) {
+    throw std::invalid_argument("marching cubes: the particle radius must be positive");
+  }
+  const float nodes = std::ceil(longest_side(tank) / (2.0f * particle_radius)) + 1.0f;
+  return static_cast<int>(std::clamp(nodes, 16.0f, 256.0f));
 }
 
 bool MarchingCubes::fits(const sim::Box& tank, int resolution, float particle_radius) const {

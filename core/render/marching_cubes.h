@@ -39,6 +39,10 @@ class MarchingCubes {
   static constexpr float kMaxSigmaNodes = 16.0f / 3.0f;
   MarchingCubes(gpu::Context& context, const sim::Box& tank, int resolution, float particle_radius);
 
+  // The resolution McStyle's 0 means: a node per particle spacing along the longest side, 16 to
+  // 256. Throws std::invalid_argument for a radius that is not positive.
+  static int resolution_for(const sim::Box& tank, float particle_radius);
+
   bool fits(const sim::Box& tank, int resolution, float particle_radius) const;
   // Records the field and triangle passes; afterwards vertices() and draw_buffer() are ready for
   // the vertex shader and vkCmdDrawIndirect.

@@ -154,7 +154,6 @@ class FrameRenderer {
   void record(VkCommandBuffer commands, RendererKind kind, const ParticleView& particles,
               const sim::Box& tank, const OrbitCamera& camera, Slot& slot);
   codec::ImageRgba collect(Slot& slot);
-  int mc_resolution(const sim::Box& tank, float particle_radius) const;  // resolves 0
 
   gpu::Context* context_;
   RenderTarget target_;
