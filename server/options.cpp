@@ -44,6 +44,11 @@ ServerOptions parse_server_options(int argc, char** argv) {
   app.add_option("--target-fps", l.target_fps, "Ticks per second: sessions step and render")
       ->envname("FLUIDCAST_TARGET_FPS")
       ->check(CLI::Range(1u, 1000u));
+  app.add_option("--sim-share", l.sim_share,
+                 "Of each tick's period, the GPU time all sessions' simulation may take together "
+                 "(the rest renders); beyond it fluids run in slow motion, frames keep their rate")
+      ->envname("FLUIDCAST_SIM_SHARE")
+      ->check(CLI::Range(0.05, 0.95));
   app.add_option("--max-fps", l.max_fps, "Highest frame rate a viewer may ask for")
       ->envname("FLUIDCAST_MAX_FPS")
       ->check(CLI::Range(1u, 1000u));

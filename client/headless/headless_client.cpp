@@ -23,6 +23,34 @@ double percentile(std::vector<double> values, double p) {
   return values[index];
 }
 
+// Where each frame's time went on the server (v1::StageTimings), and how fast its fluid ran.
+struct FrameFigures {
+  std::vector<double> input_wait, sim, queue, render, readback, encode_wait, encode, server;
+  std::vector<double> on_server;  // input wait + server: the part of the latency spent there
+  std::vector<double> sim_speed;
+
+  void add(const v1::Frame& frame) {
+    const v1::StageTimings& t = frame.timings();
+    input_wait.push_back(t.input_wait_ms());
+    sim.push_back(t.sim_ms());
+    queue.push_back(t.queue_ms());
+    render.push_back(t.render_ms());
+    readback.push_back(t.readback_ms());
+    encode_wait.push_back(t.encode_wait_ms());
+    encode.push_back(t.encode_ms());
+    server.push_back(t.server_ms());
+    on_server.push_back(t.input_wait_ms() + t.server_ms());
+    sim_speed.push_back(frame.sim_speed());
+  }
+
+  nlohmann::json stages_p50() const {
+    return {{"input_wait", percentile(input_wait, 0.5)}, {"sim", percentile(sim, 0.5)},
+            {"queue", percentile(queue, 0.5)},           {"render", percentile(render, 0.5)},
+            {"readback", percentile(readback, 0.5)},     {"encode_wait", percentile(encode_wait, 0.5)},
+            {"encode", percentile(encode, 0.5)},         {"server", percentile(server, 0.5)}};
+  }
+};
+
 }  // namespace
 
 int run_headless(const HeadlessOptions& o) {
@@ -39,6 +67,7 @@ int run_headless(const HeadlessOptions& o) {
   const auto end = start + std::chrono::duration_cast<Clock::duration>(
                                std::chrono::duration<double>(o.seconds));
   std::size_t next_event = 0, frames = 0, bytes = 0, bad_frames = 0;
+  FrameFigures figures;
   while (Clock::now() < end && !stream.ended()) {
     const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
     while (next_event < script.size() && script[next_event].time <= elapsed) {
@@ -56,6 +85,7 @@ int run_headless(const HeadlessOptions& o) {
     if (!frame) continue;
     ++frames;
     bytes += frame->jpeg().size();
+    figures.add(*frame);
     const auto& jpeg = frame->jpeg();
     try {
       const codec::ImageRgba image = codec::decode_jpeg(
@@ -89,16 +119,23 @@ int run_headless(const HeadlessOptions& o) {
       {"latency_p50_ms", percentile(latencies, 0.50)},
       {"latency_p95_ms", percentile(latencies, 0.95)},
       {"latency_max_ms", latencies.empty() ? 0.0 : *std::max_element(latencies.begin(), latencies.end())},
+      {"sim_speed_p50", percentile(figures.sim_speed, 0.5)},
+      {"stages_p50_ms", figures.stages_p50()},
+      // What the latency spent outside the server: the network both ways and this client.
+      {"outside_server_p50_ms",
+       std::max(0.0, percentile(latencies, 0.5) - percentile(figures.on_server, 0.5))},
       {"status", status.ok() ? "OK" : status.error_message()},
   };
   if (o.json) {
     std::printf("%s\n", report.dump().c_str());
   } else {
     std::printf("%zu frames in %.1f s: %.1f fps, %.0f kbit/s; touch-to-photon p50 %.1f ms, p95 "
-                "%.1f ms, max %.1f ms (%zu samples)\n",
+                "%.1f ms, max %.1f ms (%zu samples); simulation speed %.2f\n",
                 frames, seconds, double(frames) / seconds, report["bitrate_kbps"].get<double>(),
                 report["latency_p50_ms"].get<double>(), report["latency_p95_ms"].get<double>(),
-                report["latency_max_ms"].get<double>(), latencies.size());
+                report["latency_max_ms"].get<double>(), latencies.size(),
+                report["sim_speed_p50"].get<double>());
+    std::printf("where the time went (p50 ms): %s\n", report["stages_p50_ms"].dump().c_str());
   }
   if (!status.ok()) {
     std::fprintf(stderr, "fluidcast-client: the stream ended: %s\n", status.error_message().c_str());

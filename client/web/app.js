@@ -201,6 +201,7 @@ function showFrame(frame) {
   state.lastFrame = {
     sequence: frame.sequence, simTime: frame.simTime, width: frame.width, height: frame.height,
     renderer: frame.renderer, quality: frame.jpegQuality, timings: frame.timings || {},
+    simSpeed: frame.simSpeed || 0,
   };
   present(new Blob([frame.jpeg], { type: 'image/jpeg' }));
   updateStats();
@@ -227,6 +228,14 @@ function percentile(values, p) {
   return sorted[Math.min(sorted.length - 1, Math.floor(p * sorted.length))];
 }
 
+// Simulated seconds per wall second, as the server measures them: below 1 the GPU's share for
+// this fluid cannot keep up, and it runs in slow motion while the frames keep their rate.
+function simSpeedText(speed) {
+  if (!speed) return 'paused';
+  const text = `${speed.toFixed(2)}× real time`;
+  return speed < 0.95 ? `${text} (slow motion)` : text;
+}
+
 function updateStats() {
   if (page.stats.hidden) return;
   const f = state.lastFrame || {};
@@ -236,8 +245,10 @@ function updateStats() {
     `touch→photon p50 ${percentile(state.latencyMs, 0.5).toFixed(0)} ms, ` +
     `p95 ${percentile(state.latencyMs, 0.95).toFixed(0)} ms\n` +
     `${f.width}×${f.height} ${f.renderer} q${f.quality}  t=${(f.simTime || 0).toFixed(2)} s\n` +
-    `server: sim ${(t.simMs || 0).toFixed(1)} render ${(t.renderMs || 0).toFixed(1)} ` +
-    `read-back ${(t.readbackMs || 0).toFixed(2)} encode ${(t.encodeMs || 0).toFixed(1)} ms`;
+    `simulation ${simSpeedText(f.simSpeed)}\n` +
+    `server: sim ${(t.simMs || 0).toFixed(1)} queue ${(t.queueMs || 0).toFixed(1)} ` +
+    `render ${(t.renderMs || 0).toFixed(1)} read-back ${(t.readbackMs || 0).toFixed(2)} ` +
+    `encode ${(t.encodeMs || 0).toFixed(1)} ms`;
 }
 
 function showSession(session) {

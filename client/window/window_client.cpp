@@ -499,13 +499,14 @@ void Client::update_title(Clock::time_point now) {
                 percentile(latencies, 0.5), percentile(latencies, 0.95));
   lines.emplace_back(line);
   const v1::StageTimings& t = last_frame_.timings();
-  std::snprintf(line, sizeof line, "%u×%u %s q%u  t=%.2f s", last_frame_.width(),
-                last_frame_.height(), last_frame_.renderer().c_str(), last_frame_.jpeg_quality(),
-                last_frame_.sim_time());
+  std::snprintf(line, sizeof line, "%u×%u %s q%u  t=%.2f s  %.2f× real time%s",
+                last_frame_.width(), last_frame_.height(), last_frame_.renderer().c_str(),
+                last_frame_.jpeg_quality(), last_frame_.sim_time(), last_frame_.sim_speed(),
+                last_frame_.sim_speed() < 0.95f ? " (slow motion)" : "");
   lines.emplace_back(line);
-  std::snprintf(line, sizeof line, "%s: sim %.1f render %.1f read-back %.2f encode %.1f ms",
-                remote_ ? "server" : "here", t.sim_ms(), t.render_ms(), t.readback_ms(),
-                t.encode_ms());
+  std::snprintf(line, sizeof line, "%s: sim %.1f queue %.1f render %.1f read-back %.2f encode %.1f ms",
+                remote_ ? "server" : "here", t.sim_ms(), t.queue_ms(), t.render_ms(),
+                t.readback_ms(), t.encode_ms());
   lines.emplace_back(line);
   lines.push_back(status_ + (handoff_gap_ms_
                                  ? "; handoff gap " + std::to_string(int(*handoff_gap_ms_)) + " ms"

@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "fluidcast/gpu/vk_check.h"
 
@@ -40,13 +41,27 @@ VkCommandBuffer CommandSlot::begin() {
   return commands_;
 }
 
-void CommandSlot::submit() {
+CommandSlot::CommandSlot(CommandSlot&& other) noexcept
+    : context_(other.context_),
+      pool_(std::move(other.pool_)),
+      commands_(std::exchange(other.commands_, VK_NULL_HANDLE)),
+      fence_(std::move(other.fence_)),
+      submitted_(std::exchange(other.submitted_, false)),
+      serial_(other.serial_) {}
+
+CommandSlot::~CommandSlot() {
+  try {
+    wait();
+  } catch (const VulkanError&) {
+    // A lost device has nothing left to wait for; the handles are destroyed all the same.
+  }
+}
+
+std::uint64_t CommandSlot::submit() {
   FLUIDCAST_VK_CHECK(vkEndCommandBuffer(commands_));
-  VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-  submit.commandBufferCount = 1;
-  submit.pCommandBuffers = &commands_;
-  FLUIDCAST_VK_CHECK(vkQueueSubmit(context_->queue(), 1, &submit, fence_.get()));
+  serial_ = context_->submit(commands_, fence_.get());
   submitted_ = true;
+  return serial_;
 }
 
 void CommandSlot::wait() const {

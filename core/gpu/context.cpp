@@ -112,6 +112,7 @@ DeviceInfo describe_device(VkPhysicalDevice device, std::uint32_t index) {
     VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &v12};
     vkGetPhysicalDeviceFeatures2(device, &features);
     if (!v12.bufferDeviceAddress) info.rejected_because.push_back("no bufferDeviceAddress feature");
+    if (!v12.timelineSemaphore) info.rejected_because.push_back("no timelineSemaphore feature");
   }
   if (!pick_queue_family(device)) info.rejected_because.push_back("no compute queue");
   return info;
@@ -277,6 +278,7 @@ Context::Context(ContextOptions options) {
     queue_info.pQueuePriorities = &priority;
     VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
     v12.bufferDeviceAddress = VK_TRUE;
+    v12.timelineSemaphore = VK_TRUE;  // the submission serial
     // Fragment shaders that write buffers: the SSFR surface pass sums thickness with atomics.
     VkPhysicalDeviceFeatures supported{};
     vkGetPhysicalDeviceFeatures(physical_device_, &supported);
@@ -289,6 +291,11 @@ Context::Context(ContextOptions options) {
     device_info.pEnabledFeatures = &features;
     FLUIDCAST_VK_CHECK(vkCreateDevice(physical_device_, &device_info, nullptr, &device_));
     vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
+    VkSemaphoreTypeCreateInfo timeline_type{VK_STRUCTURE_TYPE_SEMAPHORE_TYPE_CREATE_INFO};
+    timeline_type.semaphoreType = VK_SEMAPHORE_TYPE_TIMELINE;
+    timeline_type.initialValue = 0;
+    VkSemaphoreCreateInfo timeline_info{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO, &timeline_type};
+    FLUIDCAST_VK_CHECK(vkCreateSemaphore(device_, &timeline_info, nullptr, &finished_));
     memory_ = std::make_unique<MemoryAllocator>(device_, physical_device_);
     log("gpu: using device " + info_.describe() + (validation ? ", validation on" : ""));
   } catch (...) {
@@ -300,7 +307,16 @@ Context::Context(ContextOptions options) {
 Context::~Context() { release(); }
 
 void Context::release() {
+  if (device_) {
+    // The end of the context, not of a frame: whatever is still retired goes now.
+    vkDeviceWaitIdle(device_);
+    while (!retired_.empty()) {  // a retired object's destructor may retire another
+      auto released = std::exchange(retired_, {});
+      released.clear();
+    }
+  }
   memory_.reset();
+  if (finished_) vkDestroySemaphore(device_, std::exchange(finished_, VK_NULL_HANDLE), nullptr);
   if (device_) vkDestroyDevice(std::exchange(device_, VK_NULL_HANDLE), nullptr);
   if (messenger_) {
     auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
@@ -310,7 +326,69 @@ void Context::release() {
   if (instance_) vkDestroyInstance(std::exchange(instance_, VK_NULL_HANDLE), nullptr);
 }
 
-void Context::wait_idle() { FLUIDCAST_VK_CHECK(vkDeviceWaitIdle(device_)); }
+std::uint64_t Context::submit(VkCommandBuffer commands, VkFence fence) {
+  std::vector<std::unique_ptr<RetiredObject>> finished;
+  std::uint64_t serial;
+  {
+    std::lock_guard lock(submit_mutex_);
+    serial = last_submitted_ + 1;
+    VkTimelineSemaphoreSubmitInfo timeline{VK_STRUCTURE_TYPE_TIMELINE_SEMAPHORE_SUBMIT_INFO};
+    timeline.signalSemaphoreValueCount = 1;
+    timeline.pSignalSemaphoreValues = &serial;
+    VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO, &timeline};
+    submit.commandBufferCount = 1;
+    submit.pCommandBuffers = &commands;
+    submit.signalSemaphoreCount = 1;
+    submit.pSignalSemaphores = &finished_;
+    FLUIDCAST_VK_CHECK(vkQueueSubmit(queue_, 1, &submit, fence));
+    last_submitted_ = serial;
+    finished = take_released(last_finished());
+  }
+  return serial;  // `finished` is destroyed here, outside the lock
+}
+
+std::uint64_t Context::last_submitted() const {
+  std::lock_guard lock(submit_mutex_);
+  return last_submitted_;
+}
+
+std::uint64_t Context::last_finished() const {
+  std::uint64_t value = 0;
+  FLUIDCAST_VK_CHECK(vkGetSemaphoreCounterValue(device_, finished_, &value));
+  return value;
+}
+
+bool Context::wait_for(std::uint64_t serial, std::chrono::nanoseconds timeout) {
+  VkSemaphoreWaitInfo wait{VK_STRUCTURE_TYPE_SEMAPHORE_WAIT_INFO};
+  wait.semaphoreCount = 1;
+  wait.pSemaphores = &finished_;
+  wait.pValues = &serial;
+  const auto nanoseconds = static_cast<std::uint64_t>(std::max<std::int64_t>(0, timeout.count()));
+  const VkResult result = vkWaitSemaphores(device_, &wait, nanoseconds);
+  if (result == VK_TIMEOUT) return false;
+  FLUIDCAST_VK_CHECK(result);
+  return true;
+}
+
+void Context::retire_object(std::unique_ptr<RetiredObject> object) {
+  std::lock_guard lock(submit_mutex_);
+  retired_.push_back({last_submitted_, std::move(object)});
+}
+
+std::vector<std::unique_ptr<Context::RetiredObject>> Context::take_released(std::uint64_t finished) {
+  std::vector<std::unique_ptr<RetiredObject>> released;
+  // Retired in submission order, so the finished ones are at the front.
+  while (!retired_.empty() && retired_.front().after <= finished) {
+    released.push_back(std::move(retired_.front().object));
+    retired_.pop_front();
+  }
+  return released;
+}
+
+std::size_t Context::retired_count() const {
+  std::lock_guard lock(submit_mutex_);
+  return retired_.size();
+}
 
 void Context::run_now(const std::function<void(VkCommandBuffer)>& record) {
   VkCommandPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
@@ -331,16 +409,7 @@ void Context::run_now(const std::function<void(VkCommandBuffer)>& record) {
   FLUIDCAST_VK_CHECK(vkBeginCommandBuffer(command_buffer, &begin));
   record(command_buffer);
   FLUIDCAST_VK_CHECK(vkEndCommandBuffer(command_buffer));
-
-  VkFenceCreateInfo fence_info{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-  VkFence raw_fence;
-  FLUIDCAST_VK_CHECK(vkCreateFence(device_, &fence_info, nullptr, &raw_fence));
-  const UniqueFence fence(device_, raw_fence);
-  VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-  submit.commandBufferCount = 1;
-  submit.pCommandBuffers = &command_buffer;
-  FLUIDCAST_VK_CHECK(vkQueueSubmit(queue_, 1, &submit, fence.get()));
-  FLUIDCAST_VK_CHECK(vkWaitForFences(device_, 1, &raw_fence, VK_TRUE, UINT64_MAX));
+  wait_for(submit(command_buffer));
 }
 
 std::vector<std::string> Context::validation_errors() const {

@@ -77,13 +77,12 @@ FrameRenderer::FrameRenderer(gpu::Context& context, std::uint32_t width, std::ui
 }
 
 FrameRenderer::Slot::Slot(gpu::Context& context, std::uint64_t bytes)
-    : commands(context),
-      readback(context, bytes, gpu::MemoryDomain::readback),
-      timestamps(context, 8) {}
+    : readback(context, bytes, gpu::MemoryDomain::readback),
+      timestamps(context, 8),
+      commands(context) {}
 
-FrameRenderer::~FrameRenderer() {
-  for (Slot& slot : slots_) slot.commands.wait();
-}
+// The slots, declared after what their frames use, wait for their frames before it goes.
+FrameRenderer::~FrameRenderer() = default;
 
 std::size_t FrameRenderer::frames_pending() const {
   std::size_t in_flight = 0;
@@ -154,7 +153,7 @@ std::uint64_t FrameRenderer::submit(RendererKind requested, const ParticleView& 
                                ? mc.resolution
                                : MarchingCubes::resolution_for(tank, particles.radius);
     if (!marching_cubes_ || !marching_cubes_->fits(tank, resolution, particles.radius)) {
-      for (Slot& in_flight : slots_) in_flight.commands.wait();  // they may read the old one
+      if (marching_cubes_) context_->retire(std::move(marching_cubes_));  // frames may read it
       marching_cubes_ =
           std::make_unique<MarchingCubes>(*context_, tank, resolution, particles.radius);
     }
@@ -182,6 +181,15 @@ std::uint64_t FrameRenderer::submit(RendererKind requested, const ParticleView& 
   slot.in_flight = true;
   slot.frame = next_frame_;
   return next_frame_++;
+}
+
+bool FrameRenderer::oldest_finished() const {
+  if (!kept_.empty()) return true;
+  const Slot* oldest = nullptr;
+  for (const Slot& slot : slots_) {
+    if (slot.in_flight && (!oldest || slot.frame < oldest->frame)) oldest = &slot;
+  }
+  return oldest && !oldest->commands.busy();
 }
 
 codec::ImageRgba FrameRenderer::take_oldest() {

@@ -29,7 +29,10 @@ ParticleView ParticleSource::upload(const sim::ParticleSet& particles, float rad
   view.radius = radius;
   const std::uint64_t bytes = std::uint64_t{view.count} * sizeof(glm::vec4);
   if (!position_ || position_.size() < bytes) {
-    context_->wait_idle();  // frames in flight may still read the old buffers
+    // Frames in flight may still read the old buffers.
+    context_->retire(std::move(position_));
+    context_->retire(std::move(velocity_));
+    context_->retire(std::move(density_ratio_));
     position_ = gpu::Buffer(*context_, bytes, gpu::MemoryDomain::device);
     velocity_ = gpu::Buffer(*context_, bytes, gpu::MemoryDomain::device);
     density_ratio_ = gpu::Buffer(*context_, bytes / 4, gpu::MemoryDomain::device);

@@ -75,11 +75,14 @@ Solver::Solver(Scene scene, const SolverParams& params)
   next_id_ = static_cast<std::uint32_t>(scene_.particles.size());
 }
 
-void Solver::step() {
-  advance();
-  for (Collider& c : colliders_) c.centre += c.velocity * params_.time_step;
+void Solver::step(float seconds) {
+  require(seconds > 0.0f && seconds <= params_.time_step,
+          "step: " + std::to_string(seconds) + " s is not in (0, " +
+              std::to_string(params_.time_step) + "] s, the time step");
+  advance(seconds);
+  for (Collider& c : colliders_) c.centre += c.velocity * seconds;
   ++steps_;
-  time_ += params_.time_step;
+  time_ += seconds;
 }
 
 void Solver::set_gravity(glm::vec3 gravity) {

@@ -5,9 +5,8 @@
 
 namespace fluidcast::sim {
 
-int pbf_substep_count(float largest_speed, float largest_collider_speed, float gravity,
+int pbf_substep_count(float step, float largest_speed, float largest_collider_speed, float gravity,
                       const SolverParams& params, float kernel_radius) {
-  const float step = params.time_step;
   // A collider moving faster than the fluid sets the pace too: it must not jump over particles.
   const float speed = std::max(largest_speed + gravity * step, largest_collider_speed);
   const float travel = speed * step / (params.cfl_number * kernel_radius);

@@ -5,9 +5,9 @@
 
 namespace fluidcast::sim {
 
-// PBF: substeps so that nothing moves more than cfl_number · h in one, the fluid (its largest
+// PBF: substeps of a step of `step` seconds so that nothing moves more than cfl_number · h in one, the fluid (its largest
 // speed plus what gravity adds over the step) or a collider. Non-finite speeds give max_substeps.
-int pbf_substep_count(float largest_speed, float largest_collider_speed, float gravity,
+int pbf_substep_count(float step, float largest_speed, float largest_collider_speed, float gravity,
                       const SolverParams& params, float kernel_radius);
 
 // SPH: the longest stable substep: the CFL bound with the speed of sound, the force bound

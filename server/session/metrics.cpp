@@ -17,7 +17,26 @@ void write_value(std::string& out, const std::string& name, const char* type,
   out += name + " " + std::to_string(value) + "\n";
 }
 
+void write_per_session(std::string& out, const std::string& name, const std::string& help,
+                       const std::map<std::string, SessionFigures>& sessions,
+                       double (*value)(const SessionFigures&)) {
+  out += "# HELP " + name + " " + help + "\n# TYPE " + name + " gauge\n";
+  for (const auto& [id, figures] : sessions) {
+    out += name + "{session=\"" + id + "\"} " + number(value(figures)) + "\n";
+  }
+}
+
 }  // namespace
+
+void Metrics::set_session(const std::string& id, const SessionFigures& figures) {
+  std::lock_guard lock(sessions_mutex_);
+  session_figures_[id] = figures;
+}
+
+void Metrics::forget_session(const std::string& id) {
+  std::lock_guard lock(sessions_mutex_);
+  session_figures_.erase(id);
+}
 
 void Histogram::observe(double milliseconds) {
   std::size_t bucket = 0;
@@ -51,6 +70,10 @@ std::string Metrics::prometheus_text() const {
               "Frames replaced by newer ones before a slow viewer read them.", frames_dropped);
   write_value(out, "fluidcast_frames_skipped_total", "counter",
               "Frames not rendered because the viewer had enough in flight.", frames_skipped);
+  write_value(out, "fluidcast_frames_deferred_total", "counter",
+              "Frames not rendered in a tick because their session had spent its share of the GPU "
+              "while other sessions had frames due.",
+              frames_deferred);
   write_value(out, "fluidcast_bytes_sent_total", "counter", "JPEG bytes handed to transports.",
               bytes_sent);
   write_value(out, "fluidcast_streams_refused_total", "counter",
@@ -63,6 +86,27 @@ std::string Metrics::prometheus_text() const {
   encode_ms.write(out, "fluidcast_encode_milliseconds", "JPEG encoding time of a frame.");
   round_trip_ms.write(out, "fluidcast_round_trip_milliseconds",
                       "From a frame's production to the client's acknowledgement.");
+  input_wait_ms.write(out, "fluidcast_input_wait_milliseconds",
+                      "From an input's arrival to the start of the tick that applied it.");
+  queue_ms.write(out, "fluidcast_queue_milliseconds",
+                 "From a frame's submission to the GPU until the server took it back.");
+  encode_wait_ms.write(out, "fluidcast_encode_wait_milliseconds",
+                       "A frame's wait for an encoder thread.");
+  server_ms.write(out, "fluidcast_server_milliseconds",
+                  "From the start of a frame's tick until it was handed to the transport.");
+  std::lock_guard lock(sessions_mutex_);
+  write_per_session(out, "fluidcast_session_sim_speed",
+                    "Simulated seconds per wall second over the last second (1: real time).",
+                    session_figures_, [](const SessionFigures& f) { return f.sim_speed; });
+  write_per_session(out, "fluidcast_session_substep_milliseconds",
+                    "Measured cost of one solver substep (GPU time on a GPU solver).",
+                    session_figures_, [](const SessionFigures& f) { return f.substep_ms; });
+  write_per_session(out, "fluidcast_session_frame_milliseconds",
+                    "Measured GPU time of one frame for each of the session's viewers, summed.",
+                    session_figures_, [](const SessionFigures& f) { return f.frame_ms; });
+  write_per_session(out, "fluidcast_session_particles", "Particles in the session.",
+                    session_figures_,
+                    [](const SessionFigures& f) { return double(f.particles); });
   return out;
 }
 

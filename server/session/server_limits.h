@@ -14,6 +14,9 @@ struct ServerLimits {
   std::uint32_t max_width = 3840;
   std::uint32_t max_height = 2160;
   std::uint32_t target_fps = 60;  // sessions step and render at this rate
+  // Of each tick's period, the GPU time that all sessions' simulation may take together (the rest
+  // is for rendering, read-back and headroom); beyond it the fluid runs in slow motion.
+  double sim_share = 0.5;
   std::uint32_t max_fps = 120;
   std::uint32_t max_viewers_per_session = 8;
   std::uint32_t max_input_events_per_second = 400;  // per stream; a flood ends the stream

@@ -16,15 +16,16 @@ constexpr std::size_t kMaxDepartedViewers = 64;
 // Scene, solver and count changes rebuild the simulation: at most one per this interval, the
 // newest wish winning, so no client can keep the worker busy rebuilding.
 constexpr auto kRebuildInterval = std::chrono::milliseconds(500);
-// Steps one tick may owe to real time; past it the fluid runs slow instead.
-constexpr int kMaxStepsPerTick = 4;
-// Of a tick's interval, the share the steps of one session may take on the worker's thread (a
-// GPU solver's steps return at once; a CPU solver's take their time). One step always runs.
-constexpr double kStepShareOfTick = 0.5;
+// Time steps of real time the simulation may owe; past it the fluid runs slow instead.
+constexpr double kMaxOwedSteps = 4.0;
 
 double total_ms(const sim::StageTimes& times) {
   return times.grid_ms + times.predict_ms + times.solve_ms + times.velocity_ms +
          times.viscosity_ms;
+}
+
+double milliseconds_between(Clock::time_point from, Clock::time_point to) {
+  return std::chrono::duration<double, std::milli>(to - from).count();
 }
 
 v1::Vec3 vec3(glm::vec3 v) {
@@ -51,8 +52,22 @@ void Session::finish_frames() {
   }
 }
 
+SessionFigures Session::figures() const {
+  SessionFigures figures;
+  figures.sim_speed = speed_.speed();
+  figures.substep_ms = substep_cost_.ms();
+  for (const auto& [id, viewer] : viewers_) figures.frame_ms += viewer->frame_cost().ms();
+  figures.particles = solver_->particle_count();
+  return figures;
+}
+
+void Session::collect_finished_frames() {
+  for (auto& [id, viewer] : viewers_) {
+    while (viewer->frame_finished()) encode(*viewer, std::move(*viewer->take_finished(Clock::now())));
+  }
+}
+
 void Session::rebuild(SessionSetup setup) {
-  finish_frames();
   if (setup.particles == 0) setup.particles = services_.limits->default_particles;
   sim::SceneParams scene;
   scene.kind = setup.scene;
@@ -62,14 +77,20 @@ void Session::rebuild(SessionSetup setup) {
   params.threads = 0;  // a CPU solver (lavapipe machines) uses every core between frames
   try {
     auto built = sim::build_scene(scene);
-    solver_ = services_.gpu_solver
-                  ? sim::make_gpu_solver(setup.solver, *services_.context, std::move(built), params)
-                  : sim::make_cpu_solver(setup.solver, std::move(built), params);
+    auto solver =
+        services_.gpu_solver
+            ? sim::make_gpu_solver(setup.solver, *services_.context, std::move(built), params)
+            : sim::make_cpu_solver(setup.solver, std::move(built), params);
+    // Frames in flight still read the old one's particles.
+    if (solver_) services_.context->retire(std::exchange(solver_, std::move(solver)));
+    else solver_ = std::move(solver);
   } catch (const sim::ParamError& e) {
     throw Refusal(RefusalCode::resource_exhausted, e.what());
   }
   setup_ = setup;
   lag_seconds_ = 0.0;
+  substep_cost_ = {};  // another count or solver: another cost
+  sim_account_ = {};
   for (auto& [id, viewer] : viewers_) viewer->look_at(solver_->tank());
 }
 
@@ -204,7 +225,6 @@ std::uint32_t Session::load(const v1::Snapshot& snapshot) {
   if (!(std::isfinite(snapshot.time()) && snapshot.time() >= 0.0)) {
     throw Refusal(RefusalCode::invalid_argument, "Snapshot: time must be finite, not negative");
   }
-  finish_frames();
   const sim::Box tank = solver_->tank();
   const glm::vec3 centre = 0.5f * (tank.min + tank.max);
   solver_->remove_particles_in_sphere(centre, glm::length(tank.size()));
@@ -223,7 +243,7 @@ std::uint32_t Session::load(const v1::Snapshot& snapshot) {
 
 void Session::apply(Viewer& viewer, const v1::ClientMessage& message,
                     Clock::time_point received) {
-  viewer.note_input(message.event_id());
+  viewer.note_input(message.event_id(), received);
   switch (message.kind_case()) {
     case v1::ClientMessage::kPointer:
       viewer.apply_pointer(message.pointer());
@@ -297,40 +317,11 @@ void Session::apply_rebuilds(Clock::time_point now) {
     }
   } else {
     reset_wanted_ = false;
-    finish_frames();
     solver_->reset();
   }
 }
 
-void Session::step(Clock::time_point now) {
-  const float dt = solver_->params().time_step;
-  const double elapsed =
-      last_tick_ == Clock::time_point{} ? dt : std::chrono::duration<double>(now - last_tick_).count();
-  last_tick_ = now;
-  std::vector<sim::Collider> colliders;
-  for (auto& [id, viewer] : viewers_) {
-    if (colliders.size() == sim::kMaxColliders) break;
-    if (auto collider = viewer->collider(collider_radius(), float(elapsed))) {
-      colliders.push_back(*collider);
-    }
-  }
-  solver_->set_colliders(colliders);
-  // Nobody watching: the fluid waits as it is, for a resume.
-  if (paused_ || viewers_.empty()) return;
-  lag_seconds_ = std::min(lag_seconds_ + elapsed, kMaxStepsPerTick * double(dt));
-  const double budget = kStepShareOfTick / services_.limits->target_fps;
-  const auto start = Clock::now();
-  for (int steps = 0; lag_seconds_ >= dt; ++steps) {
-    if (steps > 0 && std::chrono::duration<double>(Clock::now() - start).count() > budget) {
-      lag_seconds_ = 0.0;  // the machine cannot keep up: slow motion, not a growing debt
-      break;
-    }
-    solver_->step();
-    lag_seconds_ -= dt;
-  }
-}
-
-void Session::tick(Clock::time_point now) {
+GpuDemand Session::prepare(Clock::time_point now) {
   std::vector<Posted> inbox;
   {
     std::lock_guard lock(inbox_mutex_);
@@ -350,42 +341,123 @@ void Session::tick(Clock::time_point now) {
     }
   }
   apply_rebuilds(now);
-  // The step first: it runs while the GPU still draws last tick's frames (they read uploaded or
-  // GPU-side particles, which the queue orders), then those frames go to the encoders.
-  const auto sim_start = Clock::now();
-  step(now);
-  const double sim_ms = services_.gpu_solver
-                            ? total_ms(solver_->stage_times())
-                            : std::chrono::duration<double, std::milli>(Clock::now() - sim_start).count();
+
+  const float dt = solver_->params().time_step;
+  const double elapsed = last_tick_ == Clock::time_point{}
+                             ? dt
+                             : std::chrono::duration<double>(now - last_tick_).count();
+  last_tick_ = now;
+  std::vector<sim::Collider> colliders;
+  for (auto& [id, viewer] : viewers_) {
+    if (colliders.size() == sim::kMaxColliders) break;
+    if (auto collider = viewer->collider(collider_radius(), float(elapsed))) {
+      colliders.push_back(*collider);
+    }
+  }
+  solver_->set_colliders(colliders);
+
+  GpuDemand demand;
+  // Nobody watching: the fluid waits as it is, for a resume.
+  const bool running = !paused_ && !viewers_.empty();
+  speed_.record(now, solver_->time(), running);
+  if (running) {
+    lag_seconds_ = std::min(lag_seconds_ + elapsed, kMaxOwedSteps * double(dt));
+    const double steps = std::ceil(lag_seconds_ / dt);
+    const int substeps = solver_->substeps_for(float(std::min<double>(lag_seconds_, dt)));
+    demand.sim_ms = steps * substeps * substep_cost_.ms();
+  }
+  for (auto& [id, viewer] : viewers_) {
+    if (viewer->due(now)) demand.render_ms += viewer->frame_cost().ms();
+  }
+  return demand;
+}
+
+void Session::measure_steps() {
+  solver_->count_finished_steps();
+  const sim::StageTimes& times = solver_->stage_times();
+  if (times.substeps > 0) {
+    const double ms = total_ms(times);
+    substep_cost_.add(ms / double(times.substeps));
+    measured_sim_ms_ += ms;
+    services_.metrics->sim_ms.observe(ms);
+  }
   solver_->clear_stage_times();
-  if (sim_ms > 0.0) services_.metrics->sim_ms.observe(sim_ms);
-  finish_frames();
+}
+
+void Session::step(const GpuGrant& grant) {
+  measure_steps();
+  if (paused_ || viewers_.empty()) return;
+  // Until the first steps are measured, one substep a tick; then what the account pays for.
+  const bool costed = substep_cost_.known();
+  sim_account_.deposit(grant.sim_ms, substep_cost_.ms());
+  int substeps_left = costed ? sim_account_.affordable(substep_cost_.ms()) : 1;
+  const float max_step = solver_->params().time_step;
+  while (lag_seconds_ > 0.0 && substeps_left > 0) {
+    float seconds = float(std::min<double>(lag_seconds_, max_step));
+    int substeps = solver_->substeps_for(seconds);
+    if (substeps > substeps_left) {  // slow motion: a shorter step, as many substeps as are paid
+      seconds *= float(substeps_left) / float(substeps);
+      substeps = substeps_left;
+    }
+    if (!(seconds > 0.0f)) break;
+    solver_->step(seconds);
+    lag_seconds_ -= seconds;
+    substeps_left -= substeps;
+    if (costed) sim_account_.spend(substeps * substep_cost_.ms());
+  }
+  // A CPU solver has finished its steps by now: measured in this tick, not the next.
+  if (!services_.gpu_solver) measure_steps();
+}
+
+void Session::render(const GpuGrant& grant, Clock::time_point now) {
+  render_account_.deposit(grant.render_ms, 0.0);
   std::vector<std::pair<std::uint32_t, Viewer*>> due;
   for (auto& [id, viewer] : viewers_) {
-    if (viewer->due(now)) {
+    if (!viewer->due(now)) {
+      if (viewer->throttled()) services_.metrics->frames_skipped++;
+    } else if (!grant.contended || render_account_.can_spend()) {
       due.emplace_back(id, viewer.get());
-    } else if (viewer->throttled()) {
-      services_.metrics->frames_skipped++;
+    } else {
+      services_.metrics->frames_deferred++;  // its share of the GPU is spent; others go first
     }
   }
   if (due.empty()) return;  // no upload of a CPU solver's particles for nobody
   const render::ParticleView particles = source_.view_of(*solver_);
   std::vector<std::uint32_t> failed;
   for (auto [id, viewer] : due) {
+    if (grant.contended) render_account_.spend(viewer->frame_cost().ms());
+    Viewer::Shows shows;
+    shows.input_event_id = viewer->newest_input();
+    shows.sim_time = solver_->time();
+    shows.sim_ms = measured_sim_ms_;
+    shows.sim_speed = speed_.speed();
+    shows.input_wait_ms = viewer->input_wait_ms(now);
+    shows.tick_start = now;
     try {
-      viewer->submit(particles, solver_->tank(),
-                     {viewer->newest_input(), solver_->time(), sim_ms, {}}, now);
+      viewer->submit(particles, solver_->tank(), std::move(shows), now);
     } catch (const std::invalid_argument& e) {  // this viewer's choice the device cannot draw
       viewer->sink().end(Refusal(RefusalCode::failed_precondition, e.what()));
       failed.push_back(id);
     }
   }
   for (std::uint32_t id : failed) remove_viewer(id);
+  measured_sim_ms_ = 0.0;
+}
+
+void Session::run(const GpuGrant& grant, Clock::time_point now) {
+  // The steps first: they run while the GPU still draws last tick's frames (which read uploaded
+  // or GPU-side particles; the queue orders them), then those frames go to the encoders.
+  step(grant);
+  finish_frames();
+  render(grant, now);
 }
 
 void Session::encode(Viewer& viewer, Viewer::Finished frame) {
-  services_.metrics->render_ms.observe(frame.times.drawing_ms());
-  services_.metrics->readback_ms.observe(frame.times.readback_ms);
+  Metrics& metrics = *services_.metrics;
+  metrics.render_ms.observe(frame.times.drawing_ms());
+  metrics.readback_ms.observe(frame.times.readback_ms);
+  metrics.input_wait_ms.observe(frame.shows.input_wait_ms);
+  metrics.queue_ms.observe(frame.queue_ms);
   auto message = std::make_shared<v1::ServerMessage>();
   v1::Frame& out = *message->mutable_frame();
   out.set_sequence(frame.sequence);
@@ -395,23 +467,36 @@ void Session::encode(Viewer& viewer, Viewer::Finished frame) {
   out.set_input_event_id(frame.shows.input_event_id);
   out.set_jpeg_quality(static_cast<std::uint32_t>(frame.jpeg_quality));
   out.set_renderer(frame.shows.renderer);
+  out.set_sim_speed(static_cast<float>(frame.shows.sim_speed));
   v1::StageTimings& timings = *out.mutable_timings();
   timings.set_sim_ms(static_cast<float>(frame.shows.sim_ms));
   timings.set_render_ms(static_cast<float>(frame.times.drawing_ms()));
   timings.set_readback_ms(static_cast<float>(frame.times.readback_ms));
+  timings.set_input_wait_ms(static_cast<float>(frame.shows.input_wait_ms));
+  timings.set_queue_ms(static_cast<float>(frame.queue_ms));
   codec::JpegOptions options;
   options.quality = frame.jpeg_quality;
   ++*viewer.encoding();
   services_.encoders->encode(
       std::move(frame.image), options,
       [message, sink = viewer.shared_sink(), metrics = services_.metrics,
-       encoding = viewer.encoding()](std::vector<std::uint8_t> jpeg, double milliseconds,
-                                     std::exception_ptr error) {
+       encoding = viewer.encoding(), tick_start = frame.shows.tick_start,
+       handed = Clock::now()](std::vector<std::uint8_t> jpeg, double milliseconds,
+                              std::exception_ptr error) {
         --*encoding;
         if (error) return;  // options are ours and valid; nothing a client could fix
-        v1::Frame& encoded = *message->mutable_frame();
-        encoded.mutable_timings()->set_encode_ms(static_cast<float>(milliseconds));
+        const auto done = Clock::now();
+        const double encode_wait_ms =
+            std::max(0.0, milliseconds_between(handed, done) - milliseconds);
+        const double server_ms = milliseconds_between(tick_start, done);
+        v1::StageTimings& stages = *message->mutable_frame()->mutable_timings();
+        stages.set_encode_ms(static_cast<float>(milliseconds));
+        stages.set_encode_wait_ms(static_cast<float>(encode_wait_ms));
+        stages.set_server_ms(static_cast<float>(server_ms));
         metrics->encode_ms.observe(milliseconds);
+        metrics->encode_wait_ms.observe(encode_wait_ms);
+        metrics->server_ms.observe(server_ms);
+        v1::Frame& encoded = *message->mutable_frame();
         metrics->bytes_sent += jpeg.size();
         encoded.set_jpeg(jpeg.data(), jpeg.size());
         metrics->frames_sent++;

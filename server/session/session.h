@@ -1,6 +1,7 @@
 // A session: one simulation and any number of viewers, each with its own camera, size and
-// quality (DESIGN.md §1). Transports post input from their threads; everything else runs on the
-// GPU worker's thread, one tick at a time. Knows nothing of gRPC or HTTP.
+// quality. Transports post input from their threads; everything else runs on the GPU worker's
+// thread, one tick at a time: prepare() says what the tick would cost on the GPU, run() spends
+// what the hub grants (gpu_budget.h). Knows nothing of gRPC or HTTP.
 #pragma once
 
 #include <map>
@@ -13,8 +14,10 @@
 #include "fluidcast/codec/jpeg_encoder_pool.h"
 #include "fluidcast/render/particle_source.h"
 #include "fluidcast/sim/solver.h"
-#include "server_limits.h"
+#include "gpu_budget.h"
 #include "metrics.h"
+#include "server_limits.h"
+#include "sim_speed.h"
 #include "viewer.h"
 
 namespace fluidcast::server {
@@ -52,7 +55,17 @@ class Session {
   void remove_viewer(std::uint32_t viewer);
   std::size_t viewer_count() const { return viewers_.size(); }
   Clock::time_point empty_since() const { return empty_since_; }
-  void tick(Clock::time_point now);
+  // A tick in two halves: the inputs and rebuilds that arrived, and what the tick would cost
+  // (the substeps real time owes, the frames due, at their measured GPU costs)...
+  GpuDemand prepare(Clock::time_point now);
+  // ...then the steps and frames that the grant pays for. The frames of the previous tick are
+  // taken to the encoders after this tick's steps are submitted (waiting for them if need be).
+  void run(const GpuGrant& grant, Clock::time_point now);
+  // Takes the frames the GPU has finished to the encoders, without waiting: between ticks, so
+  // that a frame is sent as soon as it is drawn.
+  void collect_finished_frames();
+  // For /metrics.
+  SessionFigures figures() const;
   v1::SessionState state() const;
   v1::Snapshot snapshot() const;
   // Replaces the fluid; throws Refusal for a snapshot that does not fit.
@@ -64,11 +77,15 @@ class Session {
   void rebuild(SessionSetup setup);
   // Applies the newest scene, solver or count wish, or a reset, at most once per interval.
   void apply_rebuilds(Clock::time_point now);
-  // Takes every frame in flight to the encoders: before the particles' buffers change (reset,
-  // rebuild, load), since those frames read them.
+  // Takes the frames in flight to the encoders, waiting for the GPU if need be.
   void finish_frames();
   void apply(Viewer& viewer, const v1::ClientMessage& message, Clock::time_point received);
-  void step(Clock::time_point now);
+  // Steps as far as real time owes and the grant pays.
+  void step(const GpuGrant& grant);
+  // Submits the due frames that the grant pays for (all of them when no other session has any).
+  void render(const GpuGrant& grant, Clock::time_point now);
+  // Counts the finished steps' cost into substep_cost_ and measured_sim_ms_.
+  void measure_steps();
   void encode(Viewer& viewer, Viewer::Finished frame);
   float collider_radius() const;
 
@@ -87,6 +104,10 @@ class Session {
   Clock::time_point last_rebuild_{};
   Clock::time_point last_tick_{};
   double lag_seconds_ = 0.0;  // real time the simulation still owes
+  GpuAccount sim_account_, render_account_;
+  CostEstimate substep_cost_;  // ms of one substep (GPU time, or CPU time for a CPU solver)
+  double measured_sim_ms_ = 0.0;  // the steps measured since the last frame was submitted
+  SimSpeed speed_;
   Clock::time_point empty_since_;
 
   struct Posted {

@@ -195,24 +195,64 @@ v1::ServerInfo SessionHub::info() const {
   return info;
 }
 
+void SessionHub::end_failed(Session& session, const std::exception& e) {
+  std::fprintf(stderr, "session %s failed: %s\n", session.id().c_str(), e.what());
+  session.end_all(Refusal(RefusalCode::internal,
+                          std::string("the session failed on the server: ") + e.what()));
+}
+
 void SessionHub::tick_all(Clock::time_point now) {
+  if (tick_serials_.size() == 2) {
+    context_->wait_for(tick_serials_.front());
+    tick_serials_.pop_front();
+  }
+  std::vector<Session*> ticking;
+  std::vector<GpuDemand> demands;
+  for (auto& [id, session] : sessions_) {
+    try {
+      demands.push_back(session->prepare(now));
+      ticking.push_back(session.get());
+    } catch (const std::exception& e) {
+      end_failed(*session, e);
+    }
+  }
+  const double period_ms = 1000.0 / limits_.target_fps;
+  const std::vector<GpuGrant> grants = grant_gpu_time(period_ms, limits_.sim_share, demands);
+  for (std::size_t k = 0; k < ticking.size(); ++k) {
+    try {
+      ticking[k]->run(grants[k], now);
+    } catch (const std::exception& e) {
+      end_failed(*ticking[k], e);
+    }
+  }
+  tick_serials_.push_back(context_->last_submitted());
   for (auto it = sessions_.begin(); it != sessions_.end();) {
     Session& session = *it->second;
-    try {
-      session.tick(now);
-    } catch (const std::exception& e) {
-      // A session that fails ends alone; the others go on.
-      std::fprintf(stderr, "session %s failed: %s\n", session.id().c_str(), e.what());
-      session.end_all(Refusal(RefusalCode::internal,
-                              std::string("the session failed on the server: ") + e.what()));
-    }
     const bool expired = session.viewer_count() == 0 &&
                          now - session.empty_since() > limits_.resume_grace;
-    it = expired ? sessions_.erase(it) : std::next(it);
+    if (expired) {
+      metrics_->forget_session(session.id());
+      it = sessions_.erase(it);
+    } else {
+      metrics_->set_session(session.id(), session.figures());
+      ++it;
+    }
   }
   session_count_ = static_cast<std::uint32_t>(sessions_.size());
   metrics_->sessions = sessions_.size();
   metrics_->gpu_memory_bytes = context_->memory().block_count() * gpu::MemoryAllocator::kBlockSize;
+}
+
+void SessionHub::collect_frames(Clock::time_point deadline) {
+  context_->wait_for(context_->last_submitted(),
+                     std::max(Clock::duration::zero(), deadline - Clock::now()));
+  for (auto& [id, session] : sessions_) {
+    try {
+      session->collect_finished_frames();
+    } catch (const std::exception& e) {
+      end_failed(*session, e);
+    }
+  }
 }
 
 void SessionHub::run() {
@@ -233,6 +273,7 @@ void SessionHub::run() {
     tick_all(now);
     // Late ticks are not made up: the next one is an interval from now at the latest.
     next_tick = std::max(next_tick + interval, now);
+    collect_frames(next_tick);
   }
   const Refusal stopping(RefusalCode::unavailable, "the server is shutting down");
   for (auto& [id, session] : sessions_) session->end_all(stopping);

@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <condition_variable>
+#include <deque>
 #include <functional>
 #include <map>
 #include <memory>
@@ -57,6 +58,11 @@ class SessionHub {
   void run();
   void run_jobs(std::vector<std::function<void()>>& jobs);
   void tick_all(Clock::time_point now);
+  // A session that fails ends alone, with INTERNAL for its viewers; the others go on.
+  void end_failed(Session& session, const std::exception& e);
+  // Between ticks: waits until the GPU has drawn this tick's frames or `deadline` comes, and
+  // sends what is finished.
+  void collect_frames(Clock::time_point deadline);
   std::shared_ptr<Session> find(const std::string& id) const;  // worker thread
   std::string new_session_id();
 
@@ -72,6 +78,9 @@ class SessionHub {
   // Worker state: only the worker touches it.
   std::map<std::string, std::shared_ptr<Session>> sessions_;
   std::uint64_t session_seed_;
+  // The newest submission of each of the last ticks: a tick starts once the one two before it has
+  // finished on the GPU, so no more than one tick's work waits behind the one executing.
+  std::deque<std::uint64_t> tick_serials_;
 
   mutable std::mutex mutex_;
   std::condition_variable wake_;

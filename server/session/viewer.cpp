@@ -32,7 +32,7 @@ void Viewer::resize(std::uint32_t width, std::uint32_t height) {
   auto renderer = std::make_unique<render::FrameRenderer>(*context_, width, height);
   if (renderer_) {
     renderer->probe = renderer_->probe;
-    while (renderer_->frames_pending() > 0) renderer_->take_oldest();  // dropped: old size
+    context_->retire(std::move(renderer_));  // its frames in flight, of the old size, are dropped
   }
   in_flight_.clear();
   renderer_ = std::move(renderer);
@@ -127,6 +127,18 @@ bool Viewer::due(Clock::time_point now) const {
   return now >= next_frame_ && !throttled() && *encoding_ < kMaxFramesEncoding;
 }
 
+void Viewer::note_input(std::uint64_t event_id, Clock::time_point received) {
+  if (event_id < newest_input_) return;
+  newest_input_ = event_id;
+  newest_input_received_ = received;
+}
+
+double Viewer::input_wait_ms(Clock::time_point tick_start) const {
+  if (newest_input_received_ == Clock::time_point{}) return 0.0;
+  return std::max(0.0, std::chrono::duration<double, std::milli>(tick_start -
+                                                                 newest_input_received_).count());
+}
+
 void Viewer::submit(const render::ParticleView& particles, const sim::Box& tank, Shows shows,
                     Clock::time_point now) {
   next_frame_ = std::max(next_frame_ + frame_interval_, now);
@@ -135,16 +147,23 @@ void Viewer::submit(const render::ParticleView& particles, const sim::Box& tank,
   shows.renderer = kind == render::RendererKind::mc     ? "mc"
                    : kind == render::RendererKind::ssfr ? "ssfr"
                                                         : "points";
+  shows.submitted = Clock::now();
   in_flight_.push_back(std::move(shows));
 }
+
+bool Viewer::frame_finished() const { return !in_flight_.empty() && renderer_->oldest_finished(); }
 
 std::optional<Viewer::Finished> Viewer::take_finished(Clock::time_point now) {
   if (in_flight_.empty()) return std::nullopt;
   const bool probed = renderer_->probe.has_value();
   codec::ImageRgba image = renderer_->take_oldest();
-  Finished finished{std::move(image), ++sequence_, std::move(in_flight_.front()),
-                    renderer_->last_times(), jpeg_quality_};
+  const auto taken = Clock::now();
+  const double queue_ms =
+      std::chrono::duration<double, std::milli>(taken - in_flight_.front().submitted).count();
+  Finished finished{std::move(image),          ++sequence_, std::move(in_flight_.front()),
+                    renderer_->last_times(), queue_ms,    jpeg_quality_};
   in_flight_.pop_front();
+  frame_cost_.add(finished.times.drawing_ms() + finished.times.readback_ms);
   if (probed && !grab_depth_) {
     ++probe_frames_;
     if (const auto hit = renderer_->last_probe_hit()) {

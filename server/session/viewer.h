@@ -17,6 +17,7 @@
 #include "fluidcast/render/frame_renderer.h"
 #include "fluidcast/sim/solver.h"
 #include "gestures.h"
+#include "gpu_budget.h"
 #include "server_limits.h"
 #include "viewer_sink.h"
 
@@ -56,11 +57,15 @@ class Viewer {
   // Whether to render a frame now: its rate is due and it does not have too many in flight.
   bool due(Clock::time_point now) const;
   bool throttled() const;
-  // What a frame shows, besides its pixels.
+  // What a frame shows, besides its pixels, and when its tick began.
   struct Shows {
     std::uint64_t input_event_id = 0;  // the newest of this viewer's inputs applied
     double sim_time = 0.0;
-    double sim_ms = 0.0;  // the simulation's time in the tick that drew it
+    double sim_ms = 0.0;     // the simulation's time in the tick that drew it
+    double sim_speed = 0.0;  // simulated seconds per wall second (SimSpeed)
+    double input_wait_ms = 0.0;
+    Clock::time_point tick_start{};
+    Clock::time_point submitted{};
     std::string renderer;
   };
   struct Finished {
@@ -68,17 +73,24 @@ class Viewer {
     std::uint64_t sequence;
     Shows shows;
     render::RenderTimes times;
+    double queue_ms;  // submitted to taken back
     int jpeg_quality;
   };
   // Renders into the read-back ring; the GPU copies the frame to the host while the worker goes
-  // on with its next tick.
+  // on. `shows.tick_start` is when the tick that draws it began.
   void submit(const render::ParticleView& particles, const sim::Box& tank, Shows shows,
               Clock::time_point now);
   // The oldest frame in the ring, waiting for it if need be (a tick after its submission it is
   // done).
   std::optional<Finished> take_finished(Clock::time_point now);
-  void note_input(std::uint64_t event_id) { newest_input_ = std::max(newest_input_, event_id); }
+  // Whether take_finished() has a frame that the GPU has finished.
+  bool frame_finished() const;
+  // GPU milliseconds one of its frames costs (render passes and read-back, from timestamps).
+  const CostEstimate& frame_cost() const { return frame_cost_; }
+  void note_input(std::uint64_t event_id, Clock::time_point received);
   std::uint64_t newest_input() const { return newest_input_; }
+  // How long the newest input waited for the tick that applies it.
+  double input_wait_ms(Clock::time_point tick_start) const;
 
   render::OrbitCamera& camera() { return camera_; }
   // Counts frames in the encoders; the encoder's callback decrements it.
@@ -108,7 +120,9 @@ class Viewer {
   int probe_frames_ = 0;
   std::optional<glm::vec3> collider_centre_;
   std::deque<Shows> in_flight_;  // what each frame in the renderer's ring shows
+  CostEstimate frame_cost_;
   std::uint64_t newest_input_ = 0;
+  Clock::time_point newest_input_received_{};
   std::shared_ptr<std::atomic<int>> encoding_ = std::make_shared<std::atomic<int>>(0);
   // Flow control.
   std::uint64_t sequence_ = 0;

@@ -107,6 +107,41 @@ TEST_F(GpuContextTest, ValidationErrorsAreCollected) {
   forget_validation_messages();  // this test made them on purpose
 }
 
+TEST_F(GpuContextTest, SubmissionsAreNumberedAndTheTimelineFollowsThem) {
+  const std::uint64_t before = context().last_submitted();
+  const Buffer buffer(context(), 256, MemoryDomain::device);
+  upload<std::uint32_t>(context(), buffer, std::vector<std::uint32_t>(64, 7));
+  const std::uint64_t serial = context().last_submitted();
+  EXPECT_EQ(serial, before + 1);
+  EXPECT_GE(context().last_finished(), serial);  // upload waits for its submission
+  EXPECT_TRUE(context().wait_for(serial, std::chrono::milliseconds(0)));
+  // A serial not yet submitted is not finished: the wait gives up at its timeout.
+  EXPECT_FALSE(context().wait_for(serial + 1, std::chrono::milliseconds(1)));
+}
+
+// Counts destructions, to see when the context lets go of what was retired.
+struct Watched {
+  explicit Watched(std::shared_ptr<int> count) : destroyed(std::move(count)) {}
+  Watched(Watched&&) = default;
+  ~Watched() {
+    if (destroyed) ++*destroyed;
+  }
+  std::shared_ptr<int> destroyed;
+};
+
+TEST_F(GpuContextTest, RetiredObjectsGoOnASubmissionAfterTheirLastHasFinished) {
+  auto destroyed = std::make_shared<int>(0);
+  const std::size_t before = context().retired_count();
+  context().retire(Watched(destroyed));
+  context().retire(Buffer(context(), 1024, MemoryDomain::device));
+  EXPECT_EQ(*destroyed, 0);  // kept until a later submission finds its work finished
+  EXPECT_EQ(context().retired_count(), before + 2);
+  const Buffer buffer(context(), 16, MemoryDomain::device);
+  upload<std::uint32_t>(context(), buffer, std::vector<std::uint32_t>(4, 1));
+  EXPECT_EQ(*destroyed, 1);
+  EXPECT_EQ(context().retired_count(), 0u);
+}
+
 TEST(VulkanCheck, NamesTheCallTheResultAndThePlace) {
   try {
     FLUIDCAST_VK_CHECK(VK_ERROR_OUT_OF_DEVICE_MEMORY);

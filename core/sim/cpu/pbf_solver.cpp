@@ -16,10 +16,14 @@ PbfSolver::PbfSolver(Scene scene, const SolverParams& params)
   inv_w_dq_ = constants.inv_w_dq;
 }
 
-void PbfSolver::advance() {
-  const int substeps = pbf_substep_count(max_speed(), max_collider_speed(), glm::length(gravity()),
-                                         params(), kernels_.radius());
-  dt_ = params().time_step / static_cast<float>(substeps);
+int PbfSolver::substeps_for(float seconds) {
+  return pbf_substep_count(seconds, max_speed(), max_collider_speed(), glm::length(gravity()),
+                           params(), kernels_.radius());
+}
+
+void PbfSolver::advance(float seconds) {
+  const int substeps = substeps_for(seconds);
+  dt_ = seconds / static_cast<float>(substeps);
   for (int s = 0; s < substeps; ++s) {
     set_time_into_step(static_cast<float>(s + 1) * dt_);  // predicted positions are at its end
     substep();

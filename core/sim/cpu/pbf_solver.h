@@ -19,7 +19,8 @@ class PbfSolver final : public CpuSolver {
   SolverKind kind() const override { return SolverKind::pbf; }
 
  private:
-  void advance() override;
+  int substeps_for(float seconds) override;
+  void advance(float seconds) override;
   void substep();
   void predict();
   void compute_lambdas();

@@ -18,8 +18,14 @@ SphSolver::SphSolver(Scene scene, const SolverParams& params)
     : CpuSolver(std::move(scene), params),
       min_substep_(params.time_step / static_cast<float>(params.max_substeps)) {}
 
-void SphSolver::advance() {
-  float remaining = params().time_step;
+int SphSolver::substeps_for(float seconds) {
+  const float dt = stable_substep(last_max_acceleration_);
+  return static_cast<int>(std::clamp(std::ceil(seconds / dt), 1.0f,
+                                     static_cast<float>(params().max_substeps)));
+}
+
+void SphSolver::advance(float seconds) {
+  float remaining = seconds;
   while (remaining > 0.0f) {
     ++stage_times_.substeps;
     {
@@ -31,6 +37,7 @@ void SphSolver::advance() {
       StageTimer timer(stage_times_.solve_ms);
       compute_densities_and_pressures();
       max_acceleration = compute_accelerations();
+      last_max_acceleration_ = max_acceleration;
     }
     float dt;
     {
@@ -40,7 +47,7 @@ void SphSolver::advance() {
       if (dt < remaining && remaining < 2.0f * dt) dt = 0.5f * remaining;
     }
     StageTimer timer(stage_times_.predict_ms);
-    set_time_into_step(params().time_step - remaining + dt);
+    set_time_into_step(seconds - remaining + dt);
     integrate(dt);
     remaining -= dt;
   }

@@ -18,7 +18,8 @@ class SphSolver final : public CpuSolver {
   SolverKind kind() const override { return SolverKind::sph; }
 
  private:
-  void advance() override;
+  int substeps_for(float seconds) override;
+  void advance(float seconds) override;
   void compute_densities_and_pressures();
   // Returns the largest acceleration magnitude.
   float compute_accelerations();
@@ -27,6 +28,7 @@ class SphSolver final : public CpuSolver {
 
   std::vector<float> density_, pressure_, chunk_max_acceleration_;
   float min_substep_;  // time_step / max_substeps
+  float last_max_acceleration_ = 0.0f;  // of the newest substep, for substeps_for()
   std::vector<glm::vec3> acceleration_;
 };
 

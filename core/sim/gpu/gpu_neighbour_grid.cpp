@@ -2,6 +2,7 @@
 
 #include <cstddef>
 #include <glm/glm.hpp>
+#include <utility>
 
 #include "fluidcast_shaders/fluidcast_sim.h"
 
@@ -70,10 +71,11 @@ void GpuNeighbourGrid::reserve(std::size_t capacity) {
   gpu::Buffer rank(*context_, bytes, gpu::MemoryDomain::device);
   gpu::Buffer order(*context_, bytes, gpu::MemoryDomain::device);
   gpu::Buffer sorted_cell(*context_, bytes, gpu::MemoryDomain::device);
-  cell_of_ = std::move(cell_of);
-  rank_ = std::move(rank);
-  order_ = std::move(order);
-  sorted_cell_ = std::move(sorted_cell);
+  // Steps and frames in flight may still use the old ones.
+  context_->retire(std::exchange(cell_of_, std::move(cell_of)));
+  context_->retire(std::exchange(rank_, std::move(rank)));
+  context_->retire(std::exchange(order_, std::move(order)));
+  context_->retire(std::exchange(sorted_cell_, std::move(sorted_cell)));
   capacity_ = capacity;
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <utility>
 
 #include "fluidcast/gpu/transfer.h"
 #include "fluidcast/gpu/vk_check.h"
@@ -37,9 +38,9 @@ float float_from_bits(std::uint32_t bits) {
 }  // namespace
 
 GpuSolver::InFlight::InFlight(gpu::Context& context)
-    : commands(context),
-      stats(context, 2 * sizeof(std::uint32_t), gpu::MemoryDomain::readback),
-      timestamps(context, kTimestampCapacity) {}
+    : stats(context, 2 * sizeof(std::uint32_t), gpu::MemoryDomain::readback),
+      timestamps(context, kTimestampCapacity),
+      commands(context) {}
 
 GpuSolver::Pipelines::Pipelines(gpu::Context& c)
     : predict(c, shaders::sim_predict_comp, sizeof(SimPass), kGroup),
@@ -73,16 +74,6 @@ GpuSolver::GpuSolver(SolverKind kind, gpu::Context& context, Scene scene,
   scorr_scale_ = pbf.scorr_scale;
   inv_w_dq_ = pbf.inv_w_dq;
   load_particles(this->scene().particles);
-}
-
-GpuSolver::~GpuSolver() {
-  for (auto& slot : in_flight_) {
-    try {
-      slot.commands.wait();
-    } catch (const gpu::VulkanError&) {
-      // A lost device has nothing left to wait for; the handles are destroyed all the same.
-    }
-  }
 }
 
 std::uint64_t GpuSolver::bytes_needed(std::size_t particles) const {
@@ -129,12 +120,14 @@ void GpuSolver::allocate(std::size_t capacity) {
   b.acceleration = device(pbf ? 0 : 16);
   b.density_ratio = device(4);
   grid_.reserve(capacity);  // may throw: then nothing has changed
-  buffers_ = std::move(b);
+  context_->retire(std::exchange(buffers_, std::move(b)));  // steps and frames may still read them
   capacity_ = capacity;
 }
 
 void GpuSolver::load_particles(const ParticleSet& particles) {
-  synchronize();
+  // Steps in flight finish on the old particles (the uploads below wait for them in the queue);
+  // their figures no longer describe these particles.
+  for (InFlight& slot : in_flight_) slot.stale_stats = true;
   const std::size_t n = particles.size();
   if (n > capacity_ || !buffers_.position) {
     // Room to grow, so that adding a few particles at a time does not reallocate every time.
@@ -199,17 +192,25 @@ void GpuSolver::synchronize() {
   for (auto& slot : in_flight_) {
     slot.commands.wait();
   }
+  count_finished_steps();
+}
+
+void GpuSolver::count_finished_steps() {
   // Older first, so that the newest step's figures are the ones kept.
-  harvest(in_flight_[next_slot_]);
-  harvest(in_flight_[next_slot_ ^ 1]);
+  for (InFlight* slot : {&in_flight_[next_slot_], &in_flight_[next_slot_ ^ 1]}) {
+    if (!slot->commands.busy()) harvest(*slot);
+  }
 }
 
 void GpuSolver::harvest(InFlight& slot) {
   if (slot.harvested) return;
   slot.harvested = true;
-  const auto stats = slot.stats.mapped<std::uint32_t>();
-  largest_speed_ = std::sqrt(float_from_bits(stats[0]));
-  largest_acceleration_ = float_from_bits(stats[1]);
+  if (!slot.stale_stats) {
+    const auto stats = slot.stats.mapped<std::uint32_t>();
+    largest_speed_ = std::sqrt(float_from_bits(stats[0]));
+    largest_acceleration_ = float_from_bits(stats[1]);
+  }
+  stage_times_.substeps += static_cast<std::uint64_t>(slot.substeps);
   if (slot.marks.empty()) return;
   slot.timestamps.fetch();
   for (std::uint32_t k = 0; k < slot.marks.size(); ++k) {
@@ -305,7 +306,7 @@ SimParams GpuSolver::step_params() const {
   return p;
 }
 
-int GpuSolver::substeps_for_next_step() const {
+int GpuSolver::substeps_for(float seconds) {
   float largest_collider_speed = 0.0f;
   for (const Collider& c : colliders()) {
     largest_collider_speed = std::max(largest_collider_speed, glm::length(c.velocity));
@@ -315,15 +316,14 @@ int GpuSolver::substeps_for_next_step() const {
   // gravity adds over that step too.
   const bool previous_running = in_flight_[next_slot_ ^ 1].commands.busy();
   const float g = glm::length(gravity());
-  const float speed = largest_speed_ + (previous_running ? g * params().time_step : 0.0f);
+  const float speed = largest_speed_ + (previous_running ? g * seconds : 0.0f);
   if (kind_ == SolverKind::pbf) {
-    return pbf_substep_count(speed, largest_collider_speed, g, params(), h);
+    return pbf_substep_count(seconds, speed, largest_collider_speed, g, params(), h);
   }
-  const float step = params().time_step;
   const float dt = sph_stable_substep(speed, largest_acceleration_, params(), h);
   if (!std::isfinite(dt) || dt <= 0.0f) return params().max_substeps;
   return static_cast<int>(
-      std::clamp(std::ceil(step / dt), 1.0f, static_cast<float>(params().max_substeps)));
+      std::clamp(std::ceil(seconds / dt), 1.0f, static_cast<float>(params().max_substeps)));
 }
 
 void GpuSolver::mark(VkCommandBuffer commands, InFlight& slot, Stage stage, int index) {
@@ -332,14 +332,14 @@ void GpuSolver::mark(VkCommandBuffer commands, InFlight& slot, Stage stage, int 
   slot.marks.emplace_back(stage, index);
 }
 
-void GpuSolver::advance() {
+void GpuSolver::advance(float seconds) {
   InFlight& slot = in_flight_[next_slot_];
   slot.commands.wait();
   harvest(slot);
   if (!in_flight_[next_slot_ ^ 1].commands.busy()) harvest(in_flight_[next_slot_ ^ 1]);
 
-  const int substeps = substeps_for_next_step();
-  const float dt = params().time_step / static_cast<float>(substeps);
+  const int substeps = substeps_for(seconds);
+  const float dt = seconds / static_cast<float>(substeps);
   const int marks_per_substep = kind_ == SolverKind::pbf ? 4 + params().iterations : 3;
   const bool timed = context_->timestamps_supported() &&
                      1 + substeps * marks_per_substep <= static_cast<int>(kTimestampCapacity);
@@ -368,7 +368,8 @@ void GpuSolver::advance() {
   gpu::to_host_barrier(commands);
   slot.commands.submit();
   slot.harvested = false;
-  stage_times_.substeps += static_cast<std::uint64_t>(substeps);
+  slot.stale_stats = false;
+  slot.substeps = substeps;
   next_slot_ ^= 1;
 }
 

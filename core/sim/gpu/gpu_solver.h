@@ -29,12 +29,13 @@ class GpuSolver final : public Solver {
   // operator who runs several simulations on one device.
   GpuSolver(SolverKind kind, gpu::Context& context, Scene scene, const SolverParams& params,
             std::uint64_t memory_budget_bytes = 0);
-  ~GpuSolver() override;
 
   SolverKind kind() const override { return kind_; }
   std::size_t particle_count() const override { return count_; }
   ParticleSet snapshot() const override;
   void synchronize() override;
+  void count_finished_steps() override;
+  int substeps_for(float seconds) override;
   std::optional<DeviceParticles> device_particles() const override {
     return DeviceParticles{buffers_.position.address(), buffers_.velocity.address(),
                            buffers_.density_ratio.address()};
@@ -45,7 +46,7 @@ class GpuSolver final : public Solver {
   std::size_t particles_that_fit() const;
 
  protected:
-  void advance() override;
+  void advance(float seconds) override;
   void append_particles(std::span<const glm::vec3> positions, std::span<const glm::vec3> velocities,
                         std::uint32_t first_id) override;
   std::size_t erase_particles_in_sphere(glm::vec3 centre, float radius) override;
@@ -55,12 +56,15 @@ class GpuSolver final : public Solver {
   enum class Stage { grid, predict, iteration, velocity, viscosity, solve };
   struct InFlight {
     explicit InFlight(gpu::Context& context);
-    gpu::CommandSlot commands;
     gpu::Buffer stats;  // readback: {largest |v|² bits, largest |a| bits}
     gpu::TimestampQueries timestamps;
+    // Last, so that it is destroyed first: its destructor waits for the step that uses the rest.
+    gpu::CommandSlot commands;
     std::vector<std::pair<Stage, int>> marks;  // what ended at each timestamp after the first
+    int substeps = 0;
     bool harvested = true;
     bool timed = false;
+    bool stale_stats = false;  // the particles were replaced while it ran
   };
   struct Pipelines {
     explicit Pipelines(gpu::Context& context);
@@ -70,7 +74,6 @@ class GpuSolver final : public Solver {
 
   void allocate(std::size_t capacity);
   SimParams step_params() const;
-  int substeps_for_next_step() const;
   void record_pbf_substep(VkCommandBuffer commands, InFlight& slot, const SimPass& pass);
   void record_sph_substep(VkCommandBuffer commands, InFlight& slot, const SimPass& pass);
   void mark(VkCommandBuffer commands, InFlight& slot, Stage stage, int index = 0);
@@ -91,6 +94,7 @@ class GpuSolver final : public Solver {
     gpu::Buffer density_ratio;                                     // both, for the renderer
   } buffers_;
   gpu::Buffer params_buffer_, stats_buffer_;
+  // Declared after what their steps use, so that their destructors wait before it goes.
   std::array<InFlight, 2> in_flight_;
   std::size_t next_slot_ = 0;
   // From the newest finished step (or the loaded particles).

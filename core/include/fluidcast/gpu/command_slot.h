@@ -1,5 +1,7 @@
 // A command buffer that is recorded, submitted, and recorded again once its fence says the GPU is
 // done with it. A ring of these keeps the host recording one step while the GPU runs another.
+// Its destructor waits for its last submission: an owner replaced while its work is in flight is
+// retired to the context (Context::retire) rather than destroyed, so that wait is not a drain.
 #pragma once
 
 #include "fluidcast/gpu/context.h"
@@ -10,12 +12,17 @@ namespace fluidcast::gpu {
 class CommandSlot {
  public:
   explicit CommandSlot(Context& context);
+  ~CommandSlot();
+  CommandSlot(CommandSlot&& other) noexcept;
+  CommandSlot& operator=(CommandSlot&&) = delete;
 
   // Waits for the last submission of this slot, then starts recording afresh.
   VkCommandBuffer begin();
-  void submit();
+  // Returns the submission's serial (Context::submit).
+  std::uint64_t submit();
   void wait() const;
   bool busy() const;  // submitted and not yet finished
+  std::uint64_t serial() const { return serial_; }  // of the last submission; 0 before any
 
  private:
   Context* context_;
@@ -23,6 +30,7 @@ class CommandSlot {
   VkCommandBuffer commands_ = VK_NULL_HANDLE;
   UniqueFence fence_;
   bool submitted_ = false;
+  std::uint64_t serial_ = 0;
 };
 
 // GPU timestamps written between stages of a command buffer, read once its fence has signalled.

@@ -6,7 +6,9 @@
 
 #include <vulkan/vulkan.h>
 
+#include <chrono>
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -77,12 +79,26 @@ class Context {
   float timestamp_period_ns() const { return properties_.limits.timestampPeriod; }
   MemoryAllocator& memory() { return *memory_; }
 
-  // Waits until the device has finished everything submitted: before freeing what work in flight
-  // may use (rare: a buffer that must grow), never on the per-frame path.
-  void wait_idle();
+  // Every submission goes through here and gets the next serial number; the context's timeline
+  // semaphore reaches that number when the submission has finished (and `fence`, if given, is
+  // signalled too). Serials are how lifetime and pacing are decided: no waits on the whole device.
+  std::uint64_t submit(VkCommandBuffer commands, VkFence fence = VK_NULL_HANDLE);
+  std::uint64_t last_submitted() const;
+  std::uint64_t last_finished() const;
+  // Waits until submission `serial` has finished, at most `timeout`; returns whether it has.
+  bool wait_for(std::uint64_t serial,
+                std::chrono::nanoseconds timeout = std::chrono::nanoseconds::max());
 
-  // Records with `record`, submits, and waits: for uploads, read-backs and other rare work,
-  // never for the per-step path.
+  // Keeps `object` (a buffer, a renderer: anything that work in flight may use) alive until every
+  // submission made so far has finished; a later submit() destroys it, on the submitting thread.
+  template <class T>
+  void retire(T object) {
+    retire_object(std::make_unique<Retired<T>>(std::move(object)));
+  }
+  std::size_t retired_count() const;  // retired and not yet destroyed
+
+  // Records with `record`, submits, and waits for that submission: for uploads, read-backs and
+  // other rare work, never for the per-step path.
   void run_now(const std::function<void(VkCommandBuffer)>& record);
 
   // Validation-layer errors and warnings since the context was made (empty without validation).
@@ -93,6 +109,22 @@ class Context {
       VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebugUtilsMessageTypeFlagsEXT types,
       const VkDebugUtilsMessengerCallbackDataEXT* data, void* user);
   void release();  // what the destructor does; also when the constructor fails half-way
+
+  struct RetiredObject {
+    virtual ~RetiredObject() = default;
+  };
+  template <class T>
+  struct Retired final : RetiredObject {
+    explicit Retired(T held) : object(std::move(held)) {}
+    T object;
+  };
+  struct RetiredAfter {
+    std::uint64_t after;  // the last submission that may use it
+    std::unique_ptr<RetiredObject> object;
+  };
+  void retire_object(std::unique_ptr<RetiredObject> object);
+  // Under submit_mutex_: the retired objects whose last submission has finished.
+  std::vector<std::unique_ptr<RetiredObject>> take_released(std::uint64_t finished);
 
   VkInstance instance_ = VK_NULL_HANDLE;
   VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
@@ -105,6 +137,10 @@ class Context {
   std::uint32_t timestamp_valid_bits_ = 0;
   bool fragment_stores_ = false;
   std::unique_ptr<MemoryAllocator> memory_;
+  VkSemaphore finished_ = VK_NULL_HANDLE;  // timeline: the serial of the newest finished submission
+  mutable std::mutex submit_mutex_;        // the queue, the serial and the retired objects
+  std::uint64_t last_submitted_ = 0;
+  std::deque<RetiredAfter> retired_;
   mutable std::mutex validation_mutex_;
   std::vector<std::string> validation_errors_;
 };

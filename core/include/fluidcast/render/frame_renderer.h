@@ -123,6 +123,8 @@ class FrameRenderer {
   // std::logic_error when there is none.
   codec::ImageRgba take_oldest();
   std::size_t frames_pending() const;
+  // Whether take_oldest() would return without waiting.
+  bool oldest_finished() const;
   std::uint64_t frames_dropped() const { return dropped_; }
   // The passes of the frame most recently taken or kept.
   const RenderTimes& last_times() const { return last_times_; }
@@ -137,9 +139,10 @@ class FrameRenderer {
  private:
   struct Slot {
     explicit Slot(gpu::Context& context, std::uint64_t bytes);
-    gpu::CommandSlot commands;
     gpu::Buffer readback;
     gpu::TimestampQueries timestamps;
+    // Last, so that it is destroyed first: its destructor waits for the frame that uses the rest.
+    gpu::CommandSlot commands;
     bool in_flight = false;
     std::uint64_t frame = 0;
     std::optional<glm::vec2> probe;  // where this frame read the surface back, if it did

@@ -41,7 +41,8 @@ inline constexpr float kMaxColliderRadius = 10.0f;  // m
 inline constexpr std::size_t kMaxColliders = 16;
 
 // Milliseconds spent per stage since the last clear: wall-clock on the CPU, GPU time (from
-// timestamps) on the GPU, where a step counts once it has finished (see synchronize()).
+// timestamps) on the GPU, where a step counts once it has finished (see synchronize() and
+// count_finished_steps()); `substeps` counts the substeps of the same steps.
 struct StageTimes {
   double grid_ms = 0;       // counting sort, reorder, neighbour lists
   double predict_ms = 0;    // PBF: forces and prediction; SPH: time integration and collisions
@@ -77,9 +78,18 @@ class Solver {
 
   // Advances the simulation by params().time_step, colliders included. A GPU solver may return
   // before the GPU has finished the step; snapshot() and synchronize() wait for it.
-  void step();
+  void step() { step(params().time_step); }
+  // A shorter step, of `seconds` in (0, params().time_step]: what a frame loop that cannot keep
+  // up with real time runs (slow motion). Throws std::invalid_argument outside that range.
+  void step(float seconds);
+  // The substeps a step of `seconds` would take now, by the solver's own rule (CFL and, for SPH,
+  // the force and viscous bounds), from the newest state it knows: what a frame loop that pays
+  // per substep plans with.
+  virtual int substeps_for(float seconds) = 0;
   // Waits until every step so far has finished and its stage times are counted.
   virtual void synchronize() {}
+  // Counts the stage times of the steps that have finished, without waiting for the others.
+  virtual void count_finished_steps() {}
 
   // Inputs. Each throws std::invalid_argument naming what was wrong, and then changes nothing.
   void set_gravity(glm::vec3 gravity);
@@ -106,7 +116,7 @@ class Solver {
   void clear_stage_times() { stage_times_ = {}; }
 
  protected:
-  virtual void advance() = 0;
+  virtual void advance(float seconds) = 0;
   virtual void append_particles(std::span<const glm::vec3> positions,
                                 std::span<const glm::vec3> velocities, std::uint32_t first_id) = 0;
   virtual std::size_t erase_particles_in_sphere(glm::vec3 centre, float radius) = 0;

@@ -1,0 +1,68 @@
+#include "gpu_budget.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace fluidcast::server {
+namespace {
+
+// Weight of the newest sample: a change of cost is followed within about four samples.
+constexpr double kNewestSampleWeight = 0.25;
+
+}  // namespace
+
+std::vector<double> share_equally(double budget, std::span<const double> demands) {
+  std::vector<double> shares(demands.size(), 0.0);
+  std::vector<std::size_t> order(demands.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return demands[a] < demands[b]; });
+  double left = std::max(0.0, budget);
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    // The smallest remaining demand is met when it fits under an equal split of what is left.
+    const double level = left / double(order.size() - k);
+    const double share = std::min(std::max(0.0, demands[order[k]]), level);
+    shares[order[k]] = share;
+    left -= share;
+  }
+  return shares;
+}
+
+std::vector<GpuGrant> grant_gpu_time(double period_ms, double sim_share,
+                                     std::span<const GpuDemand> demands) {
+  std::vector<double> sim(demands.size()), render(demands.size());
+  std::size_t rendering = 0;
+  for (std::size_t k = 0; k < demands.size(); ++k) {
+    sim[k] = demands[k].sim_ms;
+    render[k] = demands[k].render_ms;
+    rendering += demands[k].render_ms > 0.0 ? 1 : 0;
+  }
+  const std::vector<double> sim_granted = share_equally(sim_share * period_ms, sim);
+  const double sim_total = std::accumulate(sim_granted.begin(), sim_granted.end(), 0.0);
+  const std::vector<double> render_granted = share_equally(period_ms - sim_total, render);
+  std::vector<GpuGrant> grants(demands.size());
+  for (std::size_t k = 0; k < demands.size(); ++k) {
+    const bool renders = demands[k].render_ms > 0.0;
+    grants[k] = {sim_granted[k], render_granted[k], rendering > (renders ? 1u : 0u)};
+  }
+  return grants;
+}
+
+void GpuAccount::deposit(double grant_ms, double dearest_item_ms) {
+  balance_ms_ = std::min(balance_ms_ + grant_ms, grant_ms + std::max(0.0, dearest_item_ms));
+}
+
+int GpuAccount::affordable(double item_ms) const {
+  if (!can_spend()) return 0;
+  if (!(item_ms > 0.0)) return 1;
+  return std::max(1, static_cast<int>(std::floor(balance_ms_ / item_ms)));
+}
+
+void CostEstimate::add(double ms) {
+  if (!std::isfinite(ms) || ms < 0.0) return;
+  ms_ = known_ ? (1.0 - kNewestSampleWeight) * ms_ + kNewestSampleWeight * ms : ms;
+  known_ = true;
+}
+
+}  // namespace fluidcast::server

@@ -1,0 +1,144 @@
+// How sessions share the GPU's time: water-filling, grants, accounts, cost estimates, and the
+// simulation speed. Pure arithmetic; no Vulkan.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numeric>
+
+#include "session/gpu_budget.h"
+#include "session/sim_speed.h"
+
+namespace fluidcast::server {
+namespace {
+
+double sum(const std::vector<double>& values) {
+  return std::accumulate(values.begin(), values.end(), 0.0);
+}
+
+TEST(ShareEquallyTest, SmallDemandsAreMetAndTheRestSplitsWhatIsLeft) {
+  const std::vector<double> demands = {1.0, 10.0, 10.0};
+  const auto shares = share_equally(9.0, demands);
+  EXPECT_DOUBLE_EQ(shares[0], 1.0);
+  EXPECT_DOUBLE_EQ(shares[1], 4.0);
+  EXPECT_DOUBLE_EQ(shares[2], 4.0);
+}
+
+TEST(ShareEquallyTest, NeverMoreThanTheBudgetNorThanAsked) {
+  const std::vector<double> demands = {0.0, 3.0, 7.5, 100.0, 2.0};
+  for (double budget : {0.0, 1.0, 5.0, 20.0, 1000.0}) {
+    const auto shares = share_equally(budget, demands);
+    EXPECT_LE(sum(shares), budget + 1e-9);
+    for (std::size_t k = 0; k < demands.size(); ++k) EXPECT_LE(shares[k], demands[k] + 1e-12);
+    // Everything asked is given when it fits; the whole budget is used when it does not.
+    EXPECT_NEAR(sum(shares), std::min(budget, sum(demands)), 1e-9);
+  }
+}
+
+TEST(ShareEquallyTest, NegativeBudgetsAndDemandsGiveNothing) {
+  const std::vector<double> demands = {-1.0, 2.0};
+  EXPECT_EQ(share_equally(-5.0, demands), (std::vector<double>{0.0, 0.0}));
+  EXPECT_EQ(share_equally(5.0, demands), (std::vector<double>{0.0, 2.0}));
+}
+
+TEST(GrantGpuTimeTest, AHeavySessionCannotTakeTheLightOnesShare) {
+  // 60 Hz; a 1M-particle session wants 40 ms of substeps and a 7 ms frame, three small ones 1 ms
+  // of each.
+  const std::vector<GpuDemand> demands = {{40.0, 7.0}, {1.0, 1.0}, {1.0, 1.0}, {1.0, 1.0}};
+  const double period = 1000.0 / 60.0;
+  const auto grants = grant_gpu_time(period, 0.5, demands);
+  for (std::size_t k = 1; k < 4; ++k) {
+    EXPECT_DOUBLE_EQ(grants[k].sim_ms, 1.0);
+    EXPECT_DOUBLE_EQ(grants[k].render_ms, 1.0);
+    EXPECT_TRUE(grants[k].contended);
+  }
+  // The heavy one simulates with what the half period leaves, and renders with what the other
+  // half leaves: short of its 7 ms frame, so its account pays for one every few ticks.
+  EXPECT_NEAR(grants[0].sim_ms, 0.5 * period - 3.0, 1e-9);
+  EXPECT_NEAR(grants[0].render_ms, 0.5 * period - 3.0, 1e-9);
+  double total = 0.0;
+  for (const GpuGrant& g : grants) total += g.sim_ms + g.render_ms;
+  EXPECT_LE(total, period + 1e-9);
+}
+
+TEST(GrantGpuTimeTest, RenderingGetsWhatSimulationLeaves) {
+  const std::vector<GpuDemand> demands = {{0.0, 30.0}};
+  const auto grants = grant_gpu_time(20.0, 0.5, demands);
+  EXPECT_DOUBLE_EQ(grants[0].render_ms, 20.0);
+  EXPECT_FALSE(grants[0].contended);  // alone: nobody waits behind its frames
+}
+
+TEST(GrantGpuTimeTest, OnlyOtherSessionsFramesMakeAContest) {
+  const std::vector<GpuDemand> demands = {{5.0, 3.0}, {5.0, 0.0}};
+  const auto grants = grant_gpu_time(16.0, 0.5, demands);
+  EXPECT_FALSE(grants[0].contended);
+  EXPECT_TRUE(grants[1].contended);
+}
+
+TEST(GpuAccountTest, AnItemDearerThanAGrantRunsOnceEnoughTicksPaidForIt) {
+  GpuAccount account;
+  int runs = 0;
+  for (int tick = 0; tick < 40; ++tick) {
+    account.deposit(2.0, 10.0);  // 2 ms a tick for an item of 10 ms
+    if (account.can_spend()) {
+      account.spend(10.0);
+      ++runs;
+    }
+  }
+  EXPECT_EQ(runs, 8);  // 80 ms paid over 40 ticks: every fifth tick
+}
+
+TEST(GpuAccountTest, CreditCannotBeHoarded) {
+  GpuAccount account;
+  for (int tick = 0; tick < 100; ++tick) account.deposit(2.0, 3.0);
+  EXPECT_DOUBLE_EQ(account.balance_ms(), 5.0);
+  EXPECT_EQ(account.affordable(1.0), 5);
+  EXPECT_EQ(account.affordable(4.0), 1);
+  account.spend(6.0);
+  EXPECT_EQ(account.affordable(1.0), 0);
+}
+
+TEST(CostEstimateTest, FollowsAChangeWithinAFewSamples) {
+  CostEstimate cost;
+  EXPECT_FALSE(cost.known());
+  cost.add(4.0);
+  EXPECT_TRUE(cost.known());
+  EXPECT_DOUBLE_EQ(cost.ms(), 4.0);
+  for (int k = 0; k < 12; ++k) cost.add(1.0);
+  EXPECT_NEAR(cost.ms(), 1.0, 0.1);
+  cost.add(-3.0);  // not a duration: ignored
+  cost.add(std::nan(""));
+  EXPECT_NEAR(cost.ms(), 1.0, 0.1);
+}
+
+TEST(SimSpeedTest, SimulatedSecondsPerWallSecondOverTheLastSecond) {
+  SimSpeed speed;
+  const SimSpeed::Clock::time_point start{};
+  EXPECT_EQ(speed.speed(), 0.0);
+  // Real time for two seconds, then half speed.
+  for (int tick = 0; tick <= 120; ++tick) {
+    speed.record(start + std::chrono::milliseconds(tick * 1000 / 60), tick / 60.0, true);
+  }
+  EXPECT_NEAR(speed.speed(), 1.0, 1e-6);
+  double sim = 2.0;
+  for (int tick = 121; tick <= 240; ++tick) {
+    sim += 0.5 / 60.0;
+    speed.record(start + std::chrono::milliseconds(tick * 1000 / 60), sim, true);
+  }
+  EXPECT_NEAR(speed.speed(), 0.5, 0.02);
+}
+
+TEST(SimSpeedTest, APauseOrAClockThatWentBackStartsAfresh) {
+  SimSpeed speed;
+  const SimSpeed::Clock::time_point start{};
+  speed.record(start, 5.0, true);
+  speed.record(start + std::chrono::milliseconds(100), 5.1, true);
+  EXPECT_NEAR(speed.speed(), 1.0, 1e-6);
+  speed.record(start + std::chrono::milliseconds(200), 5.1, false);
+  EXPECT_EQ(speed.speed(), 0.0);
+  speed.record(start + std::chrono::milliseconds(300), 5.1, true);
+  speed.record(start + std::chrono::milliseconds(400), 0.0, true);  // reset
+  EXPECT_EQ(speed.speed(), 0.0);
+}
+
+}  // namespace
+}  // namespace fluidcast::server
