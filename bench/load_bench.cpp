@@ -1,9 +1,11 @@
 // The load test: N headless clients, each with its own session, against one fluidcast-server on
-// loopback for S seconds. Prints a Markdown table (fps per client, touch-to-photon percentiles,
-// server memory) and exits 1 when a client got no frames, a stream failed, or the server's memory
-// grew past --max-growth-mb after the first seconds.
-//   fluidcast-bench-load [--clients 8] [--seconds 30] [--width 320] [--height 240]
-//                        [--particles 1000] [--server-flag=--device=0 ...]
+// loopback for S seconds. Prints a Markdown table (per client: fps, touch-to-photon percentiles,
+// simulation speed, GPU milliseconds per frame; server memory) and exits 1 when a client got no
+// frames, a stream failed, or the server's memory grew past --max-growth-mb after the first
+// quarter of the run. Figures are taken after --warm-up seconds (pipelines compiled, costs
+// measured).
+//   fluidcast-bench-load [--clients 8] [--seconds 30] [--warm-up 3] [--width 320] [--height 240]
+//                        [--particles 1000] [--renderer auto] [--server-flag=--backend=gpu ...]
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <atomic>
@@ -24,6 +26,7 @@ struct ClientResult {
   std::size_t frames = 0;
   std::size_t bytes = 0;
   std::vector<double> latencies_ms;
+  std::vector<double> sim_speed, gpu_ms, sim_ms;  // per frame: speed, render + read-back, steps
   std::string error;
 };
 
@@ -33,30 +36,41 @@ double percentile(std::vector<double> values, double p) {
   return values[std::min(values.size() - 1, std::size_t(p * double(values.size())))];
 }
 
-ClientResult run_client(const std::string& address, const v1::Hello& hello, double seconds) {
+ClientResult run_client(const std::string& address, const v1::Hello& hello, double warm_up,
+                        double seconds) {
   ClientResult result;
   try {
     client::StreamClient stream(client::connect(address), hello);
     const auto start = Clock::now();
     double next_move = 0.0;
     bool down = false;
+    std::size_t latencies_before = 0;
+    bool measuring = false;
     while (!stream.ended()) {
       const double t = std::chrono::duration<double>(Clock::now() - start).count();
-      if (t >= seconds) break;
+      if (t >= warm_up + seconds) break;
+      if (!measuring && t >= warm_up) {
+        measuring = true;
+        latencies_before = stream.latencies_ms().size();
+      }
       if (t >= next_move) {  // a finger to and fro, 20 moves a second
         const float x = 0.5f + 0.3f * float(std::sin(t * 3.0));
         stream.pointer(0, down ? v1::PointerEvent::MOVE : v1::PointerEvent::DOWN, x, 0.6f);
         down = true;
         next_move += 0.05;
       }
-      if (auto frame = stream.next_frame(std::chrono::milliseconds(10))) {
+      if (auto frame = stream.next_frame(std::chrono::milliseconds(10)); frame && measuring) {
         ++result.frames;
         result.bytes += frame->jpeg().size();
+        result.sim_speed.push_back(frame->sim_speed());
+        result.gpu_ms.push_back(frame->timings().render_ms() + frame->timings().readback_ms());
+        result.sim_ms.push_back(frame->timings().sim_ms());
       }
     }
     const grpc::Status status = stream.ended() ? stream.status() : stream.finish();
     if (!status.ok()) result.error = status.error_message();
-    result.latencies_ms = stream.latencies_ms();
+    const auto latencies = stream.latencies_ms();
+    result.latencies_ms.assign(latencies.begin() + std::ptrdiff_t(latencies_before), latencies.end());
   } catch (const std::exception& e) {
     result.error = e.what();
   }
@@ -65,11 +79,16 @@ ClientResult run_client(const std::string& address, const v1::Hello& hello, doub
 
 int run(int argc, char** argv) {
   unsigned clients = 8, width = 320, height = 240, particles = 1000;
-  double seconds = 30.0, max_growth_mb = 64.0;
+  double seconds = 30.0, warm_up = 3.0, max_growth_mb = 64.0;
+  std::string renderer;
   std::vector<std::string> server_flags;
   CLI::App app{"fluidcast-bench-load: N clients against one server on loopback"};
   app.add_option("--clients", clients)->check(CLI::Range(1u, 256u));
-  app.add_option("--seconds", seconds)->check(CLI::Range(1.0, 3600.0));
+  app.add_option("--seconds", seconds, "Seconds measured, after the warm-up")
+      ->check(CLI::Range(1.0, 3600.0));
+  app.add_option("--warm-up", warm_up, "Seconds streamed before measuring")
+      ->check(CLI::Range(0.0, 600.0));
+  app.add_option("--renderer", renderer, "auto, ssfr, mc or points (the server's default: auto)");
   app.add_option("--width", width);
   app.add_option("--height", height);
   app.add_option("--particles", particles);
@@ -83,18 +102,19 @@ int run(int argc, char** argv) {
   hello.mutable_viewport()->set_width(width);
   hello.mutable_viewport()->set_height(height);
   hello.mutable_create()->set_particles(particles);
+  if (!renderer.empty()) hello.mutable_quality()->set_renderer(renderer);
 
   std::vector<ClientResult> results(clients);
   std::vector<std::thread> threads;
   std::atomic<unsigned> finished{0};
   for (unsigned k = 0; k < clients; ++k) {
     threads.emplace_back([&, k] {
-      results[k] = run_client(server.grpc_address(), hello, seconds);
+      results[k] = run_client(server.grpc_address(), hello, warm_up, seconds);
       ++finished;
     });
   }
   // Memory: after a quarter of the run (sessions built, windows full), then the peak after it.
-  std::this_thread::sleep_for(std::chrono::duration<double>(seconds / 4));
+  std::this_thread::sleep_for(std::chrono::duration<double>(warm_up + seconds / 4));
   const long warm_kb = server.resident_kb();
   long peak_kb = warm_kb;
   while (finished < clients) {
@@ -104,25 +124,30 @@ int run(int argc, char** argv) {
   for (auto& thread : threads) thread.join();
   const int server_exit = server.stop();
 
-  std::printf("| client | frames | fps | kbit/s | latency p50 ms | p95 ms | max ms | error |\n");
-  std::printf("|---|---|---|---|---|---|---|---|\n");
+  std::printf("| client | frames | fps | kbit/s | latency p50 ms | p95 ms | max ms | sim speed | "
+              "GPU ms/frame | sim ms/frame | error |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
   bool failed = server_exit != 0;
-  std::vector<double> all;
+  std::vector<double> all, fps;
   for (unsigned k = 0; k < clients; ++k) {
     const ClientResult& r = results[k];
     all.insert(all.end(), r.latencies_ms.begin(), r.latencies_ms.end());
-    std::printf("| %u | %zu | %.1f | %.0f | %.0f | %.0f | %.0f | %s |\n", k, r.frames,
-                double(r.frames) / seconds, 8.0 * double(r.bytes) / seconds / 1000.0,
+    fps.push_back(double(r.frames) / seconds);
+    std::printf("| %u | %zu | %.1f | %.0f | %.0f | %.0f | %.0f | %.3f | %.2f | %.2f | %s |\n", k,
+                r.frames, fps.back(), 8.0 * double(r.bytes) / seconds / 1000.0,
                 percentile(r.latencies_ms, 0.5), percentile(r.latencies_ms, 0.95),
                 r.latencies_ms.empty() ? 0.0 : *std::max_element(r.latencies_ms.begin(), r.latencies_ms.end()),
+                percentile(r.sim_speed, 0.5), percentile(r.gpu_ms, 0.5), percentile(r.sim_ms, 0.5),
                 r.error.empty() ? "" : r.error.c_str());
     failed = failed || r.frames == 0 || !r.error.empty();
   }
   const double growth_mb = double(peak_kb - warm_kb) / 1024.0;
-  std::printf("\n%u clients × %.0f s at %ux%u, %u particles each: latency over all p50 %.0f ms, "
-              "p95 %.0f ms; server resident memory %.0f MB after warm-up, peak %.0f MB (growth "
-              "%.1f MB, allowed %.0f); server exit %d\n",
-              clients, seconds, width, height, particles, percentile(all, 0.5),
+  std::printf("\n%u clients × %.0f s (after %.0f s warm-up) at %ux%u, %u particles each: fps per "
+              "client min %.1f, median %.1f; latency over all p50 %.0f ms, p95 %.0f ms; server "
+              "resident memory %.0f MB after warm-up, peak %.0f MB (growth %.1f MB, allowed %.0f); "
+              "server exit %d\n",
+              clients, seconds, warm_up, width, height, particles,
+              *std::min_element(fps.begin(), fps.end()), percentile(fps, 0.5), percentile(all, 0.5),
               percentile(all, 0.95), double(warm_kb) / 1024.0, double(peak_kb) / 1024.0, growth_mb,
               max_growth_mb, server_exit);
   failed = failed || growth_mb > max_growth_mb;

@@ -26,12 +26,13 @@ double percentile(std::vector<double> values, double p) {
 // Where each frame's time went on the server (v1::StageTimings), and how fast its fluid ran.
 struct FrameFigures {
   std::vector<double> input_wait, sim, queue, render, readback, encode_wait, encode, server;
-  std::vector<double> on_server;  // input wait + server: the part of the latency spent there
+  // Input wait + server, for frames that show a new input: the part of its latency spent there.
+  std::vector<double> on_server;
   std::vector<double> sim_speed;
 
   void add(const v1::Frame& frame) {
     const v1::StageTimings& t = frame.timings();
-    input_wait.push_back(t.input_wait_ms());
+    if (t.input_wait_ms() > 0.0f) input_wait.push_back(t.input_wait_ms());
     sim.push_back(t.sim_ms());
     queue.push_back(t.queue_ms());
     render.push_back(t.render_ms());
@@ -39,7 +40,7 @@ struct FrameFigures {
     encode_wait.push_back(t.encode_wait_ms());
     encode.push_back(t.encode_ms());
     server.push_back(t.server_ms());
-    on_server.push_back(t.input_wait_ms() + t.server_ms());
+    if (t.input_wait_ms() > 0.0f) on_server.push_back(t.input_wait_ms() + t.server_ms());
     sim_speed.push_back(frame.sim_speed());
   }
 

@@ -32,21 +32,25 @@ std::vector<double> share_equally(double budget, std::span<const double> demands
 std::vector<GpuGrant> grant_gpu_time(double period_ms, double sim_share,
                                      std::span<const GpuDemand> demands) {
   std::vector<double> sim(demands.size()), render(demands.size());
-  std::size_t rendering = 0;
+  std::size_t watched = 0;
   for (std::size_t k = 0; k < demands.size(); ++k) {
     sim[k] = demands[k].sim_ms;
     render[k] = demands[k].render_ms;
-    rendering += demands[k].render_ms > 0.0 ? 1 : 0;
+    watched += demands[k].watched ? 1 : 0;
   }
   const std::vector<double> sim_granted = share_equally(sim_share * period_ms, sim);
   const double sim_total = std::accumulate(sim_granted.begin(), sim_granted.end(), 0.0);
   const std::vector<double> render_granted = share_equally(period_ms - sim_total, render);
   std::vector<GpuGrant> grants(demands.size());
   for (std::size_t k = 0; k < demands.size(); ++k) {
-    const bool renders = demands[k].render_ms > 0.0;
-    grants[k] = {sim_granted[k], render_granted[k], rendering > (renders ? 1u : 0u)};
+    grants[k] = {sim_granted[k], render_granted[k], period_ms,
+                 watched - (demands[k].watched ? 1u : 0u)};
   }
   return grants;
+}
+
+double GpuGrant::charge(double item_ms) const {
+  return item_ms + double(others_watched) * std::max(0.0, item_ms - period_ms);
 }
 
 void GpuAccount::deposit(double grant_ms, double dearest_item_ms) {

@@ -8,6 +8,7 @@
 // frame or a substep dearer than one tick's share runs once enough ticks have paid for it.
 #pragma once
 
+#include <cstddef>
 #include <span>
 #include <vector>
 
@@ -22,15 +23,24 @@ std::vector<double> share_equally(double budget, std::span<const double> demands
 struct GpuDemand {
   double sim_ms = 0.0;     // the substeps that real time owes
   double render_ms = 0.0;  // the frames that are due
+  bool watched = false;    // it has viewers, whose frames anything long holds back
 };
 
 // What the hub grants it.
 struct GpuGrant {
   double sim_ms = 0.0;
   double render_ms = 0.0;
-  // Another session has frames due this tick: frames beyond this one's grant wait. Alone, a
-  // session renders every due frame (nobody waits behind it).
-  bool contended = false;
+  double period_ms = 0.0;  // of a tick
+  // Other sessions with viewers. With none, a session renders every due frame (nobody waits
+  // behind it); with some, frames beyond its grant wait: even when their frames are not due in
+  // this tick, a long frame now holds back theirs in the next.
+  std::size_t others_watched = 0;
+  bool contended() const { return others_watched > 0; }
+  // What an item (a substep, a frame) of `item_ms` costs the session's account: its own time,
+  // plus, where it is longer than a tick, the time it holds the other sessions' frames back (the
+  // GPU runs one thing at a time). A substep or frame that blocks the device for several periods
+  // therefore runs that much less often, and the sessions beside it keep their frame rate.
+  double charge(double item_ms) const;
 };
 
 // The rule, for all sessions at once: simulation shares sim_share·period, rendering the rest of

@@ -154,6 +154,29 @@ float Session::collider_radius() const {
   return std::max(0.04f, 4.0f * solver_->scene().spacing);
 }
 
+void Session::move_colliders(double seconds, double elapsed) {
+  std::vector<sim::Collider> colliders;
+  std::map<std::uint32_t, HeldCollider> held;
+  for (auto& [id, viewer] : viewers_) {
+    const auto target = viewer->drag_point();
+    if (!target || colliders.size() == sim::kMaxColliders) continue;
+    const auto found = colliders_.find(id);
+    const bool follows = found != colliders_.end() && found->second.drag == target->drag;
+    sim::Collider collider;
+    collider.radius = collider_radius();
+    collider.centre = follows ? found->second.centre : target->point;
+    if (seconds > 0.0) {
+      collider.velocity = (target->point - collider.centre) / float(std::max(seconds, elapsed));
+      const float speed = glm::length(collider.velocity);
+      if (speed > 0.5f * sim::kMaxSpeed) collider.velocity *= 0.5f * sim::kMaxSpeed / speed;
+    }
+    held[id] = {collider.centre + collider.velocity * float(seconds), target->drag};
+    colliders.push_back(collider);
+  }
+  solver_->set_colliders(colliders);
+  colliders_ = std::move(held);
+}
+
 v1::SessionState Session::state() const {
   v1::SessionState state;
   state.set_scene(std::string(sim::to_string(setup_.scene)));
@@ -347,24 +370,17 @@ GpuDemand Session::prepare(Clock::time_point now) {
                              ? dt
                              : std::chrono::duration<double>(now - last_tick_).count();
   last_tick_ = now;
-  std::vector<sim::Collider> colliders;
-  for (auto& [id, viewer] : viewers_) {
-    if (colliders.size() == sim::kMaxColliders) break;
-    if (auto collider = viewer->collider(collider_radius(), float(elapsed))) {
-      colliders.push_back(*collider);
-    }
-  }
-  solver_->set_colliders(colliders);
+  tick_elapsed_ = elapsed;
 
   GpuDemand demand;
+  demand.watched = !viewers_.empty();
   // Nobody watching: the fluid waits as it is, for a resume.
   const bool running = !paused_ && !viewers_.empty();
   speed_.record(now, solver_->time(), running);
   if (running) {
     lag_seconds_ = std::min(lag_seconds_ + elapsed, kMaxOwedSteps * double(dt));
-    const double steps = std::ceil(lag_seconds_ / dt);
-    const int substeps = solver_->substeps_for(float(std::min<double>(lag_seconds_, dt)));
-    demand.sim_ms = steps * substeps * substep_cost_.ms();
+    const double steps = std::floor(lag_seconds_ / dt);
+    demand.sim_ms = steps * solver_->substeps_for(dt) * substep_cost_.ms();
   }
   for (auto& [id, viewer] : viewers_) {
     if (viewer->due(now)) demand.render_ms += viewer->frame_cost().ms();
@@ -372,41 +388,62 @@ GpuDemand Session::prepare(Clock::time_point now) {
   return demand;
 }
 
-void Session::measure_steps() {
-  solver_->count_finished_steps();
-  const sim::StageTimes& times = solver_->stage_times();
-  if (times.substeps > 0) {
-    const double ms = total_ms(times);
-    substep_cost_.add(ms / double(times.substeps));
-    measured_sim_ms_ += ms;
-    services_.metrics->sim_ms.observe(ms);
-  }
-  solver_->clear_stage_times();
+void Session::measure_steps(double ms, std::uint64_t substeps) {
+  if (substeps == 0) return;
+  substep_cost_.add(ms / double(substeps));
+  measured_sim_ms_ += ms;
+  services_.metrics->sim_ms.observe(ms);
 }
 
 void Session::step(const GpuGrant& grant) {
-  measure_steps();
-  if (paused_ || viewers_.empty()) return;
+  // A GPU solver's steps are measured by its timestamps once they have finished; a CPU solver's
+  // by the clock around them, whole (its stage timers leave out the pool's waits).
+  solver_->count_finished_steps();
+  if (services_.gpu_solver) {
+    measure_steps(total_ms(solver_->stage_times()), solver_->stage_times().substeps);
+  }
+  solver_->clear_stage_times();
+  if (paused_ || viewers_.empty()) {
+    move_colliders(0.0, tick_elapsed_);
+    return;
+  }
   // Until the first steps are measured, one substep a tick; then what the account pays for.
   const bool costed = substep_cost_.known();
-  sim_account_.deposit(grant.sim_ms, substep_cost_.ms());
-  int substeps_left = costed ? sim_account_.affordable(substep_cost_.ms()) : 1;
-  const float max_step = solver_->params().time_step;
-  while (lag_seconds_ > 0.0 && substeps_left > 0) {
-    float seconds = float(std::min<double>(lag_seconds_, max_step));
+  const double substep_charge = grant.charge(substep_cost_.ms());
+  sim_account_.deposit(grant.sim_ms, substep_charge);
+  int substeps_left = costed ? sim_account_.affordable(substep_charge) : 1;
+  // Whole steps only, as real time owes them; in slow motion a step of fewer substeps of the
+  // same length. Never shorter substeps: PBF turns a position correction into a velocity by
+  // dividing by the substep, and a sliver of one throws the fluid apart.
+  const float step = solver_->params().time_step;
+  struct PlannedStep {
+    float seconds;
+    int substeps;
+  };
+  std::vector<PlannedStep> plan;
+  double planned = 0.0;
+  std::uint64_t substeps_run = 0;
+  while (lag_seconds_ - planned >= step && substeps_left > 0) {
+    float seconds = step;
     int substeps = solver_->substeps_for(seconds);
-    if (substeps > substeps_left) {  // slow motion: a shorter step, as many substeps as are paid
+    if (substeps > substeps_left) {
       seconds *= float(substeps_left) / float(substeps);
       substeps = substeps_left;
     }
-    if (!(seconds > 0.0f)) break;
-    solver_->step(seconds);
-    lag_seconds_ -= seconds;
+    plan.push_back({seconds, substeps});
+    planned += seconds;
     substeps_left -= substeps;
-    if (costed) sim_account_.spend(substeps * substep_cost_.ms());
+    substeps_run += std::uint64_t(substeps);
+    if (costed) sim_account_.spend(substeps * substep_charge);
   }
-  // A CPU solver has finished its steps by now: measured in this tick, not the next.
-  if (!services_.gpu_solver) measure_steps();
+  move_colliders(planned, tick_elapsed_);
+  const auto started = Clock::now();
+  for (const PlannedStep& planned_step : plan) solver_->step(planned_step.seconds, planned_step.substeps);
+  lag_seconds_ -= planned;
+  if (!services_.gpu_solver) {
+    measure_steps(milliseconds_between(started, Clock::now()), substeps_run);
+    solver_->clear_stage_times();
+  }
 }
 
 void Session::render(const GpuGrant& grant, Clock::time_point now) {
@@ -415,7 +452,8 @@ void Session::render(const GpuGrant& grant, Clock::time_point now) {
   for (auto& [id, viewer] : viewers_) {
     if (!viewer->due(now)) {
       if (viewer->throttled()) services_.metrics->frames_skipped++;
-    } else if (!grant.contended || render_account_.can_spend()) {
+    } else if (!grant.contended() || !viewer->frame_cost().known() ||
+               render_account_.can_spend()) {  // a frame not yet measured draws, to be measured
       due.emplace_back(id, viewer.get());
     } else {
       services_.metrics->frames_deferred++;  // its share of the GPU is spent; others go first
@@ -425,7 +463,7 @@ void Session::render(const GpuGrant& grant, Clock::time_point now) {
   const render::ParticleView particles = source_.view_of(*solver_);
   std::vector<std::uint32_t> failed;
   for (auto [id, viewer] : due) {
-    if (grant.contended) render_account_.spend(viewer->frame_cost().ms());
+    if (grant.contended()) render_account_.spend(grant.charge(viewer->frame_cost().ms()));
     Viewer::Shows shows;
     shows.input_event_id = viewer->newest_input();
     shows.sim_time = solver_->time();

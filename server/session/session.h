@@ -84,10 +84,15 @@ class Session {
   void step(const GpuGrant& grant);
   // Submits the due frames that the grant pays for (all of them when no other session has any).
   void render(const GpuGrant& grant, Clock::time_point now);
-  // Counts the finished steps' cost into substep_cost_ and measured_sim_ms_.
-  void measure_steps();
+  // Counts the cost of finished steps into substep_cost_ and measured_sim_ms_.
+  void measure_steps(double ms, std::uint64_t substeps);
   void encode(Viewer& viewer, Viewer::Finished frame);
   float collider_radius() const;
+  // The fingers' spheres for a tick that simulates `seconds` of the `elapsed` wall seconds since
+  // the last: each moves from where the fluid last had it towards its finger, at the finger's
+  // speed in wall time. A fluid in slow motion sees the finger in slow motion too: it never
+  // jumps, and never moves faster than the hand did.
+  void move_colliders(double seconds, double elapsed);
 
   std::string id_;
   SessionServices services_;
@@ -103,11 +108,18 @@ class Session {
   bool reset_wanted_ = false;
   Clock::time_point last_rebuild_{};
   Clock::time_point last_tick_{};
+  double tick_elapsed_ = 0.0;  // wall seconds since the tick before
   double lag_seconds_ = 0.0;  // real time the simulation still owes
   GpuAccount sim_account_, render_account_;
   CostEstimate substep_cost_;  // ms of one substep (GPU time, or CPU time for a CPU solver)
   double measured_sim_ms_ = 0.0;  // the steps measured since the last frame was submitted
   SimSpeed speed_;
+  // Where each dragging viewer's sphere is in the simulation, and which of its drags it follows.
+  struct HeldCollider {
+    glm::vec3 centre;
+    std::uint64_t drag;
+  };
+  std::map<std::uint32_t, HeldCollider> colliders_;
   Clock::time_point empty_since_;
 
   struct Posted {

@@ -76,7 +76,7 @@ void Viewer::apply_pointer(const v1::PointerEvent& event) {
   if (change.drag_started) {
     grab_depth_.reset();
     probe_frames_ = 0;
-    collider_centre_.reset();
+    ++drags_;
   }
   camera_.yaw_degrees = std::remainder(camera_.yaw_degrees + change.yaw_degrees, 360.0f);
   camera_.pitch_degrees = std::clamp(camera_.pitch_degrees + change.pitch_degrees, -89.0f, 89.0f);
@@ -89,12 +89,11 @@ glm::vec3 Viewer::gravity_from_tilt(const v1::Tilt& tilt) const {
   return camera_to_world * glm::vec3(tilt.x(), tilt.y(), tilt.z());
 }
 
-std::optional<sim::Collider> Viewer::collider(float radius, float dt) {
+std::optional<Viewer::DragPoint> Viewer::drag_point() {
   const std::optional<glm::vec2> drag = gestures_.drag();
   renderer_->probe = drag;
   if (!drag) {
     grab_depth_.reset();
-    collider_centre_.reset();
     return std::nullopt;
   }
   if (!grab_depth_) {
@@ -107,16 +106,7 @@ std::optional<sim::Collider> Viewer::collider(float radius, float dt) {
   const float depth = *grab_depth_;
   const glm::vec4 in_view(ndc.x * depth / projection[0][0], ndc.y * depth / projection[1][1],
                           -depth, 1.0f);
-  const glm::vec3 centre = glm::vec3(glm::inverse(camera_.view()) * in_view);
-  sim::Collider collider;
-  collider.centre = centre;
-  collider.radius = radius;
-  collider.velocity = collider_centre_ && dt > 0.0f ? (centre - *collider_centre_) / dt
-                                                    : glm::vec3(0.0f);
-  const float speed = glm::length(collider.velocity);
-  if (speed > 0.5f * sim::kMaxSpeed) collider.velocity *= 0.5f * sim::kMaxSpeed / speed;
-  collider_centre_ = centre;
-  return collider;
+  return DragPoint{glm::vec3(glm::inverse(camera_.view()) * in_view), drags_};
 }
 
 bool Viewer::throttled() const {
@@ -133,8 +123,9 @@ void Viewer::note_input(std::uint64_t event_id, Clock::time_point received) {
   newest_input_received_ = received;
 }
 
-double Viewer::input_wait_ms(Clock::time_point tick_start) const {
-  if (newest_input_received_ == Clock::time_point{}) return 0.0;
+double Viewer::input_wait_ms(Clock::time_point tick_start) {
+  if (newest_input_received_ == Clock::time_point{} || input_shown_ == newest_input_) return 0.0;
+  input_shown_ = newest_input_;
   return std::max(0.0, std::chrono::duration<double, std::milli>(tick_start -
                                                                  newest_input_received_).count());
 }

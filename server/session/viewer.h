@@ -51,8 +51,13 @@ class Viewer {
   glm::vec3 gravity_from_tilt(const v1::Tilt& tilt) const;
   void look_at(const sim::Box& tank);
 
-  // The finger's sphere in the fluid, when a drag holds one (radius in metres).
-  std::optional<sim::Collider> collider(float radius, float dt);
+  // Where the finger holds the fluid, in the scene, when a drag holds it: the session moves the
+  // finger's sphere there in simulated time. `drag` counts drags, so a new one starts afresh.
+  struct DragPoint {
+    glm::vec3 point;
+    std::uint64_t drag;
+  };
+  std::optional<DragPoint> drag_point();
 
   // Whether to render a frame now: its rate is due and it does not have too many in flight.
   bool due(Clock::time_point now) const;
@@ -89,8 +94,9 @@ class Viewer {
   const CostEstimate& frame_cost() const { return frame_cost_; }
   void note_input(std::uint64_t event_id, Clock::time_point received);
   std::uint64_t newest_input() const { return newest_input_; }
-  // How long the newest input waited for the tick that applies it.
-  double input_wait_ms(Clock::time_point tick_start) const;
+  // How long the newest input waited for the tick that applies it, for the first frame that shows
+  // it; 0 for later frames (they wait for no input).
+  double input_wait_ms(Clock::time_point tick_start);
 
   render::OrbitCamera& camera() { return camera_; }
   // Counts frames in the encoders; the encoder's callback decrements it.
@@ -118,11 +124,12 @@ class Viewer {
   // The drag: the view depth it holds the fluid at once the probe found the surface (or gave up).
   std::optional<float> grab_depth_;
   int probe_frames_ = 0;
-  std::optional<glm::vec3> collider_centre_;
+  std::uint64_t drags_ = 0;
   std::deque<Shows> in_flight_;  // what each frame in the renderer's ring shows
   CostEstimate frame_cost_;
   std::uint64_t newest_input_ = 0;
   Clock::time_point newest_input_received_{};
+  std::uint64_t input_shown_ = 0;  // the newest input a submitted frame shows
   std::shared_ptr<std::atomic<int>> encoding_ = std::make_shared<std::atomic<int>>(0);
   // Flow control.
   std::uint64_t sequence_ = 0;

@@ -43,13 +43,14 @@ TEST(ShareEquallyTest, NegativeBudgetsAndDemandsGiveNothing) {
 TEST(GrantGpuTimeTest, AHeavySessionCannotTakeTheLightOnesShare) {
   // 60 Hz; a 1M-particle session wants 40 ms of substeps and a 7 ms frame, three small ones 1 ms
   // of each.
-  const std::vector<GpuDemand> demands = {{40.0, 7.0}, {1.0, 1.0}, {1.0, 1.0}, {1.0, 1.0}};
+  const std::vector<GpuDemand> demands = {
+      {40.0, 7.0, true}, {1.0, 1.0, true}, {1.0, 1.0, true}, {1.0, 1.0, true}};
   const double period = 1000.0 / 60.0;
   const auto grants = grant_gpu_time(period, 0.5, demands);
   for (std::size_t k = 1; k < 4; ++k) {
     EXPECT_DOUBLE_EQ(grants[k].sim_ms, 1.0);
     EXPECT_DOUBLE_EQ(grants[k].render_ms, 1.0);
-    EXPECT_TRUE(grants[k].contended);
+    EXPECT_TRUE(grants[k].contended());
   }
   // The heavy one simulates with what the half period leaves, and renders with what the other
   // half leaves: short of its 7 ms frame, so its account pays for one every few ticks.
@@ -61,17 +62,30 @@ TEST(GrantGpuTimeTest, AHeavySessionCannotTakeTheLightOnesShare) {
 }
 
 TEST(GrantGpuTimeTest, RenderingGetsWhatSimulationLeaves) {
-  const std::vector<GpuDemand> demands = {{0.0, 30.0}};
+  const std::vector<GpuDemand> demands = {{0.0, 30.0, true}};
   const auto grants = grant_gpu_time(20.0, 0.5, demands);
   EXPECT_DOUBLE_EQ(grants[0].render_ms, 20.0);
-  EXPECT_FALSE(grants[0].contended);  // alone: nobody waits behind its frames
+  EXPECT_FALSE(grants[0].contended());  // alone: nobody waits behind its frames
 }
 
-TEST(GrantGpuTimeTest, OnlyOtherSessionsFramesMakeAContest) {
-  const std::vector<GpuDemand> demands = {{5.0, 3.0}, {5.0, 0.0}};
+TEST(GrantGpuTimeTest, OnlyOtherSessionsViewersMakeAContest) {
+  // Watched, with no frame due this tick: its next frame would still wait behind a long one.
+  const std::vector<GpuDemand> demands = {{5.0, 3.0, true}, {5.0, 0.0, true}, {0.0, 0.0, false}};
   const auto grants = grant_gpu_time(16.0, 0.5, demands);
-  EXPECT_FALSE(grants[0].contended);
-  EXPECT_TRUE(grants[1].contended);
+  EXPECT_EQ(grants[0].others_watched, 1u);
+  EXPECT_EQ(grants[1].others_watched, 1u);
+  EXPECT_EQ(grants[2].others_watched, 2u);
+  const std::vector<GpuDemand> alone = {{5.0, 3.0, true}, {0.0, 0.0, false}};
+  EXPECT_FALSE(grant_gpu_time(16.0, 0.5, alone)[0].contended());
+}
+
+TEST(GrantGpuTimeTest, AnItemLongerThanATickPaysForTheFramesItHoldsBack) {
+  GpuGrant grant;
+  grant.period_ms = 10.0;
+  EXPECT_DOUBLE_EQ(grant.charge(25.0), 25.0);  // alone: its own time
+  grant.others_watched = 3;
+  EXPECT_DOUBLE_EQ(grant.charge(8.0), 8.0);    // within a tick: nobody misses a frame
+  EXPECT_DOUBLE_EQ(grant.charge(25.0), 25.0 + 3 * 15.0);
 }
 
 TEST(GpuAccountTest, AnItemDearerThanAGrantRunsOnceEnoughTicksPaidForIt) {

@@ -21,8 +21,7 @@ int PbfSolver::substeps_for(float seconds) {
                            params(), kernels_.radius());
 }
 
-void PbfSolver::advance(float seconds) {
-  const int substeps = substeps_for(seconds);
+void PbfSolver::advance(float seconds, int substeps) {
   dt_ = seconds / static_cast<float>(substeps);
   for (int s = 0; s < substeps; ++s) {
     set_time_into_step(static_cast<float>(s + 1) * dt_);  // predicted positions are at its end

@@ -20,7 +20,7 @@ class PbfSolver final : public CpuSolver {
 
  private:
   int substeps_for(float seconds) override;
-  void advance(float seconds) override;
+  void advance(float seconds, int substeps) override;
   void substep();
   void predict();
   void compute_lambdas();

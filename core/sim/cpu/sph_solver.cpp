@@ -24,9 +24,9 @@ int SphSolver::substeps_for(float seconds) {
                                      static_cast<float>(params().max_substeps)));
 }
 
-void SphSolver::advance(float seconds) {
+void SphSolver::advance(float seconds, int substeps) {
   float remaining = seconds;
-  while (remaining > 0.0f) {
+  for (int left = substeps; remaining > 0.0f; --left) {
     ++stage_times_.substeps;
     {
       StageTimer timer(stage_times_.grid_ms);
@@ -43,8 +43,9 @@ void SphSolver::advance(float seconds) {
     {
       StageTimer timer(stage_times_.velocity_ms);
       dt = std::min(remaining, stable_substep(max_acceleration));
-      // Split what is left evenly rather than end on a sliver of a substep.
+      // Split what is left evenly rather than end on a sliver of a substep; and within the count.
       if (dt < remaining && remaining < 2.0f * dt) dt = 0.5f * remaining;
+      dt = std::max(dt, remaining / float(std::max(left, 1)));
     }
     StageTimer timer(stage_times_.predict_ms);
     set_time_into_step(seconds - remaining + dt);

@@ -332,13 +332,12 @@ void GpuSolver::mark(VkCommandBuffer commands, InFlight& slot, Stage stage, int 
   slot.marks.emplace_back(stage, index);
 }
 
-void GpuSolver::advance(float seconds) {
+void GpuSolver::advance(float seconds, int substeps) {
   InFlight& slot = in_flight_[next_slot_];
   slot.commands.wait();
   harvest(slot);
   if (!in_flight_[next_slot_ ^ 1].commands.busy()) harvest(in_flight_[next_slot_ ^ 1]);
 
-  const int substeps = substeps_for(seconds);
   const float dt = seconds / static_cast<float>(substeps);
   const int marks_per_substep = kind_ == SolverKind::pbf ? 4 + params().iterations : 3;
   const bool timed = context_->timestamps_supported() &&

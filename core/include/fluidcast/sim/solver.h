@@ -79,12 +79,15 @@ class Solver {
   // Advances the simulation by params().time_step, colliders included. A GPU solver may return
   // before the GPU has finished the step; snapshot() and synchronize() wait for it.
   void step() { step(params().time_step); }
-  // A shorter step, of `seconds` in (0, params().time_step]: what a frame loop that cannot keep
-  // up with real time runs (slow motion). Throws std::invalid_argument outside that range.
-  void step(float seconds);
+  // A step of `seconds` in (0, params().time_step], cut into substeps by the solver's own rule.
+  void step(float seconds) { step(seconds, substeps_for(seconds)); }
+  // A step of `seconds` in exactly `substeps` substeps (1 to params().max_substeps; the CPU SPH
+  // solver adapts their lengths within that count): what a frame loop that pays per substep
+  // runs, planned with substeps_for(); in slow motion, a shorter step of fewer substeps. Throws
+  // std::invalid_argument outside those ranges.
+  void step(float seconds, int substeps);
   // The substeps a step of `seconds` would take now, by the solver's own rule (CFL and, for SPH,
-  // the force and viscous bounds), from the newest state it knows: what a frame loop that pays
-  // per substep plans with.
+  // the force and viscous bounds), from the newest state it knows.
   virtual int substeps_for(float seconds) = 0;
   // Waits until every step so far has finished and its stage times are counted.
   virtual void synchronize() {}
@@ -116,7 +119,7 @@ class Solver {
   void clear_stage_times() { stage_times_ = {}; }
 
  protected:
-  virtual void advance(float seconds) = 0;
+  virtual void advance(float seconds, int substeps) = 0;
   virtual void append_particles(std::span<const glm::vec3> positions,
                                 std::span<const glm::vec3> velocities, std::uint32_t first_id) = 0;
   virtual std::size_t erase_particles_in_sphere(glm::vec3 centre, float radius) = 0;
