@@ -46,8 +46,7 @@ CommandSlot::CommandSlot(CommandSlot&& other) noexcept
       pool_(std::move(other.pool_)),
       commands_(std::exchange(other.commands_, VK_NULL_HANDLE)),
       fence_(std::move(other.fence_)),
-      submitted_(std::exchange(other.submitted_, false)),
-      serial_(other.serial_) {}
+      submitted_(std::exchange(other.submitted_, false)) {}
 
 CommandSlot::~CommandSlot() {
   try {
@@ -57,11 +56,10 @@ CommandSlot::~CommandSlot() {
   }
 }
 
-std::uint64_t CommandSlot::submit() {
+void CommandSlot::submit() {
   FLUIDCAST_VK_CHECK(vkEndCommandBuffer(commands_));
-  serial_ = context_->submit(commands_, fence_.get());
+  context_->submit(commands_, fence_.get());
   submitted_ = true;
-  return serial_;
 }
 
 void CommandSlot::wait() const {

@@ -385,6 +385,14 @@ std::vector<std::unique_ptr<Context::RetiredObject>> Context::take_released(std:
   return released;
 }
 
+void Context::release_finished() {
+  std::vector<std::unique_ptr<RetiredObject>> finished;
+  {
+    std::lock_guard lock(submit_mutex_);
+    finished = take_released(last_finished());
+  }
+}  // `finished` is destroyed here, outside the lock
+
 std::size_t Context::retired_count() const {
   std::lock_guard lock(submit_mutex_);
   return retired_.size();

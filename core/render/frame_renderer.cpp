@@ -183,12 +183,17 @@ std::uint64_t FrameRenderer::submit(RendererKind requested, const ParticleView& 
   return next_frame_++;
 }
 
-bool FrameRenderer::oldest_finished() const {
-  if (!kept_.empty()) return true;
-  const Slot* oldest = nullptr;
-  for (const Slot& slot : slots_) {
+FrameRenderer::Slot* FrameRenderer::oldest_in_flight() {
+  Slot* oldest = nullptr;
+  for (Slot& slot : slots_) {
     if (slot.in_flight && (!oldest || slot.frame < oldest->frame)) oldest = &slot;
   }
+  return oldest;
+}
+
+bool FrameRenderer::oldest_finished() {
+  if (!kept_.empty()) return true;
+  const Slot* oldest = oldest_in_flight();
   return oldest && !oldest->commands.busy();
 }
 
@@ -198,10 +203,7 @@ codec::ImageRgba FrameRenderer::take_oldest() {
     kept_.pop_front();
     return image;
   }
-  Slot* oldest = nullptr;
-  for (Slot& slot : slots_) {
-    if (slot.in_flight && (!oldest || slot.frame < oldest->frame)) oldest = &slot;
-  }
+  Slot* oldest = oldest_in_flight();
   if (!oldest) throw std::logic_error("frame renderer: no frame was submitted");
   return collect(*oldest);
 }

@@ -9,6 +9,7 @@ namespace {
 
 // Weight of the newest sample: a change of cost is followed within about four samples.
 constexpr double kNewestSampleWeight = 0.25;
+constexpr double kLargestRise = 2.0;
 
 }  // namespace
 
@@ -39,8 +40,11 @@ std::vector<GpuGrant> grant_gpu_time(double period_ms, double sim_share,
     watched += demands[k].watched ? 1 : 0;
   }
   const std::vector<double> sim_granted = share_equally(sim_share * period_ms, sim);
-  const double sim_total = std::accumulate(sim_granted.begin(), sim_granted.end(), 0.0);
-  const std::vector<double> render_granted = share_equally(period_ms - sim_total, render);
+  double sim_on_gpu = 0.0;
+  for (std::size_t k = 0; k < demands.size(); ++k) {
+    if (demands[k].sim_on_gpu) sim_on_gpu += sim_granted[k];
+  }
+  const std::vector<double> render_granted = share_equally(period_ms - sim_on_gpu, render);
   std::vector<GpuGrant> grants(demands.size());
   for (std::size_t k = 0; k < demands.size(); ++k) {
     grants[k] = {sim_granted[k], render_granted[k], period_ms,
@@ -58,13 +62,18 @@ void GpuAccount::deposit(double grant_ms, double dearest_item_ms) {
 }
 
 int GpuAccount::affordable(double item_ms) const {
+  // More than any step could use; keeps the count an int however small the item.
+  constexpr double kMost = 1 << 20;
   if (!can_spend()) return 0;
   if (!(item_ms > 0.0)) return 1;
-  return std::max(1, static_cast<int>(std::floor(balance_ms_ / item_ms)));
+  return static_cast<int>(std::clamp(std::floor(balance_ms_ / item_ms), 1.0, kMost));
 }
 
 void CostEstimate::add(double ms) {
-  if (!std::isfinite(ms) || ms < 0.0) return;
+  if (!std::isfinite(ms) || ms <= 0.0) return;  // not a measurement: no work is free
+  // One slow sample (a stall, a pipeline compiled on first use) counts as twice the estimate at
+  // most: a real rise is followed within a few samples, a single outlier does not starve the item.
+  if (known_) ms = std::min(ms, kLargestRise * ms_);
   ms_ = known_ ? (1.0 - kNewestSampleWeight) * ms_ + kNewestSampleWeight * ms : ms;
   known_ = true;
 }

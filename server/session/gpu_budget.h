@@ -24,6 +24,9 @@ struct GpuDemand {
   double sim_ms = 0.0;     // the substeps that real time owes
   double render_ms = 0.0;  // the frames that are due
   bool watched = false;    // it has viewers, whose frames anything long holds back
+  // Its solver runs on the GPU. A CPU solver's substeps take the worker thread's time, not the
+  // device's: they count against the simulation share, not against rendering.
+  bool sim_on_gpu = true;
 };
 
 // What the hub grants it.
@@ -44,14 +47,16 @@ struct GpuGrant {
 };
 
 // The rule, for all sessions at once: simulation shares sim_share·period, rendering the rest of
-// the period (what simulation leaves included).
+// the period (what simulation on the GPU leaves included). A tick that comes late grants no more: when the
+// device cannot keep the tick rate, frame rates and fluids slow down alike, and an item that
+// overran its tick does not pay for itself.
 std::vector<GpuGrant> grant_gpu_time(double period_ms, double sim_share,
                                      std::span<const GpuDemand> demands);
 
 // Credit in GPU milliseconds. A tick's grant adds to it; an item (a frame, a substep) may be
 // started while the balance is positive and may take it below zero, which later grants repay.
 // Credit never exceeds one grant plus the dearest item, so an idle session cannot save up a
-// burst. (Frames drawn while no other session has frames due are not charged: nobody waits.)
+// burst. (Frames drawn while no other session is watched are not charged: nobody waits.)
 class GpuAccount {
  public:
   void deposit(double grant_ms, double dearest_item_ms);
@@ -67,7 +72,9 @@ class GpuAccount {
 };
 
 // A cost that is measured now and then and drifts (a substep's, a frame's): an exponential
-// average that follows a change within a few samples.
+// average that follows a fall within a few samples and a tenfold rise within a dozen; a sample
+// above the estimate counts as at most twice it, so one stall does not dominate. Samples that are not a positive, finite duration
+// are ignored: until a real one arrives the cost stays unknown.
 class CostEstimate {
  public:
   void add(double ms);

@@ -18,6 +18,9 @@ constexpr std::size_t kMaxDepartedViewers = 64;
 constexpr auto kRebuildInterval = std::chrono::milliseconds(500);
 // Time steps of real time the simulation may owe; past it the fluid runs slow instead.
 constexpr double kMaxOwedSteps = 4.0;
+// However far in debt its session's rendering account is, a viewer gets a frame at least this
+// often: a frame rate floor, and fresh measurements for a cost that was overestimated.
+constexpr auto kLongestFrameWait = std::chrono::seconds(1);
 
 double total_ms(const sim::StageTimes& times) {
   return times.grid_ms + times.predict_ms + times.solve_ms + times.velocity_ms +
@@ -46,10 +49,20 @@ Session::Session(std::string id, SessionSetup setup, SessionServices services)
 
 Session::~Session() = default;
 
-void Session::finish_frames() {
+void Session::send_frames(bool wait) {
   for (auto& [id, viewer] : viewers_) {
-    while (auto finished = viewer->take_finished(Clock::now())) encode(*viewer, std::move(*finished));
+    while (wait || viewer->frame_finished()) {
+      auto finished = viewer->take_finished(Clock::now());
+      if (!finished) break;
+      encode(*viewer, std::move(*finished));
+    }
   }
+}
+
+void Session::forget_costs() {
+  lag_seconds_ = 0.0;
+  substep_cost_ = {};
+  sim_account_ = {};
 }
 
 SessionFigures Session::figures() const {
@@ -61,11 +74,7 @@ SessionFigures Session::figures() const {
   return figures;
 }
 
-void Session::collect_finished_frames() {
-  for (auto& [id, viewer] : viewers_) {
-    while (viewer->frame_finished()) encode(*viewer, std::move(*viewer->take_finished(Clock::now())));
-  }
-}
+void Session::collect_finished_frames() { send_frames(false); }
 
 void Session::rebuild(SessionSetup setup) {
   if (setup.particles == 0) setup.particles = services_.limits->default_particles;
@@ -88,9 +97,7 @@ void Session::rebuild(SessionSetup setup) {
     throw Refusal(RefusalCode::resource_exhausted, e.what());
   }
   setup_ = setup;
-  lag_seconds_ = 0.0;
-  substep_cost_ = {};  // another count or solver: another cost
-  sim_account_ = {};
+  forget_costs();  // another count or solver: another cost
   for (auto& [id, viewer] : viewers_) viewer->look_at(solver_->tank());
 }
 
@@ -250,6 +257,7 @@ std::uint32_t Session::load(const v1::Snapshot& snapshot) {
   }
   const sim::Box tank = solver_->tank();
   const glm::vec3 centre = 0.5f * (tank.min + tank.max);
+  forget_costs();  // another count: another cost
   solver_->remove_particles_in_sphere(centre, glm::length(tank.size()));
   try {
     solver_->add_particles(positions, velocities);
@@ -374,6 +382,7 @@ GpuDemand Session::prepare(Clock::time_point now) {
 
   GpuDemand demand;
   demand.watched = !viewers_.empty();
+  demand.sim_on_gpu = services_.gpu_solver;
   // Nobody watching: the fluid waits as it is, for a resume.
   const bool running = !paused_ && !viewers_.empty();
   speed_.record(now, solver_->time(), running);
@@ -422,10 +431,10 @@ void Session::step(const GpuGrant& grant) {
   };
   std::vector<PlannedStep> plan;
   double planned = 0.0;
-  std::uint64_t substeps_run = 0;
+  const int full_step_substeps = solver_->substeps_for(step);
   while (lag_seconds_ - planned >= step && substeps_left > 0) {
     float seconds = step;
-    int substeps = solver_->substeps_for(seconds);
+    int substeps = full_step_substeps;
     if (substeps > substeps_left) {
       seconds *= float(substeps_left) / float(substeps);
       substeps = substeps_left;
@@ -433,27 +442,32 @@ void Session::step(const GpuGrant& grant) {
     plan.push_back({seconds, substeps});
     planned += seconds;
     substeps_left -= substeps;
-    substeps_run += std::uint64_t(substeps);
     if (costed) sim_account_.spend(substeps * substep_charge);
   }
   move_colliders(planned, tick_elapsed_);
   const auto started = Clock::now();
   for (const PlannedStep& planned_step : plan) solver_->step(planned_step.seconds, planned_step.substeps);
   lag_seconds_ -= planned;
-  if (!services_.gpu_solver) {
-    measure_steps(milliseconds_between(started, Clock::now()), substeps_run);
+  if (!services_.gpu_solver) {  // the CPU SPH solver may have taken more substeps than planned
+    measure_steps(milliseconds_between(started, Clock::now()), solver_->stage_times().substeps);
     solver_->clear_stage_times();
   }
 }
 
 void Session::render(const GpuGrant& grant, Clock::time_point now) {
-  render_account_.deposit(grant.render_ms, 0.0);
+  double dearest_frame = 0.0;
+  for (auto& [id, viewer] : viewers_) {
+    dearest_frame = std::max(dearest_frame, grant.charge(viewer->frame_cost().ms()));
+  }
+  render_account_.deposit(grant.render_ms, dearest_frame);
   std::vector<std::pair<std::uint32_t, Viewer*>> due;
   for (auto& [id, viewer] : viewers_) {
     if (!viewer->due(now)) {
       if (viewer->throttled()) services_.metrics->frames_skipped++;
-    } else if (!grant.contended() || !viewer->frame_cost().known() ||
-               render_account_.can_spend()) {  // a frame not yet measured draws, to be measured
+    } else if (!grant.contended() || !viewer->frame_cost().known()) {
+      due.emplace_back(id, viewer.get());  // nobody waits behind it; or drawn to be measured
+    } else if (render_account_.can_spend() || viewer->overdue(now) >= kLongestFrameWait) {
+      render_account_.spend(grant.charge(viewer->frame_cost().ms()));
       due.emplace_back(id, viewer.get());
     } else {
       services_.metrics->frames_deferred++;  // its share of the GPU is spent; others go first
@@ -463,7 +477,6 @@ void Session::render(const GpuGrant& grant, Clock::time_point now) {
   const render::ParticleView particles = source_.view_of(*solver_);
   std::vector<std::uint32_t> failed;
   for (auto [id, viewer] : due) {
-    if (grant.contended()) render_account_.spend(grant.charge(viewer->frame_cost().ms()));
     Viewer::Shows shows;
     shows.input_event_id = viewer->newest_input();
     shows.sim_time = solver_->time();
@@ -486,7 +499,7 @@ void Session::run(const GpuGrant& grant, Clock::time_point now) {
   // The steps first: they run while the GPU still draws last tick's frames (which read uploaded
   // or GPU-side particles; the queue orders them), then those frames go to the encoders.
   step(grant);
-  finish_frames();
+  send_frames(true);
   render(grant, now);
 }
 

@@ -77,13 +77,17 @@ class Session {
   void rebuild(SessionSetup setup);
   // Applies the newest scene, solver or count wish, or a reset, at most once per interval.
   void apply_rebuilds(Clock::time_point now);
-  // Takes the frames in flight to the encoders, waiting for the GPU if need be.
-  void finish_frames();
+  // Takes the frames in flight to the encoders: all of them, waiting for the GPU if need be
+  // (`wait`), or those the GPU has finished.
+  void send_frames(bool wait);
   void apply(Viewer& viewer, const v1::ClientMessage& message, Clock::time_point received);
   // Steps as far as real time owes and the grant pays.
   void step(const GpuGrant& grant);
-  // Submits the due frames that the grant pays for (all of them when no other session has any).
+  // Submits the due frames that the grant pays for (all of them when no other session is
+  // watched; at least one every kLongestFrameWait for each viewer).
   void render(const GpuGrant& grant, Clock::time_point now);
+  // A new fluid (rebuild, loaded snapshot): its costs are measured afresh, it owes no time.
+  void forget_costs();
   // Counts the cost of finished steps into substep_cost_ and measured_sim_ms_.
   void measure_steps(double ms, std::uint64_t substeps);
   void encode(Viewer& viewer, Viewer::Finished frame);

@@ -1,9 +1,11 @@
 #include "session_hub.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <random>
 
+#include "fluidcast/gpu/vk_check.h"
 #include "fluidcast/render/frame_renderer.h"
 #include "fluidcast/sim/scene.h"
 #include "version.h"
@@ -201,10 +203,26 @@ void SessionHub::end_failed(Session& session, const std::exception& e) {
                           std::string("the session failed on the server: ") + e.what()));
 }
 
+void SessionHub::end_all_on_gpu_failure(const std::string& why) {
+  std::fprintf(stderr, "fluidcast-server: %s; every session ends\n", why.c_str());
+  const Refusal failed(RefusalCode::internal, "the server's GPU failed: " + why);
+  for (auto& [id, session] : sessions_) session->end_all(failed);
+  tick_serials_.clear();
+}
+
 void SessionHub::tick_all(Clock::time_point now) {
-  if (tick_serials_.size() == 2) {
-    context_->wait_for(tick_serials_.front());
-    tick_serials_.pop_front();
+  try {
+    context_->release_finished();
+    if (tick_serials_.size() == 2) {
+      if (!context_->wait_for(tick_serials_.front(), kGpuStalled)) {
+        end_all_on_gpu_failure("the GPU has not finished a tick's work in " +
+                               std::to_string(kGpuStalled.count()) + " s");
+      } else {
+        tick_serials_.pop_front();
+      }
+    }
+  } catch (const gpu::VulkanError& e) {  // the device is lost: every session with it
+    end_all_on_gpu_failure(e.what());
   }
   std::vector<Session*> ticking;
   std::vector<GpuDemand> demands;
@@ -244,8 +262,13 @@ void SessionHub::tick_all(Clock::time_point now) {
 }
 
 void SessionHub::collect_frames(Clock::time_point deadline) {
-  context_->wait_for(context_->last_submitted(),
-                     std::max(Clock::duration::zero(), deadline - Clock::now()));
+  try {
+    context_->wait_for(context_->last_submitted(),
+                       std::max(Clock::duration::zero(), deadline - Clock::now()));
+  } catch (const gpu::VulkanError& e) {
+    end_all_on_gpu_failure(e.what());
+    return;
+  }
   for (auto& [id, session] : sessions_) {
     try {
       session->collect_finished_frames();
@@ -276,7 +299,10 @@ void SessionHub::run() {
     collect_frames(next_tick);
   }
   const Refusal stopping(RefusalCode::unavailable, "the server is shutting down");
-  for (auto& [id, session] : sessions_) session->end_all(stopping);
+  for (auto& [id, session] : sessions_) {
+    session->end_all(stopping);
+    metrics_->forget_session(id);
+  }
   sessions_.clear();
   // Jobs still queued get their answers: no session now.
   std::vector<std::function<void()>> jobs;

@@ -60,6 +60,10 @@ class SessionHub {
   void tick_all(Clock::time_point now);
   // A session that fails ends alone, with INTERNAL for its viewers; the others go on.
   void end_failed(Session& session, const std::exception& e);
+  // The device is lost or stalled: every session's viewers get INTERNAL.
+  void end_all_on_gpu_failure(const std::string& why);
+  // How long a tick's work may take on the GPU before the device counts as stalled.
+  static constexpr std::chrono::seconds kGpuStalled{10};
   // Between ticks: waits until the GPU has drawn this tick's frames or `deadline` comes, and
   // sends what is finished.
   void collect_frames(Clock::time_point deadline);

@@ -27,6 +27,10 @@ Viewer::Viewer(gpu::Context& context, std::uint32_t id, const v1::Viewport& view
   apply_viewport(viewport);
 }
 
+Viewer::~Viewer() {
+  if (renderer_) context_->retire(std::move(renderer_));
+}
+
 void Viewer::resize(std::uint32_t width, std::uint32_t height) {
   if (renderer_ && width == render_width_ && height == render_height_) return;
   auto renderer = std::make_unique<render::FrameRenderer>(*context_, width, height);
@@ -36,6 +40,7 @@ void Viewer::resize(std::uint32_t width, std::uint32_t height) {
   }
   in_flight_.clear();
   renderer_ = std::move(renderer);
+  renderer_warm_ = false;
   render_width_ = width;
   render_height_ = height;
 }
@@ -142,7 +147,7 @@ void Viewer::submit(const render::ParticleView& particles, const sim::Box& tank,
   in_flight_.push_back(std::move(shows));
 }
 
-bool Viewer::frame_finished() const { return !in_flight_.empty() && renderer_->oldest_finished(); }
+bool Viewer::frame_finished() { return !in_flight_.empty() && renderer_->oldest_finished(); }
 
 std::optional<Viewer::Finished> Viewer::take_finished(Clock::time_point now) {
   if (in_flight_.empty()) return std::nullopt;
@@ -154,7 +159,10 @@ std::optional<Viewer::Finished> Viewer::take_finished(Clock::time_point now) {
   Finished finished{std::move(image),          ++sequence_, std::move(in_flight_.front()),
                     renderer_->last_times(), queue_ms,    jpeg_quality_};
   in_flight_.pop_front();
-  frame_cost_.add(finished.times.drawing_ms() + finished.times.readback_ms);
+  // A renderer's first frame builds its pipelines and draws the whole scene: not what its frames
+  // cost.
+  if (renderer_warm_) frame_cost_.add(finished.times.drawing_ms() + finished.times.readback_ms);
+  renderer_warm_ = true;
   if (probed && !grab_depth_) {
     ++probe_frames_;
     if (const auto hit = renderer_->last_probe_hit()) {

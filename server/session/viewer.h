@@ -36,6 +36,10 @@ class Viewer {
 
   Viewer(gpu::Context& context, std::uint32_t id, const v1::Viewport& viewport,
          const v1::Quality& quality, const ServerLimits& limits, std::shared_ptr<ViewerSink> sink);
+  // Its renderer is retired: its frames in flight finish without anyone waiting for them.
+  ~Viewer();
+  Viewer(const Viewer&) = delete;
+  Viewer& operator=(const Viewer&) = delete;
 
   std::uint32_t id() const { return id_; }
   ViewerSink& sink() const { return *sink_; }
@@ -62,6 +66,8 @@ class Viewer {
   // Whether to render a frame now: its rate is due and it does not have too many in flight.
   bool due(Clock::time_point now) const;
   bool throttled() const;
+  // How long ago its next frame fell due (negative before).
+  Clock::duration overdue(Clock::time_point now) const { return now - next_frame_; }
   // What a frame shows, besides its pixels, and when its tick began.
   struct Shows {
     std::uint64_t input_event_id = 0;  // the newest of this viewer's inputs applied
@@ -89,7 +95,7 @@ class Viewer {
   // done).
   std::optional<Finished> take_finished(Clock::time_point now);
   // Whether take_finished() has a frame that the GPU has finished.
-  bool frame_finished() const;
+  bool frame_finished();
   // GPU milliseconds one of its frames costs (render passes and read-back, from timestamps).
   const CostEstimate& frame_cost() const { return frame_cost_; }
   void note_input(std::uint64_t event_id, Clock::time_point received);
@@ -127,6 +133,7 @@ class Viewer {
   std::uint64_t drags_ = 0;
   std::deque<Shows> in_flight_;  // what each frame in the renderer's ring shows
   CostEstimate frame_cost_;
+  bool renderer_warm_ = false;  // its renderer has drawn a frame
   std::uint64_t newest_input_ = 0;
   Clock::time_point newest_input_received_{};
   std::uint64_t input_shown_ = 0;  // the newest input a submitted frame shows

@@ -68,6 +68,13 @@ TEST(GrantGpuTimeTest, RenderingGetsWhatSimulationLeaves) {
   EXPECT_FALSE(grants[0].contended());  // alone: nobody waits behind its frames
 }
 
+TEST(GrantGpuTimeTest, ACpuSolversStepsLeaveTheDeviceToRendering) {
+  const std::vector<GpuDemand> demands = {{10.0, 20.0, true, false}, {10.0, 20.0, true, false}};
+  const auto grants = grant_gpu_time(16.0, 0.5, demands);
+  EXPECT_DOUBLE_EQ(grants[0].sim_ms, 4.0);
+  EXPECT_DOUBLE_EQ(grants[0].render_ms, 8.0);  // half the whole period, not of what is left
+}
+
 TEST(GrantGpuTimeTest, OnlyOtherSessionsViewersMakeAContest) {
   // Watched, with no frame due this tick: its next frame would still wait behind a long one.
   const std::vector<GpuDemand> demands = {{5.0, 3.0, true}, {5.0, 0.0, true}, {0.0, 0.0, false}};
@@ -107,6 +114,7 @@ TEST(GpuAccountTest, CreditCannotBeHoarded) {
   EXPECT_DOUBLE_EQ(account.balance_ms(), 5.0);
   EXPECT_EQ(account.affordable(1.0), 5);
   EXPECT_EQ(account.affordable(4.0), 1);
+  EXPECT_EQ(account.affordable(1e-300), 1 << 20);  // however cheap, a count that fits
   account.spend(6.0);
   EXPECT_EQ(account.affordable(1.0), 0);
 }
@@ -121,7 +129,15 @@ TEST(CostEstimateTest, FollowsAChangeWithinAFewSamples) {
   EXPECT_NEAR(cost.ms(), 1.0, 0.1);
   cost.add(-3.0);  // not a duration: ignored
   cost.add(std::nan(""));
+  cost.add(0.0);  // nothing measured (no timestamps): not free
   EXPECT_NEAR(cost.ms(), 1.0, 0.1);
+  cost.add(1000.0);  // one stall
+  EXPECT_LT(cost.ms(), 1.5);
+  for (int k = 0; k < 12; ++k) cost.add(10.0);  // a real rise, tenfold
+  EXPECT_GT(cost.ms(), 8.0);
+  CostEstimate unmeasured;
+  unmeasured.add(0.0);
+  EXPECT_FALSE(unmeasured.known());
 }
 
 TEST(SimSpeedTest, SimulatedSecondsPerWallSecondOverTheLastSecond) {

@@ -20,13 +20,15 @@ SphSolver::SphSolver(Scene scene, const SolverParams& params)
 
 int SphSolver::substeps_for(float seconds) {
   const float dt = stable_substep(last_max_acceleration_);
+  if (!std::isfinite(dt)) return params().max_substeps;
   return static_cast<int>(std::clamp(std::ceil(seconds / dt), 1.0f,
                                      static_cast<float>(params().max_substeps)));
 }
 
-void SphSolver::advance(float seconds, int substeps) {
+// Each substep as long as the state just computed allows: the planned count is not binding.
+void SphSolver::advance(float seconds, int /*planned_substeps*/) {
   float remaining = seconds;
-  for (int left = substeps; remaining > 0.0f; --left) {
+  while (remaining > 0.0f) {
     ++stage_times_.substeps;
     {
       StageTimer timer(stage_times_.grid_ms);
@@ -43,9 +45,8 @@ void SphSolver::advance(float seconds, int substeps) {
     {
       StageTimer timer(stage_times_.velocity_ms);
       dt = std::min(remaining, stable_substep(max_acceleration));
-      // Split what is left evenly rather than end on a sliver of a substep; and within the count.
+      // Split what is left evenly rather than end on a sliver of a substep.
       if (dt < remaining && remaining < 2.0f * dt) dt = 0.5f * remaining;
-      dt = std::max(dt, remaining / float(std::max(left, 1)));
     }
     StageTimer timer(stage_times_.predict_ms);
     set_time_into_step(seconds - remaining + dt);

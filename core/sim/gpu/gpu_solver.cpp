@@ -68,7 +68,7 @@ GpuSolver::GpuSolver(SolverKind kind, gpu::Context& context, Scene scene,
       pipelines_(context),
       params_buffer_(context, sizeof(SimParams), gpu::MemoryDomain::device),
       stats_buffer_(context, 2 * sizeof(std::uint32_t), gpu::MemoryDomain::device),
-      in_flight_{InFlight(context), InFlight(context)} {
+      in_flight_{InFlight(context), InFlight(context), InFlight(context), InFlight(context)} {
   const PbfConstants pbf = derive_pbf_constants(params, fluid());
   relaxation_epsilon_ = pbf.relaxation_epsilon;
   scorr_scale_ = pbf.scorr_scale;
@@ -196,9 +196,11 @@ void GpuSolver::synchronize() {
 }
 
 void GpuSolver::count_finished_steps() {
-  // Older first, so that the newest step's figures are the ones kept.
-  for (InFlight* slot : {&in_flight_[next_slot_], &in_flight_[next_slot_ ^ 1]}) {
-    if (!slot->commands.busy()) harvest(*slot);
+  // Oldest first (the next slot to be used holds the oldest step), so that the newest finished
+  // step's figures are the ones kept.
+  for (std::size_t k = 0; k < kStepsInFlight; ++k) {
+    InFlight& slot = in_flight_[(next_slot_ + k) % kStepsInFlight];
+    if (!slot.commands.busy()) harvest(slot);
   }
 }
 
@@ -210,8 +212,9 @@ void GpuSolver::harvest(InFlight& slot) {
     largest_speed_ = std::sqrt(float_from_bits(stats[0]));
     largest_acceleration_ = float_from_bits(stats[1]);
   }
-  stage_times_.substeps += static_cast<std::uint64_t>(slot.substeps);
+  // Untimed steps (a device without timestamps) are not counted: a cost of 0 would mean free.
   if (slot.marks.empty()) return;
+  stage_times_.substeps += static_cast<std::uint64_t>(slot.substeps);
   slot.timestamps.fetch();
   for (std::uint32_t k = 0; k < slot.marks.size(); ++k) {
     const double ms = slot.timestamps.elapsed_ms(k, k + 1);
@@ -312,11 +315,12 @@ int GpuSolver::substeps_for(float seconds) {
     largest_collider_speed = std::max(largest_collider_speed, glm::length(c.velocity));
   }
   const float h = fluid().kernel_radius;
-  // When the previous step is still running, the figures are one step older: allow for what
-  // gravity adds over that step too.
-  const bool previous_running = in_flight_[next_slot_ ^ 1].commands.busy();
+  // Steps still running make the figures that many steps older: allow for what gravity adds over
+  // them too.
+  int running = 0;
+  for (const InFlight& slot : in_flight_) running += slot.commands.busy() ? 1 : 0;
   const float g = glm::length(gravity());
-  const float speed = largest_speed_ + (previous_running ? g * seconds : 0.0f);
+  const float speed = largest_speed_ + float(running) * g * seconds;
   if (kind_ == SolverKind::pbf) {
     return pbf_substep_count(seconds, speed, largest_collider_speed, g, params(), h);
   }
@@ -335,8 +339,7 @@ void GpuSolver::mark(VkCommandBuffer commands, InFlight& slot, Stage stage, int 
 void GpuSolver::advance(float seconds, int substeps) {
   InFlight& slot = in_flight_[next_slot_];
   slot.commands.wait();
-  harvest(slot);
-  if (!in_flight_[next_slot_ ^ 1].commands.busy()) harvest(in_flight_[next_slot_ ^ 1]);
+  count_finished_steps();
 
   const float dt = seconds / static_cast<float>(substeps);
   const int marks_per_substep = kind_ == SolverKind::pbf ? 4 + params().iterations : 3;
@@ -369,7 +372,7 @@ void GpuSolver::advance(float seconds, int substeps) {
   slot.harvested = false;
   slot.stale_stats = false;
   slot.substeps = substeps;
-  next_slot_ ^= 1;
+  next_slot_ = (next_slot_ + 1) % kStepsInFlight;
 }
 
 void GpuSolver::record_pbf_substep(VkCommandBuffer commands, InFlight& slot, const SimPass& pass) {

@@ -1,6 +1,6 @@
 // PBF and SPH entirely in Vulkan compute. The particles stay on the GPU: each step is one command
 // buffer (parameters, then every substep's grid build, reorder and solver passes), and the host
-// reads positions and velocities back only for a snapshot. Two steps may be in flight; the
+// reads positions and velocities back only for a snapshot. Four steps may be in flight; the
 // substep count of a step comes from the largest speed (and, for SPH, acceleration) of the newest
 // finished step, which the GPU records with one atomic per workgroup.
 // The formulas are the CPU solvers' (cpu/pbf_solver.cpp, cpu/sph_solver.cpp): see there for the
@@ -94,8 +94,10 @@ class GpuSolver final : public Solver {
     gpu::Buffer density_ratio;                                     // both, for the renderer
   } buffers_;
   gpu::Buffer params_buffer_, stats_buffer_;
+  // Steps in flight, a ring: a frame loop may submit this many in one tick without waiting.
   // Declared after what their steps use, so that their destructors wait before it goes.
-  std::array<InFlight, 2> in_flight_;
+  static constexpr std::size_t kStepsInFlight = 4;
+  std::array<InFlight, kStepsInFlight> in_flight_;
   std::size_t next_slot_ = 0;
   // From the newest finished step (or the loaded particles).
   float largest_speed_ = 0.0f;

@@ -18,11 +18,9 @@ class CommandSlot {
 
   // Waits for the last submission of this slot, then starts recording afresh.
   VkCommandBuffer begin();
-  // Returns the submission's serial (Context::submit).
-  std::uint64_t submit();
+  void submit();
   void wait() const;
   bool busy() const;  // submitted and not yet finished
-  std::uint64_t serial() const { return serial_; }  // of the last submission; 0 before any
 
  private:
   Context* context_;
@@ -30,7 +28,6 @@ class CommandSlot {
   VkCommandBuffer commands_ = VK_NULL_HANDLE;
   UniqueFence fence_;
   bool submitted_ = false;
-  std::uint64_t serial_ = 0;
 };
 
 // GPU timestamps written between stages of a command buffer, read once its fence has signalled.

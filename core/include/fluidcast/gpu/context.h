@@ -95,6 +95,9 @@ class Context {
   void retire(T object) {
     retire_object(std::make_unique<Retired<T>>(std::move(object)));
   }
+  // Destroys the retired objects whose last submission has finished (submit() does too): for a
+  // loop that may go a while without submitting.
+  void release_finished();
   std::size_t retired_count() const;  // retired and not yet destroyed
 
   // Records with `record`, submits, and waits for that submission: for uploads, read-backs and

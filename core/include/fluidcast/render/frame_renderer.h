@@ -124,7 +124,7 @@ class FrameRenderer {
   codec::ImageRgba take_oldest();
   std::size_t frames_pending() const;
   // Whether take_oldest() would return without waiting.
-  bool oldest_finished() const;
+  bool oldest_finished();
   std::uint64_t frames_dropped() const { return dropped_; }
   // The passes of the frame most recently taken or kept.
   const RenderTimes& last_times() const { return last_times_; }
@@ -157,6 +157,7 @@ class FrameRenderer {
   void record(VkCommandBuffer commands, RendererKind kind, const ParticleView& particles,
               const sim::Box& tank, const OrbitCamera& camera, Slot& slot);
   codec::ImageRgba collect(Slot& slot);
+  Slot* oldest_in_flight();  // of the frames not yet collected; null when none
 
   gpu::Context* context_;
   RenderTarget target_;

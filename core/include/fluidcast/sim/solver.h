@@ -42,7 +42,8 @@ inline constexpr std::size_t kMaxColliders = 16;
 
 // Milliseconds spent per stage since the last clear: wall-clock on the CPU, GPU time (from
 // timestamps) on the GPU, where a step counts once it has finished (see synchronize() and
-// count_finished_steps()); `substeps` counts the substeps of the same steps.
+// count_finished_steps()); `substeps` counts the substeps of the same steps (on the GPU, of the
+// steps that carried timestamps).
 struct StageTimes {
   double grid_ms = 0;       // counting sort, reorder, neighbour lists
   double predict_ms = 0;    // PBF: forces and prediction; SPH: time integration and collisions
@@ -78,13 +79,12 @@ class Solver {
 
   // Advances the simulation by params().time_step, colliders included. A GPU solver may return
   // before the GPU has finished the step; snapshot() and synchronize() wait for it.
-  void step() { step(params().time_step); }
-  // A step of `seconds` in (0, params().time_step], cut into substeps by the solver's own rule.
-  void step(float seconds) { step(seconds, substeps_for(seconds)); }
-  // A step of `seconds` in exactly `substeps` substeps (1 to params().max_substeps; the CPU SPH
-  // solver adapts their lengths within that count): what a frame loop that pays per substep
-  // runs, planned with substeps_for(); in slow motion, a shorter step of fewer substeps. Throws
-  // std::invalid_argument outside those ranges.
+  void step() { step(params().time_step, substeps_for(params().time_step)); }
+  // A step of `seconds` in (0, params().time_step] in `substeps` substeps (1 to
+  // params().max_substeps): what a frame loop that pays per substep runs, planned with
+  // substeps_for(); in slow motion, a shorter step of fewer substeps. The CPU SPH solver adapts
+  // each substep to the state it has just computed instead, taking as many as stability needs.
+  // Throws std::invalid_argument outside those ranges.
   void step(float seconds, int substeps);
   // The substeps a step of `seconds` would take now, by the solver's own rule (CFL and, for SPH,
   // the force and viscous bounds), from the newest state it knows.
