@@ -14,68 +14,14 @@
 #include <mutex>
 #include <thread>
 
+#include "dragging_viewer.h"
 #include "server_process.h"
-#include "stream_client.h"
 
 namespace fluidcast {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-struct ClientResult {
-  std::size_t frames = 0;
-  std::size_t bytes = 0;
-  std::vector<double> latencies_ms;
-  std::vector<double> sim_speed, gpu_ms, sim_ms;  // per frame: speed, render + read-back, steps
-  std::string error;
-};
-
-double percentile(std::vector<double> values, double p) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  return values[std::min(values.size() - 1, std::size_t(p * double(values.size())))];
-}
-
-ClientResult run_client(const std::string& address, const v1::Hello& hello, double warm_up,
-                        double seconds) {
-  ClientResult result;
-  try {
-    client::StreamClient stream(client::connect(address), hello);
-    const auto start = Clock::now();
-    double next_move = 0.0;
-    bool down = false;
-    std::size_t latencies_before = 0;
-    bool measuring = false;
-    while (!stream.ended()) {
-      const double t = std::chrono::duration<double>(Clock::now() - start).count();
-      if (t >= warm_up + seconds) break;
-      if (!measuring && t >= warm_up) {
-        measuring = true;
-        latencies_before = stream.latencies_ms().size();
-      }
-      if (t >= next_move) {  // a finger to and fro, 20 moves a second
-        const float x = 0.5f + 0.3f * float(std::sin(t * 3.0));
-        stream.pointer(0, down ? v1::PointerEvent::MOVE : v1::PointerEvent::DOWN, x, 0.6f);
-        down = true;
-        next_move += 0.05;
-      }
-      if (auto frame = stream.next_frame(std::chrono::milliseconds(10)); frame && measuring) {
-        ++result.frames;
-        result.bytes += frame->jpeg().size();
-        result.sim_speed.push_back(frame->sim_speed());
-        result.gpu_ms.push_back(frame->timings().render_ms() + frame->timings().readback_ms());
-        result.sim_ms.push_back(frame->timings().sim_ms());
-      }
-    }
-    const grpc::Status status = stream.ended() ? stream.status() : stream.finish();
-    if (!status.ok()) result.error = status.error_message();
-    const auto latencies = stream.latencies_ms();
-    result.latencies_ms.assign(latencies.begin() + std::ptrdiff_t(latencies_before), latencies.end());
-  } catch (const std::exception& e) {
-    result.error = e.what();
-  }
-  return result;
-}
+using testing::percentile;
+using testing::ViewerRun;
 
 int run(int argc, char** argv) {
   unsigned clients = 8, width = 320, height = 240, particles = 1000;
@@ -104,12 +50,12 @@ int run(int argc, char** argv) {
   hello.mutable_create()->set_particles(particles);
   if (!renderer.empty()) hello.mutable_quality()->set_renderer(renderer);
 
-  std::vector<ClientResult> results(clients);
+  std::vector<ViewerRun> results(clients);
   std::vector<std::thread> threads;
   std::atomic<unsigned> finished{0};
   for (unsigned k = 0; k < clients; ++k) {
     threads.emplace_back([&, k] {
-      results[k] = run_client(server.grpc_address(), hello, warm_up, seconds);
+      results[k] = testing::run_dragging_viewer(server.grpc_address(), hello, warm_up, seconds);
       ++finished;
     });
   }
@@ -130,9 +76,9 @@ int run(int argc, char** argv) {
   bool failed = server_exit != 0;
   std::vector<double> all, fps;
   for (unsigned k = 0; k < clients; ++k) {
-    const ClientResult& r = results[k];
+    const ViewerRun& r = results[k];
     all.insert(all.end(), r.latencies_ms.begin(), r.latencies_ms.end());
-    fps.push_back(double(r.frames) / seconds);
+    fps.push_back(r.fps());
     std::printf("| %u | %zu | %.1f | %.0f | %.0f | %.0f | %.0f | %.3f | %.2f | %.2f | %s |\n", k,
                 r.frames, fps.back(), 8.0 * double(r.bytes) / seconds / 1000.0,
                 percentile(r.latencies_ms, 0.5), percentile(r.latencies_ms, 0.95),

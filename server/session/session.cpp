@@ -332,7 +332,17 @@ void Session::apply(Viewer& viewer, const v1::ClientMessage& message,
 
 void Session::apply_rebuilds(Clock::time_point now) {
   if ((!setup_wanted_ && !reset_wanted_) || now - last_rebuild_ < kRebuildInterval) return;
+  // A rebuild runs on the worker, outside any grant. While other sessions are watched, its time
+  // is charged to this session's simulation and the next waits until that is repaid: a client
+  // that keeps asking slows its own fluid, not the others'.
+  if (contended_ && sim_account_.balance_ms() < 0.0) return;
   last_rebuild_ = now;
+  const auto started = Clock::now();
+  rebuild_or_reset();
+  if (contended_) sim_account_.spend(milliseconds_between(started, Clock::now()));
+}
+
+void Session::rebuild_or_reset() {
   if (setup_wanted_) {
     const SessionSetup setup = *setup_wanted_;
     setup_wanted_.reset();
@@ -498,6 +508,7 @@ void Session::render(const GpuGrant& grant, Clock::time_point now) {
 void Session::run(const GpuGrant& grant, Clock::time_point now) {
   // The steps first: they run while the GPU still draws last tick's frames (which read uploaded
   // or GPU-side particles; the queue orders them), then those frames go to the encoders.
+  contended_ = grant.contended();
   step(grant);
   send_frames(true);
   render(grant, now);

@@ -75,8 +75,10 @@ class Session {
 
  private:
   void rebuild(SessionSetup setup);
-  // Applies the newest scene, solver or count wish, or a reset, at most once per interval.
+  // Applies the newest scene, solver or count wish, or a reset, at most once per interval and
+  // not while the time of the last one is still being repaid.
   void apply_rebuilds(Clock::time_point now);
+  void rebuild_or_reset();
   // Takes the frames in flight to the encoders: all of them, waiting for the GPU if need be
   // (`wait`), or those the GPU has finished.
   void send_frames(bool wait);
@@ -115,6 +117,7 @@ class Session {
   double tick_elapsed_ = 0.0;  // wall seconds since the tick before
   double lag_seconds_ = 0.0;  // real time the simulation still owes
   GpuAccount sim_account_, render_account_;
+  bool contended_ = false;  // other sessions were watched at the last grant
   CostEstimate substep_cost_;  // ms of one substep (GPU time, or CPU time for a CPU solver)
   double measured_sim_ms_ = 0.0;  // the steps measured since the last frame was submitted
   SimSpeed speed_;
