@@ -11,7 +11,7 @@ namespace fluidcast::server {
 // and the reactions, so all under a lock.
 class GrpcViewerSink final : public ViewerSink {
  public:
-  explicit GrpcViewerSink(StreamReactor* reactor) : reactor_(reactor) {}
+  GrpcViewerSink(StreamReactor* reactor, Metrics& metrics) : reactor_(reactor), metrics_(&metrics) {}
 
   bool deliver(std::shared_ptr<const v1::ServerMessage> message) override {
     std::lock_guard lock(mutex_);
@@ -43,6 +43,7 @@ class GrpcViewerSink final : public ViewerSink {
 
   void on_write_done(bool ok) {
     std::lock_guard lock(mutex_);
+    if (const auto send_ms = outgoing_.written(); send_ms && ok) metrics_->send_ms.observe(*send_ms);
     writing_ = false;
     writing_message_.reset();
     if (!reactor_) return;
@@ -85,6 +86,7 @@ class GrpcViewerSink final : public ViewerSink {
 
   std::mutex mutex_;
   StreamReactor* reactor_;
+  Metrics* metrics_;
   bool writing_ = false;
   bool finishing_ = false;
   std::shared_ptr<const v1::ServerMessage> writing_message_;
@@ -94,7 +96,7 @@ class GrpcViewerSink final : public ViewerSink {
 
 StreamReactor::StreamReactor(SessionHub& hub)
     : hub_(&hub),
-      sink_(std::make_shared<GrpcViewerSink>(this)),
+      sink_(std::make_shared<GrpcViewerSink>(this, hub.metrics())),
       rate_(hub.limits().max_input_events_per_second),
       ack_rate_(kAcknowledgementsPerFrame * hub.limits().max_fps) {
   StartRead(&incoming_);

@@ -94,6 +94,8 @@ std::string Metrics::prometheus_text() const {
                        "A frame's wait for an encoder thread.");
   server_ms.write(out, "fluidcast_server_milliseconds",
                   "From the start of a frame's tick until it was handed to the transport.");
+  send_ms.write(out, "fluidcast_send_milliseconds",
+                "From a frame's hand-over to the transport until it was written.");
   std::lock_guard lock(sessions_mutex_);
   write_per_session(out, "fluidcast_session_sim_speed",
                     "Simulated seconds per wall second over the last second (1: real time).",

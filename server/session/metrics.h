@@ -46,6 +46,7 @@ struct Metrics {
   Histogram sim_ms, render_ms, readback_ms, encode_ms, round_trip_ms;
   // Where a frame's time went, in the order it passed (v1::StageTimings says each).
   Histogram input_wait_ms, queue_ms, encode_wait_ms, server_ms;
+  Histogram send_ms;  // from a frame's hand-over to the transport until it is written
 
   void set_session(const std::string& id, const SessionFigures& figures);
   void forget_session(const std::string& id);

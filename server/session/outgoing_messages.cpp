@@ -11,16 +11,27 @@ bool OutgoingMessages::push(std::shared_ptr<const v1::ServerMessage> message) {
   newest_sequence_ = message->frame().sequence();
   const bool replaced = frame_ != nullptr;
   frame_ = std::move(message);
+  frame_pushed_ = Clock::now();
   return !replaced;
 }
 
 std::shared_ptr<const v1::ServerMessage> OutgoingMessages::next() {
+  writing_frame_pushed_.reset();
   if (!control_.empty()) {
     auto message = std::move(control_.front());
     control_.pop_front();
     return message;
   }
+  if (frame_) writing_frame_pushed_ = frame_pushed_;
   return std::move(frame_);
+}
+
+std::optional<double> OutgoingMessages::written() {
+  if (!writing_frame_pushed_) return std::nullopt;
+  const double ms =
+      std::chrono::duration<double, std::milli>(Clock::now() - *writing_frame_pushed_).count();
+  writing_frame_pushed_.reset();
+  return ms;
 }
 
 void OutgoingMessages::stop_frames() {

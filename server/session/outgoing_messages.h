@@ -6,7 +6,9 @@
 #pragma once
 
 #include <cstdint>
+#include <chrono>
 #include <deque>
+#include <optional>
 #include <memory>
 
 #include "fluidcast/v1/fluidcast.pb.h"
@@ -22,10 +24,16 @@ class OutgoingMessages {
   std::shared_ptr<const v1::ServerMessage> next();
   // The stream is ending: the waiting frame and later ones are dropped; control messages still go.
   void stop_frames();
+  // The message next() gave has been written: when it was a frame, the milliseconds from its
+  // push to now (waiting behind the write before it, then being written): its send time.
+  std::optional<double> written();
 
  private:
+  using Clock = std::chrono::steady_clock;
   std::deque<std::shared_ptr<const v1::ServerMessage>> control_;
   std::shared_ptr<const v1::ServerMessage> frame_;
+  Clock::time_point frame_pushed_{};
+  std::optional<Clock::time_point> writing_frame_pushed_;
   std::uint64_t newest_sequence_ = 0;
   bool frames_stopped_ = false;
 };

@@ -120,10 +120,12 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
     socket_.async_write(boost::asio::buffer(*writing_),
                         [self = shared_from_this()](beast::error_code error, std::size_t) {
                           self->writing_.reset();
+                          const auto send_ms = self->outgoing_.written();
                           if (error) {
                             self->leave();
                             return;
                           }
+                          if (send_ms) self->hub_->metrics().send_ms.observe(*send_ms);
                           self->write_next();
                         });
   }

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <thread>
+
 namespace fluidcast::server {
 namespace {
 
@@ -43,6 +46,21 @@ TEST(OutgoingMessagesTest, AnEndingStreamDropsFramesButNotControl) {
   EXPECT_TRUE(queue.push(end));
   EXPECT_TRUE(queue.next() == end);
   EXPECT_FALSE(queue.next());
+}
+
+TEST(OutgoingMessagesTest, AWrittenFrameSaysHowLongItTookAControlMessageDoesNot) {
+  OutgoingMessages queue;
+  EXPECT_FALSE(queue.written());
+  queue.push(welcome());
+  queue.push(frame(1));
+  ASSERT_TRUE(queue.next()->has_welcome());
+  EXPECT_FALSE(queue.written());
+  std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  ASSERT_TRUE(queue.next()->has_frame());
+  const auto send_ms = queue.written();
+  ASSERT_TRUE(send_ms);
+  EXPECT_GE(*send_ms, 5.0);  // from its push, waiting behind the welcome included
+  EXPECT_FALSE(queue.written());  // once
 }
 
 }  // namespace
