@@ -1,6 +1,6 @@
 // One gRPC Stream call: validates what the client sends, hands it to its session, and writes the
-// session's frames — the newest wins, one write in flight (DESIGN.md §9: never Finish with a
-// write outstanding, never block in a reaction).
+// session's frames — the newest wins, one write in flight (gRPC's callback rules: never Finish
+// with a write outstanding, never block in a reaction).
 #pragma once
 
 #include <grpcpp/grpcpp.h>

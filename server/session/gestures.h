@@ -1,4 +1,4 @@
-// Raw pointer events become gestures (DESIGN.md §5): one finger drags the fluid, two fingers orbit
+// Raw pointer events become gestures: one finger drags the fluid, two fingers orbit
 // (moving together) and zoom (pinching) the camera. Positions are normalised to the frame.
 #pragma once
 

@@ -17,14 +17,25 @@ void write_value(std::string& out, const std::string& name, const char* type,
   out += name + " " + std::to_string(value) + "\n";
 }
 
-void write_per_session(std::string& out, const std::string& name, const std::string& help,
-                       const std::map<std::string, SessionFigures>& sessions,
-                       double (*value)(const SessionFigures&)) {
-  out += "# HELP " + name + " " + help + "\n# TYPE " + name + " gauge\n";
-  for (const auto& [id, figures] : sessions) {
-    out += name + "{session=\"" + id + "\"} " + number(value(figures)) + "\n";
-  }
-}
+// The per-session gauges, labelled with the session's id.
+struct SessionSeries {
+  const char* name;
+  const char* help;
+  double (*value)(const SessionFigures&);
+};
+constexpr SessionSeries kSessionSeries[] = {
+    {"fluidcast_session_sim_speed",
+     "Simulated seconds per wall second over the last second (1: real time).",
+     [](const SessionFigures& f) { return f.sim_speed; }},
+    {"fluidcast_session_substep_milliseconds",
+     "Measured cost of one solver substep (GPU time on a GPU solver).",
+     [](const SessionFigures& f) { return f.substep_ms; }},
+    {"fluidcast_session_frame_milliseconds",
+     "Measured GPU time of one frame for each of the session's viewers, summed.",
+     [](const SessionFigures& f) { return f.frame_ms; }},
+    {"fluidcast_session_particles", "Particles in the session.",
+     [](const SessionFigures& f) { return double(f.particles); }},
+};
 
 }  // namespace
 
@@ -72,7 +83,7 @@ std::string Metrics::prometheus_text() const {
               "Frames not rendered because the viewer had enough in flight.", frames_skipped);
   write_value(out, "fluidcast_frames_deferred_total", "counter",
               "Frames not rendered in a tick because their session had spent its share of the GPU "
-              "while other sessions had frames due.",
+              "while other sessions were watched.",
               frames_deferred);
   write_value(out, "fluidcast_bytes_sent_total", "counter", "JPEG bytes handed to transports.",
               bytes_sent);
@@ -87,7 +98,7 @@ std::string Metrics::prometheus_text() const {
   round_trip_ms.write(out, "fluidcast_round_trip_milliseconds",
                       "From a frame's production to the client's acknowledgement.");
   input_wait_ms.write(out, "fluidcast_input_wait_milliseconds",
-                      "From an input's arrival to the start of the tick that applied it.");
+                      "From an input's arrival to the start of the tick that drew its first frame.");
   queue_ms.write(out, "fluidcast_queue_milliseconds",
                  "From a frame's submission to the GPU until the server took it back.");
   encode_wait_ms.write(out, "fluidcast_encode_wait_milliseconds",
@@ -97,18 +108,14 @@ std::string Metrics::prometheus_text() const {
   send_ms.write(out, "fluidcast_send_milliseconds",
                 "From a frame's hand-over to the transport until it was written.");
   std::lock_guard lock(sessions_mutex_);
-  write_per_session(out, "fluidcast_session_sim_speed",
-                    "Simulated seconds per wall second over the last second (1: real time).",
-                    session_figures_, [](const SessionFigures& f) { return f.sim_speed; });
-  write_per_session(out, "fluidcast_session_substep_milliseconds",
-                    "Measured cost of one solver substep (GPU time on a GPU solver).",
-                    session_figures_, [](const SessionFigures& f) { return f.substep_ms; });
-  write_per_session(out, "fluidcast_session_frame_milliseconds",
-                    "Measured GPU time of one frame for each of the session's viewers, summed.",
-                    session_figures_, [](const SessionFigures& f) { return f.frame_ms; });
-  write_per_session(out, "fluidcast_session_particles", "Particles in the session.",
-                    session_figures_,
-                    [](const SessionFigures& f) { return double(f.particles); });
+  for (const SessionSeries& series : kSessionSeries) {
+    out += "# HELP " + std::string(series.name) + " " + series.help + "\n# TYPE " + series.name +
+           " gauge\n";
+    for (const auto& [id, figures] : session_figures_) {
+      out += std::string(series.name) + "{session=\"" + id + "\"} " +
+             number(series.value(figures)) + "\n";
+    }
+  }
   return out;
 }
 

@@ -38,7 +38,7 @@ struct Metrics {
   std::atomic<std::uint64_t> frames_sent{0};
   std::atomic<std::uint64_t> frames_dropped{0};  // replaced before a slow viewer read them
   std::atomic<std::uint64_t> frames_skipped{0};  // not rendered: the viewer had enough in flight
-  // Not rendered in a tick: the session had spent its share of the GPU while others had frames due.
+  // Not rendered in a tick: the session had spent its share of the GPU while others were watched.
   std::atomic<std::uint64_t> frames_deferred{0};
   std::atomic<std::uint64_t> bytes_sent{0};
   std::atomic<std::uint64_t> streams_refused{0};

@@ -49,9 +49,9 @@ Session::Session(std::string id, SessionSetup setup, SessionServices services)
 
 Session::~Session() = default;
 
-void Session::send_frames(bool wait) {
+void Session::send_frames(FrameWait wait) {
   for (auto& [id, viewer] : viewers_) {
-    while (wait || viewer->frame_finished()) {
+    while (wait == FrameWait::for_all || viewer->frame_finished()) {
       auto finished = viewer->take_finished(Clock::now());
       if (!finished) break;
       encode(*viewer, std::move(*finished));
@@ -73,8 +73,6 @@ SessionFigures Session::figures() const {
   figures.particles = solver_->particle_count();
   return figures;
 }
-
-void Session::collect_finished_frames() { send_frames(false); }
 
 void Session::rebuild(SessionSetup setup) {
   if (setup.particles == 0) setup.particles = services_.limits->default_particles;
@@ -510,7 +508,7 @@ void Session::run(const GpuGrant& grant, Clock::time_point now) {
   // or GPU-side particles; the queue orders them), then those frames go to the encoders.
   contended_ = grant.contended();
   step(grant);
-  send_frames(true);
+  send_frames(FrameWait::for_all);
   render(grant, now);
 }
 

@@ -61,9 +61,11 @@ class Session {
   // ...then the steps and frames that the grant pays for. The frames of the previous tick are
   // taken to the encoders after this tick's steps are submitted (waiting for them if need be).
   void run(const GpuGrant& grant, Clock::time_point now);
-  // Takes the frames the GPU has finished to the encoders, without waiting: between ticks, so
-  // that a frame is sent as soon as it is drawn.
-  void collect_finished_frames();
+  // Takes frames in flight to the encoders: every one, waiting for the GPU if need be (run()
+  // does, before new frames reuse the read-back ring), or only those the GPU has finished
+  // (between ticks, so that a frame is sent as soon as it is drawn).
+  enum class FrameWait { for_all, finished_only };
+  void send_frames(FrameWait wait);
   // For /metrics.
   SessionFigures figures() const;
   v1::SessionState state() const;
@@ -79,9 +81,6 @@ class Session {
   // not while the time of the last one is still being repaid.
   void apply_rebuilds(Clock::time_point now);
   void rebuild_or_reset();
-  // Takes the frames in flight to the encoders: all of them, waiting for the GPU if need be
-  // (`wait`), or those the GPU has finished.
-  void send_frames(bool wait);
   void apply(Viewer& viewer, const v1::ClientMessage& message, Clock::time_point received);
   // Steps as far as real time owes and the grant pays.
   void step(const GpuGrant& grant);

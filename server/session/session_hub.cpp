@@ -271,7 +271,7 @@ void SessionHub::collect_frames(Clock::time_point deadline) {
   }
   for (auto& [id, session] : sessions_) {
     try {
-      session->collect_finished_frames();
+      session->send_frames(Session::FrameWait::finished_only);
     } catch (const std::exception& e) {
       end_failed(*session, e);
     }

@@ -1,4 +1,4 @@
-// The server's sessions and the one GPU worker thread that runs them (DESIGN.md §3): transports
+// The server's sessions and the one GPU worker thread that runs them (docs/frame-loop.md): transports
 // call in from their own threads and never touch Vulkan; the worker never blocks on the network.
 #pragma once
 

@@ -1,5 +1,5 @@
 // One client watching a session: its own camera, frame size, renderer and JPEG quality, its
-// gestures, and the flow control that keeps its latency low (DESIGN.md §1). Lives on the GPU
+// gestures, and the flow control that keeps its latency low. Lives on the GPU
 // worker's thread; only its sink is reached from elsewhere.
 #pragma once
 
