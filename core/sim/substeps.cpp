@@ -2,17 +2,43 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace fluidcast::sim {
+namespace {
 
-int pbf_substep_count(float step, float largest_speed, float largest_collider_speed, float gravity,
-                      const SolverParams& params, float kernel_radius) {
+// A step's error was well under tolerance: the longest substep grows by at most this factor per
+// step observed (on the GPU, observations arrive a few steps late: growing from the bound, not
+// from the substep taken, keeps a late small error from undoing an earlier large one).
+constexpr float kLongestGrowth = 1.1f;
+
+}  // namespace
+
+PbfSubsteps::PbfSubsteps(const SolverParams& params, float kernel_radius)
+    : travel_(params.pbf_travel * kernel_radius),
+      tolerance_(params.pbf_density_tolerance),
+      max_substeps_(params.max_substeps),
+      longest_substep_(std::numeric_limits<float>::infinity()) {}
+
+int PbfSubsteps::count(float step, float largest_speed, float largest_collider_speed,
+                       float gravity) const {
   // A collider moving faster than the fluid sets the pace too: it must not jump over particles.
   const float speed = std::max(largest_speed + gravity * step, largest_collider_speed);
-  const float travel = speed * step / (params.cfl_number * kernel_radius);
-  if (!std::isfinite(travel)) return params.max_substeps;
+  const float by_travel = speed * step / travel_;
+  const float by_density = step / longest_substep_;
+  const float substeps = std::max(by_travel, by_density);
+  if (!std::isfinite(substeps)) return max_substeps_;
   return static_cast<int>(
-      std::clamp(std::ceil(travel), 1.0f, static_cast<float>(params.max_substeps)));
+      std::clamp(std::ceil(substeps), 1.0f, static_cast<float>(max_substeps_)));
+}
+
+void PbfSubsteps::observe(float substep, float error) {
+  if (!std::isfinite(error) || !(substep > 0.0f)) return;
+  // The error shrinks at least as Δt² (measured: faster), so this is the longest substep that
+  // keeps it within tolerance.
+  const float allowed =
+      error > 0.0f ? substep * std::sqrt(tolerance_ / error) : std::numeric_limits<float>::infinity();
+  longest_substep_ = std::min(allowed, kLongestGrowth * longest_substep_);
 }
 
 float sph_stable_substep(float largest_speed, float largest_acceleration,

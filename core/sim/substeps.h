@@ -5,10 +5,36 @@
 
 namespace fluidcast::sim {
 
-// PBF: substeps of a step of `step` seconds so that nothing moves more than cfl_number · h in one, the fluid (its largest
-// speed plus what gravity adds over the step) or a collider. Non-finite speeds give max_substeps.
-int pbf_substep_count(float step, float largest_speed, float largest_collider_speed, float gravity,
-                      const SolverParams& params, float kernel_radius);
+// PBF's substep rule. A substep is as long as two bounds allow:
+// - travel: nothing moves more than pbf_travel · h in one — the fluid (its largest speed plus what
+//   gravity adds over the step) or a collider. Beyond about h a particle tunnels through its
+//   neighbours; predict() also slows any particle to speed_limit(), so that one flung faster than
+//   the plan foresaw cannot either.
+// - density: the average compression a step leaves, which Jacobi iterations shrink as Δt², stays
+//   within pbf_density_tolerance: each step's measured error sets the longest substep the next
+//   may take (it shortens at once when the error was too large and lengthens by at most a tenth
+//   a step when it was small).
+class PbfSubsteps {
+ public:
+  PbfSubsteps(const SolverParams& params, float kernel_radius);
+
+  // Substeps of a step of `step` seconds, from the newest speeds known. Non-finite speeds give
+  // max_substeps.
+  int count(float step, float largest_speed, float largest_collider_speed, float gravity) const;
+  // The fastest a particle may move in a substep of `substep` seconds, m/s.
+  float speed_limit(float substep) const { return travel_ / substep; }
+  // After a step whose substeps were `substep` seconds long left an average density error
+  // `error` (a fraction of ρ0). Non-finite errors are ignored (the speeds then cap the count).
+  void observe(float substep, float error);
+  // The longest substep the density bound allows now, s (infinite until a step was observed).
+  float longest_substep() const { return longest_substep_; }
+
+ private:
+  float travel_;     // m: pbf_travel · h
+  float tolerance_;  // pbf_density_tolerance
+  int max_substeps_;
+  float longest_substep_;
+};
 
 // SPH: the longest stable substep: the CFL bound with the speed of sound, the force bound
 // 0.25 √(h / |a|max), and the viscous bound 0.125 h² / ν.

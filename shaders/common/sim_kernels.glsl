@@ -134,3 +134,17 @@ void record_largest(uint slot, float value) {
   barrier();
   if (gl_LocalInvocationIndex == 0) atomicMax(P.stats.v[slot], group_largest);
 }
+
+// Adds value / particle_count over the dispatch into P.stats.v[slot], in units of 2^-26 (a mean
+// up to 64): each invocation's value in units of 2^-20 (at most 16, so that a workgroup's sum fits
+// in 32 bits), one global atomic per workgroup. Every invocation must call it.
+shared uint group_sum;
+void record_mean(uint slot, float value) {
+  if (gl_LocalInvocationIndex == 0) group_sum = 0u;
+  barrier();
+  atomicAdd(group_sum, uint(round(clamp(value, 0.0, 16.0) * 1048576.0)));
+  barrier();
+  if (gl_LocalInvocationIndex == 0) {
+    atomicAdd(P.stats.v[slot], uint(round(float(group_sum) * 64.0 / float(P.particle_count))));
+  }
+}

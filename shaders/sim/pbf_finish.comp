@@ -2,7 +2,9 @@
 #extension GL_GOOGLE_include_directive : require
 // PBF, last pass of a substep: vorticity confinement (a = ε N × ω) and XSPH viscosity on the
 // velocity, then the particles written back as state (sorted order becomes state order), and the
-// largest |v|² recorded for the next step's substep count.
+// largest |v|² recorded for the next step's substep count; on a step's last substep also the
+// compression it leaves, max(ρ/ρ0 − 1, 0) walls included, for the substep rule (as
+// PbfSolver::average_compression).
 #include "common/core.glsl"
 #include "common/sim_params.glsl"
 #include "common/sim_kernels.glsl"
@@ -10,15 +12,17 @@
 void main() {
   load_constants();
   const uint k = invocation();
-  float speed2 = 0.0;
+  float speed2 = 0.0, compression = 0.0;
   if (k < P.particle_count) {
     Vec4s x = pass.parity == 0u ? P.iterate0 : P.iterate1;
     const vec3 p = x.v[k].xyz;
     Vec4s velocities = P.sorted_velocity, vorticity = P.vorticity;
     const vec3 v = velocities.v[k].xyz;
     vec3 velocity = v;
-    if (P.vorticity_epsilon > 0.0 || P.xsph > 0.0) {
+    const bool measure = pass.record_compression != 0u;
+    if (P.vorticity_epsilon > 0.0 || P.xsph > 0.0 || measure) {
       const bool confine = P.vorticity_epsilon > 0.0;
+      float density = poly6(0.0);
       const vec4 omega = confine ? vorticity.v[k] : vec4(0.0);
       vec3 eta = vec3(0.0), smoothing = vec3(0.0);
       const ivec3 cell = sorted_cell(k);
@@ -30,8 +34,11 @@ void main() {
           const vec4 omega_j = vorticity.v[j];
           eta += (omega_j.w - omega.w) * spiky_gradient(r, r2);
         }
-        smoothing += (velocities.v[j].xyz - v) * poly6(r2);
+        const float w = poly6(r2);
+        smoothing += (velocities.v[j].xyz - v) * w;
+        density += w;
       }
+      compression = max((P.mass * density + walls(p).x) * P.inv_rest_density - 1.0, 0.0);
       velocity += P.xsph * P.rest_volume * smoothing;
       const float eta_length = length(eta);
       if (confine && eta_length > 1e-12) {
@@ -44,4 +51,5 @@ void main() {
     speed2 = dot(velocity, velocity);
   }
   record_largest(0u, speed2);
+  if (pass.record_compression != 0u) record_mean(2u, compression);
 }

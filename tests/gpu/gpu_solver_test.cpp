@@ -35,7 +35,12 @@ TEST_P(GpuSolverTest, AgreesWithTheCpuSolverOnADamBreak) {
   const double spacing = cpu->fluid().spacing;
   for (const double until : {0.1, 0.25, 0.5, 0.75, 1.0}) {
     run_for(*cpu, until - cpu->time());
-    run_for(*gpu, until - gpu->time());
+    // In lockstep: with steps in flight the GPU plans substeps from figures a few steps old, and
+    // the trajectories would part by their plans, not by their arithmetic.
+    while (gpu->time() < until - 0.5 * gpu->params().time_step) {
+      gpu->step();
+      gpu->synchronize();
+    }
     SCOPED_TRACE("t = " + std::to_string(until) + " s");
     const FluidStatistics a = stats(*cpu), b = stats(*gpu);
     testing::expect_sound(*gpu, kParticles);

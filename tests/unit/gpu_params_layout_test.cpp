@@ -105,6 +105,7 @@ TEST(GpuParamsLayout, SimParamsMatchesTheGlslBlock) {
                                                   FIELD(SimParams, sph_viscosity),
                                                   FIELD(SimParams, artificial_viscosity),
                                                   FIELD(SimParams, softening),
+                                                  FIELD(SimParams, substep_travel),
                                                   FIELD(SimParams, collider_sphere),
                                                   FIELD(SimParams, collider_velocity)};
   const auto glsl = member_offsets(shaders::sim_pbf_lambda_comp, "SimParams");
@@ -118,7 +119,8 @@ TEST(GpuParamsLayout, SimParamsMatchesTheGlslBlock) {
 TEST(GpuParamsLayout, SimPassMatchesThePushConstants) {
   const std::map<std::string, std::size_t> cpp = {FIELD(SimPass, params), FIELD(SimPass, dt),
                                                   FIELD(SimPass, time_into_step),
-                                                  FIELD(SimPass, parity)};
+                                                  FIELD(SimPass, parity),
+                                                  FIELD(SimPass, record_compression)};
   const auto glsl = member_offsets(shaders::sim_pbf_lambda_comp, "SimPass");
   ASSERT_EQ(glsl.size(), cpp.size());
   for (const auto& [name, offset] : cpp) EXPECT_EQ(glsl.at(name), offset) << name;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include "pbf_constants.h"
 #include "substeps.h"
@@ -9,7 +10,7 @@
 namespace fluidcast::sim::cpu {
 
 PbfSolver::PbfSolver(Scene scene, const SolverParams& params)
-    : CpuSolver(std::move(scene), params) {
+    : CpuSolver(std::move(scene), params), substeps_(params, kernels_.radius()) {
   const PbfConstants constants = derive_pbf_constants(params, fluid());
   relaxation_epsilon_ = constants.relaxation_epsilon;
   scorr_scale_ = constants.scorr_scale;
@@ -17,19 +18,18 @@ PbfSolver::PbfSolver(Scene scene, const SolverParams& params)
 }
 
 int PbfSolver::substeps_for(float seconds) {
-  return pbf_substep_count(seconds, max_speed(), max_collider_speed(), glm::length(gravity()),
-                           params(), kernels_.radius());
+  return substeps_.count(seconds, max_speed(), max_collider_speed(), glm::length(gravity()));
 }
 
 void PbfSolver::advance(float seconds, int substeps) {
   dt_ = seconds / static_cast<float>(substeps);
   for (int s = 0; s < substeps; ++s) {
     set_time_into_step(static_cast<float>(s + 1) * dt_);  // predicted positions are at its end
-    substep();
+    substep(s + 1 == substeps);
   }
 }
 
-void PbfSolver::substep() {
+void PbfSolver::substep(bool last) {
   ++stage_times_.substeps;
   {
     StageTimer timer(stage_times_.predict_ms);
@@ -59,6 +59,7 @@ void PbfSolver::substep() {
     StageTimer timer(stage_times_.viscosity_ms);
     apply_confinement_and_viscosity();
   }
+  if (last) substeps_.observe(dt_, average_compression());
   particles_.position.swap(predicted_);
 }
 
@@ -67,8 +68,12 @@ void PbfSolver::predict() {
   predicted_.resize(n);
   const float dt = dt_;
   const glm::vec3 dv = gravity() * dt;
+  const float limit2 = substeps_.speed_limit(dt) * substeps_.speed_limit(dt);
   pool_.for_each(n, [&](std::size_t i) {
-    particles_.velocity[i] += dv;
+    glm::vec3& v = particles_.velocity[i];
+    v += dv;
+    const float speed2 = glm::dot(v, v);
+    if (speed2 > limit2) v *= std::sqrt(limit2 / speed2);
     predicted_[i] = constrain_position(particles_.position[i] + dt * particles_.velocity[i]);
   });
 }
@@ -107,6 +112,26 @@ void PbfSolver::compute_lambdas() {
             ? 0.0f
             : -constraint / (sum_squares + glm::dot(gradient_i, gradient_i) + relaxation_epsilon_);
   });
+}
+
+float PbfSolver::average_compression() {
+  const std::size_t n = particles_.size();
+  if (n == 0) return 0.0f;
+  compression_.resize(n);
+  const float mass = fluid().particle_mass;
+  const float inv_rest_density = 1.0f / fluid().rest_density;
+  const float self_density = kernels_.poly6(0.0f);
+  pool_.for_each(n, [&](std::size_t i) {
+    const glm::vec3 p = predicted_[i];
+    float density = self_density;
+    for (std::uint32_t j : neighbours_.of(i)) {
+      const glm::vec3 r = p - predicted_[j];
+      density += kernels_.poly6(glm::dot(r, r));
+    }
+    compression_[i] = std::max((mass * density + walls(p).density) * inv_rest_density - 1.0f, 0.0f);
+  });
+  const double sum = std::accumulate(compression_.begin(), compression_.end(), 0.0);
+  return static_cast<float>(sum / static_cast<double>(n));
 }
 
 void PbfSolver::apply_position_corrections() {

@@ -1,7 +1,8 @@
 // Position Based Fluids: Macklin & Müller, "Position Based Fluids", ACM TOG 32(4), 2013.
-// A step is split into substeps so no particle travels more than cfl·h in one (beyond that it
-// tunnels through its neighbours and the Jacobi solve diverges). A substep: predict → neighbour search on predicted positions (sorted, reordered) → Jacobi
-// iterations of the density constraint (λ, then Δp with s_corr and collisions) → velocity from
+// A step is split into substeps by PbfSubsteps (substeps.h): short enough that nothing travels
+// more than pbf_travel·h in one and that the compression the last step left stays within
+// tolerance. A substep: predict → neighbour search on predicted positions (sorted, reordered) →
+// Jacobi iterations of the density constraint (λ, then Δp with s_corr and collisions) → velocity from
 // the displacement → vorticity confinement and XSPH viscosity.
 //
 // Two choices beyond the paper: the density constraint is unilateral, C = max(ρ/ρ0 − 1, 0), so a
@@ -10,6 +11,7 @@
 #pragma once
 
 #include "cpu/cpu_solver.h"
+#include "substeps.h"
 
 namespace fluidcast::sim::cpu {
 
@@ -21,9 +23,12 @@ class PbfSolver final : public CpuSolver {
  private:
   int substeps_for(float seconds) override;
   void advance(float seconds, int substeps) override;
-  void substep();
+  void substep(bool last);
   void predict();
   void compute_lambdas();
+  // Mean over particles of max(ρ/ρ0 − 1, 0) at the corrected positions, walls included: what the
+  // substep leaves, for the substep rule.
+  float average_compression();
   void apply_position_corrections();
   void update_velocities();
   void compute_vorticity();
@@ -33,6 +38,8 @@ class PbfSolver final : public CpuSolver {
   float scorr_scale_;         // k / Σ|∇C|²_rest
   float inv_w_dq_;            // 1 / W(Δq)
   float dt_ = 0.0f;           // of the current substep
+  PbfSubsteps substeps_;
+  std::vector<float> compression_;  // scratch of average_compression()
   std::vector<glm::vec3> predicted_, corrected_;
   std::vector<float> lambda_;
   std::vector<glm::vec3> vorticity_, smoothed_velocity_;

@@ -31,6 +31,7 @@ struct SimParams {
       particle_radius;
   float relaxation_epsilon, scorr_scale, inv_w_dq, scorr_exponent, vorticity_epsilon, xsph;
   float tait_stiffness, tait_exponent, sph_viscosity, artificial_viscosity, softening;
+  float substep_travel;
 
   alignas(16) glm::vec4 collider_sphere[kMaxColliders];
   glm::vec4 collider_velocity[kMaxColliders];
@@ -43,7 +44,8 @@ static_assert(offsetof(SimParams, solver) == 144 + 6 * 16);
 static_assert(offsetof(SimParams, h) == 144 + 6 * 16 + 12);
 static_assert(offsetof(SimParams, relaxation_epsilon) == 144 + 6 * 16 + 13 * 4);
 static_assert(offsetof(SimParams, softening) == 144 + 6 * 16 + 23 * 4);
-static_assert(offsetof(SimParams, collider_sphere) == 144 + 6 * 16 + 24 * 4);
+static_assert(offsetof(SimParams, substep_travel) == 144 + 6 * 16 + 24 * 4);
+static_assert(offsetof(SimParams, collider_sphere) == 144 + 6 * 16 + 28 * 4);
 static_assert(offsetof(SimParams, collider_velocity) ==
               offsetof(SimParams, collider_sphere) + kMaxColliders * 16);
 static_assert(sizeof(SimParams) % 4 == 0, "vkCmdUpdateBuffer takes whole words");
@@ -54,7 +56,18 @@ struct SimPass {
   float dt;
   float time_into_step;
   std::uint32_t parity;
+  std::uint32_t record_compression;
 };
-static_assert(offsetof(SimPass, dt) == 8 && offsetof(SimPass, parity) == 16);
+static_assert(offsetof(SimPass, dt) == 8 && offsetof(SimPass, parity) == 16 &&
+              offsetof(SimPass, record_compression) == 20);
+
+// The statistics a step leaves in P.stats, read back by the host.
+enum StatsSlot : std::uint32_t {
+  kLargestSpeed2 = 0,         // bits of the largest |v|²
+  kLargestAcceleration = 1,   // bits of the largest |a| (SPH)
+  kAverageCompression = 2,    // PBF: mean max(ρ/ρ0 − 1, 0), in units of kCompressionUnit
+  kStatsSlots = 3,
+};
+inline constexpr double kCompressionUnit = 1.0 / (1 << 26);
 
 }  // namespace fluidcast::sim::gpu_solver

@@ -38,7 +38,7 @@ float float_from_bits(std::uint32_t bits) {
 }  // namespace
 
 GpuSolver::InFlight::InFlight(gpu::Context& context)
-    : stats(context, 2 * sizeof(std::uint32_t), gpu::MemoryDomain::readback),
+    : stats(context, kStatsSlots * sizeof(std::uint32_t), gpu::MemoryDomain::readback),
       timestamps(context, kTimestampCapacity),
       commands(context) {}
 
@@ -67,8 +67,9 @@ GpuSolver::GpuSolver(SolverKind kind, gpu::Context& context, Scene scene,
       grid_(context, GridGeometry(tank(), fluid().kernel_radius), 0),
       pipelines_(context),
       params_buffer_(context, sizeof(SimParams), gpu::MemoryDomain::device),
-      stats_buffer_(context, 2 * sizeof(std::uint32_t), gpu::MemoryDomain::device),
-      in_flight_{InFlight(context), InFlight(context), InFlight(context), InFlight(context)} {
+      stats_buffer_(context, kStatsSlots * sizeof(std::uint32_t), gpu::MemoryDomain::device),
+      in_flight_{InFlight(context), InFlight(context), InFlight(context), InFlight(context)},
+      pbf_substeps_(params, fluid().kernel_radius) {
   const PbfConstants pbf = derive_pbf_constants(params, fluid());
   relaxation_epsilon_ = pbf.relaxation_epsilon;
   scorr_scale_ = pbf.scorr_scale;
@@ -209,8 +210,12 @@ void GpuSolver::harvest(InFlight& slot) {
   slot.harvested = true;
   if (!slot.stale_stats) {
     const auto stats = slot.stats.mapped<std::uint32_t>();
-    largest_speed_ = std::sqrt(float_from_bits(stats[0]));
-    largest_acceleration_ = float_from_bits(stats[1]);
+    largest_speed_ = std::sqrt(float_from_bits(stats[kLargestSpeed2]));
+    largest_acceleration_ = float_from_bits(stats[kLargestAcceleration]);
+    if (kind_ == SolverKind::pbf) {
+      pbf_substeps_.observe(slot.substep_seconds,
+                            static_cast<float>(stats[kAverageCompression] * kCompressionUnit));
+    }
   }
   // Untimed steps (a device without timestamps) are not counted: a cost of 0 would mean free.
   if (slot.marks.empty()) return;
@@ -302,6 +307,7 @@ SimParams GpuSolver::step_params() const {
   p.artificial_viscosity =
       2.0f * params().artificial_viscosity * kernels.radius() * params().sound_speed;
   p.softening = 0.01f * kernels.radius_squared();
+  p.substep_travel = params().pbf_travel * kernels.radius();
   for (std::size_t c = 0; c < colliders().size(); ++c) {
     p.collider_sphere[c] = glm::vec4(colliders()[c].centre, colliders()[c].radius);
     p.collider_velocity[c] = glm::vec4(colliders()[c].velocity, 0.0f);
@@ -322,7 +328,7 @@ int GpuSolver::substeps_for(float seconds) {
   const float g = glm::length(gravity());
   const float speed = largest_speed_ + float(running) * g * seconds;
   if (kind_ == SolverKind::pbf) {
-    return pbf_substep_count(seconds, speed, largest_collider_speed, g, params(), h);
+    return pbf_substeps_.count(seconds, speed, largest_collider_speed, g);
   }
   const float dt = sph_stable_substep(speed, largest_acceleration_, params(), h);
   if (!std::isfinite(dt) || dt <= 0.0f) return params().max_substeps;
@@ -357,25 +363,27 @@ void GpuSolver::advance(float seconds, int substeps) {
   vkCmdFillBuffer(commands, stats_buffer_.get(), 0, VK_WHOLE_SIZE, 0);
   gpu::transfer_to_compute_barrier(commands);
   for (int s = 0; s < substeps; ++s) {
-    const SimPass pass{params_buffer_.address(), dt, static_cast<float>(s + 1) * dt, 0};
+    const SimPass pass{params_buffer_.address(), dt, static_cast<float>(s + 1) * dt, 0, 0};
     if (kind_ == SolverKind::pbf) {
-      record_pbf_substep(commands, slot, pass);
+      record_pbf_substep(commands, slot, pass, s + 1 == substeps);
     } else {
       record_sph_substep(commands, slot, pass);
     }
   }
   gpu::compute_to_transfer_barrier(commands);
-  const VkBufferCopy region{0, 0, 2 * sizeof(std::uint32_t)};
+  const VkBufferCopy region{0, 0, kStatsSlots * sizeof(std::uint32_t)};
   vkCmdCopyBuffer(commands, stats_buffer_.get(), slot.stats.get(), 1, &region);
   gpu::to_host_barrier(commands);
   slot.commands.submit();
   slot.harvested = false;
   slot.stale_stats = false;
   slot.substeps = substeps;
+  slot.substep_seconds = dt;
   next_slot_ = (next_slot_ + 1) % kStepsInFlight;
 }
 
-void GpuSolver::record_pbf_substep(VkCommandBuffer commands, InFlight& slot, const SimPass& pass) {
+void GpuSolver::record_pbf_substep(VkCommandBuffer commands, InFlight& slot, const SimPass& pass,
+                                   bool last) {
   const std::uint32_t n = static_cast<std::uint32_t>(count_);
   pipelines_.predict.dispatch(commands, pass, n);
   gpu::compute_barrier(commands);
@@ -403,6 +411,7 @@ void GpuSolver::record_pbf_substep(VkCommandBuffer commands, InFlight& slot, con
     gpu::compute_barrier(commands);
   }
   mark(commands, slot, Stage::velocity);
+  iteration.record_compression = last ? 1 : 0;
   pipelines_.pbf_finish.dispatch(commands, iteration, n);
   gpu::compute_barrier(commands);
   mark(commands, slot, Stage::viscosity);

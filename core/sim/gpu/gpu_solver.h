@@ -1,8 +1,9 @@
 // PBF and SPH entirely in Vulkan compute. The particles stay on the GPU: each step is one command
 // buffer (parameters, then every substep's grid build, reorder and solver passes), and the host
 // reads positions and velocities back only for a snapshot. Four steps may be in flight; the
-// substep count of a step comes from the largest speed (and, for SPH, acceleration) of the newest
-// finished step, which the GPU records with one atomic per workgroup.
+// substep count of a step comes from the largest speed (for SPH also acceleration, for PBF the
+// compression left) of the newest finished step, which the GPU records with one atomic per
+// workgroup.
 // The formulas are the CPU solvers' (cpu/pbf_solver.cpp, cpu/sph_solver.cpp): see there for the
 // papers. Two differences: SPH substeps are equal within a step, as their count is recorded up
 // front, where the CPU solver adapts each substep to the state it has just computed; and the
@@ -19,6 +20,7 @@
 #include "fluidcast/sim/solver.h"
 #include "gpu/gpu_neighbour_grid.h"
 #include "gpu/gpu_sim_params.h"
+#include "substeps.h"
 
 namespace fluidcast::sim::gpu_solver {
 
@@ -56,12 +58,13 @@ class GpuSolver final : public Solver {
   enum class Stage { grid, predict, iteration, velocity, viscosity, solve };
   struct InFlight {
     explicit InFlight(gpu::Context& context);
-    gpu::Buffer stats;  // readback: {largest |v|² bits, largest |a| bits}
+    gpu::Buffer stats;  // readback: StatsSlot
     gpu::TimestampQueries timestamps;
     // Last, so that it is destroyed first: its destructor waits for the step that uses the rest.
     gpu::CommandSlot commands;
     std::vector<std::pair<Stage, int>> marks;  // what ended at each timestamp after the first
     int substeps = 0;
+    float substep_seconds = 0.0f;
     bool harvested = true;
     bool timed = false;
     bool stale_stats = false;  // the particles were replaced while it ran
@@ -74,7 +77,9 @@ class GpuSolver final : public Solver {
 
   void allocate(std::size_t capacity);
   SimParams step_params() const;
-  void record_pbf_substep(VkCommandBuffer commands, InFlight& slot, const SimPass& pass);
+  // `last`: the step's last substep, which measures the compression for the substep rule.
+  void record_pbf_substep(VkCommandBuffer commands, InFlight& slot, const SimPass& pass,
+                          bool last);
   void record_sph_substep(VkCommandBuffer commands, InFlight& slot, const SimPass& pass);
   void mark(VkCommandBuffer commands, InFlight& slot, Stage stage, int index = 0);
   // Reads the stats and timestamps of a finished slot, once.
@@ -102,6 +107,7 @@ class GpuSolver final : public Solver {
   // From the newest finished step (or the loaded particles).
   float largest_speed_ = 0.0f;
   float largest_acceleration_ = 0.0f;
+  PbfSubsteps pbf_substeps_;
   // PBF constants, derived as the CPU solver does.
   float relaxation_epsilon_ = 0.0f, scorr_scale_ = 0.0f, inv_w_dq_ = 0.0f;
 };

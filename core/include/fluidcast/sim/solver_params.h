@@ -14,11 +14,12 @@ struct SolverParams {
   float kernel_ratio = 2.0f;        // kernel radius h over particle spacing d
   int max_particles = 1 << 20;      // cap for add_particles
   int threads = 0;                  // 0: one per core
-  float cfl_number = 0.4f;          // substeps keep |v|max·Δt (PBF) or (c+|v|max)·Δt (SPH) ≤ cfl·h
   int max_substeps = 256;           // a step never splits into more substeps than this
 
   // PBF (Macklin & Müller 2013).
   int iterations = 4;
+  float pbf_travel = 1.0f;  // most a particle or collider moves in one substep, as a fraction of h
+  float pbf_density_tolerance = 0.01f;  // average ρ/ρ0 − 1 a step may leave, walls included
   float relaxation = 0.01f;      // ε as a fraction of the rest-state Σ|∇C|²
   float scorr_strength = 0.1f;   // k of the artificial pressure
   float scorr_exponent = 4.0f;   // n
@@ -27,6 +28,7 @@ struct SolverParams {
   float xsph_viscosity = 0.01f;  // c of XSPH
 
   // SPH (weakly compressible; Müller et al. 2003 kernels, Tait equation of state).
+  float cfl_number = 0.4f;        // substeps keep (c+|v|max)·Δt ≤ cfl·h
   float sound_speed = 20.0f;      // m/s, sets the stiffness B = ρ0 c² / γ
   float tait_exponent = 7.0f;     // γ
   float sph_viscosity = 0.05f;    // dynamic viscosity μ, Pa·s

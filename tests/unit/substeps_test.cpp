@@ -1,0 +1,67 @@
+// PBF's substep rule (substeps.h): the travel bound, the density bound and how it follows the
+// measured compression, and the speed limit that holds the travel bound for a particle flung
+// faster than planned.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "substeps.h"
+
+namespace fluidcast::sim {
+namespace {
+
+constexpr float kH = 0.04f;
+constexpr float kStep = 1.0f / 120.0f;
+
+PbfSubsteps rule(float travel = 1.0f, float tolerance = 0.01f) {
+  SolverParams params;
+  params.pbf_travel = travel;
+  params.pbf_density_tolerance = tolerance;
+  return PbfSubsteps(params, kH);
+}
+
+TEST(PbfSubsteps, NothingTravelsMoreThanItsShareOfTheKernelRadius) {
+  const PbfSubsteps substeps = rule(0.5f);
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f), 1);
+  // 4.7 m/s over 1/120 s is 0.98 h: two substeps of at most half h each.
+  EXPECT_EQ(substeps.count(kStep, 4.7f, 0.0f, 0.0f), 2);
+  // Gravity's gain over the step counts: 4.7 + 30/120 m/s needs a third.
+  EXPECT_EQ(substeps.count(kStep, 4.7f, 0.0f, 30.0f), 3);
+  // A collider faster than the fluid sets the pace: 47 m/s, 9.8 h.
+  EXPECT_EQ(substeps.count(kStep, 1.0f, 47.0f, 0.0f), 20);
+  EXPECT_FLOAT_EQ(substeps.speed_limit(kStep / 2), 0.5f * kH / (kStep / 2));
+}
+
+TEST(PbfSubsteps, TooMuchCompressionShortensTheNextSubstepsAtOnce) {
+  PbfSubsteps substeps = rule(1.0f, 0.01f);
+  EXPECT_TRUE(std::isinf(substeps.longest_substep()));
+  // Four times the tolerance at a whole step: the error goes as Δt², so half the step.
+  substeps.observe(kStep, 0.04f);
+  EXPECT_FLOAT_EQ(substeps.longest_substep(), kStep / 2);
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f), 2);
+}
+
+TEST(PbfSubsteps, LittleCompressionLengthensThemByATenthAStepAtMost) {
+  PbfSubsteps substeps = rule(1.0f, 0.01f);
+  substeps.observe(kStep, 0.04f);
+  // A late report of a small error (a GPU step that was in flight) does not undo it at once.
+  substeps.observe(kStep, 0.0f);
+  EXPECT_FLOAT_EQ(substeps.longest_substep(), 1.1f * kStep / 2);
+  for (int k = 0; k < 20; ++k) substeps.observe(kStep / 2, 0.0f);
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f), 1);
+}
+
+TEST(PbfSubsteps, NonFiniteFiguresNeverGiveFewerSubsteps) {
+  PbfSubsteps substeps = rule();
+  substeps.observe(kStep, 0.04f);
+  substeps.observe(kStep, std::numeric_limits<float>::quiet_NaN());
+  EXPECT_FLOAT_EQ(substeps.longest_substep(), kStep / 2);
+  EXPECT_EQ(substeps.count(kStep, std::numeric_limits<float>::infinity(), 0.0f, 9.81f),
+            SolverParams{}.max_substeps);
+  EXPECT_EQ(substeps.count(kStep, std::numeric_limits<float>::quiet_NaN(), 0.0f, 9.81f),
+            SolverParams{}.max_substeps);
+}
+
+}  // namespace
+}  // namespace fluidcast::sim
