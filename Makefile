@@ -3,7 +3,7 @@ PRESET ?= release
 JOBS ?= $(shell nproc)
 BIN := build/bin
 
-.PHONY: deps build run test bench clean
+.PHONY: deps build run test bench validate clean
 
 deps:
 	deploy/install-deps.sh
@@ -24,6 +24,11 @@ bench: build
 	$(BIN)/fluidcast-bench-cpu
 	$(BIN)/fluidcast-bench-gpu
 	$(BIN)/fluidcast-bench-render
+
+# The solvers against Martin & Moyce's dam break and a resting pool, full size, with PNG charts
+# (Chromium headless draws the SVGs): results in validation/. Options: build/bin/fluidcast-validate --help
+validate: build
+	bench/validate.sh validation
 
 clean:
 	rm -rf build

@@ -30,14 +30,31 @@ std::vector<float> measure_densities(const ParticleSet& particles, const FluidCo
   return density;
 }
 
+double surge_front(const ParticleSet& particles, float spacing, const Box& tank) {
+  const float band_top = tank.min.y + 2.0f * spacing;
+  const float bin_length = 2.0f * spacing;
+  const auto bins = static_cast<std::size_t>(std::ceil(tank.size().x / bin_length)) + 1;
+  std::vector<float> farthest(bins, -1.0f);  // per bin: largest x from the wall, −1 when empty
+  for (const glm::vec3& p : particles.position) {
+    if (!is_finite(p) || !tank.contains(p) || p.y > band_top) continue;
+    const float x = p.x - tank.min.x;
+    const auto bin = std::min(static_cast<std::size_t>(x / bin_length), bins - 1);
+    farthest[bin] = std::max(farthest[bin], x);
+  }
+  double front = 0.0;
+  for (const float x : farthest) {
+    if (x < 0.0f) break;
+    front = x;
+  }
+  return front;
+}
+
 FluidStatistics measure(const ParticleSet& particles, const FluidConstants& fluid,
                         const Box& tank) {
   FluidStatistics s;
   s.particles = particles.size();
   if (particles.size() == 0) return s;
   const std::vector<float> density = measure_densities(particles, fluid, tank);
-  const float floor_band = tank.min.y + fluid.spacing;
-  double front = 0.0;
   double error_sum = 0.0;
   glm::dvec3 position_sum(0.0);
   for (std::size_t i = 0; i < particles.size(); ++i) {
@@ -55,14 +72,13 @@ FluidStatistics measure(const ParticleSet& particles, const FluidConstants& flui
     s.max_density_error = std::max(s.max_density_error, error);
     error_sum += error;
     position_sum += glm::dvec3(x);
-    if (x.y <= floor_band) front = std::max(front, double(x.x - tank.min.x));
   }
   const double counted = double(particles.size() - s.non_finite);
   if (counted > 0) {
     s.avg_density_error = error_sum / counted;
     s.centre_of_mass = position_sum / counted;
   }
-  s.front_x = front;
+  s.front_x = surge_front(particles, fluid.spacing, tank);
   return s;
 }
 

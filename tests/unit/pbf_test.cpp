@@ -25,15 +25,6 @@ TEST(Pbf, PoolAtRestStaysAtRest) {
   EXPECT_LT(pool.final_rms_speed, 0.05);
 }
 
-// The surge front of a collapsing column, against Martin & Moyce (1952): at T = t·√(g/a) = 1.24
-// the front is at Z/a ≈ 2.0 (their figure); we accept ±20 % at this coarse resolution.
-TEST(Pbf, DamBreakFrontFollowsMartinAndMoyce) {
-  auto solver = make_solver(SolverKind::pbf, SceneKind::dam_break, 4000);
-  const double a = solver->scene().params.column_width;
-  run_for(*solver, 1.24 / std::sqrt(9.81 / a));
-  EXPECT_NEAR(stats(*solver).front_x / a, 2.0, 0.4);
-}
-
 TEST(Pbf, SubstepsKeepFastFlowStable) {
   auto solver = make_solver(SolverKind::pbf, SceneKind::dam_break, 3000);
   run_for(*solver, 2.0);

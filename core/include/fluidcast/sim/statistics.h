@@ -16,8 +16,7 @@ struct FluidStatistics {
   double kinetic_energy = 0;     // J, Σ ½ m |v|²
   double max_density_error = 0;  // max over particles of max(0, ρ/ρ0 − 1)
   double avg_density_error = 0;  // mean over particles of max(0, ρ/ρ0 − 1)
-  double front_x = 0;  // m from the tank's left wall: the largest x of a particle within one
-                       // particle diameter of the floor
+  double front_x = 0;  // m from the tank's left wall: surge_front()
   glm::dvec3 centre_of_mass{0.0};  // m
   double max_speed = 0;            // m/s
   std::size_t outside_tank = 0;    // particles whose centre is outside the tank
@@ -27,6 +26,14 @@ struct FluidStatistics {
 // ρ_i = m Σ_j W_poly6(|x_i − x_j|) over all particles within h, itself included.
 std::vector<float> measure_densities(const ParticleSet& particles, const FluidConstants& fluid,
                                      const Box& tank);
+
+// The surge front: how far from the tank's left wall the water on the floor reaches, robust to
+// droplets. The floor band (centres within two spacings of the floor) is cut into bins two
+// spacings long along x; from the wall, bins holding a particle are followed until the first
+// empty one, and the front is the largest x of a particle in the last of them. A droplet ahead of
+// the tongue, with an empty bin between, is not the front. 0 when no particle touches the floor
+// at the wall.
+double surge_front(const ParticleSet& particles, float spacing, const Box& tank);
 
 FluidStatistics measure(const ParticleSet& particles, const FluidConstants& fluid, const Box& tank);
 

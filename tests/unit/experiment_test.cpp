@@ -1,0 +1,83 @@
+// The pieces of the validation against experiment (tools/fluidcast-validate): the surge-front
+// measure, Martin & Moyce's variables and time shift, and the comparison.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "fluidcast/sim/statistics.h"
+#include "martin_moyce.h"
+#include "svg_plot.h"
+
+namespace fluidcast::validation {
+namespace {
+
+const sim::Box kTank{glm::vec3(0.0f), glm::vec3(2.0f, 1.0f, 0.1f)};
+constexpr float kSpacing = 0.01f;
+
+sim::ParticleSet floor_layer(float from, float to) {
+  sim::ParticleSet set;
+  for (float x = from; x <= to + 1e-6f; x += kSpacing) {
+    set.append({x, 0.005f, 0.05f}, glm::vec3(0.0f), static_cast<std::uint32_t>(set.size()));
+  }
+  return set;
+}
+
+TEST(SurgeFront, IsTheFarEndOfTheLayerOnTheFloor) {
+  const sim::ParticleSet layer = floor_layer(0.005f, 0.505f);
+  EXPECT_NEAR(sim::surge_front(layer, kSpacing, kTank), 0.505, 1e-5);
+}
+
+TEST(SurgeFront, IgnoresADropletAheadAndSprayAbove) {
+  sim::ParticleSet set = floor_layer(0.005f, 0.505f);
+  set.append({0.9f, 0.005f, 0.05f}, glm::vec3(0.0f), 1000);  // a droplet 0.4 m ahead
+  set.append({1.5f, 0.5f, 0.05f}, glm::vec3(0.0f), 1001);    // spray in the air
+  EXPECT_NEAR(sim::surge_front(set, kSpacing, kTank), 0.505, 1e-5);
+  // A particle that closes the gap to within a bin joins the layer.
+  set.append({0.53f, 0.01f, 0.05f}, glm::vec3(0.0f), 1002);
+  EXPECT_NEAR(sim::surge_front(set, kSpacing, kTank), 0.53, 1e-5);
+}
+
+TEST(SurgeFront, NothingAtTheWallIsNoFront) {
+  EXPECT_EQ(sim::surge_front(floor_layer(0.5f, 0.6f), kSpacing, kTank), 0.0);
+}
+
+TEST(MartinMoyce, VariablesAndTheirTimeShift) {
+  // n² = 2, a = 0.1 m: T = √2 · t · √(g/a).
+  const FrontPoint p = to_martin_moyce(0.1, 0.25, 0.1, 9.81, std::sqrt(2.0));
+  EXPECT_NEAR(p.T, std::sqrt(2.0) * 0.1 * std::sqrt(98.1), 1e-9);
+  EXPECT_NEAR(p.Z, 2.5, 1e-12);
+  // A front that passes Z = 1.44 at T = 1.0 is shifted by +0.19.
+  const std::vector<FrontPoint> simulated = {{0.0, 1.0}, {0.5, 1.2}, {1.0, 1.44}, {1.5, 2.0}};
+  EXPECT_NEAR(shift_as_martin_and_moyce(simulated), 0.19, 1e-9);
+}
+
+TEST(MartinMoyce, ComparisonIsTheMeanRelativeErrorAtTheExperimentsPoints) {
+  const auto experiment = martin_moyce_n2_front();
+  ASSERT_EQ(experiment.size(), 17u);
+  // The experiment itself, as a simulation: no error.
+  const std::vector<FrontPoint> same(experiment.begin(), experiment.end());
+  EXPECT_NEAR(compare_fronts(same, experiment, 0.0, 4.44).mean_relative_error, 0.0, 1e-12);
+  // Ten per cent ahead everywhere.
+  std::vector<FrontPoint> ahead = same;
+  for (FrontPoint& p : ahead) p.Z *= 1.1;
+  const FrontComparison c = compare_fronts(ahead, experiment, 0.0, 4.44);
+  EXPECT_EQ(c.points, 17u);
+  EXPECT_NEAR(c.mean_relative_error, 0.1, 1e-9);
+  // Points beyond t_max or outside the simulated span are not compared.
+  EXPECT_EQ(compare_fronts(ahead, experiment, 0.0, 2.0).points, 7u);
+  EXPECT_EQ(compare_fronts(ahead, experiment, 1.0, 4.44).points, 14u);  // from T = 1.41
+}
+
+TEST(SvgPlot, DrawsEverySeriesAndLabel) {
+  Chart chart{"title <1>", "T", "Z", {{"experiment", "black", true, {0, 1, 2}, {1, 2, 3}},
+                                      {"simulated", "red", false, {0, 1, 2}, {1, 2.5, 3.5}}}};
+  const std::string svg = to_svg(chart);
+  EXPECT_NE(svg.find("title &lt;1&gt;"), std::string::npos);
+  EXPECT_NE(svg.find("<polyline"), std::string::npos);
+  EXPECT_NE(svg.find(">simulated<"), std::string::npos);
+  EXPECT_GT(std::count(svg.begin(), svg.end(), '\n'), 10);
+}
+
+}  // namespace
+}  // namespace fluidcast::validation
