@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <set>
+#include <type_traits>
+#include <variant>
 
 #include "fluidcast/sim/scene.h"
 #include "fluidcast/sim/solver.h"
@@ -39,6 +41,19 @@ TEST(SolverParams, OutOfRangeNamesTheFlagAndRange) {
   p = SolverParams{};
   p.iterations = 0;
   EXPECT_NE(error_of(p).find("--iterations"), std::string::npos);
+}
+
+// A float set to a bound holds the float nearest it (0.1f is a little over 0.1): still accepted.
+TEST(SolverParams, EveryBoundItselfIsAccepted) {
+  for (const auto& spec : solver_param_specs()) {
+    for (const double bound : {spec.min, spec.max}) {
+      SolverParams p;
+      std::visit(
+          [&](auto field) { p.*field = static_cast<std::remove_reference_t<decltype(p.*field)>>(bound); },
+          spec.member);
+      EXPECT_EQ(error_of(p), "") << spec.name << " = " << bound;
+    }
+  }
 }
 
 TEST(SolverParams, NonFiniteIsRefused) {
