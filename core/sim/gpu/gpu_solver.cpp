@@ -48,7 +48,6 @@ GpuSolver::Pipelines::Pipelines(gpu::Context& c)
       pbf_lambda(c, shaders::sim_pbf_lambda_comp, sizeof(SimPass), kGroup),
       pbf_correct(c, shaders::sim_pbf_correct_comp, sizeof(SimPass), kGroup),
       pbf_velocity(c, shaders::sim_pbf_velocity_comp, sizeof(SimPass), kGroup),
-      pbf_vorticity(c, shaders::sim_pbf_vorticity_comp, sizeof(SimPass), kGroup),
       pbf_finish(c, shaders::sim_pbf_finish_comp, sizeof(SimPass), kGroup),
       sph_density(c, shaders::sim_sph_density_comp, sizeof(SimPass), kGroup),
       sph_force(c, shaders::sim_sph_force_comp, sizeof(SimPass), kGroup),
@@ -404,12 +403,8 @@ void GpuSolver::record_pbf_substep(VkCommandBuffer commands, InFlight& slot, con
     mark(commands, slot, Stage::iteration, k);
   }
 
-  pipelines_.pbf_velocity.dispatch(commands, iteration, n);
+  pipelines_.pbf_velocity.dispatch(commands, iteration, n);  // and vorticity
   gpu::compute_barrier(commands);
-  if (params().vorticity > 0.0f) {
-    pipelines_.pbf_vorticity.dispatch(commands, iteration, n);
-    gpu::compute_barrier(commands);
-  }
   mark(commands, slot, Stage::velocity);
   iteration.record_compression = last ? 1 : 0;
   pipelines_.pbf_finish.dispatch(commands, iteration, n);
