@@ -7,26 +7,13 @@
 
 #include "fluidcast/render/camera.h"
 #include "fluidcast/render/frame_renderer.h"
+#include "spec_options.h"
 #include "video.h"
 
 namespace fluidcast::tools {
 namespace {
 
 constexpr int kBadInput = 2;
-
-// One CLI option per spec, bound to the struct field it describes.
-template <class Owner>
-void add_spec_options(CLI::App& app, Owner& owner,
-                      const std::vector<sim::ParamSpec<Owner>>& specs) {
-  for (const auto& spec : specs) {
-    const std::string flag = "--" + std::string(spec.name);
-    const std::string help = std::string(spec.description) + " [" + std::string(spec.unit) +
-                             ", range " + sim::format_range(spec.min, spec.max) + "]";
-    std::visit(
-        [&](auto member) { app.add_option(flag, owner.*member, help)->capture_default_str(); },
-        spec.member);
-  }
-}
 
 std::string tuning_markdown() {
   return "# Tuning\n\nEvery tunable of the scenes and solvers, in SI units, with its default and "

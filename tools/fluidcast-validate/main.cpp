@@ -18,6 +18,7 @@
 #include "fluidcast/sim/solver.h"
 #include "fluidcast/sim/statistics.h"
 #include "martin_moyce.h"
+#include "spec_options.h"
 #include "svg_plot.h"
 
 namespace {
@@ -202,9 +203,7 @@ int main(int argc, char** argv) {
                               "Resting pool: particles, 100 to 10000000")
                    ->check(CLI::Range(100, 10000000))
                    ->capture_default_str();
-  app.add_option("--iterations", o.params.iterations, "PBF: Jacobi iterations per substep")
-      ->check(CLI::Range(1, 100))
-      ->capture_default_str();
+  tools::add_spec_options(app, o.params, sim::solver_param_specs());
   auto* front = app.add_option("--max-front-error", o.max_front_error,
                                "Bound on the mean relative front error (shifted)")
                     ->check(CLI::Range(0.0, 10.0))
@@ -220,10 +219,11 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
     o.solver = sim::parse_solver(solver_name);
+    sim::validate(o.params);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   } catch (const sim::ParamError& e) {
-    std::fprintf(stderr, "fluidcast-validate: --solver: %s\n", e.what());
+    std::fprintf(stderr, "fluidcast-validate: %s\n", e.what());
     return 2;
   }
   if (fast) {

@@ -25,7 +25,7 @@ struct SolverParams {
   float scorr_exponent = 4.0f;   // n
   float scorr_distance = 0.2f;   // Δq / h
   float vorticity = 0.02f;       // ε of vorticity confinement, m/s
-  float xsph_viscosity = 0.01f;  // c of XSPH
+  float xsph_viscosity = 0.05f;  // c of XSPH
 
   // SPH (weakly compressible; Müller et al. 2003 kernels, Tait equation of state).
   float cfl_number = 0.4f;        // substeps keep (c+|v|max)·Δt ≤ cfl·h
