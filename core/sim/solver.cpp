@@ -90,7 +90,7 @@ void Solver::step(float seconds, int substeps) {
 
 void Solver::set_gravity(glm::vec3 gravity) {
   require(is_finite(gravity), "gravity: every component must be finite, got " + str(gravity));
-  require(glm::length(gravity) <= kMaxGravity,
+  require(within_limit(gravity, kMaxGravity),
           "gravity: magnitude " + std::to_string(glm::length(gravity)) + " m/s² exceeds " +
               std::to_string(kMaxGravity) + " m/s²");
   gravity_ = gravity;
@@ -107,7 +107,7 @@ void Solver::set_colliders(std::span<const Collider> colliders) {
     require(std::isfinite(c.radius) && c.radius > 0.0f && c.radius <= kMaxColliderRadius,
             name + ": radius must be in (0, " + std::to_string(kMaxColliderRadius) + "] m, got " +
                 std::to_string(c.radius));
-    require(is_finite(c.velocity) && glm::length(c.velocity) <= kMaxSpeed,
+    require(is_finite(c.velocity) && within_limit(c.velocity, kMaxSpeed),
             name + ": velocity must be finite with magnitude at most " +
                 std::to_string(kMaxSpeed) + " m/s, got " + str(c.velocity));
   }
@@ -128,7 +128,7 @@ void Solver::add_particles(std::span<const glm::vec3> positions,
     require(is_finite(positions[i]) && scene_.tank.contains(positions[i]),
             "add_particles: position " + std::to_string(i) + " " + str(positions[i]) +
                 " is not inside the tank " + str(scene_.tank.min) + "–" + str(scene_.tank.max));
-    require(is_finite(velocities[i]) && glm::length(velocities[i]) <= kMaxSpeed,
+    require(is_finite(velocities[i]) && within_limit(velocities[i], kMaxSpeed),
             "add_particles: velocity " + std::to_string(i) + " " + str(velocities[i]) +
                 " must be finite with magnitude at most " + std::to_string(kMaxSpeed) + " m/s");
   }

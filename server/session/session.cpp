@@ -237,7 +237,7 @@ std::uint32_t Session::load(const v1::Snapshot& snapshot) {
     const glm::vec3 p = positions[k], v = velocities[k];
     if (!std::isfinite(p.x + p.y + p.z) || !std::isfinite(v.x + v.y + v.z) ||
         glm::any(glm::lessThan(p, box.min)) || glm::any(glm::greaterThan(p, box.max)) ||
-        glm::length(v) > sim::kMaxSpeed) {
+        !sim::within_limit(v, sim::kMaxSpeed)) {
       throw Refusal(RefusalCode::invalid_argument,
                     "Snapshot: particle " + std::to_string(k) +
                         " is not finite, outside the tank, or faster than " +
@@ -246,7 +246,7 @@ std::uint32_t Session::load(const v1::Snapshot& snapshot) {
   }
   if (snapshot.has_gravity()) {
     const glm::vec3 g(snapshot.gravity().x(), snapshot.gravity().y(), snapshot.gravity().z());
-    if (!std::isfinite(g.x + g.y + g.z) || glm::length(g) > sim::kMaxGravity) {
+    if (!std::isfinite(g.x + g.y + g.z) || !sim::within_limit(g, sim::kMaxGravity)) {
       throw Refusal(RefusalCode::invalid_argument, "Snapshot: gravity is not finite or too large");
     }
   }

@@ -138,6 +138,25 @@ TEST_P(SolverInputs, GravityOfOneHundredG) {
   testing::expect_sound(*s, n_);
 }
 
+// Every input at the edge of its accepted range at once: the longest step, the strongest gravity
+// turned about, the fastest finger (its substeps capped by max_substeps, so it jumps): nothing
+// becomes NaN and nothing leaves the tank.
+TEST_P(SolverInputs, EveryInputAtItsLimit) {
+  SolverParams params;
+  params.time_step = 0.05f;
+  auto s = small(params);
+  for (int k = 0; k < 8; ++k) {
+    const float angle = 0.8f * static_cast<float>(k);
+    s->set_gravity({kMaxGravity * std::sin(angle), -kMaxGravity * std::cos(angle), 0.0f});
+    const float direction = k % 2 == 0 ? 1.0f : -1.0f;
+    const Collider finger{{0.8f, 0.3f, 0.15f}, 0.2f, {direction * kMaxSpeed, 0.0f, 0.0f}};
+    s->set_colliders(std::span(&finger, 1));
+    s->step();
+    SCOPED_TRACE("step " + std::to_string(k));
+    testing::expect_sound(*s, n_);
+  }
+}
+
 // The kinetic energy a fluid can have gained from gravity: its mass falling the tank's diagonal
 // `times` over (each turn of gravity can release that much again).
 double energy_gravity_can_give(const Solver& s, double times) {

@@ -39,6 +39,11 @@ inline constexpr float kMaxGravity = 2000.0f;       // m/s², about 200 g
 inline constexpr float kMaxSpeed = 1000.0f;         // m/s, colliders and added particles
 inline constexpr float kMaxColliderRadius = 10.0f;  // m
 inline constexpr std::size_t kMaxColliders = 16;
+// A vector's length against one of those limits, allowing for the rounding of a vector scaled to
+// the limit exactly (its float length may come out an ulp or two over). NaN is not within.
+inline bool within_limit(glm::vec3 v, float limit) {
+  return glm::length(v) <= limit * (1.0f + 1e-6f);
+}
 
 // Milliseconds spent per stage since the last clear: wall-clock on the CPU, GPU time (from
 // timestamps) on the GPU, where a step counts once it has finished (see synchronize() and
