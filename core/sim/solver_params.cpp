@@ -21,7 +21,7 @@ const std::vector<ParamSpec<SolverParams>>& solver_param_specs() {
        &P::iterations, 1, 100},
       {"pbf-travel", "1",
        "PBF: most a particle or collider may move in one substep, as a fraction of h; a particle "
-       "flung faster is slowed to it",
+       "flung faster is slowed to it. Above 1 particles begin to pass through each other",
        &P::pbf_travel, 0.05, 2},
       {"pbf-density-tolerance", "1",
        "PBF: average compression max(ρ/ρ0 − 1, 0) a step may leave, walls included; a step "

@@ -44,7 +44,7 @@ double surge_front(const ParticleSet& particles, float spacing, const Box& tank)
   double front = 0.0;
   for (const float x : farthest) {
     if (x < 0.0f) break;
-    front = x;
+    front = x + 0.5 * spacing;  // the water's edge: half a spacing beyond the last centre
   }
   return front;
 }

@@ -70,7 +70,7 @@ layout(push_constant, std430) uniform SimPass {
   float dt;              // this substep's length, s
   float time_into_step;  // where the colliders are: seconds into the step
   uint parity;           // PBF: which iterate buffer holds the current positions
-  uint record_compression;  // PBF λ pass: add the mean compression to P.stats.v[2]
+  uint record_compression;  // PBF finish pass: add the mean compression to P.stats.v[2]
 } pass;
 
 #define P pass.params

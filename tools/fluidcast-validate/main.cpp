@@ -7,6 +7,7 @@
 // bound (the bounds default to the project's targets; --fast runs small, for the test suite,
 // with bounds that tell working from broken). Bad flags: one line on stderr, exit code 2.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -69,8 +70,14 @@ void dam_break(const Options& o, gpu::Context* context, Verdict& verdict) {
   scene.column_height = static_cast<float>(2 * a);
   scene.tank_length = static_cast<float>(7 * a);
   scene.tank_height = static_cast<float>(3 * a);
-  scene.depth = static_cast<float>(8 * spacing);  // thin: the flow is plane, the walls free-slip
-  scene.particles = 16 * o.column_resolution * o.column_resolution;
+  // Thin, so that the flow is plane between free-slip walls; at least the scenes' smallest depth.
+  double smallest_depth = 0.0;
+  for (const auto& spec : sim::scene_param_specs()) {
+    if (spec.name == "depth") smallest_depth = spec.min;
+  }
+  const double depth = std::max(8 * spacing, smallest_depth);
+  scene.depth = static_cast<float>(depth);
+  scene.particles = static_cast<int>(std::lround(2 * a * a * depth / (spacing * spacing * spacing)));
   auto solver = make(o, scene, context);
   const double n = std::sqrt(2.0);
   const double t_end = kLastT / (n * std::sqrt(kGravity / a)) + 0.05;
@@ -233,12 +240,22 @@ int main(int argc, char** argv) {
     if (average->count() == 0) o.max_average_density_error = 0.01;
     if (largest->count() == 0) o.max_density_error = 0.05;
   }
-  std::filesystem::create_directories(o.out);
-  std::unique_ptr<gpu::Context> context;
-  if (o.backend == "gpu") context = std::make_unique<gpu::Context>();
+  o.params.max_particles = std::max(
+      {o.params.max_particles, o.pool_particles, 32 * o.column_resolution * o.column_resolution});
   Verdict verdict;
-  dam_break(o, context.get(), verdict);
-  resting_pool(o, context.get(), verdict);
+  try {
+    std::filesystem::create_directories(o.out);
+    std::unique_ptr<gpu::Context> context;
+    if (o.backend == "gpu") context = std::make_unique<gpu::Context>();
+    dam_break(o, context.get(), verdict);
+    resting_pool(o, context.get(), verdict);
+  } catch (const sim::ParamError& e) {
+    std::fprintf(stderr, "fluidcast-validate: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "fluidcast-validate: %s\n", e.what());
+    return 3;
+  }
   std::printf("%s; charts and data in %s/\n", verdict.passed ? "all within bounds" : "MISSED",
               o.out.c_str());
   return verdict.passed ? 0 : 1;

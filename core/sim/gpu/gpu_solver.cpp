@@ -17,6 +17,7 @@ namespace fluidcast::sim::gpu_solver {
 namespace {
 
 constexpr std::uint32_t kGroup = GpuNeighbourGrid::kGroupSize;
+static_assert(kGroup <= 128, "record_mean (sim_kernels.glsl) sums a workgroup in 32 bits");
 constexpr std::uint32_t kTimestampCapacity = 4096;
 // Of the device-local heap, what a simulation may plan to use: the driver and other work need some.
 constexpr double kUsableMemoryShare = 0.9;

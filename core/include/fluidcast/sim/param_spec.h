@@ -44,11 +44,13 @@ template <class Owner>
 void validate(const Owner& owner, const std::vector<ParamSpec<Owner>>& specs) {
   for (const auto& spec : specs) {
     const double value = spec.get(owner);
-    // Compared as floats: a float field set to a bound (0.1) holds the float nearest it, which
-    // may lie just outside the bound as a double.
-    const auto as_float = [](double x) { return static_cast<float>(x); };
-    if (!std::isfinite(value) || as_float(value) < as_float(spec.min) ||
-        as_float(value) > as_float(spec.max)) {
+    // A float field is compared as a float: set to a bound (0.1) it holds the float nearest it,
+    // which may lie just outside the bound as a double.
+    const auto stored = [&](double x) {
+      return spec.is_integer() ? x : static_cast<double>(static_cast<float>(x));
+    };
+    if (!std::isfinite(value) || stored(value) < stored(spec.min) ||
+        stored(value) > stored(spec.max)) {
       std::ostringstream out;
       out << "--" << spec.name << ": value " << value
           << (std::isfinite(value) ? " is out of range" : " is not a finite number")

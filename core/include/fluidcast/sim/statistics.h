@@ -30,7 +30,8 @@ std::vector<float> measure_densities(const ParticleSet& particles, const FluidCo
 // The surge front: how far from the tank's left wall the water on the floor reaches, robust to
 // droplets. The floor band (centres within two spacings of the floor) is cut into bins two
 // spacings long along x; from the wall, bins holding a particle are followed until the first
-// empty one, and the front is the largest x of a particle in the last of them. A droplet ahead of
+// empty one, and the front lies half a spacing beyond the largest x of a particle in the last of
+// them (the water's edge, not the last centre). A droplet ahead of
 // the tongue, with an empty bin between, is not the front. 0 when no particle touches the floor
 // at the wall.
 double surge_front(const ParticleSet& particles, float spacing, const Box& tank);
