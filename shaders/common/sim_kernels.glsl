@@ -135,19 +135,20 @@ void record_largest(uint slot, float value) {
   if (gl_LocalInvocationIndex == 0) atomicMax(P.stats.v[slot], group_largest);
 }
 
-// Adds value / particle_count over the dispatch into P.stats.v[slot], in units of 2^-26 (a mean
-// up to 64): each invocation's value in units of 2^-20 (at most 16, NaN counted as 16, so that the
-// sum of a workgroup of at most 128 fits in 32 bits), one global atomic per workgroup. The
-// rounding of each workgroup's share costs at most 2^-27 of the mean per workgroup (6e-5 at 1M
-// particles). Every invocation must call it.
+// Adds the sum of `value` over the dispatch into the 64-bit counter P.stats.v[slot] (low word) and
+// [slot + 1] (high word), in units of 2^-20: each invocation's value at most 16 (NaN counted as
+// 16), so that a workgroup's sum (at most 128 invocations) fits in 32 bits; one global atomic per
+// workgroup, and a carry into the high word when the low one wraps. The host divides by the
+// particle count: no rounding beyond each value's 2^-20. Every invocation must call it.
 shared uint group_sum;
-void record_mean(uint slot, float value) {
+void record_sum(uint slot, float value) {
   if (gl_LocalInvocationIndex == 0) group_sum = 0u;
   barrier();
   const float counted = isnan(value) ? 16.0 : clamp(value, 0.0, 16.0);
   atomicAdd(group_sum, uint(round(counted * 1048576.0)));
   barrier();
-  if (gl_LocalInvocationIndex == 0) {
-    atomicAdd(P.stats.v[slot], uint(round(float(group_sum) * 64.0 / float(P.particle_count))));
+  if (gl_LocalInvocationIndex == 0 && group_sum != 0u) {
+    const uint before = atomicAdd(P.stats.v[slot], group_sum);
+    if (before + group_sum < before) atomicAdd(P.stats.v[slot + 1u], 1u);
   }
 }

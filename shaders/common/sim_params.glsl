@@ -24,8 +24,8 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Si
   Uints order;         // the grid: sorted slot → particle
   Uints cell_start;    // the grid: first sorted slot of each cell, and one past the last
   Uints sorted_cell;   // the grid: the cell each sorted slot was sorted into
-  Uints stats;         // [0] bits of the largest |v|², [1] of the largest |a|, [2] PBF: mean
-                       // compression in units of 2^-26 (StatsSlot in gpu_sim_params.h)
+  Uints stats;         // [0] bits of the largest |v|², [1] of the largest |a|, [2..3] PBF: the
+                       // compression summed, 64 bits in units of 2^-20 (StatsSlot in gpu_sim_params.h)
   Floats density_ratio;  // ρ/ρ0 per particle in state order, from the last solver pass (render)
 
   vec4 tank_min;
@@ -70,7 +70,7 @@ layout(push_constant, std430) uniform SimPass {
   float dt;              // this substep's length, s
   float time_into_step;  // where the colliders are: seconds into the step
   uint parity;           // PBF: which iterate buffer holds the current positions
-  uint record_compression;  // PBF finish pass: add the mean compression to P.stats.v[2]
+  uint record_compression;  // PBF finish pass: add up the compression in P.stats.v[2..3]
 } pass;
 
 #define P pass.params

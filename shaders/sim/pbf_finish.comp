@@ -51,5 +51,5 @@ void main() {
     speed2 = dot(velocity, velocity);
   }
   record_largest(0u, speed2);
-  if (pass.record_compression != 0u) record_mean(2u, compression);
+  if (pass.record_compression != 0u) record_sum(2u, compression);
 }

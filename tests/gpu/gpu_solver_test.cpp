@@ -57,6 +57,28 @@ TEST_P(GpuSolverTest, AgreesWithTheCpuSolverOnADamBreak) {
   }
 }
 
+// The density bound of the substep rule reads the compression the GPU adds up: with a tight
+// tolerance a settling pool's steps are cut into more substeps, as the CPU solver cuts them.
+TEST_P(GpuSolverTest, TheDensityBoundCutsStepsAsOnTheCpu) {
+  if (GetParam() != SolverKind::pbf) GTEST_SKIP() << "a PBF rule";
+  SolverParams params;
+  params.pbf_density_tolerance = 0.001f;
+  auto cpu = make_solver(SolverKind::pbf, SceneKind::pool, 1000, params);
+  auto gpu = make_solver(SolverKind::pbf, SceneKind::pool, 1000, params, Backend::gpu);
+  int most = 0;
+  for (int k = 0; k < 20; ++k) {
+    const int planned_cpu = cpu->substeps_for(params.time_step);
+    const int planned_gpu = gpu->substeps_for(params.time_step);
+    EXPECT_NEAR(planned_gpu, planned_cpu, 1) << "step " << k;
+    most = std::max(most, planned_gpu);
+    cpu->step(params.time_step, planned_cpu);
+    gpu->step(params.time_step, planned_gpu);
+    gpu->synchronize();
+  }
+  std::printf("most substeps planned: %d\n", most);
+  EXPECT_GE(most, 2);
+}
+
 // As the CPU pool test (unit/pbf_test.cpp), at a size lavapipe runs in seconds: after 1 s of
 // settling, density within 2 %, no drift beyond a tenth of a spacing, and only the slow slosh
 // left from settling: rms speed below 0.15 m/s (measured here 0.054 m/s PBF, 0.099 m/s SPH; the

@@ -65,9 +65,10 @@ static_assert(offsetof(SimPass, dt) == 8 && offsetof(SimPass, parity) == 16 &&
 enum StatsSlot : std::uint32_t {
   kLargestSpeed2 = 0,         // bits of the largest |v|²
   kLargestAcceleration = 1,   // bits of the largest |a| (SPH)
-  kAverageCompression = 2,    // PBF: mean max(ρ/ρ0 − 1, 0), in units of kCompressionUnit
-  kStatsSlots = 3,
+  kCompressionSum = 2,        // PBF: Σ max(ρ/ρ0 − 1, 0), low word, in units of kCompressionUnit
+  kCompressionSumHigh = 3,    // and its high word
+  kStatsSlots = 4,
 };
-inline constexpr double kCompressionUnit = 1.0 / (1 << 26);
+inline constexpr double kCompressionUnit = 1.0 / (1 << 20);
 
 }  // namespace fluidcast::sim::gpu_solver

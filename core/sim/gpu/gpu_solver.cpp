@@ -17,7 +17,7 @@ namespace fluidcast::sim::gpu_solver {
 namespace {
 
 constexpr std::uint32_t kGroup = GpuNeighbourGrid::kGroupSize;
-static_assert(kGroup <= 128, "record_mean (sim_kernels.glsl) sums a workgroup in 32 bits");
+static_assert(kGroup <= 128, "record_sum (sim_kernels.glsl) sums a workgroup in 32 bits");
 constexpr std::uint32_t kTimestampCapacity = 4096;
 // Of the device-local heap, what a simulation may plan to use: the driver and other work need some.
 constexpr double kUsableMemoryShare = 0.9;
@@ -213,8 +213,11 @@ void GpuSolver::harvest(InFlight& slot) {
     largest_speed_ = std::sqrt(float_from_bits(stats[kLargestSpeed2]));
     largest_acceleration_ = float_from_bits(stats[kLargestAcceleration]);
     if (kind_ == SolverKind::pbf) {
-      pbf_substeps_.observe(slot.substep_seconds,
-                            static_cast<float>(stats[kAverageCompression] * kCompressionUnit));
+      const std::uint64_t sum =
+          (std::uint64_t{stats[kCompressionSumHigh]} << 32) | stats[kCompressionSum];
+      const double mean =
+          slot.particles > 0 ? static_cast<double>(sum) * kCompressionUnit / slot.particles : 0.0;
+      pbf_substeps_.observe(slot.substep_seconds, static_cast<float>(mean));
     }
   }
   // Untimed steps (a device without timestamps) are not counted: a cost of 0 would mean free.
@@ -379,6 +382,7 @@ void GpuSolver::advance(float seconds, int substeps) {
   slot.stale_stats = false;
   slot.substeps = substeps;
   slot.substep_seconds = dt;
+  slot.particles = count_;
   next_slot_ = (next_slot_ + 1) % kStepsInFlight;
 }
 

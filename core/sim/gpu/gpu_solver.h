@@ -65,6 +65,7 @@ class GpuSolver final : public Solver {
     std::vector<std::pair<Stage, int>> marks;  // what ended at each timestamp after the first
     int substeps = 0;
     float substep_seconds = 0.0f;
+    std::size_t particles = 0;
     bool harvested = true;
     bool timed = false;
     bool stale_stats = false;  // the particles were replaced while it ran
