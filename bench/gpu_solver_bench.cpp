@@ -3,17 +3,22 @@
 // reorder), predict, each density iteration, velocity (with vorticity), viscosity (confinement and
 // XSPH). Sizes are the talk's table (27k–216k) and beyond, up to 2M; 2 and 6 iterations; a fixed
 // dt of 1 ms, as the talk steps, with CFL substeps where the flow needs them (the `substeps`
-// column). `--smoke` runs one small case (for CI, on lavapipe); `--device N` picks the device;
+// column). `Sessions/...`: many small fluids stepped one substep each per round, their steps in one
+// submission (`batched`, as the server records a tick) or each in its own (`serial`): GPU
+// milliseconds per round for all of them together, and the wall clock per round.
+// `--smoke` runs small cases (for CI, on lavapipe); `--device N` picks the device;
 // other flags go to Google Benchmark (e.g. --benchmark_filter=Pbf).
 #include <benchmark/benchmark.h>
 
 #include <chrono>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bench_main.h"
 #include "fluidcast/gpu/context.h"
+#include "fluidcast/sim/gpu_step_batch.h"
 #include "fluidcast/sim/solver.h"
 
 namespace {
@@ -23,6 +28,10 @@ using namespace fluidcast::sim;
 
 // Steps timed per benchmark iteration, after `kWarmUpSteps` untimed ones from t = 0.
 constexpr int kWarmUpSteps = 5;
+
+double gpu_ms(const StageTimes& t) {
+  return t.grid_ms + t.predict_ms + t.solve_ms + t.velocity_ms + t.viscosity_ms;
+}
 
 void run_dam_break(benchmark::State& state, SolverKind kind, int steps_per_iteration) {
   SceneParams scene;
@@ -59,8 +68,59 @@ void run_dam_break(benchmark::State& state, SolverKind kind, int steps_per_itera
   }
   state.counters["velocity_ms"] = t.velocity_ms / steps;
   state.counters["viscosity_ms"] = t.viscosity_ms / steps;
-  state.counters["gpu_ms"] =
-      (t.grid_ms + t.predict_ms + t.solve_ms + t.velocity_ms + t.viscosity_ms) / steps;
+  state.counters["gpu_ms"] = gpu_ms(t) / steps;
+}
+
+// state.range: sessions, particles each, batched (1) or serial (0).
+void run_sessions(benchmark::State& state, int rounds_per_iteration) {
+  const auto sessions = static_cast<std::size_t>(state.range(0));
+  const bool batched = state.range(2) != 0;
+  SceneParams scene;
+  scene.particles = static_cast<int>(state.range(1));
+  SolverParams params;
+  params.iterations = 4;
+  params.time_step = 1e-3f;
+  GpuStepBatch batch(bench::gpu_context());
+  std::vector<std::unique_ptr<Solver>> solvers;
+  for (std::size_t k = 0; k < sessions; ++k) {
+    solvers.push_back(make_gpu_solver(SolverKind::pbf, bench::gpu_context(), build_scene(scene),
+                                      params, batched ? &batch : nullptr));
+  }
+  const auto round = [&] {
+    for (auto& solver : solvers) solver->step(params.time_step, 1);
+    batch.submit();  // nothing waits there when serial
+  };
+  for (int k = 0; k < kWarmUpSteps; ++k) round();
+  for (auto& solver : solvers) {
+    solver->synchronize();
+    solver->clear_stage_times();
+  }
+
+  double seconds = 0.0;
+  for (auto _ : state) {
+    const auto start = std::chrono::steady_clock::now();
+    for (int k = 0; k < rounds_per_iteration; ++k) round();
+    for (auto& solver : solvers) solver->synchronize();
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    state.SetIterationTime(elapsed);
+    seconds += elapsed;
+  }
+  const double rounds = static_cast<double>(state.iterations()) * rounds_per_iteration;
+  double total_ms = 0.0;
+  for (auto& solver : solvers) total_ms += gpu_ms(solver->stage_times());
+  state.counters["gpu_ms"] = total_ms / rounds;
+  state.counters["wall_ms"] = 1e3 * seconds / rounds;
+}
+
+void add_sessions(bool batched, int sessions, int particles, int rounds) {
+  benchmark::RegisterBenchmark(batched ? "Sessions/batched" : "Sessions/serial", run_sessions,
+                               rounds)
+      ->Args({sessions, particles, batched ? 1 : 0})
+      ->ArgNames({"sessions", "particles", "batched"})
+      ->Iterations(1)
+      ->UseManualTime()
+      ->Unit(benchmark::kMillisecond);
 }
 
 void add(const char* name, SolverKind kind, int particles, int iterations, int steps) {
@@ -76,6 +136,7 @@ void register_cases(bool smoke) {
   if (smoke) {
     add("Pbf/dam_break", SolverKind::pbf, 4000, 2, 3);
     add("Sph/dam_break", SolverKind::sph, 4000, 1, 1);
+    for (bool batched : {false, true}) add_sessions(batched, 4, 2000, 3);
     return;
   }
   for (int iterations : {2, 6}) {
@@ -85,6 +146,10 @@ void register_cases(bool smoke) {
   }
   for (int particles : {27000, 216000, 1000000}) {
     add("Sph/dam_break", SolverKind::sph, particles, 1, 20);
+  }
+  for (const auto& [sessions, particles] :
+       {std::pair{32, 64000}, std::pair{32, 8000}, std::pair{8, 64000}}) {
+    for (bool batched : {false, true}) add_sessions(batched, sessions, particles, 100);
   }
 }
 

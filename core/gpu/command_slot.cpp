@@ -56,10 +56,11 @@ CommandSlot::~CommandSlot() {
   }
 }
 
-void CommandSlot::submit() {
+std::uint64_t CommandSlot::submit() {
   FLUIDCAST_VK_CHECK(vkEndCommandBuffer(commands_));
-  context_->submit(commands_, fence_.get());
+  const std::uint64_t serial = context_->submit(commands_, fence_.get());
   submitted_ = true;
+  return serial;
 }
 
 void CommandSlot::wait() const {
@@ -89,6 +90,7 @@ TimestampQueries::TimestampQueries(Context& context, std::uint32_t capacity)
 
 void TimestampQueries::reset(VkCommandBuffer commands) {
   used_ = 0;
+  fetched_ = false;
   if (pool_) vkCmdResetQueryPool(commands, pool_.get(), 0, capacity_);
 }
 
@@ -104,10 +106,11 @@ std::uint32_t TimestampQueries::mark(VkCommandBuffer commands) {
 }
 
 void TimestampQueries::fetch() {
-  if (!pool_ || used_ == 0) return;
+  if (!pool_ || used_ == 0 || fetched_) return;
   FLUIDCAST_VK_CHECK(vkGetQueryPoolResults(
       context_->device(), pool_.get(), 0, used_, used_ * sizeof(std::uint64_t), ticks_.data(),
       sizeof(std::uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+  fetched_ = true;
 }
 
 double TimestampQueries::elapsed_ms(std::uint32_t from, std::uint32_t to) {

@@ -23,8 +23,7 @@ constexpr double kMaxOwedSteps = 4.0;
 constexpr auto kLongestFrameWait = std::chrono::seconds(1);
 
 double total_ms(const sim::StageTimes& times) {
-  return times.grid_ms + times.predict_ms + times.solve_ms + times.velocity_ms +
-         times.viscosity_ms;
+  return times.grid_ms + times.predict_ms + times.solve_ms + times.velocity_ms + times.viscosity_ms;
 }
 
 double milliseconds_between(Clock::time_point from, Clock::time_point to) {
@@ -42,7 +41,9 @@ v1::Vec3 vec3(glm::vec3 v) {
 }  // namespace
 
 Session::Session(std::string id, SessionSetup setup, SessionServices services)
-    : id_(std::move(id)), services_(services), source_(*services.context),
+    : id_(std::move(id)),
+      services_(services),
+      source_(*services.context),
       empty_since_(Clock::now()) {
   rebuild(setup);
 }
@@ -84,13 +85,15 @@ void Session::rebuild(SessionSetup setup) {
   params.threads = 0;  // a CPU solver (lavapipe machines) uses every core between frames
   try {
     auto built = sim::build_scene(scene);
-    auto solver =
-        services_.gpu_solver
-            ? sim::make_gpu_solver(setup.solver, *services_.context, std::move(built), params)
-            : sim::make_cpu_solver(setup.solver, std::move(built), params);
+    auto solver = services_.gpu_solver
+                      ? sim::make_gpu_solver(setup.solver, *services_.context, std::move(built),
+                                             params, services_.steps)
+                      : sim::make_cpu_solver(setup.solver, std::move(built), params);
     // Frames in flight still read the old one's particles.
-    if (solver_) services_.context->retire(std::exchange(solver_, std::move(solver)));
-    else solver_ = std::move(solver);
+    if (solver_)
+      services_.context->retire(std::exchange(solver_, std::move(solver)));
+    else
+      solver_ = std::move(solver);
   } catch (const sim::ParamError& e) {
     throw Refusal(RefusalCode::resource_exhausted, e.what());
   }
@@ -155,9 +158,7 @@ void Session::end_all(const Refusal& why) {
   empty_since_ = Clock::now();
 }
 
-float Session::collider_radius() const {
-  return std::max(0.04f, 4.0f * solver_->scene().spacing);
-}
+float Session::collider_radius() const { return std::max(0.04f, 4.0f * solver_->scene().spacing); }
 
 void Session::move_colliders(double seconds, double elapsed) {
   std::vector<sim::Collider> colliders;
@@ -261,7 +262,8 @@ std::uint32_t Session::load(const v1::Snapshot& snapshot) {
     solver_->add_particles(positions, velocities);
     solver_->set_time(snapshot.time());
     if (snapshot.has_gravity()) {
-      solver_->set_gravity({snapshot.gravity().x(), snapshot.gravity().y(), snapshot.gravity().z()});
+      solver_->set_gravity(
+          {snapshot.gravity().x(), snapshot.gravity().y(), snapshot.gravity().z()});
     }
   } catch (const std::invalid_argument& e) {
     solver_->reset();
@@ -270,8 +272,7 @@ std::uint32_t Session::load(const v1::Snapshot& snapshot) {
   return static_cast<std::uint32_t>(count);
 }
 
-void Session::apply(Viewer& viewer, const v1::ClientMessage& message,
-                    Clock::time_point received) {
+void Session::apply(Viewer& viewer, const v1::ClientMessage& message, Clock::time_point received) {
   viewer.note_input(message.event_id(), received);
   switch (message.kind_case()) {
     case v1::ClientMessage::kPointer:
@@ -412,7 +413,8 @@ void Session::measure_steps(double ms, std::uint64_t substeps) {
   services_.metrics->sim_ms.observe(ms);
 }
 
-void Session::step(const GpuGrant& grant) {
+void Session::simulate(const GpuGrant& grant) {
+  contended_ = grant.contended();
   // A GPU solver's steps are measured by its timestamps once they have finished; a CPU solver's
   // by the clock around them, whole (its stage timers leave out the pool's waits).
   solver_->count_finished_steps();
@@ -454,7 +456,8 @@ void Session::step(const GpuGrant& grant) {
   }
   move_colliders(planned, tick_elapsed_);
   const auto started = Clock::now();
-  for (const PlannedStep& planned_step : plan) solver_->step(planned_step.seconds, planned_step.substeps);
+  for (const PlannedStep& planned_step : plan)
+    solver_->step(planned_step.seconds, planned_step.substeps);
   lag_seconds_ -= planned;
   if (!services_.gpu_solver) {  // the CPU SPH solver may have taken more substeps than planned
     measure_steps(milliseconds_between(started, Clock::now()), solver_->stage_times().substeps);
@@ -503,11 +506,10 @@ void Session::render(const GpuGrant& grant, Clock::time_point now) {
   measured_sim_ms_ = 0.0;
 }
 
-void Session::run(const GpuGrant& grant, Clock::time_point now) {
-  // The steps first: they run while the GPU still draws last tick's frames (which read uploaded
-  // or GPU-side particles; the queue orders them), then those frames go to the encoders.
-  contended_ = grant.contended();
-  step(grant);
+void Session::draw(const GpuGrant& grant, Clock::time_point now) {
+  // The steps were submitted first: they run while the GPU still draws last tick's frames (which
+  // read uploaded or GPU-side particles; the queue orders them), then those frames go to the
+  // encoders.
   send_frames(FrameWait::for_all);
   render(grant, now);
 }
@@ -540,9 +542,8 @@ void Session::encode(Viewer& viewer, Viewer::Finished frame) {
   services_.encoders->encode(
       std::move(frame.image), options,
       [message, sink = viewer.shared_sink(), metrics = services_.metrics,
-       encoding = viewer.encoding(), tick_start = frame.shows.tick_start,
-       handed = Clock::now()](std::vector<std::uint8_t> jpeg, double milliseconds,
-                              std::exception_ptr error) {
+       encoding = viewer.encoding(), tick_start = frame.shows.tick_start, handed = Clock::now()](
+          std::vector<std::uint8_t> jpeg, double milliseconds, std::exception_ptr error) {
         --*encoding;
         if (error) return;  // options are ours and valid; nothing a client could fix
         const auto done = Clock::now();

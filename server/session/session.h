@@ -13,6 +13,7 @@
 
 #include "fluidcast/codec/jpeg_encoder_pool.h"
 #include "fluidcast/render/particle_source.h"
+#include "fluidcast/sim/gpu_step_batch.h"
 #include "fluidcast/sim/solver.h"
 #include "gpu_budget.h"
 #include "metrics.h"
@@ -31,7 +32,8 @@ struct SessionSetup {
 // What a session needs from the server around it.
 struct SessionServices {
   gpu::Context* context;
-  bool gpu_solver;  // simulate on the GPU (a hardware device) or on the CPU (lavapipe)
+  bool gpu_solver;           // simulate on the GPU (a hardware device) or on the CPU (lavapipe)
+  sim::GpuStepBatch* steps;  // where a GPU solver's steps wait for the tick's one submission
   const ServerLimits* limits;
   Metrics* metrics;
   codec::JpegEncoderPool* encoders;
@@ -55,12 +57,15 @@ class Session {
   void remove_viewer(std::uint32_t viewer);
   std::size_t viewer_count() const { return viewers_.size(); }
   Clock::time_point empty_since() const { return empty_since_; }
-  // A tick in two halves: the inputs and rebuilds that arrived, and what the tick would cost
+  // A tick in three parts: the inputs and rebuilds that arrived, and what the tick would cost
   // (the substeps real time owes, the frames due, at their measured GPU costs)...
   GpuDemand prepare(Clock::time_point now);
-  // ...then the steps and frames that the grant pays for. The frames of the previous tick are
-  // taken to the encoders after this tick's steps are submitted (waiting for them if need be).
-  void run(const GpuGrant& grant, Clock::time_point now);
+  // ...then the steps that the grant pays for (a GPU solver's wait in services.steps, which the
+  // hub submits once every session has queued its own)...
+  void simulate(const GpuGrant& grant);
+  // ...and the frames it pays for, which draw those steps. The frames of the previous tick are
+  // taken to the encoders first (waiting for them if need be).
+  void draw(const GpuGrant& grant, Clock::time_point now);
   // Takes frames in flight to the encoders: every one, waiting for the GPU if need be (run()
   // does, before new frames reuse the read-back ring), or only those the GPU has finished
   // (between ticks, so that a frame is sent as soon as it is drawn).
@@ -82,8 +87,6 @@ class Session {
   void apply_rebuilds(Clock::time_point now);
   void rebuild_or_reset();
   void apply(Viewer& viewer, const v1::ClientMessage& message, Clock::time_point received);
-  // Steps as far as real time owes and the grant pays.
-  void step(const GpuGrant& grant);
   // Submits the due frames that the grant pays for (all of them when no other session is
   // watched; at least one every kLongestFrameWait for each viewer).
   void render(const GpuGrant& grant, Clock::time_point now);
@@ -114,10 +117,10 @@ class Session {
   Clock::time_point last_rebuild_{};
   Clock::time_point last_tick_{};
   double tick_elapsed_ = 0.0;  // wall seconds since the tick before
-  double lag_seconds_ = 0.0;  // real time the simulation still owes
+  double lag_seconds_ = 0.0;   // real time the simulation still owes
   GpuAccount sim_account_, render_account_;
-  bool contended_ = false;  // other sessions were watched at the last grant
-  CostEstimate substep_cost_;  // ms of one substep (GPU time, or CPU time for a CPU solver)
+  bool contended_ = false;        // other sessions were watched at the last grant
+  CostEstimate substep_cost_;     // ms of one substep (GPU time, or CPU time for a CPU solver)
   double measured_sim_ms_ = 0.0;  // the steps measured since the last frame was submitted
   SimSpeed speed_;
   // Where each dragging viewer's sphere is in the simulation, and which of its drags it follows.

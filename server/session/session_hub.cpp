@@ -19,6 +19,7 @@ SessionHub::SessionHub(gpu::Context& context, bool gpu_solver, ServerLimits limi
       limits_(limits),
       token_(std::move(token)),
       metrics_(&metrics),
+      steps_(context),
       session_seed_(std::random_device{}()),
       worker_([this] { run(); }) {}
 
@@ -50,11 +51,10 @@ void SessionHub::post(std::function<void()> job) {
 
 std::string SessionHub::new_session_id() {
   // Unguessable enough that one client cannot join another's session by trying ids.
-  std::mt19937_64 random(session_seed_++ ^ static_cast<std::uint64_t>(
-                                               Clock::now().time_since_epoch().count()));
+  std::mt19937_64 random(session_seed_++ ^
+                         static_cast<std::uint64_t>(Clock::now().time_since_epoch().count()));
   char text[33];
-  std::snprintf(text, sizeof text, "%016llx%016llx",
-                static_cast<unsigned long long>(random()),
+  std::snprintf(text, sizeof text, "%016llx%016llx", static_cast<unsigned long long>(random()),
                 static_cast<unsigned long long>(random()));
   return text;
 }
@@ -81,9 +81,9 @@ void SessionHub::open(v1::Hello hello, std::shared_ptr<ViewerSink> sink,
         }
       } else {
         if (sessions_.size() >= limits_.max_sessions) {
-          throw Refusal(RefusalCode::resource_exhausted,
-                        "this server runs its limit of " + std::to_string(limits_.max_sessions) +
-                            " sessions; join one or try later");
+          throw Refusal(RefusalCode::resource_exhausted, "this server runs its limit of " +
+                                                             std::to_string(limits_.max_sessions) +
+                                                             " sessions; join one or try later");
         }
         SessionSetup setup;
         if (!hello.create().scene().empty()) setup.scene = sim::parse_scene(hello.create().scene());
@@ -93,7 +93,8 @@ void SessionHub::open(v1::Hello hello, std::shared_ptr<ViewerSink> sink,
         setup.particles = hello.create().particles();
         const std::string id = new_session_id();
         opened.session = std::make_shared<Session>(
-            id, setup, SessionServices{context_, gpu_solver_, &limits_, metrics_, encoders_.get()});
+            id, setup,
+            SessionServices{context_, gpu_solver_, &steps_, &limits_, metrics_, encoders_.get()});
         sessions_.emplace(id, opened.session);
         session_count_ = static_cast<std::uint32_t>(sessions_.size());
         metrics_->sessions = sessions_.size();
@@ -199,8 +200,8 @@ v1::ServerInfo SessionHub::info() const {
 
 void SessionHub::end_failed(Session& session, const std::exception& e) {
   std::fprintf(stderr, "session %s failed: %s\n", session.id().c_str(), e.what());
-  session.end_all(Refusal(RefusalCode::internal,
-                          std::string("the session failed on the server: ") + e.what()));
+  session.end_all(
+      Refusal(RefusalCode::internal, std::string("the session failed on the server: ") + e.what()));
 }
 
 void SessionHub::end_all_on_gpu_failure(const std::string& why) {
@@ -238,7 +239,23 @@ void SessionHub::tick_all(Clock::time_point now) {
   const std::vector<GpuGrant> grants = grant_gpu_time(period_ms, limits_.sim_share, demands);
   for (std::size_t k = 0; k < ticking.size(); ++k) {
     try {
-      ticking[k]->run(grants[k], now);
+      ticking[k]->simulate(grants[k]);
+    } catch (const std::exception& e) {
+      end_failed(*ticking[k], e);
+      ticking[k] = nullptr;
+    }
+  }
+  // Every session's steps in one submission, their passes side by side: small fluids are bound
+  // by launches and barriers, which they now share.
+  try {
+    steps_.submit();
+  } catch (const gpu::VulkanError& e) {
+    end_all_on_gpu_failure(e.what());
+  }
+  for (std::size_t k = 0; k < ticking.size(); ++k) {
+    if (!ticking[k]) continue;
+    try {
+      ticking[k]->draw(grants[k], now);
     } catch (const std::exception& e) {
       end_failed(*ticking[k], e);
     }
@@ -246,8 +263,8 @@ void SessionHub::tick_all(Clock::time_point now) {
   tick_serials_.push_back(context_->last_submitted());
   for (auto it = sessions_.begin(); it != sessions_.end();) {
     Session& session = *it->second;
-    const bool expired = session.viewer_count() == 0 &&
-                         now - session.empty_since() > limits_.resume_grace;
+    const bool expired =
+        session.viewer_count() == 0 && now - session.empty_since() > limits_.resume_grace;
     if (expired) {
       metrics_->forget_session(session.id());
       it = sessions_.erase(it);

@@ -80,6 +80,9 @@ class SessionHub {
   std::unique_ptr<codec::JpegEncoderPool> encoders_ = std::make_unique<codec::JpegEncoderPool>();
 
   // Worker state: only the worker touches it.
+  // Every GPU solver's steps of a tick, submitted together (declared before the sessions, whose
+  // solvers queue in it, so that it outlives them).
+  sim::GpuStepBatch steps_;
   std::map<std::string, std::shared_ptr<Session>> sessions_;
   std::uint64_t session_seed_;
   // The newest submission of each of the last ticks: a tick starts once the one two before it has

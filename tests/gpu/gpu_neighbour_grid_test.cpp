@@ -31,9 +31,11 @@ class GpuNeighbourGridTest : public GpuTest {
     const gpu::Buffer key_buffer(context(), key.size() * sizeof(glm::vec4),
                                  gpu::MemoryDomain::device);
     gpu::upload<glm::vec4>(context(), key_buffer, key);
-    context().run_now([&](VkCommandBuffer commands) {
-      gpu_grid.record_build(commands, key_buffer.address(), n);
-    });
+    std::vector<GpuStepBatch::Pass> passes{
+        {0, 0, [&](VkCommandBuffer commands) { gpu_grid.record_clear(commands); }}};
+    gpu_grid.append_build(passes, key_buffer.address(), n, 0);
+    context().run_now(
+        [&](VkCommandBuffer commands) { GpuStepBatch::record_in_order(commands, passes); });
 
     const auto cell_start =
         gpu::download<std::uint32_t>(context(), gpu_grid.cell_start(), cpu.cell_count() + 1);

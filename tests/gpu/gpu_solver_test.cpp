@@ -122,7 +122,7 @@ TEST_P(GpuSolverTest, MoreParticlesThanTheMemoryBudgetAreRefusedUpFront) {
   const std::uint64_t budget =
       gpu_solver::GpuSolver(GetParam(), context(), build_scene(scene), {}).bytes_needed(999);
   try {
-    gpu_solver::GpuSolver(GetParam(), context(), build_scene(scene), {}, budget);
+    gpu_solver::GpuSolver(GetParam(), context(), build_scene(scene), {}, nullptr, budget);
     ADD_FAILURE() << "no error";
   } catch (const ParamError& e) {
     std::printf("%s\n", e.what());

@@ -79,12 +79,12 @@ void GpuNeighbourGrid::reserve(std::size_t capacity) {
   capacity_ = capacity;
 }
 
-void GpuNeighbourGrid::record_build(VkCommandBuffer commands, VkDeviceAddress key,
-                                    std::uint32_t count) const {
-  gpu::compute_to_transfer_barrier(commands);
+void GpuNeighbourGrid::record_clear(VkCommandBuffer commands) const {
   vkCmdFillBuffer(commands, cell_start_.get(), 0, VK_WHOLE_SIZE, 0);
-  gpu::transfer_to_compute_barrier(commands);
+}
 
+void GpuNeighbourGrid::append_build(std::vector<GpuStepBatch::Pass>& passes, VkDeviceAddress key,
+                                    std::uint32_t count, int stage) const {
   GridPass pass{};
   pass.key = key;
   pass.cell_of = cell_of_.address();
@@ -95,8 +95,10 @@ void GpuNeighbourGrid::record_build(VkCommandBuffer commands, VkDeviceAddress ke
   pass.origin = glm::vec4(geometry_.origin, geometry_.inv_cell_size);
   pass.dims = glm::ivec4(geometry_.dims, 0);
   pass.particle_count = count;
-  count_.dispatch(commands, pass, count);
-  gpu::compute_barrier(commands);
+  const auto add = [&](std::function<void(VkCommandBuffer)> record) {
+    passes.push_back({stage, 0, std::move(record)});
+  };
+  add([this, pass](VkCommandBuffer c) { count_.dispatch(c, pass, pass.particle_count); });
 
   // Up the levels: scan each in place, writing its block totals into the next.
   const std::size_t levels = level_counts_.size();
@@ -106,21 +108,20 @@ void GpuNeighbourGrid::record_build(VkCommandBuffer commands, VkDeviceAddress ke
     scan.block_sums = k + 1 < levels ? block_sums_[k].address() : 0;
     scan.count = level_counts_[k];
     scan.write_block_sums = k + 1 < levels ? 1 : 0;
-    scan_.dispatch(commands, scan, std::uint64_t{blocks(scan.count)} * kScanGroupSize);
-    gpu::compute_barrier(commands);
+    add([this, scan](VkCommandBuffer c) {
+      scan_.dispatch(c, scan, std::uint64_t{blocks(scan.count)} * kScanGroupSize);
+    });
   }
   // Down again: add each block's scanned total to its elements.
   for (std::size_t k = levels - 1; k-- > 0;) {
-    ScanPass add{};
-    add.data = k == 0 ? cell_start_.address() : block_sums_[k - 1].address();
-    add.block_sums = block_sums_[k].address();
-    add.count = level_counts_[k];
-    scan_add_.dispatch(commands, add, add.count);
-    gpu::compute_barrier(commands);
+    ScanPass scan_add{};
+    scan_add.data = k == 0 ? cell_start_.address() : block_sums_[k - 1].address();
+    scan_add.block_sums = block_sums_[k].address();
+    scan_add.count = level_counts_[k];
+    add([this, scan_add](VkCommandBuffer c) { scan_add_.dispatch(c, scan_add, scan_add.count); });
   }
 
-  scatter_.dispatch(commands, pass, count);
-  gpu::compute_barrier(commands);
+  add([this, pass](VkCommandBuffer c) { scatter_.dispatch(c, pass, pass.particle_count); });
 }
 
 }  // namespace fluidcast::sim::gpu_solver

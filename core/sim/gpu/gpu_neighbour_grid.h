@@ -10,6 +10,7 @@
 
 #include "fluidcast/gpu/buffer.h"
 #include "fluidcast/gpu/compute_pipeline.h"
+#include "fluidcast/sim/gpu_step_batch.h"
 #include "fluidcast/sim/neighbour_grid.h"
 
 namespace fluidcast::sim::gpu_solver {
@@ -30,8 +31,12 @@ class GpuNeighbourGrid {
   // Makes room for `capacity` particles (never shrinks); unchanged if it throws.
   void reserve(std::size_t capacity);
 
-  // Records the build for the first `count` positions (vec4) at `key`, then a compute barrier.
-  void record_build(VkCommandBuffer commands, VkDeviceAddress key, std::uint32_t count) const;
+  // The build for the first `count` positions (vec4) at `key`, as passes (tagged `stage`) that
+  // start once record_clear() is done: the solver records that in the pass before, to save a
+  // barrier.
+  void record_clear(VkCommandBuffer commands) const;
+  void append_build(std::vector<GpuStepBatch::Pass>& passes, VkDeviceAddress key,
+                    std::uint32_t count, int stage) const;
 
   const GridGeometry& geometry() const { return geometry_; }
   // Sorted slot → particle index; cell c's slots are [cell_start[c], cell_start[c + 1]).

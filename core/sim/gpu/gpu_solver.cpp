@@ -18,7 +18,6 @@ namespace {
 
 constexpr std::uint32_t kGroup = GpuNeighbourGrid::kGroupSize;
 static_assert(kGroup <= 128, "record_sum (sim_kernels.glsl) sums a workgroup in 32 bits");
-constexpr std::uint32_t kTimestampCapacity = 4096;
 // Of the device-local heap, what a simulation may plan to use: the driver and other work need some.
 constexpr double kUsableMemoryShare = 0.9;
 
@@ -39,9 +38,7 @@ float float_from_bits(std::uint32_t bits) {
 }  // namespace
 
 GpuSolver::InFlight::InFlight(gpu::Context& context)
-    : stats(context, kStatsSlots * sizeof(std::uint32_t), gpu::MemoryDomain::readback),
-      timestamps(context, kTimestampCapacity),
-      commands(context) {}
+    : stats(context, kStatsSlots * sizeof(std::uint32_t), gpu::MemoryDomain::readback) {}
 
 GpuSolver::Pipelines::Pipelines(gpu::Context& c)
     : predict(c, shaders::sim_predict_comp, sizeof(SimPass), kGroup),
@@ -55,10 +52,13 @@ GpuSolver::Pipelines::Pipelines(gpu::Context& c)
       sph_integrate(c, shaders::sim_sph_integrate_comp, sizeof(SimPass), kGroup) {}
 
 GpuSolver::GpuSolver(SolverKind kind, gpu::Context& context, Scene scene,
-                     const SolverParams& params, std::uint64_t memory_budget_bytes)
+                     const SolverParams& params, GpuStepBatch* batch,
+                     std::uint64_t memory_budget_bytes)
     : Solver(std::move(scene), params),
       kind_(kind),
       context_(&context),
+      own_batch_(batch ? nullptr : std::make_unique<GpuStepBatch>(context)),
+      batch_(batch ? batch : own_batch_.get()),
       memory_budget_(
           memory_budget_bytes > 0
               ? memory_budget_bytes
@@ -75,6 +75,21 @@ GpuSolver::GpuSolver(SolverKind kind, gpu::Context& context, Scene scene,
   scorr_scale_ = pbf.scorr_scale;
   inv_w_dq_ = pbf.inv_w_dq;
   load_particles(this->scene().particles);
+}
+
+GpuSolver::~GpuSolver() {
+  batch_->forget(this);
+  try {
+    for (const InFlight& slot : in_flight_) {
+      if (slot.receipt.serial != 0) context_->wait_for(slot.receipt.serial);
+    }
+  } catch (const gpu::VulkanError&) {
+    // A lost device runs nothing any more: the buffers may go.
+  }
+}
+
+void GpuSolver::submit_queued() const {
+  if (batch_->holds(this)) batch_->submit();
 }
 
 std::uint64_t GpuSolver::bytes_needed(std::size_t particles) const {
@@ -120,7 +135,7 @@ void GpuSolver::allocate(std::size_t capacity) {
   b.density = device(pbf ? 0 : 8);
   b.acceleration = device(pbf ? 0 : 16);
   b.density_ratio = device(4);
-  grid_.reserve(capacity);  // may throw: then nothing has changed
+  grid_.reserve(capacity);                                  // may throw: then nothing has changed
   context_->retire(std::exchange(buffers_, std::move(b)));  // steps and frames may still read them
   capacity_ = capacity;
 }
@@ -128,6 +143,7 @@ void GpuSolver::allocate(std::size_t capacity) {
 void GpuSolver::load_particles(const ParticleSet& particles) {
   // Steps in flight finish on the old particles (the uploads below wait for them in the queue);
   // their figures no longer describe these particles.
+  submit_queued();
   for (InFlight& slot : in_flight_) slot.stale_stats = true;
   const std::size_t n = particles.size();
   if (n > capacity_ || !buffers_.position) {
@@ -154,6 +170,7 @@ void GpuSolver::load_particles(const ParticleSet& particles) {
 
 ParticleSet GpuSolver::snapshot() const {
   // Queue order puts the copy after every submitted step.
+  submit_queued();
   const auto positions = gpu::download<glm::vec4>(*context_, buffers_.position, count_);
   const auto velocities = gpu::download<glm::vec4>(*context_, buffers_.velocity, count_);
   ParticleSet set;
@@ -190,24 +207,29 @@ std::size_t GpuSolver::erase_particles_in_sphere(glm::vec3 centre, float radius)
 }
 
 void GpuSolver::synchronize() {
-  for (auto& slot : in_flight_) {
-    slot.commands.wait();
+  submit_queued();
+  for (const InFlight& slot : in_flight_) {
+    if (!slot.harvested) context_->wait_for(slot.receipt.serial);
   }
   count_finished_steps();
 }
 
 void GpuSolver::count_finished_steps() {
+  const std::uint64_t finished = context_->last_finished();
   // Oldest first (the next slot to be used holds the oldest step), so that the newest finished
   // step's figures are the ones kept.
   for (std::size_t k = 0; k < kStepsInFlight; ++k) {
     InFlight& slot = in_flight_[(next_slot_ + k) % kStepsInFlight];
-    if (!slot.commands.busy()) harvest(slot);
+    if (slot.finished(finished)) harvest(slot);
   }
 }
 
 void GpuSolver::harvest(InFlight& slot) {
   if (slot.harvested) return;
   slot.harvested = true;
+  // The step's share of the batch's timestamps, released once read.
+  const std::shared_ptr<gpu::TimestampQueries> timestamps =
+      std::exchange(slot.receipt.timestamps, nullptr);
   if (!slot.stale_stats) {
     const auto stats = slot.stats.mapped<std::uint32_t>();
     largest_speed_ = std::sqrt(float_from_bits(stats[kLargestSpeed2]));
@@ -221,13 +243,13 @@ void GpuSolver::harvest(InFlight& slot) {
     }
   }
   // Untimed steps (a device without timestamps) are not counted: a cost of 0 would mean free.
-  if (slot.marks.empty()) return;
+  if (!timestamps || slot.receipt.passes.empty()) return;
   stage_times_.substeps += static_cast<std::uint64_t>(slot.substeps);
-  slot.timestamps.fetch();
-  for (std::uint32_t k = 0; k < slot.marks.size(); ++k) {
-    const double ms = slot.timestamps.elapsed_ms(k, k + 1);
-    const auto [stage, index] = slot.marks[k];
-    switch (stage) {
+  timestamps->fetch();
+  for (const GpuStepBatch::Receipt::Timed& pass : slot.receipt.passes) {
+    const double ms = timestamps->elapsed_ms(pass.from, pass.to) * pass.share;
+    const int index = pass.index;
+    switch (static_cast<Stage>(pass.stage)) {
       case Stage::grid:
         stage_times_.grid_ms += ms;
         break;
@@ -326,8 +348,11 @@ int GpuSolver::substeps_for(float seconds) {
   const float h = fluid().kernel_radius;
   // Steps still running make the figures that many steps older: allow for what gravity adds over
   // them too.
+  const std::uint64_t finished = context_->last_finished();
   int running = 0;
-  for (const InFlight& slot : in_flight_) running += slot.commands.busy() ? 1 : 0;
+  for (const InFlight& slot : in_flight_) {
+    running += !slot.harvested && !slot.finished(finished) ? 1 : 0;
+  }
   const float g = glm::length(gravity());
   const float speed = largest_speed_ + float(running) * g * seconds;
   if (kind_ == SolverKind::pbf) {
@@ -339,98 +364,92 @@ int GpuSolver::substeps_for(float seconds) {
       std::clamp(std::ceil(seconds / dt), 1.0f, static_cast<float>(params().max_substeps)));
 }
 
-void GpuSolver::mark(VkCommandBuffer commands, InFlight& slot, Stage stage, int index) {
-  if (!slot.timed) return;
-  slot.timestamps.mark(commands);
-  slot.marks.emplace_back(stage, index);
-}
-
 void GpuSolver::advance(float seconds, int substeps) {
   InFlight& slot = in_flight_[next_slot_];
-  slot.commands.wait();
+  if (!slot.harvested) {  // the oldest step, still waiting or running
+    if (slot.receipt.serial == 0) batch_->submit();
+    context_->wait_for(slot.receipt.serial);
+  }
   count_finished_steps();
 
   const float dt = seconds / static_cast<float>(substeps);
-  const int marks_per_substep = kind_ == SolverKind::pbf ? 4 + params().iterations : 3;
-  const bool timed = context_->timestamps_supported() &&
-                     1 + substeps * marks_per_substep <= static_cast<int>(kTimestampCapacity);
-
-  const VkCommandBuffer commands = slot.commands.begin();
-  slot.marks.clear();
-  slot.timed = timed;
-  slot.timestamps.reset(commands);
-  if (timed) slot.timestamps.mark(commands);
-  const SimParams params_block = step_params();
-  gpu::compute_to_transfer_barrier(commands);
-  vkCmdUpdateBuffer(commands, params_buffer_.get(), 0, sizeof(SimParams), &params_block);
-  vkCmdFillBuffer(commands, stats_buffer_.get(), 0, VK_WHOLE_SIZE, 0);
-  gpu::transfer_to_compute_barrier(commands);
+  const bool pbf = kind_ == SolverKind::pbf;
+  Passes passes;
+  // First the step's parameters and a clean slate for its figures (and SPH's first grid).
+  passes.push_back({static_cast<int>(pbf ? Stage::predict : Stage::grid), 0,
+                    [this, params_block = step_params(), pbf](VkCommandBuffer c) {
+                      vkCmdUpdateBuffer(c, params_buffer_.get(), 0, sizeof(SimParams),
+                                        &params_block);
+                      vkCmdFillBuffer(c, stats_buffer_.get(), 0, VK_WHOLE_SIZE, 0);
+                      if (!pbf) grid_.record_clear(c);
+                    }});
   for (int s = 0; s < substeps; ++s) {
     const SimPass pass{params_buffer_.address(), dt, static_cast<float>(s + 1) * dt, 0, 0};
-    if (kind_ == SolverKind::pbf) {
-      record_pbf_substep(commands, slot, pass, s + 1 == substeps);
+    const bool last = s + 1 == substeps;
+    if (pbf) {
+      append_pbf_substep(passes, pass, last);
     } else {
-      record_sph_substep(commands, slot, pass);
+      append_sph_substep(passes, pass, !last);
     }
   }
-  gpu::compute_to_transfer_barrier(commands);
-  const VkBufferCopy region{0, 0, kStatsSlots * sizeof(std::uint32_t)};
-  vkCmdCopyBuffer(commands, stats_buffer_.get(), slot.stats.get(), 1, &region);
-  gpu::to_host_barrier(commands);
-  slot.commands.submit();
+  passes.push_back({static_cast<int>(pbf ? Stage::viscosity : Stage::predict), 0,
+                    [this, &slot](VkCommandBuffer c) {
+                      const VkBufferCopy region{0, 0, kStatsSlots * sizeof(std::uint32_t)};
+                      vkCmdCopyBuffer(c, stats_buffer_.get(), slot.stats.get(), 1, &region);
+                    }});
+  batch_->queue(this, count_, std::move(passes), slot.receipt);
   slot.harvested = false;
   slot.stale_stats = false;
   slot.substeps = substeps;
   slot.substep_seconds = dt;
   slot.particles = count_;
   next_slot_ = (next_slot_ + 1) % kStepsInFlight;
+  if (own_batch_) own_batch_->submit();
 }
 
-void GpuSolver::record_pbf_substep(VkCommandBuffer commands, InFlight& slot, const SimPass& pass,
-                                   bool last) {
+void GpuSolver::append_pbf_substep(Passes& passes, const SimPass& pass, bool last) const {
   const std::uint32_t n = static_cast<std::uint32_t>(count_);
-  pipelines_.predict.dispatch(commands, pass, n);
-  gpu::compute_barrier(commands);
-  mark(commands, slot, Stage::predict);
-
-  grid_.record_build(commands, buffers_.predicted.address(), n);
-  pipelines_.reorder.dispatch(commands, pass, n);
-  gpu::compute_barrier(commands);
-  mark(commands, slot, Stage::grid);
+  const auto add = [&](Stage stage, int index, const gpu::ComputePipeline& pipeline,
+                       const SimPass& push) {
+    passes.push_back({static_cast<int>(stage), index,
+                      [&pipeline, push, n](VkCommandBuffer c) { pipeline.dispatch(c, push, n); }});
+  };
+  // The prediction, and the grid cleared for the build that sorts by it.
+  passes.push_back({static_cast<int>(Stage::predict), 0, [this, pass, n](VkCommandBuffer c) {
+                      pipelines_.predict.dispatch(c, pass, n);
+                      grid_.record_clear(c);
+                    }});
+  grid_.append_build(passes, buffers_.predicted.address(), n, static_cast<int>(Stage::grid));
+  add(Stage::grid, 0, pipelines_.reorder, pass);
 
   SimPass iteration = pass;
   for (int k = 0; k < params().iterations; ++k) {
-    pipelines_.pbf_lambda.dispatch(commands, iteration, n);
-    gpu::compute_barrier(commands);
-    pipelines_.pbf_correct.dispatch(commands, iteration, n);
-    gpu::compute_barrier(commands);
+    add(Stage::iteration, k, pipelines_.pbf_lambda, iteration);
+    add(Stage::iteration, k, pipelines_.pbf_correct, iteration);
     iteration.parity ^= 1;
-    mark(commands, slot, Stage::iteration, k);
   }
-
-  pipelines_.pbf_velocity.dispatch(commands, iteration, n);  // and vorticity
-  gpu::compute_barrier(commands);
-  mark(commands, slot, Stage::velocity);
+  add(Stage::velocity, 0, pipelines_.pbf_velocity, iteration);  // and vorticity
   iteration.record_compression = last ? 1 : 0;
-  pipelines_.pbf_finish.dispatch(commands, iteration, n);
-  gpu::compute_barrier(commands);
-  mark(commands, slot, Stage::viscosity);
+  add(Stage::viscosity, 0, pipelines_.pbf_finish, iteration);
 }
 
-void GpuSolver::record_sph_substep(VkCommandBuffer commands, InFlight& slot, const SimPass& pass) {
+void GpuSolver::append_sph_substep(Passes& passes, const SimPass& pass,
+                                   bool then_clear_grid) const {
   const std::uint32_t n = static_cast<std::uint32_t>(count_);
-  grid_.record_build(commands, buffers_.position.address(), n);
-  pipelines_.reorder.dispatch(commands, pass, n);
-  gpu::compute_barrier(commands);
-  mark(commands, slot, Stage::grid);
-  pipelines_.sph_density.dispatch(commands, pass, n);
-  gpu::compute_barrier(commands);
-  pipelines_.sph_force.dispatch(commands, pass, n);
-  gpu::compute_barrier(commands);
-  mark(commands, slot, Stage::solve);
-  pipelines_.sph_integrate.dispatch(commands, pass, n);
-  gpu::compute_barrier(commands);
-  mark(commands, slot, Stage::predict);
+  const auto add = [&](Stage stage, const gpu::ComputePipeline& pipeline) {
+    passes.push_back({static_cast<int>(stage), 0,
+                      [&pipeline, pass, n](VkCommandBuffer c) { pipeline.dispatch(c, pass, n); }});
+  };
+  grid_.append_build(passes, buffers_.position.address(), n, static_cast<int>(Stage::grid));
+  add(Stage::grid, pipelines_.reorder);
+  add(Stage::solve, pipelines_.sph_density);
+  add(Stage::solve, pipelines_.sph_force);
+  // The integration does not read the grid: the next substep's may be cleared beside it.
+  passes.push_back(
+      {static_cast<int>(Stage::predict), 0, [this, pass, n, then_clear_grid](VkCommandBuffer c) {
+         pipelines_.sph_integrate.dispatch(c, pass, n);
+         if (then_clear_grid) grid_.record_clear(c);
+       }});
 }
 
 }  // namespace fluidcast::sim::gpu_solver
@@ -438,8 +457,8 @@ void GpuSolver::record_sph_substep(VkCommandBuffer commands, InFlight& slot, con
 namespace fluidcast::sim {
 
 std::unique_ptr<Solver> make_gpu_solver(SolverKind kind, gpu::Context& context, Scene scene,
-                                        const SolverParams& params) {
-  return std::make_unique<gpu_solver::GpuSolver>(kind, context, std::move(scene), params);
+                                        const SolverParams& params, GpuStepBatch* batch) {
+  return std::make_unique<gpu_solver::GpuSolver>(kind, context, std::move(scene), params, batch);
 }
 
 }  // namespace fluidcast::sim

@@ -1,6 +1,7 @@
-// PBF and SPH entirely in Vulkan compute. The particles stay on the GPU: each step is one command
-// buffer (parameters, then every substep's grid build, reorder and solver passes), and the host
-// reads positions and velocities back only for a snapshot. Four steps may be in flight; the
+// PBF and SPH entirely in Vulkan compute. The particles stay on the GPU: each step is a list of
+// passes (parameters, then every substep's grid build, reorder and solver passes) that a
+// GpuStepBatch records, alone or interleaved with other solvers' steps, and the host reads
+// positions and velocities back only for a snapshot. Four steps may be in flight; the
 // substep count of a step comes from the largest speed (for SPH also acceleration, for PBF the
 // compression left) of the newest finished step, which the GPU records with one atomic per
 // workgroup.
@@ -13,10 +14,11 @@
 #pragma once
 
 #include <array>
+#include <memory>
 #include <optional>
 
-#include "fluidcast/gpu/command_slot.h"
 #include "fluidcast/gpu/compute_pipeline.h"
+#include "fluidcast/sim/gpu_step_batch.h"
 #include "fluidcast/sim/solver.h"
 #include "gpu/gpu_neighbour_grid.h"
 #include "gpu/gpu_sim_params.h"
@@ -29,8 +31,12 @@ class GpuSolver final : public Solver {
   // Throws ParamError as Solver does, and ParamError when the particles would not fit in the
   // memory budget (naming it): 90 % of the device's local memory unless one is given, for an
   // operator who runs several simulations on one device.
+  // `batch`: where its steps wait to be submitted with other solvers' (see gpu_step_batch.h);
+  // none: a batch of its own, submitted at each step.
   GpuSolver(SolverKind kind, gpu::Context& context, Scene scene, const SolverParams& params,
-            std::uint64_t memory_budget_bytes = 0);
+            GpuStepBatch* batch = nullptr, std::uint64_t memory_budget_bytes = 0);
+  // Waits for its steps still running (a retired solver has none left).
+  ~GpuSolver() override;
 
   SolverKind kind() const override { return kind_; }
   std::size_t particle_count() const override { return count_; }
@@ -59,35 +65,39 @@ class GpuSolver final : public Solver {
   struct InFlight {
     explicit InFlight(gpu::Context& context);
     gpu::Buffer stats;  // readback: StatsSlot
-    gpu::TimestampQueries timestamps;
-    // Last, so that it is destroyed first: its destructor waits for the step that uses the rest.
-    gpu::CommandSlot commands;
-    std::vector<std::pair<Stage, int>> marks;  // what ended at each timestamp after the first
+    GpuStepBatch::Receipt receipt;
     int substeps = 0;
     float substep_seconds = 0.0f;
     std::size_t particles = 0;
-    bool harvested = true;
-    bool timed = false;
+    bool harvested = true;     // idle, or its figures are counted
     bool stale_stats = false;  // the particles were replaced while it ran
+    bool finished(std::uint64_t last_finished) const {
+      return receipt.serial != 0 && receipt.serial <= last_finished;
+    }
   };
   struct Pipelines {
     explicit Pipelines(gpu::Context& context);
-    gpu::ComputePipeline predict, reorder, pbf_lambda, pbf_correct, pbf_velocity,
-        pbf_finish, sph_density, sph_force, sph_integrate;
+    gpu::ComputePipeline predict, reorder, pbf_lambda, pbf_correct, pbf_velocity, pbf_finish,
+        sph_density, sph_force, sph_integrate;
   };
 
   void allocate(std::size_t capacity);
   SimParams step_params() const;
+  // Submits this solver's steps still waiting in the batch, so that what follows in the queue
+  // (uploads, downloads, waits) comes after them.
+  void submit_queued() const;
+  using Passes = std::vector<GpuStepBatch::Pass>;
   // `last`: the step's last substep, which measures the compression for the substep rule.
-  void record_pbf_substep(VkCommandBuffer commands, InFlight& slot, const SimPass& pass,
-                          bool last);
-  void record_sph_substep(VkCommandBuffer commands, InFlight& slot, const SimPass& pass);
-  void mark(VkCommandBuffer commands, InFlight& slot, Stage stage, int index = 0);
+  void append_pbf_substep(Passes& passes, const SimPass& pass, bool last) const;
+  // `then_clear_grid`: the integration pass also clears the grid for the next substep's build.
+  void append_sph_substep(Passes& passes, const SimPass& pass, bool then_clear_grid) const;
   // Reads the stats and timestamps of a finished slot, once.
   void harvest(InFlight& slot);
 
   SolverKind kind_;
   gpu::Context* context_;
+  std::unique_ptr<GpuStepBatch> own_batch_;  // when none is shared
+  GpuStepBatch* batch_;
   std::uint64_t memory_budget_;
   GpuNeighbourGrid grid_;
   Pipelines pipelines_;
@@ -101,7 +111,6 @@ class GpuSolver final : public Solver {
   } buffers_;
   gpu::Buffer params_buffer_, stats_buffer_;
   // Steps in flight, a ring: a frame loop may submit this many in one tick without waiting.
-  // Declared after what their steps use, so that their destructors wait before it goes.
   static constexpr std::size_t kStepsInFlight = 4;
   std::array<InFlight, kStepsInFlight> in_flight_;
   std::size_t next_slot_ = 0;

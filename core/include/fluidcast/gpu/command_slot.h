@@ -18,7 +18,7 @@ class CommandSlot {
 
   // Waits for the last submission of this slot, then starts recording afresh.
   VkCommandBuffer begin();
-  void submit();
+  std::uint64_t submit();  // returns the submission's serial (Context::submit)
   void wait() const;
   bool busy() const;  // submitted and not yet finished
 
@@ -42,7 +42,8 @@ class TimestampQueries {
   std::uint32_t marks() const { return used_; }
   // Milliseconds between marks `from` and `to` of the finished submission; 0 without timestamps.
   double elapsed_ms(std::uint32_t from, std::uint32_t to);
-  // Fetches the finished submission's timestamps; call once after its fence.
+  // Fetches the finished submission's timestamps, after its fence; once (several readers of one
+  // submission may each call it).
   void fetch();
 
  private:
@@ -50,6 +51,7 @@ class TimestampQueries {
   UniqueQueryPool pool_;
   std::uint32_t capacity_;
   std::uint32_t used_ = 0;
+  bool fetched_ = false;
   std::vector<std::uint64_t> ticks_;
 };
 

@@ -144,9 +144,13 @@ class Solver {
 };
 
 std::unique_ptr<Solver> make_cpu_solver(SolverKind kind, Scene scene, const SolverParams& params);
+class GpuStepBatch;
 // The same solver in Vulkan compute on the context's device. Throws ParamError also when the
-// particles would not fit in the device's memory.
+// particles would not fit in the device's memory. `batch`: a GpuStepBatch on the same context
+// where its steps wait to be submitted together with other solvers' (gpu_step_batch.h); without
+// one, each step is submitted as it is taken.
 std::unique_ptr<Solver> make_gpu_solver(SolverKind kind, gpu::Context& context, Scene scene,
-                                        const SolverParams& params);
+                                        const SolverParams& params,
+                                        GpuStepBatch* batch = nullptr);
 
 }  // namespace fluidcast::sim

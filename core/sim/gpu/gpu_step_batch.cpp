@@ -1,0 +1,113 @@
+#include "fluidcast/sim/gpu_step_batch.h"
+
+#include <algorithm>
+#include <utility>
+
+#include "fluidcast/gpu/buffer.h"
+
+namespace fluidcast::sim {
+namespace {
+
+// A step's passes read and write with shaders and with transfers (parameters, fills, copies of
+// figures): each pass waits for both kinds before it.
+void pass_barrier(VkCommandBuffer commands) {
+  constexpr VkPipelineStageFlags stages =
+      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
+  gpu::memory_barrier(commands, stages, VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                      stages,
+                      VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
+                          VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
+}
+
+}  // namespace
+
+GpuStepBatch::GpuStepBatch(gpu::Context& context)
+    : context_(&context), slots_{Slot(context), Slot(context), Slot(context), Slot(context)} {}
+
+void GpuStepBatch::queue(const void* owner, std::uint64_t particles, std::vector<Pass> passes,
+                         Receipt& receipt) {
+  receipt = Receipt{};
+  queued_.push_back({owner, particles, std::move(passes), &receipt});
+}
+
+bool GpuStepBatch::holds(const void* owner) const {
+  return std::any_of(queued_.begin(), queued_.end(),
+                     [owner](const Queued& q) { return q.owner == owner; });
+}
+
+void GpuStepBatch::forget(const void* owner) {
+  std::erase_if(queued_, [owner](const Queued& q) { return q.owner == owner; });
+}
+
+void GpuStepBatch::record_in_order(VkCommandBuffer commands, const std::vector<Pass>& passes) {
+  pass_barrier(commands);
+  for (const Pass& pass : passes) {
+    pass.record(commands);
+    pass_barrier(commands);
+  }
+}
+
+void GpuStepBatch::submit() {
+  if (queued_.empty()) return;
+  // Taken out first: submitting may destroy retired solvers, which forget() what they queued.
+  std::vector<Queued> steps = std::exchange(queued_, {});
+
+  // One lane per owner: its steps' passes one after another, each pass knowing its step.
+  struct Lane {
+    std::uint64_t particles = 0;
+    std::vector<std::pair<const Pass*, Receipt*>> passes;
+  };
+  std::vector<Lane> lanes;
+  std::vector<const void*> lane_owner;
+  for (Queued& step : steps) {
+    const auto found = std::find(lane_owner.begin(), lane_owner.end(), step.owner);
+    const std::size_t lane = static_cast<std::size_t>(found - lane_owner.begin());
+    if (found == lane_owner.end()) {
+      lane_owner.push_back(step.owner);
+      lanes.emplace_back();
+    }
+    lanes[lane].particles = std::max(lanes[lane].particles, step.particles);
+    for (const Pass& pass : step.passes) lanes[lane].passes.emplace_back(&pass, step.receipt);
+  }
+  std::size_t pass_count = 0;
+  for (const Lane& lane : lanes) pass_count = std::max(pass_count, lane.passes.size());
+
+  Slot& slot = slots_[next_slot_];
+  next_slot_ = (next_slot_ + 1) % kSubmissionsInFlight;
+  const VkCommandBuffer commands = slot.commands.begin();
+  // Owners still to read the old timestamps keep them; this submission gets its own.
+  if (!slot.timestamps || slot.timestamps.use_count() > 1) {
+    slot.timestamps = std::make_shared<gpu::TimestampQueries>(*context_, kTimestampCapacity);
+  }
+  const bool timed = context_->timestamps_supported() && pass_count + 1 <= kTimestampCapacity;
+  slot.timestamps->reset(commands);
+  // Earlier submissions (frames reading the particles, the previous steps) before any of these.
+  pass_barrier(commands);
+  if (timed) slot.timestamps->mark(commands);
+  for (std::size_t k = 0; k < pass_count; ++k) {
+    std::uint64_t weight = 0;
+    for (const Lane& lane : lanes) {
+      if (k >= lane.passes.size()) continue;
+      lane.passes[k].first->record(commands);
+      weight += std::max<std::uint64_t>(lane.particles, 1);
+    }
+    pass_barrier(commands);
+    if (!timed) continue;
+    const std::uint32_t to = slot.timestamps->mark(commands);
+    for (const Lane& lane : lanes) {
+      if (k >= lane.passes.size()) continue;
+      const auto [pass, receipt] = lane.passes[k];
+      const double share =
+          static_cast<double>(std::max<std::uint64_t>(lane.particles, 1)) / double(weight);
+      receipt->passes.push_back({to - 1, to, share, pass->stage, pass->index});
+    }
+  }
+  gpu::to_host_barrier(commands);
+  const std::uint64_t serial = slot.commands.submit();
+  for (Queued& step : steps) {
+    step.receipt->serial = serial;
+    if (timed) step.receipt->timestamps = slot.timestamps;
+  }
+}
+
+}  // namespace fluidcast::sim
