@@ -1,6 +1,7 @@
 // Rendering and encoding: GPU ms per pass (MC field and triangles, scene, particles, smoothing,
 // shading, read-back) from timestamps, frames/s with the read-back ring kept full, and JPEG
-// encode ms (quality 80, 4:2:0, one thread) and throughput on the encoder pool (one thread per
+// encode ms (quality 80, 4:2:0, one thread) from RGBA and from the YCbCr planes the GPU converts
+// (with their read-back: conversion and copy), and throughput on the encoder pool (one thread per
 // core), at 640×360, 1280×720 and 1920×1080 with 64k and 1M particles (the dam break after a few
 // GPU steps); Marching Cubes in a cubic 1 m tank on a 128³ grid (the target), and as the
 // client's local mode draws it (5000 particles, 640×360, grid from the particle size). `--smoke`
@@ -50,7 +51,7 @@ void run_render(benchmark::State& state, render::RendererKind kind, int frames_p
   render::OrbitCamera camera;
   camera.target = 0.5f * (solver->tank().min + solver->tank().max);
   camera.distance = 1.3f * glm::length(solver->tank().size());
-  codec::ImageRgba last = renderer.render(kind, view, solver->tank(), camera);  // warm-up
+  codec::Image last = renderer.render(kind, view, solver->tank(), camera);  // warm-up
 
   render::RenderTimes sum;
   std::uint64_t frames = 0;
@@ -100,6 +101,14 @@ void run_render(benchmark::State& state, render::RendererKind kind, int frames_p
   for (int k = 0; k < encodes; ++k) bytes = codec::encode_jpeg(last, jpeg).size();
   state.counters["encode_ms"] = 1e3 * seconds_since(start) / encodes;
   state.counters["jpeg_kib"] = static_cast<double>(bytes) / 1024.0;
+  // The same frame read back as YCbCr 4:2:0 planes (as the server streams): the encoder only
+  // compresses.
+  renderer.format = render::FrameRenderer::FrameFormat::yuv420;
+  const codec::Image planes = renderer.render(kind, view, solver->tank(), camera);
+  state.counters["planes_readback_ms"] = renderer.last_times().readback_ms;
+  start = Clock::now();
+  for (int k = 0; k < encodes; ++k) bytes = codec::encode_jpeg(planes, jpeg).size();
+  state.counters["planes_encode_ms"] = 1e3 * seconds_since(start) / encodes;
   codec::JpegEncoderPool pool;
   std::vector<std::future<std::vector<std::uint8_t>>> jobs;
   start = Clock::now();

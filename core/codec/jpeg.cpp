@@ -29,6 +29,25 @@ int subsampling_of(ChromaSubsampling s) {
   throw std::invalid_argument("jpeg: unknown chroma subsampling");
 }
 
+void check_quality(const JpegOptions& options) {
+  if (options.quality < 1 || options.quality > 100) {
+    throw std::invalid_argument("jpeg: quality " + std::to_string(options.quality) +
+                                " is outside 1–100");
+  }
+}
+
+// TurboJPEG's output, copied out and freed.
+std::vector<std::uint8_t> take_output(void* handle, int status, unsigned char* out,
+                                      unsigned long size) {
+  if (status != 0) {
+    tjFree(out);
+    throw std::runtime_error(std::string("jpeg: encoding failed: ") + tjGetErrorStr2(handle));
+  }
+  std::vector<std::uint8_t> jpeg(out, out + size);
+  tjFree(out);
+  return jpeg;
+}
+
 }  // namespace
 
 JpegEncoder::JpegEncoder() : handle_(make_handle(true)) {}
@@ -39,22 +58,32 @@ std::vector<std::uint8_t> JpegEncoder::encode(const ImageRgba& image, const Jpeg
       image.pixels.size() != static_cast<std::size_t>(image.width) * image.height * 4) {
     throw std::invalid_argument("jpeg: the image is empty or its pixels do not match its size");
   }
-  if (options.quality < 1 || options.quality > 100) {
-    throw std::invalid_argument("jpeg: quality " + std::to_string(options.quality) +
-                                " is outside 1–100");
-  }
+  check_quality(options);
   unsigned char* out = nullptr;
   unsigned long size = 0;
   const int status =
       tjCompress2(handle_, image.pixels.data(), image.width, 0, image.height, TJPF_RGBA, &out,
                   &size, subsampling_of(options.subsampling), options.quality, 0);
-  if (status != 0) {
-    tjFree(out);
-    throw std::runtime_error(std::string("jpeg: encoding failed: ") + tjGetErrorStr2(handle_));
+  return take_output(handle_, status, out, size);
+}
+
+std::vector<std::uint8_t> JpegEncoder::encode(const ImageYuv420& image,
+                                              const JpegOptions& options) {
+  if (image.width <= 0 || image.height <= 0 ||
+      image.bytes.size() != ImageYuv420::size_for(image.width, image.height)) {
+    throw std::invalid_argument("jpeg: the planes are empty or do not match their size");
   }
-  std::vector<std::uint8_t> jpeg(out, out + size);
-  tjFree(out);
-  return jpeg;
+  check_quality(options);
+  if (options.subsampling != ChromaSubsampling::s420) {
+    throw std::invalid_argument("jpeg: YCbCr 4:2:0 planes encode only with 4:2:0 subsampling");
+  }
+  const unsigned char* planes[3] = {image.plane(0), image.plane(1), image.plane(2)};
+  const int strides[3] = {image.luma_stride(), image.chroma_stride(), image.chroma_stride()};
+  unsigned char* out = nullptr;
+  unsigned long size = 0;
+  const int status = tjCompressFromYUVPlanes(handle_, planes, image.width, strides, image.height,
+                                             TJSAMP_420, &out, &size, options.quality, 0);
+  return take_output(handle_, status, out, size);
 }
 
 JpegDecoder::JpegDecoder() : handle_(make_handle(false)) {}
@@ -74,9 +103,9 @@ ImageRgba JpegDecoder::decode(std::span<const std::uint8_t> jpeg) {
   return image;
 }
 
-std::vector<std::uint8_t> encode_jpeg(const ImageRgba& image, const JpegOptions& options) {
+std::vector<std::uint8_t> encode_jpeg(const Image& image, const JpegOptions& options) {
   thread_local JpegEncoder encoder;
-  return encoder.encode(image, options);
+  return std::visit([&](const auto& pixels) { return encoder.encode(pixels, options); }, image);
 }
 
 ImageRgba decode_jpeg(std::span<const std::uint8_t> jpeg) {

@@ -18,8 +18,7 @@ JpegEncoderPool::JpegEncoderPool(unsigned threads) : threads_(resolve(threads)),
 
 JpegEncoderPool::~JpegEncoderPool() { pool_.join(); }
 
-std::future<std::vector<std::uint8_t>> JpegEncoderPool::encode(ImageRgba image,
-                                                               JpegOptions options) {
+std::future<std::vector<std::uint8_t>> JpegEncoderPool::encode(Image image, JpegOptions options) {
   auto promise = std::make_shared<std::promise<std::vector<std::uint8_t>>>();
   auto result = promise->get_future();
   encode(std::move(image), options,
@@ -33,7 +32,7 @@ std::future<std::vector<std::uint8_t>> JpegEncoderPool::encode(ImageRgba image,
   return result;
 }
 
-void JpegEncoderPool::encode(ImageRgba image, JpegOptions options, EncodeDone done) {
+void JpegEncoderPool::encode(Image image, JpegOptions options, EncodeDone done) {
   boost::asio::post(pool_, [image = std::move(image), options, done = std::move(done)] {
     const auto start = std::chrono::steady_clock::now();
     std::vector<std::uint8_t> jpeg;

@@ -49,4 +49,11 @@ struct ScreenConstants {
 static_assert(offsetof(ScreenConstants, axis) == 48 &&
               offsetof(ScreenConstants, narrow_range) == 52);
 
+// shaders/render/yuv420.comp
+struct YuvConstants {
+  VkDeviceAddress image, planes;
+  std::uint32_t width, height, luma_stride, chroma_rows;
+};
+static_assert(offsetof(YuvConstants, width) == 16 && sizeof(YuvConstants) == 32);
+
 }  // namespace fluidcast::render

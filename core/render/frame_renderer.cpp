@@ -64,16 +64,27 @@ FrameRenderer::FrameRenderer(gpu::Context& context, std::uint32_t width, std::ui
           PipelineOptions{false, false, false})),
       smooth_(context, shaders::render_ssfr_smooth_comp, sizeof(ScreenConstants), kScreenGroup),
       shade_(context, shaders::render_ssfr_shade_comp, sizeof(ScreenConstants), kScreenGroup),
+      yuv420_(context, shaders::render_yuv420_comp, sizeof(YuvConstants), kScreenGroup),
       frame_params_(context, sizeof(FrameParams), gpu::MemoryDomain::device) {
   const std::uint64_t per_pixel = std::uint64_t{width} * height * 4;
   for (gpu::Buffer* buffer : {&depth_, &depth_scratch_, &thickness_, &scene_, &image_}) {
     *buffer = gpu::Buffer(context, per_pixel, gpu::MemoryDomain::device);
   }
+  planes_ = gpu::Buffer(context, frame_bytes(FrameFormat::yuv420), gpu::MemoryDomain::device);
   slots_.reserve(kFramesInFlight);
-  // Each read-back slot holds the frame and, after it, the probed surface distance.
+  // Each read-back slot holds the frame in either format and, after it, the probed surface
+  // distance.
+  const std::uint64_t largest =
+      std::max(frame_bytes(FrameFormat::rgba), frame_bytes(FrameFormat::yuv420));
   for (std::size_t k = 0; k < kFramesInFlight; ++k) {
-    slots_.emplace_back(context, per_pixel + sizeof(float));
+    slots_.emplace_back(context, largest + sizeof(float));
   }
+}
+
+std::uint64_t FrameRenderer::frame_bytes(FrameFormat frame_format) const {
+  const int width = static_cast<int>(target_.width()), height = static_cast<int>(target_.height());
+  return frame_format == FrameFormat::rgba ? std::uint64_t{4} * std::uint64_t(width) * height
+                                           : codec::ImageYuv420::size_for(width, height);
 }
 
 FrameRenderer::Slot::Slot(gpu::Context& context, std::uint64_t bytes)
@@ -90,7 +101,7 @@ std::size_t FrameRenderer::frames_pending() const {
   return kept_.size() + in_flight;
 }
 
-codec::ImageRgba FrameRenderer::collect(Slot& slot) {
+codec::Image FrameRenderer::collect(Slot& slot) {
   slot.commands.wait();
   slot.in_flight = false;
   // Marks: start, [MC: field, triangles,] scene, particles; SSFR and MC: smoothing (with the copy
@@ -111,13 +122,23 @@ codec::ImageRgba FrameRenderer::collect(Slot& slot) {
   }
   times.readback_ms = slot.timestamps.elapsed_ms(marks - 2, marks - 1);
   last_times_ = times;
-  codec::ImageRgba image(static_cast<int>(target_.width()), static_cast<int>(target_.height()));
+  const int width = static_cast<int>(target_.width()), height = static_cast<int>(target_.height());
   const std::span<const std::uint8_t> bytes = slot.readback.mapped<std::uint8_t>();
-  std::memcpy(image.pixels.data(), bytes.data(), image.pixels.size());
+  const std::uint64_t image_bytes = frame_bytes(slot.format);
+  codec::Image image;
+  if (slot.format == FrameFormat::rgba) {
+    codec::ImageRgba rgba(width, height);
+    std::memcpy(rgba.pixels.data(), bytes.data(), image_bytes);
+    image = std::move(rgba);
+  } else {
+    codec::ImageYuv420 planes(width, height);
+    std::memcpy(planes.bytes.data(), bytes.data(), image_bytes);
+    image = std::move(planes);
+  }
   last_probe_hit_.reset();
   if (slot.probe) {
     float distance = 0.0f;  // along the view axis, as the surface passes store it
-    std::memcpy(&distance, bytes.data() + image.pixels.size(), sizeof distance);
+    std::memcpy(&distance, bytes.data() + image_bytes, sizeof distance);
     if (std::isfinite(distance)) {
       const glm::vec2 ndc = 2.0f * *slot.probe - 1.0f;
       const glm::vec4 in_view(ndc.x * distance / slot.projection[0][0],
@@ -149,9 +170,8 @@ std::uint64_t FrameRenderer::submit(RendererKind requested, const ParticleView& 
                                 "(fragmentStoresAndAtomics); use points");
   }
   if (kind == RendererKind::mc) {
-    const int resolution = mc.resolution != 0
-                               ? mc.resolution
-                               : MarchingCubes::resolution_for(tank, particles.radius);
+    const int resolution =
+        mc.resolution != 0 ? mc.resolution : MarchingCubes::resolution_for(tank, particles.radius);
     if (!marching_cubes_ || !marching_cubes_->fits(tank, resolution, particles.radius)) {
       if (marching_cubes_) context_->retire(std::move(marching_cubes_));  // frames may read it
       marching_cubes_ =
@@ -171,6 +191,7 @@ std::uint64_t FrameRenderer::submit(RendererKind requested, const ParticleView& 
     throw std::invalid_argument("renderer: the probe must lie in the frame, 0 to 1 each way");
   }
   slot.probe = kind == RendererKind::points ? std::nullopt : probe;
+  slot.format = format;
   try {
     record(slot.commands.begin(), kind, particles, tank, camera, slot);
     slot.commands.submit();
@@ -197,9 +218,12 @@ bool FrameRenderer::oldest_finished() {
   return oldest && !oldest->commands.busy();
 }
 
-codec::ImageRgba FrameRenderer::take_oldest() {
+codec::Image FrameRenderer::take_oldest() {
   if (!kept_.empty()) {
-    codec::ImageRgba image = std::move(kept_.front());
+    // Swapped out rather than moved: GCC 12 takes the variant's move for a read of the
+    // uninitialised (-Wmaybe-uninitialized).
+    codec::Image image;
+    image.swap(kept_.front());
     kept_.pop_front();
     return image;
   }
@@ -208,8 +232,8 @@ codec::ImageRgba FrameRenderer::take_oldest() {
   return collect(*oldest);
 }
 
-codec::ImageRgba FrameRenderer::render(RendererKind kind, const ParticleView& particles,
-                                       const sim::Box& tank, const OrbitCamera& camera) {
+codec::Image FrameRenderer::render(RendererKind kind, const ParticleView& particles,
+                                   const sim::Box& tank, const OrbitCamera& camera) {
   while (frames_pending() > 0) take_oldest();
   submit(kind, particles, tank, camera);
   return take_oldest();
@@ -288,13 +312,19 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
   VkBufferImageCopy region{};
   region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
   region.imageExtent = {width, height, 1};
+  const bool planar = slot.format == FrameFormat::yuv420;
   if (!fluid) {
     vkCmdCopyImageToBuffer(commands, target_.colour().get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                           readback.get(), 1, &region);
+                           planar ? image_.get() : readback.get(), 1, &region);
+    if (planar) {
+      memory_barrier(commands, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute,
+                     VK_ACCESS_SHADER_READ_BIT);
+      record_yuv420_read_back(commands, slot);
+    }
   } else {
     if (!scene_kept) {
-      vkCmdCopyImageToBuffer(commands, target_.colour().get(),
-                             VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, scene_.get(), 1, &region);
+      vkCmdCopyImageToBuffer(commands, target_.colour().get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                             scene_.get(), 1, &region);
     }
     memory_barrier(commands, kTransfer | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
                    VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT, kCompute,
@@ -321,15 +351,19 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
     slot.timestamps.mark(commands);
     screen.depth_in = depth_.address();
     shade_.dispatch(commands, screen, pixels);
-    memory_barrier(commands, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kTransfer,
-                   VK_ACCESS_TRANSFER_READ_BIT);
+    memory_barrier(commands, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute | kTransfer,
+                   VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT);
     slot.timestamps.mark(commands);
-    const VkBufferCopy copy{0, 0, pixels * 4};
-    vkCmdCopyBuffer(commands, image_.get(), readback.get(), 1, &copy);
+    if (planar) {
+      record_yuv420_read_back(commands, slot);
+    } else {
+      const VkBufferCopy copy{0, 0, pixels * 4};
+      vkCmdCopyBuffer(commands, image_.get(), readback.get(), 1, &copy);
+    }
     if (slot.probe) {
       const auto x = std::min(width - 1, static_cast<std::uint32_t>(slot.probe->x * width));
       const auto y = std::min(height - 1, static_cast<std::uint32_t>(slot.probe->y * height));
-      const VkBufferCopy surface{(std::uint64_t{y} * width + x) * 4, pixels * 4, 4};
+      const VkBufferCopy surface{(std::uint64_t{y} * width + x) * 4, frame_bytes(slot.format), 4};
       vkCmdCopyBuffer(commands, depth_.get(), readback.get(), 1, &surface);
     }
   }
@@ -339,6 +373,24 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
   memory_barrier(commands, kDrawStages | kCompute, 0, kCompute | kTransfer, 0);
   memory_barrier(commands, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
                  VK_ACCESS_HOST_READ_BIT);
+}
+
+void FrameRenderer::record_yuv420_read_back(VkCommandBuffer commands, const Slot& slot) {
+  codec::ImageYuv420 shape;
+  shape.width = static_cast<int>(target_.width());
+  shape.height = static_cast<int>(target_.height());
+  const YuvConstants convert{image_.address(),
+                             planes_.address(),
+                             target_.width(),
+                             target_.height(),
+                             static_cast<std::uint32_t>(shape.luma_stride()),
+                             static_cast<std::uint32_t>(shape.chroma_rows())};
+  const std::uint64_t blocks = std::uint64_t(shape.luma_stride() / 8) * shape.chroma_rows();
+  yuv420_.dispatch(commands, convert, blocks);
+  memory_barrier(commands, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kTransfer,
+                 VK_ACCESS_TRANSFER_READ_BIT);
+  const VkBufferCopy copy{0, 0, frame_bytes(FrameFormat::yuv420)};
+  vkCmdCopyBuffer(commands, planes_.get(), slot.readback.get(), 1, &copy);
 }
 
 }  // namespace fluidcast::render

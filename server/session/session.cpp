@@ -524,8 +524,8 @@ void Session::encode(Viewer& viewer, Viewer::Finished frame) {
   v1::Frame& out = *message->mutable_frame();
   out.set_sequence(frame.sequence);
   out.set_sim_time(frame.shows.sim_time);
-  out.set_width(static_cast<std::uint32_t>(frame.image.width));
-  out.set_height(static_cast<std::uint32_t>(frame.image.height));
+  out.set_width(static_cast<std::uint32_t>(codec::width_of(frame.image)));
+  out.set_height(static_cast<std::uint32_t>(codec::height_of(frame.image)));
   out.set_input_event_id(frame.shows.input_event_id);
   out.set_jpeg_quality(static_cast<std::uint32_t>(frame.jpeg_quality));
   out.set_renderer(frame.shows.renderer);

@@ -34,6 +34,8 @@ Viewer::~Viewer() {
 void Viewer::resize(std::uint32_t width, std::uint32_t height) {
   if (renderer_ && width == render_width_ && height == render_height_) return;
   auto renderer = std::make_unique<render::FrameRenderer>(*context_, width, height);
+  // Frames go to the JPEG encoder only: converted and subsampled on the GPU.
+  renderer->format = render::FrameRenderer::FrameFormat::yuv420;
   if (renderer_) {
     renderer->probe = renderer_->probe;
     context_->retire(std::move(renderer_));  // its frames in flight, of the old size, are dropped
@@ -55,7 +57,8 @@ void Viewer::apply_quality(const v1::Quality& quality) {
   requested_quality_ = jpeg_quality_ = quality_or_default(quality.jpeg_quality());
   adaptive_ = quality.adaptive();
   const std::uint32_t fps = quality.max_fps() == 0 ? limits_->target_fps : quality.max_fps();
-  frame_interval_ = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / fps));
+  frame_interval_ =
+      std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / fps));
   next_frame_ = {};  // a new rate starts now, not after the old interval
   renderer_kind_ = quality.renderer().empty() ? render::RendererKind::automatic
                                               : render::parse_renderer(quality.renderer());
@@ -131,8 +134,8 @@ void Viewer::note_input(std::uint64_t event_id, Clock::time_point received) {
 double Viewer::input_wait_ms(Clock::time_point tick_start) {
   if (newest_input_received_ == Clock::time_point{} || input_shown_ == newest_input_) return 0.0;
   input_shown_ = newest_input_;
-  return std::max(0.0, std::chrono::duration<double, std::milli>(tick_start -
-                                                                 newest_input_received_).count());
+  return std::max(
+      0.0, std::chrono::duration<double, std::milli>(tick_start - newest_input_received_).count());
 }
 
 void Viewer::submit(const render::ParticleView& particles, const sim::Box& tank, Shows shows,
@@ -152,11 +155,11 @@ bool Viewer::frame_finished() { return !in_flight_.empty() && renderer_->oldest_
 std::optional<Viewer::Finished> Viewer::take_finished(Clock::time_point now) {
   if (in_flight_.empty()) return std::nullopt;
   const bool probed = renderer_->probe.has_value();
-  codec::ImageRgba image = renderer_->take_oldest();
+  codec::Image image = renderer_->take_oldest();
   const auto taken = Clock::now();
   const double queue_ms =
       std::chrono::duration<double, std::milli>(taken - in_flight_.front().submitted).count();
-  Finished finished{std::move(image),          ++sequence_, std::move(in_flight_.front()),
+  Finished finished{std::move(image),        ++sequence_, std::move(in_flight_.front()),
                     renderer_->last_times(), queue_ms,    jpeg_quality_};
   in_flight_.pop_front();
   // A renderer's first frame builds its pipelines and draws the whole scene: not what its frames
@@ -201,7 +204,8 @@ void Viewer::adapt(Clock::time_point now) {
     }
   } else if (keeping_up) {
     if (render_width_ < width_) {
-      resize(std::min(width_, render_width_ * 4 / 3 + 1), std::min(height_, render_height_ * 4 / 3 + 1));
+      resize(std::min(width_, render_width_ * 4 / 3 + 1),
+             std::min(height_, render_height_ * 4 / 3 + 1));
     } else if (jpeg_quality_ < requested_quality_) {
       jpeg_quality_ = std::min(requested_quality_, jpeg_quality_ + 5);
     }

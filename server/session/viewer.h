@@ -9,9 +9,9 @@
 #include <chrono>
 #include <cstdint>
 #include <deque>
-#include <string>
 #include <memory>
 #include <optional>
+#include <string>
 
 #include "fluidcast/render/camera.h"
 #include "fluidcast/render/frame_renderer.h"
@@ -80,7 +80,7 @@ class Viewer {
     std::string renderer;
   };
   struct Finished {
-    codec::ImageRgba image;
+    codec::Image image;  // YCbCr 4:2:0 planes, ready for the JPEG encoder
     std::uint64_t sequence;
     Shows shows;
     render::RenderTimes times;
@@ -118,8 +118,8 @@ class Viewer {
   const ServerLimits* limits_;
   std::shared_ptr<ViewerSink> sink_;
   std::unique_ptr<render::FrameRenderer> renderer_;
-  std::uint32_t width_ = 0, height_ = 0;                  // as asked
-  std::uint32_t render_width_ = 0, render_height_ = 0;    // as rendered (adaptive may lower it)
+  std::uint32_t width_ = 0, height_ = 0;                // as asked
+  std::uint32_t render_width_ = 0, render_height_ = 0;  // as rendered (adaptive may lower it)
   render::OrbitCamera camera_;
   render::RendererKind renderer_kind_ = render::RendererKind::automatic;
   int requested_quality_ = 80, jpeg_quality_ = 80;

@@ -5,7 +5,10 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <utility>
+#include <variant>
 
+#include "fluidcast/codec/image.h"
 #include "fluidcast/gpu/context.h"
 
 namespace fluidcast::testing {
@@ -17,6 +20,11 @@ inline gpu::Context& test_context() {
     return options;
   }());
   return context;
+}
+
+// A frame read back as RGBA, the renderer's default format.
+inline codec::ImageRgba rgba(codec::Image image) {
+  return std::get<codec::ImageRgba>(std::move(image));
 }
 
 class GpuTest : public ::testing::Test {

@@ -16,6 +16,8 @@
 namespace fluidcast::render {
 namespace {
 
+using testing::rgba;
+
 class RenderGoldenTest : public fluidcast::testing::GpuTest,
                          public ::testing::WithParamInterface<RendererKind> {};
 
@@ -32,7 +34,7 @@ TEST_P(RenderGoldenTest, MatchesTheAcceptedImage) {
   camera.yaw_degrees = 20.0f;
   camera.pitch_degrees = 25.0f;
   const codec::ImageRgba actual =
-      renderer.render(GetParam(), source.view_of(*solver), solver->tank(), camera);
+      rgba(renderer.render(GetParam(), source.view_of(*solver), solver->tank(), camera));
 
   const std::string name = std::string(renderer_names()[static_cast<int>(GetParam())]) + "_drop";
   const std::filesystem::path golden =

@@ -4,11 +4,15 @@
 // at.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <limits>
 #include <set>
+#include <utility>
+#include <variant>
 
+#include "fluidcast/codec/jpeg.h"
 #include "fluidcast/codec/png.h"
 #include "fluidcast/render/frame_renderer.h"
 #include "fluidcast/render/particle_source.h"
@@ -18,6 +22,7 @@ namespace fluidcast::render {
 namespace {
 
 using fluidcast::testing::GpuTest;
+using fluidcast::testing::rgba;
 
 const sim::Box kTank{{0, 0, 0}, {1.0f, 0.6f, 0.3f}};
 
@@ -66,9 +71,9 @@ class RenderTest : public GpuTest {};
 
 TEST_F(RenderTest, AnEmptySceneIsTheSameInEveryMode) {
   FrameRenderer renderer(context(), 160, 90);
-  const auto points = renderer.render(RendererKind::points, {}, kTank, looking_at_tank());
-  const auto ssfr = renderer.render(RendererKind::ssfr, {}, kTank, looking_at_tank());
-  const auto mc = renderer.render(RendererKind::mc, {}, kTank, looking_at_tank());
+  const auto points = rgba(renderer.render(RendererKind::points, {}, kTank, looking_at_tank()));
+  const auto ssfr = rgba(renderer.render(RendererKind::ssfr, {}, kTank, looking_at_tank()));
+  const auto mc = rgba(renderer.render(RendererKind::mc, {}, kTank, looking_at_tank()));
   keep(points, "render_empty");
   EXPECT_EQ(points.pixels, ssfr.pixels);
   EXPECT_EQ(points.pixels, mc.pixels);
@@ -92,19 +97,19 @@ TEST_F(RenderTest, AKeptSceneGivesTheSameFrameAsAFreshOne) {
   turned.yaw_degrees += 30.0f;
   for (auto kind : {RendererKind::ssfr, RendererKind::mc}) {
     FrameRenderer fresh_renderer(context(), 160, 90);
-    const auto fresh = fresh_renderer.render(kind, view, pool->tank(), near);
+    const auto fresh = rgba(fresh_renderer.render(kind, view, pool->tank(), near));
     FrameRenderer renderer(context(), 160, 90);
-    const auto first = renderer.render(kind, view, pool->tank(), near);
-    EXPECT_EQ(renderer.render(kind, view, pool->tank(), near).pixels, fresh.pixels);
-    const auto other = renderer.render(kind, view, pool->tank(), turned);
+    const auto first = rgba(renderer.render(kind, view, pool->tank(), near));
+    EXPECT_EQ(rgba(renderer.render(kind, view, pool->tank(), near)).pixels, fresh.pixels);
+    const auto other = rgba(renderer.render(kind, view, pool->tank(), turned));
     EXPECT_NE(other.pixels, fresh.pixels);
-    EXPECT_EQ(renderer.render(kind, view, pool->tank(), near).pixels, fresh.pixels);
-    renderer.render(RendererKind::points, view, pool->tank(), near);
-    EXPECT_EQ(renderer.render(kind, view, pool->tank(), near).pixels, fresh.pixels);
+    EXPECT_EQ(rgba(renderer.render(kind, view, pool->tank(), near)).pixels, fresh.pixels);
+    rgba(renderer.render(RendererKind::points, view, pool->tank(), near));
+    EXPECT_EQ(rgba(renderer.render(kind, view, pool->tank(), near)).pixels, fresh.pixels);
     sim::Box wider = pool->tank();
     wider.max.x += 0.5f;
-    EXPECT_NE(renderer.render(kind, view, wider, near).pixels, fresh.pixels);
-    EXPECT_EQ(renderer.render(kind, view, pool->tank(), near).pixels, fresh.pixels);
+    EXPECT_NE(rgba(renderer.render(kind, view, wider, near)).pixels, fresh.pixels);
+    EXPECT_EQ(rgba(renderer.render(kind, view, pool->tank(), near)).pixels, fresh.pixels);
     EXPECT_EQ(first.pixels, fresh.pixels);
   }
 }
@@ -113,7 +118,7 @@ TEST_F(RenderTest, OneByOneOddAndLargestSizesAndBeyond) {
   for (auto [w, h] : {std::pair{1u, 1u}, {33u, 17u}}) {
     FrameRenderer renderer(context(), w, h);
     for (auto kind : {RendererKind::points, RendererKind::ssfr, RendererKind::mc}) {
-      EXPECT_EQ(renderer.render(kind, {}, kTank, looking_at_tank()).pixels.size(),
+      EXPECT_EQ(rgba(renderer.render(kind, {}, kTank, looking_at_tank())).pixels.size(),
                 std::size_t{w} * h * 4);
     }
   }
@@ -149,9 +154,9 @@ TEST_F(RenderTest, AParticleShowsWhereItProjects) {
   FrameRenderer renderer(context(), 160, 120);
   OrbitCamera camera = looking_at_tank();
   camera.distance = 0.5f;
-  const auto empty = renderer.render(RendererKind::points, {}, kTank, camera);
+  const auto empty = rgba(renderer.render(RendererKind::points, {}, kTank, camera));
   for (auto kind : {RendererKind::points, RendererKind::ssfr}) {
-    const auto image = renderer.render(kind, view, kTank, camera);
+    const auto image = rgba(renderer.render(kind, view, kTank, camera));
     keep(image,
          kind == RendererKind::points ? "render_one_particle_points" : "render_one_particle_ssfr");
     const std::uint8_t *centre = image.pixel(80, 60), *behind = empty.pixel(80, 60);
@@ -175,14 +180,15 @@ TEST_F(RenderTest, GpuSolverBuffersInPlaceMatchAnUploadedCopy) {
   FrameRenderer renderer(context(), 320, 180);
   const OrbitCamera camera = camera_on(solver->tank(), 2.4f);
   for (auto kind : {RendererKind::points, RendererKind::ssfr}) {
-    const auto in_place = renderer.render(kind, source.view_of(*solver), solver->tank(), camera);
+    const auto in_place =
+        rgba(renderer.render(kind, source.view_of(*solver), solver->tank(), camera));
     keep(in_place,
          kind == RendererKind::points ? "render_dam_break_points" : "render_dam_break_ssfr");
-    const auto uploaded =
+    const auto uploaded = rgba(
         renderer.render(kind, source.upload(solver->snapshot(), solver->fluid().particle_radius()),
-                        solver->tank(), camera);
+                        solver->tank(), camera));
     EXPECT_EQ(uploaded.pixels, in_place.pixels);
-    const auto empty = renderer.render(kind, {}, solver->tank(), camera);
+    const auto empty = rgba(renderer.render(kind, {}, solver->tank(), camera));
     EXPECT_GT(pixels_differing(in_place, empty), 2000u) << "the fluid is not in the frame";
   }
 }
@@ -196,19 +202,53 @@ TEST_F(RenderTest, FramesInFlightComeBackInOrderAndNoneIsLostUntilTheCapOfKeptFr
   std::vector<codec::ImageRgba> expected;
   for (std::size_t k = 0; k < cameras.size(); ++k) {
     cameras[k].yaw_degrees = 20.0f * static_cast<float>(k);
-    expected.push_back(renderer.render(RendererKind::ssfr, view, pool->tank(), cameras[k]));
+    expected.push_back(rgba(renderer.render(RendererKind::ssfr, view, pool->tank(), cameras[k])));
   }
   // Three submitted, none taken: two in flight, one kept; they come back oldest first.
   for (int k = 0; k < 3; ++k) renderer.submit(RendererKind::ssfr, view, pool->tank(), cameras[k]);
   EXPECT_EQ(renderer.frames_pending(), 3u);
-  for (int k = 0; k < 3; ++k) EXPECT_EQ(renderer.take_oldest().pixels, expected[k].pixels) << k;
+  for (int k = 0; k < 3; ++k)
+    EXPECT_EQ(rgba(renderer.take_oldest()).pixels, expected[k].pixels) << k;
   EXPECT_EQ(renderer.frames_pending(), 0u);
   EXPECT_THROW(renderer.take_oldest(), std::logic_error);
   // Five submitted, none taken: at most two kept besides the two in flight; the oldest is dropped.
   for (int k = 0; k < 5; ++k) renderer.submit(RendererKind::ssfr, view, pool->tank(), cameras[k]);
   EXPECT_EQ(renderer.frames_dropped(), 1u);
   EXPECT_EQ(renderer.frames_pending(), 4u);
-  EXPECT_EQ(renderer.take_oldest().pixels, expected[1].pixels);
+  EXPECT_EQ(rgba(renderer.take_oldest()).pixels, expected[1].pixels);
+}
+
+// Frames read back as YCbCr 4:2:0 planes (converted on the GPU) make the JPEG that the RGBA
+// frame makes through TurboJPEG's own conversion, to within rounding, at even and odd sizes, in
+// 1.5 bytes a pixel plus row padding instead of 4.
+TEST_F(RenderTest, PlanesFromTheGpuEncodeAsWellAsTheRgbaFrame) {
+  auto pool = drop_of(3000);
+  ParticleSource source(context());
+  const ParticleView view = source.view_of(*pool);
+  for (const auto& [width, height] : {std::pair{160u, 90u}, std::pair{101u, 57u}}) {
+    for (const RendererKind kind : {RendererKind::points, RendererKind::ssfr}) {
+      SCOPED_TRACE(std::to_string(width) + "×" + std::to_string(height) + ", " +
+                   (kind == RendererKind::points ? "points" : "ssfr"));
+      FrameRenderer renderer(context(), width, height);
+      const OrbitCamera camera = camera_on(pool->tank(), 1.2f);
+      const auto frame = rgba(renderer.render(kind, view, pool->tank(), camera));
+      renderer.format = FrameRenderer::FrameFormat::yuv420;
+      const auto planes =
+          std::get<codec::ImageYuv420>(renderer.render(kind, view, pool->tank(), camera));
+      ASSERT_EQ(planes.width, frame.width);
+      ASSERT_EQ(planes.height, frame.height);
+      EXPECT_LE(planes.bytes.size(), 1.5 * (width + 7) * (height + 1));
+      const codec::JpegOptions q80{80, codec::ChromaSubsampling::s420};
+      const auto from_rgba = codec::decode_jpeg(codec::encode_jpeg(frame, q80));
+      const auto from_planes = codec::decode_jpeg(codec::encode_jpeg(planes, q80));
+      const double rgba_db = codec::psnr(from_rgba, frame);
+      const double planes_db = codec::psnr(from_planes, frame);
+      std::printf("PSNR against the frame: %.2f dB through RGBA, %.2f dB through the planes\n",
+                  rgba_db, planes_db);
+      EXPECT_GT(planes_db, 25.0);  // small sprites at q80: about 28 dB either way
+      EXPECT_NEAR(planes_db, rgba_db, 0.1);
+    }
+  }
 }
 
 // Without the depth filter every sphere shows in the normals; with it the surface is smooth. The
@@ -219,7 +259,7 @@ TEST_F(RenderTest, DepthSmoothingLowersSurfaceNoise) {
   const ParticleView view = source.view_of(*pool);
   FrameRenderer renderer(context(), 320, 180);
   const OrbitCamera camera = camera_on(pool->tank(), 1.6f);
-  const auto empty = renderer.render(RendererKind::ssfr, {}, pool->tank(), camera);
+  const auto empty = rgba(renderer.render(RendererKind::ssfr, {}, pool->tank(), camera));
   const auto noise = [&](const codec::ImageRgba& image) {
     const auto brightness = [&](int x, int y) {
       const std::uint8_t* p = image.pixel(x, y);
@@ -238,10 +278,10 @@ TEST_F(RenderTest, DepthSmoothingLowersSurfaceNoise) {
     return count > 0 ? sum / double(count) : 0.0;
   };
   renderer.ssfr.smoothing_passes = 0;
-  const auto raw = renderer.render(RendererKind::ssfr, view, pool->tank(), camera);
+  const auto raw = rgba(renderer.render(RendererKind::ssfr, view, pool->tank(), camera));
   keep(raw, "render_pool_ssfr_unsmoothed");
   renderer.ssfr.smoothing_passes = 2;
-  const auto smoothed = renderer.render(RendererKind::ssfr, view, pool->tank(), camera);
+  const auto smoothed = rgba(renderer.render(RendererKind::ssfr, view, pool->tank(), camera));
   keep(smoothed, "render_pool_ssfr_smoothed");
   std::printf("surface noise: %.1f unsmoothed, %.1f smoothed\n", noise(raw), noise(smoothed));
   EXPECT_LT(noise(smoothed), 0.7 * noise(raw));
@@ -253,10 +293,10 @@ TEST_F(RenderTest, MarchingCubesShowsTheFluidAtAnyResolutionAndAutoPicksByCount)
   const ParticleView view = source.view_of(*pool);
   FrameRenderer renderer(context(), 240, 135);
   const OrbitCamera camera = camera_on(pool->tank(), 2.0f);
-  const auto empty = renderer.render(RendererKind::mc, {}, pool->tank(), camera);
+  const auto empty = rgba(renderer.render(RendererKind::mc, {}, pool->tank(), camera));
   for (int resolution : {0, 40, 80, 128}) {  // 0: from the particle size
     renderer.mc.resolution = resolution;
-    const auto image = renderer.render(RendererKind::mc, view, pool->tank(), camera);
+    const auto image = rgba(renderer.render(RendererKind::mc, view, pool->tank(), camera));
     keep(image, "render_pool_mc_" + std::to_string(resolution));
     EXPECT_GT(pixels_differing(image, empty), 3000u) << resolution;
   }
@@ -268,8 +308,8 @@ TEST_F(RenderTest, MarchingCubesShowsTheFluidAtAnyResolutionAndAutoPicksByCount)
   }
   renderer.mc.resolution = 80;
   // 3000 particles are fewer than kMarchingCubesBelow: auto draws Marching Cubes.
-  EXPECT_EQ(renderer.render(RendererKind::automatic, view, pool->tank(), camera).pixels,
-            renderer.render(RendererKind::mc, view, pool->tank(), camera).pixels);
+  EXPECT_EQ(rgba(renderer.render(RendererKind::automatic, view, pool->tank(), camera)).pixels,
+            rgba(renderer.render(RendererKind::mc, view, pool->tank(), camera)).pixels);
   EXPECT_EQ(resolve(RendererKind::automatic, kMarchingCubesBelow), RendererKind::ssfr);
 }
 
@@ -285,12 +325,12 @@ TEST_F(RenderTest, NarrowRangeFilterSmoothsAndDiffersFromBilateral) {
   FrameRenderer renderer(context(), 320, 180);
   const OrbitCamera camera = camera_on(solver->tank(), 2.0f);
   renderer.ssfr.smoothing_passes = 0;
-  const auto raw = renderer.render(RendererKind::ssfr, view, solver->tank(), camera);
+  const auto raw = rgba(renderer.render(RendererKind::ssfr, view, solver->tank(), camera));
   renderer.ssfr.smoothing_passes = 2;
   renderer.ssfr.filter = SsfrStyle::DepthFilter::bilateral;
-  const auto bilateral = renderer.render(RendererKind::ssfr, view, solver->tank(), camera);
+  const auto bilateral = rgba(renderer.render(RendererKind::ssfr, view, solver->tank(), camera));
   renderer.ssfr.filter = SsfrStyle::DepthFilter::narrow_range;
-  const auto narrow = renderer.render(RendererKind::ssfr, view, solver->tank(), camera);
+  const auto narrow = rgba(renderer.render(RendererKind::ssfr, view, solver->tank(), camera));
   keep(raw, "render_filter_none");
   keep(bilateral, "render_filter_bilateral");
   keep(narrow, "render_filter_narrow_range");
@@ -309,7 +349,7 @@ TEST_F(RenderTest, MoreThicknessDarkensTheWater) {
     camera.pitch_degrees = 89.0f;
     camera.distance = 0.6f;
     const auto image =
-        renderer.render(RendererKind::ssfr, source.view_of(*pool), pool->tank(), camera);
+        rgba(renderer.render(RendererKind::ssfr, source.view_of(*pool), pool->tank(), camera));
     keep(image, "render_pool_from_above_" + std::to_string(particles));
     double sum = 0.0;
     for (int y = 40; y < 56; ++y)
@@ -332,16 +372,18 @@ TEST_F(RenderTest, PointsColouredByDensity) {
   ParticleSource in_place(context());
   const ParticleView view = in_place.view_of(*gpu_solver);
   ASSERT_NE(view.density_ratio, 0u);
-  const auto by_speed = renderer.render(RendererKind::points, view, gpu_solver->tank(), camera);
+  const auto by_speed =
+      rgba(renderer.render(RendererKind::points, view, gpu_solver->tank(), camera));
   renderer.points.colour_by = PointsStyle::ColourBy::density;
-  const auto by_density = renderer.render(RendererKind::points, view, gpu_solver->tank(), camera);
+  const auto by_density =
+      rgba(renderer.render(RendererKind::points, view, gpu_solver->tank(), camera));
   keep(by_density, "render_points_by_density");
   EXPECT_GT(pixels_differing(by_speed, by_density), 500u);
 
   auto cpu_solver = drop_of(2000);
   ParticleSource measured(context(), true);
-  EXPECT_NO_THROW(renderer.render(RendererKind::points, measured.view_of(*cpu_solver),
-                                  cpu_solver->tank(), camera));
+  EXPECT_NO_THROW(rgba(renderer.render(RendererKind::points, measured.view_of(*cpu_solver),
+                                       cpu_solver->tank(), camera)));
   ParticleSource without(context());
   EXPECT_THROW(renderer.render(RendererKind::points, without.view_of(*cpu_solver),
                                cpu_solver->tank(), camera),
@@ -354,7 +396,7 @@ TEST_F(RenderTest, StrongerAbsorptionDarkensTheWater) {
   const ParticleView view = source.view_of(*pool);
   FrameRenderer renderer(context(), 240, 135);
   const OrbitCamera camera = camera_on(pool->tank(), 2.0f);
-  const auto empty = renderer.render(RendererKind::ssfr, {}, pool->tank(), camera);
+  const auto empty = rgba(renderer.render(RendererKind::ssfr, {}, pool->tank(), camera));
   const auto mean_over_water = [&](const codec::ImageRgba& image) {
     double sum = 0.0;
     std::size_t count = 0;
@@ -366,10 +408,10 @@ TEST_F(RenderTest, StrongerAbsorptionDarkensTheWater) {
     }
     return count > 0 ? sum / double(count) : 0.0;
   };
-  const auto clear_water = renderer.render(RendererKind::ssfr, view, pool->tank(), camera);
+  const auto clear_water = rgba(renderer.render(RendererKind::ssfr, view, pool->tank(), camera));
   keep(clear_water, "render_pool_ssfr");
   renderer.ssfr.absorption *= 4.0f;
-  const auto murky_water = renderer.render(RendererKind::ssfr, view, pool->tank(), camera);
+  const auto murky_water = rgba(renderer.render(RendererKind::ssfr, view, pool->tank(), camera));
   keep(murky_water, "render_pool_ssfr_murky");
   EXPECT_LT(mean_over_water(murky_water), 0.9 * mean_over_water(clear_water));
 }
@@ -387,7 +429,7 @@ TEST_F(RenderTest, TheProbeFindsTheSurfaceUnderAPoint) {
   OrbitCamera camera = camera_on(pool->tank(), 2.0f);
   camera.pitch_degrees = 89.0f;
   renderer.probe = glm::vec2(0.5f, 0.5f);
-  renderer.render(RendererKind::ssfr, view, pool->tank(), camera);
+  rgba(renderer.render(RendererKind::ssfr, view, pool->tank(), camera));
   const auto hit = renderer.last_probe_hit();
   ASSERT_TRUE(hit.has_value());
   const glm::vec3 centre = 0.5f * (pool->tank().min + pool->tank().max);
@@ -401,10 +443,10 @@ TEST_F(RenderTest, TheProbeFindsTheSurfaceUnderAPoint) {
   }
   EXPECT_NEAR(nearest, view.radius, 0.25f * view.radius);
   renderer.probe = glm::vec2(0.5f, 0.02f);
-  renderer.render(RendererKind::ssfr, view, pool->tank(), camera);
+  rgba(renderer.render(RendererKind::ssfr, view, pool->tank(), camera));
   EXPECT_FALSE(renderer.last_probe_hit().has_value());
   renderer.probe = glm::vec2(0.5f, 0.5f);
-  renderer.render(RendererKind::points, view, pool->tank(), camera);
+  rgba(renderer.render(RendererKind::points, view, pool->tank(), camera));
   EXPECT_FALSE(renderer.last_probe_hit().has_value());
   renderer.probe = glm::vec2(1.5f, 0.5f);
   EXPECT_THROW(renderer.render(RendererKind::ssfr, view, pool->tank(), camera),

@@ -83,6 +83,18 @@ TEST(Jpeg, BadInputIsRefusedWithAReason) {
   EXPECT_THROW(ImageRgba(0, 5), std::invalid_argument);
 }
 
+TEST(Jpeg, PlanesOfTheWrongSizeOrSubsamplingAreRefused) {
+  ImageYuv420 planes(9, 5);
+  EXPECT_EQ(planes.luma_stride(), 16);
+  EXPECT_EQ(planes.luma_rows(), 6);
+  EXPECT_EQ(planes.bytes.size(), std::size_t{16 * 6 + 2 * 8 * 3});
+  EXPECT_FALSE(encode_jpeg(planes, {80}).empty());
+  EXPECT_THROW(encode_jpeg(planes, {80, ChromaSubsampling::s444}), std::invalid_argument);
+  planes.bytes.pop_back();
+  EXPECT_THROW(encode_jpeg(planes, {80}), std::invalid_argument);
+  EXPECT_THROW(ImageYuv420(0, 5), std::invalid_argument);
+}
+
 TEST(Png, RoundTripIsExact) {
   const ImageRgba picture = test_picture(97, 55);
   const auto path = std::filesystem::temp_directory_path() / "fluidcast_codec_test.png";

@@ -1,6 +1,7 @@
 #include "frames.h"
 
 #include <cstdio>
+#include <variant>
 
 #include "fluidcast/codec/png.h"
 
@@ -16,9 +17,8 @@ FrameWriter::FrameWriter(const SimOptions& options, gpu::Context& context,
   if (options.colour_by_density) {
     renderer_.points.colour_by = render::PointsStyle::ColourBy::density;
   }
-  renderer_.ssfr.filter = options.narrow_range_filter
-                              ? render::SsfrStyle::DepthFilter::narrow_range
-                              : render::SsfrStyle::DepthFilter::bilateral;
+  renderer_.ssfr.filter = options.narrow_range_filter ? render::SsfrStyle::DepthFilter::narrow_range
+                                                      : render::SsfrStyle::DepthFilter::bilateral;
   const sim::Box& tank = solver.tank();
   camera_.target = 0.5f * (tank.min + tank.max);
   camera_.distance = 1.2f * glm::length(tank.size());
@@ -37,7 +37,7 @@ FrameWriter::FrameWriter(const SimOptions& options, gpu::Context& context,
 }
 
 void FrameWriter::finish() {
-  while (renderer_.frames_pending() > 0) emit(renderer_.take_oldest());
+  while (renderer_.frames_pending() > 0) emit(std::get<codec::ImageRgba>(renderer_.take_oldest()));
   if (video_) video_->finish();
   video_.reset();
 }
@@ -46,7 +46,7 @@ void FrameWriter::finish() {
 void FrameWriter::write(const sim::Solver& solver) {
   renderer_.submit(kind_, source_.view_of(solver), solver.tank(), camera_);
   while (renderer_.frames_pending() >= render::FrameRenderer::kFramesInFlight) {
-    emit(renderer_.take_oldest());
+    emit(std::get<codec::ImageRgba>(renderer_.take_oldest()));
   }
 }
 

@@ -26,8 +26,10 @@ class JpegEncoder {
   JpegEncoder(const JpegEncoder&) = delete;
   JpegEncoder& operator=(const JpegEncoder&) = delete;
 
-  // Throws std::invalid_argument for an empty image or a quality outside 1–100.
+  // Throws std::invalid_argument for an empty image or a quality outside 1–100, and for planes
+  // with any subsampling but theirs (4:2:0).
   std::vector<std::uint8_t> encode(const ImageRgba& image, const JpegOptions& options);
+  std::vector<std::uint8_t> encode(const ImageYuv420& image, const JpegOptions& options);
 
  private:
   void* handle_;
@@ -48,7 +50,7 @@ class JpegDecoder {
 };
 
 // With this thread's own encoder or decoder.
-std::vector<std::uint8_t> encode_jpeg(const ImageRgba& image, const JpegOptions& options = {});
+std::vector<std::uint8_t> encode_jpeg(const Image& image, const JpegOptions& options = {});
 ImageRgba decode_jpeg(std::span<const std::uint8_t> jpeg);
 
 }  // namespace fluidcast::codec

@@ -26,12 +26,12 @@ class JpegEncoderPool {
   unsigned threads() const { return threads_; }
 
   // The future holds the JPEG, or the exception encoding threw (bad options, say).
-  std::future<std::vector<std::uint8_t>> encode(ImageRgba image, JpegOptions options);
+  std::future<std::vector<std::uint8_t>> encode(Image image, JpegOptions options);
   // The same, for a caller that must not wait: `done` runs on a pool thread with the JPEG and
   // the milliseconds encoding took, or with the exception it threw (then the JPEG is empty).
   using EncodeDone =
       std::function<void(std::vector<std::uint8_t> jpeg, double milliseconds, std::exception_ptr)>;
-  void encode(ImageRgba image, JpegOptions options, EncodeDone done);
+  void encode(Image image, JpegOptions options, EncodeDone done);
 
  private:
   unsigned threads_;

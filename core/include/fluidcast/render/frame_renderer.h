@@ -5,9 +5,9 @@
 #pragma once
 
 #include <deque>
-#include <optional>
 #include <glm/glm.hpp>
 #include <memory>
+#include <optional>
 #include <string_view>
 #include <vector>
 
@@ -72,11 +72,11 @@ struct SsfrStyle {
 
 // GPU milliseconds of one frame's passes, from timestamps (0 where the device has none).
 struct RenderTimes {
-  double scene_ms = 0;      // the ray-cast tank, floor and sky (near 0 while the camera stays)
-  double particles_ms = 0;  // points: the spheres; SSFR: surface depth and thickness
-  double smoothing_ms = 0;  // SSFR: the depth filter passes
-  double shading_ms = 0;    // SSFR: normals and shading (and the copy of the scene it refracts)
-  double readback_ms = 0;   // the copy of the finished frame to host-visible memory
+  double scene_ms = 0;         // the ray-cast tank, floor and sky (near 0 while the camera stays)
+  double particles_ms = 0;     // points: the spheres; SSFR: surface depth and thickness
+  double smoothing_ms = 0;     // SSFR: the depth filter passes
+  double shading_ms = 0;       // SSFR: normals and shading (and the copy of the scene it refracts)
+  double readback_ms = 0;      // the copy of the finished frame to host-visible memory
   double mc_field_ms = 0;      // MC: the scalar field splatted from the particles
   double mc_triangles_ms = 0;  // MC: triangles and normals from the tables
 
@@ -110,6 +110,11 @@ class FrameRenderer {
   // back the fluid's surface: where a finger touches the fluid (SSFR and MC; not points).
   std::optional<glm::vec2> probe;
 
+  // What frames come back as: RGBA, or the YCbCr 4:2:0 planes a JPEG holds, converted on the GPU
+  // (1.5 bytes a pixel to read back instead of 4, and no colour conversion left to the encoder).
+  enum class FrameFormat { rgba, yuv420 };
+  FrameFormat format = FrameFormat::rgba;
+
   // A ring of read-back slots: frame N is copied to the host while frame N+1 renders.
   static constexpr std::size_t kFramesInFlight = 2;
 
@@ -119,9 +124,9 @@ class FrameRenderer {
   // Throws std::invalid_argument for a camera that is not finite or out of range.
   std::uint64_t submit(RendererKind kind, const ParticleView& particles, const sim::Box& tank,
                        const OrbitCamera& camera);
-  // The oldest frame submitted and not yet taken, waiting for it if need be. Throws
-  // std::logic_error when there is none.
-  codec::ImageRgba take_oldest();
+  // The oldest frame submitted and not yet taken, in the format it was submitted with, waiting
+  // for it if need be. Throws std::logic_error when there is none.
+  codec::Image take_oldest();
   std::size_t frames_pending() const;
   // Whether take_oldest() would return without waiting.
   bool oldest_finished();
@@ -133,8 +138,8 @@ class FrameRenderer {
   std::optional<glm::vec3> last_probe_hit() const { return last_probe_hit_; }
 
   // submit() then take_oldest(): one frame, waited for.
-  codec::ImageRgba render(RendererKind kind, const ParticleView& particles, const sim::Box& tank,
-                          const OrbitCamera& camera);
+  codec::Image render(RendererKind kind, const ParticleView& particles, const sim::Box& tank,
+                      const OrbitCamera& camera);
 
  private:
   struct Slot {
@@ -147,6 +152,7 @@ class FrameRenderer {
     std::uint64_t frame = 0;
     std::optional<glm::vec2> probe;  // where this frame read the surface back, if it did
     bool meshed = false;             // drew Marching Cubes: two more timestamps
+    FrameFormat format = FrameFormat::rgba;
     glm::mat4 view{1.0f}, projection{1.0f};
   };
   struct SceneKey {
@@ -156,23 +162,27 @@ class FrameRenderer {
   };
   void record(VkCommandBuffer commands, RendererKind kind, const ParticleView& particles,
               const sim::Box& tank, const OrbitCamera& camera, Slot& slot);
-  codec::ImageRgba collect(Slot& slot);
+  // Converts image_ into planes_ and copies those to the slot's read-back.
+  void record_yuv420_read_back(VkCommandBuffer commands, const Slot& slot);
+  std::uint64_t frame_bytes(FrameFormat format) const;  // in a read-back, before the probe
+  codec::Image collect(Slot& slot);
   Slot* oldest_in_flight();  // of the frames not yet collected; null when none
 
   gpu::Context* context_;
   RenderTarget target_;
   std::unique_ptr<GraphicsPipeline> background_, points_, fluid_surface_, mc_surface_;
   std::unique_ptr<MarchingCubes> marching_cubes_;  // built for the tank of the first mc frame
-  gpu::ComputePipeline smooth_, shade_;
+  gpu::ComputePipeline smooth_, shade_, yuv420_;
   gpu::Buffer frame_params_;
   // SSFR, one value per pixel: nearest fluid distance (and a filtered copy), thickness, the
   // scene behind, and the finished frame.
   gpu::Buffer depth_, depth_scratch_, thickness_, scene_, image_;
+  gpu::Buffer planes_;  // the finished frame as YCbCr 4:2:0 (codec::ImageYuv420's layout)
   std::vector<Slot> slots_;
   // The camera and tank whose scene the depth attachment and scene_ hold, if they hold one.
   std::optional<SceneKey> scene_drawn_for_;
   std::uint64_t next_frame_ = 0;
-  std::deque<codec::ImageRgba> kept_;  // finished frames collected early, oldest first
+  std::deque<codec::Image> kept_;  // finished frames collected early, oldest first
   std::uint64_t dropped_ = 0;
   RenderTimes last_times_;
   std::optional<glm::vec3> last_probe_hit_;
