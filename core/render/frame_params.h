@@ -45,9 +45,11 @@ struct ScreenConstants {
   VkDeviceAddress frame, depth_in, depth_out, thickness, scene, image;
   std::uint32_t axis;
   std::uint32_t narrow_range;
+  std::uint32_t thickness_in_units;
 };
 static_assert(offsetof(ScreenConstants, axis) == 48 &&
-              offsetof(ScreenConstants, narrow_range) == 52);
+              offsetof(ScreenConstants, narrow_range) == 52 &&
+              offsetof(ScreenConstants, thickness_in_units) == 56);
 
 // shaders/render/yuv420.comp
 struct YuvConstants {

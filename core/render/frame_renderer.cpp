@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "fluid_target.h"
 #include "fluidcast_shaders/fluidcast_render.h"
 #include "frame_params.h"
 #include "graphics_pipeline.h"
@@ -54,9 +55,6 @@ FrameRenderer::FrameRenderer(gpu::Context& context, std::uint32_t width, std::ui
       points_(std::make_unique<GraphicsPipeline>(context, target_.render_pass(),
                                                  shaders::render_points_vert,
                                                  shaders::render_points_frag, PipelineOptions{})),
-      fluid_surface_(std::make_unique<GraphicsPipeline>(
-          context, target_.render_pass(), shaders::render_points_vert,
-          shaders::render_fluid_surface_frag, PipelineOptions{true, false, false})),
       mc_surface_(std::make_unique<GraphicsPipeline>(
           context, target_.render_pass(), shaders::render_mc_vert, shaders::render_mc_surface_frag,
           // No depth test: the mesh closes just outside the tank's walls, behind the scene, and
@@ -66,6 +64,15 @@ FrameRenderer::FrameRenderer(gpu::Context& context, std::uint32_t width, std::ui
       shade_(context, shaders::render_ssfr_shade_comp, sizeof(ScreenConstants), kScreenGroup),
       yuv420_(context, shaders::render_yuv420_comp, sizeof(YuvConstants), kScreenGroup),
       frame_params_(context, sizeof(FrameParams), gpu::MemoryDomain::device) {
+  if (FluidTarget::supported(context)) {
+    fluid_target_ = std::make_unique<FluidTarget>(context, width, height);
+    fluid_thickness_ = std::make_unique<GraphicsPipeline>(
+        context, fluid_target_->thickness_pass(), shaders::render_points_vert,
+        shaders::render_fluid_thickness_frag, PipelineOptions{true, false, true, true});
+    fluid_surface_ = std::make_unique<GraphicsPipeline>(
+        context, fluid_target_->surface_pass(), shaders::render_points_vert,
+        shaders::render_fluid_depth_frag, PipelineOptions{true, true, true, false});
+  }
   const std::uint64_t per_pixel = std::uint64_t{width} * height * 4;
   for (gpu::Buffer* buffer : {&depth_, &depth_scratch_, &thickness_, &scene_, &image_}) {
     *buffer = gpu::Buffer(context, per_pixel, gpu::MemoryDomain::device);
@@ -164,10 +171,15 @@ std::uint64_t FrameRenderer::submit(RendererKind requested, const ParticleView& 
     throw std::invalid_argument(
         "renderer: smoothing radius and depth falloff must be positive, passes not negative");
   }
-  if (kind != RendererKind::points && !context_->fragment_stores_supported()) {
-    throw std::invalid_argument("renderers ssfr and mc: the device " + context_->info().name +
+  if (kind == RendererKind::mc && !context_->fragment_stores_supported()) {
+    throw std::invalid_argument("renderer mc: the device " + context_->info().name +
                                 " cannot write buffers from fragment shaders "
-                                "(fragmentStoresAndAtomics); use points");
+                                "(fragmentStoresAndAtomics); use ssfr or points");
+  }
+  if (kind == RendererKind::ssfr && !fluid_target_) {
+    throw std::invalid_argument("renderer ssfr: the device " + context_->info().name +
+                                " cannot blend 32-bit float attachments (R32_SFLOAT "
+                                "COLOR_ATTACHMENT_BLEND); use mc or points");
   }
   if (kind == RendererKind::mc) {
     const int resolution =
@@ -272,9 +284,10 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
                  VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, kDrawStages | kTransfer,
                  VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
   vkCmdUpdateBuffer(commands, frame_params_.get(), 0, sizeof(frame), &frame);
-  // SSFR and MC share the per-pixel surface buffers and the shading.
+  // SSFR and MC share the per-pixel surface buffers and the shading. MC draws into them with
+  // atomics; SSFR's spheres go through FluidTarget's attachments, which are copied over them.
   const bool fluid = kind != RendererKind::points;
-  if (fluid) {
+  if (kind == RendererKind::mc) {
     vkCmdFillBuffer(commands, depth_.get(), 0, VK_WHOLE_SIZE, kInfinityBits);
     vkCmdFillBuffer(commands, thickness_.get(), 0, VK_WHOLE_SIZE, 0);
   }
@@ -303,10 +316,20 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
   slot.timestamps.mark(commands);
   if (mesh) {
     mc_surface_->draw_indirect(commands, draw, marching_cubes_->draw_buffer());
-  } else if (particles.count > 0) {
-    (fluid ? fluid_surface_ : points_)->draw(commands, draw, 6 * particles.count);
+  } else if (kind == RendererKind::points) {
+    points_->draw(commands, draw, 6 * particles.count);
   }
   target_.end(commands);
+  if (kind == RendererKind::ssfr) {
+    fluid_target_->record_start(commands, target_.depth());
+    fluid_target_->begin_thickness(commands);
+    fluid_thickness_->draw(commands, draw, 6 * particles.count);
+    fluid_target_->end(commands);
+    fluid_target_->begin_surface(commands);
+    fluid_surface_->draw(commands, draw, 6 * particles.count);
+    fluid_target_->end(commands);
+    fluid_target_->record_read(commands, depth_, thickness_);
+  }
   slot.timestamps.mark(commands);
 
   VkBufferImageCopy region{};
@@ -337,7 +360,8 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
                            scene_.address(),
                            image_.address(),
                            0,
-                           ssfr.filter == SsfrStyle::DepthFilter::narrow_range ? 1u : 0u};
+                           ssfr.filter == SsfrStyle::DepthFilter::narrow_range ? 1u : 0u,
+                           kind == RendererKind::mc ? 1u : 0u};
     // The separable filter, x then y, applied smoothing_passes times; ends in depth_.
     const int smoothing_passes =
         kind == RendererKind::mc ? mc.smoothing_passes : ssfr.smoothing_passes;

@@ -55,6 +55,14 @@ GraphicsPipeline::GraphicsPipeline(gpu::Context& context, VkRenderPass render_pa
                                         ? VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
                                               VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT
                                         : 0;
+  if (options.additive) {
+    blend_attachment.blendEnable = VK_TRUE;
+    blend_attachment.srcColorBlendFactor = blend_attachment.dstColorBlendFactor =
+        VK_BLEND_FACTOR_ONE;
+    blend_attachment.srcAlphaBlendFactor = blend_attachment.dstAlphaBlendFactor =
+        VK_BLEND_FACTOR_ONE;
+    blend_attachment.colorBlendOp = blend_attachment.alphaBlendOp = VK_BLEND_OP_ADD;
+  }
   VkPipelineColorBlendStateCreateInfo blend{
       VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
   blend.attachmentCount = 1;

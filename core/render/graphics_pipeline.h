@@ -1,5 +1,5 @@
-// One graphics pipeline of the renderer: a vertex and a fragment shader drawing into the
-// RenderTarget's pass, with no vertex buffers (shaders read what they need by device address)
+// One graphics pipeline of the renderer: a vertex and a fragment shader drawing into a pass of
+// the RenderTarget or the FluidTarget, with no vertex buffers (shaders read what they need by device address)
 // and the DrawConstants as push constants.
 #pragma once
 
@@ -14,7 +14,8 @@ namespace fluidcast::render {
 struct PipelineOptions {
   bool depth_test = true;
   bool depth_write = true;   // else depth-tested only
-  bool colour_write = true;  // else the fragment shader works by side effects (SSFR surface)
+  bool colour_write = true;  // else the fragment shader works by side effects (MC surface)
+  bool additive = false;     // the colour is added to what the attachment holds (SSFR thickness)
 };
 
 class GraphicsPipeline {

@@ -26,5 +26,5 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Fr
   float density_span;      // points mode: ρ/ρ0 = 1 ± span gets slow and fast colour
 };
 
-// Thickness is summed with integer atomics, in micrometres.
+// Marching Cubes sums thickness with integer atomics, in micrometres.
 const float kThicknessUnit = 1e-6;

@@ -1,9 +1,11 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Points mode: a lit sphere impostor with its true depth.
+// Points mode: a lit sphere impostor with its true depth, never nearer than the square's
+// (points.vert), so early depth tests stay on.
 #include "common/frame.glsl"
 #include "common/draw_pass.glsl"
 
+layout(depth_greater) out float gl_FragDepth;
 layout(location = 0) in vec2 corner;
 layout(location = 1) in vec3 view_centre;
 layout(location = 2) in vec3 colour;

@@ -1,7 +1,10 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Points mode: each particle becomes a camera-facing square of six vertices (no vertex buffer,
-// no point-size limits); the fragment shader cuts a sphere out of it.
+// Each particle becomes a camera-facing square of six vertices (no vertex buffer, no point-size
+// limits); the fragment shaders (points, and SSFR's surface and thickness) cut a sphere out of it.
+// The square lies in the sphere's centre plane but carries the depth of its front plane, so the
+// sphere's true depth, which the fragment shader writes, is never nearer than the square's: with
+// conservative depth (depth_greater) the depth test still rejects hidden spheres before shading.
 #include "common/frame.glsl"
 #include "common/draw_pass.glsl"
 
@@ -30,5 +33,8 @@ void main() {
   }
   const vec4 slow = draw.frame.slow_colour, fast = draw.frame.fast_colour;
   colour = mix(slow.rgb, fast.rgb, blend);
-  gl_Position = projection * vec4(view_centre + vec3(corner * radius, 0.0), 1.0);
+  const vec4 on_centre_plane = projection * vec4(view_centre + vec3(corner * radius, 0.0), 1.0);
+  const vec4 on_front_plane = projection * vec4(view_centre + vec3(corner * radius, radius), 1.0);
+  gl_Position = vec4(on_centre_plane.xy, on_front_plane.z / on_front_plane.w * on_centre_plane.w,
+                     on_centre_plane.w);
 }

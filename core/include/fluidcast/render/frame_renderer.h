@@ -21,6 +21,7 @@
 
 namespace fluidcast::render {
 
+class FluidTarget;
 class GraphicsPipeline;
 class MarchingCubes;
 
@@ -170,12 +171,15 @@ class FrameRenderer {
 
   gpu::Context* context_;
   RenderTarget target_;
-  std::unique_ptr<GraphicsPipeline> background_, points_, fluid_surface_, mc_surface_;
+  // SSFR's spheres: none where the device cannot blend float attachments.
+  std::unique_ptr<FluidTarget> fluid_target_;
+  std::unique_ptr<GraphicsPipeline> background_, points_, mc_surface_, fluid_thickness_,
+      fluid_surface_;
   std::unique_ptr<MarchingCubes> marching_cubes_;  // built for the tank of the first mc frame
   gpu::ComputePipeline smooth_, shade_, yuv420_;
   gpu::Buffer frame_params_;
-  // SSFR, one value per pixel: nearest fluid distance (and a filtered copy), thickness, the
-  // scene behind, and the finished frame.
+  // SSFR and MC, one value per pixel: nearest fluid distance (and a filtered copy), thickness,
+  // the scene behind, and the finished frame.
   gpu::Buffer depth_, depth_scratch_, thickness_, scene_, image_;
   gpu::Buffer planes_;  // the finished frame as YCbCr 4:2:0 (codec::ImageYuv420's layout)
   std::vector<Slot> slots_;
