@@ -279,12 +279,16 @@ Context::Context(ContextOptions options) {
     VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
     v12.bufferDeviceAddress = VK_TRUE;
     v12.timelineSemaphore = VK_TRUE;  // the submission serial
-    // Fragment shaders that write buffers: the SSFR surface pass sums thickness with atomics.
+    // Fragment shaders that write buffers: the Marching Cubes surface pass sums thickness with
+    // atomics. Independent blending: the SSFR sphere pass keeps the nearest distance in one
+    // attachment and adds up thickness in another.
     VkPhysicalDeviceFeatures supported{};
     vkGetPhysicalDeviceFeatures(physical_device_, &supported);
     VkPhysicalDeviceFeatures features{};
     features.fragmentStoresAndAtomics = supported.fragmentStoresAndAtomics;
+    features.independentBlend = supported.independentBlend;
     fragment_stores_ = supported.fragmentStoresAndAtomics == VK_TRUE;
+    independent_blend_ = supported.independentBlend == VK_TRUE;
     VkDeviceCreateInfo device_info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &v12};
     device_info.queueCreateInfoCount = 1;
     device_info.pQueueCreateInfos = &queue_info;

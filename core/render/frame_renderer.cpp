@@ -65,13 +65,11 @@ FrameRenderer::FrameRenderer(gpu::Context& context, std::uint32_t width, std::ui
       yuv420_(context, shaders::render_yuv420_comp, sizeof(YuvConstants), kScreenGroup),
       frame_params_(context, sizeof(FrameParams), gpu::MemoryDomain::device) {
   if (FluidTarget::supported(context)) {
-    fluid_target_ = std::make_unique<FluidTarget>(context, width, height);
-    fluid_thickness_ = std::make_unique<GraphicsPipeline>(
-        context, fluid_target_->thickness_pass(), shaders::render_points_vert,
-        shaders::render_fluid_thickness_frag, PipelineOptions{true, false, true, true});
+    fluid_target_ = std::make_unique<FluidTarget>(context, target_);
     fluid_surface_ = std::make_unique<GraphicsPipeline>(
-        context, fluid_target_->surface_pass(), shaders::render_points_vert,
-        shaders::render_fluid_depth_frag, PipelineOptions{true, true, true, false});
+        context, fluid_target_->render_pass(), shaders::render_points_vert,
+        shaders::render_fluid_surface_frag,
+        PipelineOptions{true, false, true, {Blend::min, Blend::add}});
   }
   const std::uint64_t per_pixel = std::uint64_t{width} * height * 4;
   for (gpu::Buffer* buffer : {&depth_, &depth_scratch_, &thickness_, &scene_, &image_}) {
@@ -178,8 +176,9 @@ std::uint64_t FrameRenderer::submit(RendererKind requested, const ParticleView& 
   }
   if (kind == RendererKind::ssfr && !fluid_target_) {
     throw std::invalid_argument("renderer ssfr: the device " + context_->info().name +
-                                " cannot blend 32-bit float attachments (R32_SFLOAT "
-                                "COLOR_ATTACHMENT_BLEND); use mc or points");
+                                " cannot blend 32-bit float attachments each its own way "
+                                "(R32_SFLOAT COLOR_ATTACHMENT_BLEND, independentBlend); use mc "
+                                "or points");
   }
   if (kind == RendererKind::mc) {
     const int resolution =
@@ -307,25 +306,28 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
   // scene's depth in the attachment and its colour in scene_ from the frame that drew it.
   const SceneKey scene_key{frame.view, frame.projection, tank.min, tank.max};
   const bool scene_kept = fluid && scene_drawn_for_ == scene_key;
+  // The scene's pass draws the scene, and Marching Cubes or points over it; SSFR over a kept
+  // scene has nothing to draw there.
+  const bool scene_pass = !(scene_kept && kind == RendererKind::ssfr);
   const float clear[4] = {0.0f, 0.0f, 0.0f, 1.0f};
-  target_.begin(commands, clear,
-                scene_kept ? RenderTarget::Start::keep_depth : RenderTarget::Start::clear);
-  if (!scene_kept) background_->draw(commands, draw, 3);
+  if (scene_pass) {
+    target_.begin(commands, clear,
+                  scene_kept ? RenderTarget::Start::keep_depth : RenderTarget::Start::clear);
+    if (!scene_kept) background_->draw(commands, draw, 3);
+  }
   // Points write colour and depth over the scene.
   scene_drawn_for_ = fluid ? std::optional(scene_key) : std::nullopt;
   slot.timestamps.mark(commands);
-  if (mesh) {
-    mc_surface_->draw_indirect(commands, draw, marching_cubes_->draw_buffer());
-  } else if (kind == RendererKind::points) {
-    points_->draw(commands, draw, 6 * particles.count);
+  if (scene_pass) {
+    if (mesh) {
+      mc_surface_->draw_indirect(commands, draw, marching_cubes_->draw_buffer());
+    } else if (kind == RendererKind::points) {
+      points_->draw(commands, draw, 6 * particles.count);
+    }
+    target_.end(commands);
   }
-  target_.end(commands);
   if (kind == RendererKind::ssfr) {
-    fluid_target_->record_start(commands, target_.depth());
-    fluid_target_->begin_thickness(commands);
-    fluid_thickness_->draw(commands, draw, 6 * particles.count);
-    fluid_target_->end(commands);
-    fluid_target_->begin_surface(commands);
+    fluid_target_->begin(commands);
     fluid_surface_->draw(commands, draw, 6 * particles.count);
     fluid_target_->end(commands);
     fluid_target_->record_read(commands, depth_, thickness_);

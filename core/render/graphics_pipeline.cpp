@@ -50,23 +50,27 @@ GraphicsPipeline::GraphicsPipeline(gpu::Context& context, VkRenderPass render_pa
   depth.depthTestEnable = options.depth_test ? VK_TRUE : VK_FALSE;
   depth.depthWriteEnable = options.depth_write ? VK_TRUE : VK_FALSE;
   depth.depthCompareOp = VK_COMPARE_OP_LESS;
-  VkPipelineColorBlendAttachmentState blend_attachment{};
-  blend_attachment.colorWriteMask = options.colour_write
-                                        ? VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
-                                              VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT
-                                        : 0;
-  if (options.additive) {
-    blend_attachment.blendEnable = VK_TRUE;
-    blend_attachment.srcColorBlendFactor = blend_attachment.dstColorBlendFactor =
-        VK_BLEND_FACTOR_ONE;
-    blend_attachment.srcAlphaBlendFactor = blend_attachment.dstAlphaBlendFactor =
-        VK_BLEND_FACTOR_ONE;
-    blend_attachment.colorBlendOp = blend_attachment.alphaBlendOp = VK_BLEND_OP_ADD;
+  std::vector<VkPipelineColorBlendAttachmentState> blend_attachments;
+  for (const Blend kind : options.attachments) {
+    VkPipelineColorBlendAttachmentState attachment{};
+    attachment.colorWriteMask = options.colour_write
+                                    ? VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
+                                          VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT
+                                    : 0;
+    if (kind != Blend::replace) {
+      // Factors of one: a sum, or (ignored by the minimum) what min compares.
+      attachment.blendEnable = VK_TRUE;
+      attachment.srcColorBlendFactor = attachment.dstColorBlendFactor = VK_BLEND_FACTOR_ONE;
+      attachment.srcAlphaBlendFactor = attachment.dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
+      attachment.colorBlendOp = attachment.alphaBlendOp =
+          kind == Blend::add ? VK_BLEND_OP_ADD : VK_BLEND_OP_MIN;
+    }
+    blend_attachments.push_back(attachment);
   }
   VkPipelineColorBlendStateCreateInfo blend{
       VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-  blend.attachmentCount = 1;
-  blend.pAttachments = &blend_attachment;
+  blend.attachmentCount = static_cast<std::uint32_t>(blend_attachments.size());
+  blend.pAttachments = blend_attachments.data();
   const VkDynamicState dynamic_states[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
   VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
   dynamic.dynamicStateCount = 2;

@@ -1,9 +1,10 @@
 // One graphics pipeline of the renderer: a vertex and a fragment shader drawing into a pass of
-// the RenderTarget or the FluidTarget, with no vertex buffers (shaders read what they need by device address)
-// and the DrawConstants as push constants.
+// the RenderTarget or the FluidTarget, with no vertex buffers (shaders read what they need by
+// device address) and the DrawConstants as push constants.
 #pragma once
 
 #include <span>
+#include <vector>
 
 #include "fluidcast/gpu/context.h"
 #include "fluidcast/gpu/handle.h"
@@ -11,11 +12,14 @@
 
 namespace fluidcast::render {
 
+// How a colour attachment combines what a fragment writes with what it holds.
+enum class Blend { replace, add, min };
+
 struct PipelineOptions {
   bool depth_test = true;
   bool depth_write = true;   // else depth-tested only
   bool colour_write = true;  // else the fragment shader works by side effects (MC surface)
-  bool additive = false;     // the colour is added to what the attachment holds (SSFR thickness)
+  std::vector<Blend> attachments = {Blend::replace};  // one per colour attachment of the pass
 };
 
 class GraphicsPipeline {

@@ -91,8 +91,7 @@ RenderTarget::RenderTarget(gpu::Context& context, std::uint32_t width, std::uint
                gpu::Image(context, width, height, kColourFormat,
                           VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                           VK_IMAGE_ASPECT_COLOR_BIT))),
-      depth_(context, width, height, kDepthFormat,
-             VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+      depth_(context, width, height, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
              VK_IMAGE_ASPECT_DEPTH_BIT) {
   clearing_pass_ = make_render_pass(context.device(), Start::clear);
   keeping_pass_ = make_render_pass(context.device(), Start::keep_depth);

@@ -76,6 +76,8 @@ class Context {
   bool timestamps_supported() const { return timestamp_valid_bits_ > 0; }
   // Fragment shaders may write storage buffers (fragmentStoresAndAtomics).
   bool fragment_stores_supported() const { return fragment_stores_; }
+  // Colour attachments of one pass may blend differently (independentBlend).
+  bool independent_blend_supported() const { return independent_blend_; }
   float timestamp_period_ns() const { return properties_.limits.timestampPeriod; }
   MemoryAllocator& memory() { return *memory_; }
 
@@ -139,6 +141,7 @@ class Context {
   std::uint32_t queue_family_ = 0;
   std::uint32_t timestamp_valid_bits_ = 0;
   bool fragment_stores_ = false;
+  bool independent_blend_ = false;
   std::unique_ptr<MemoryAllocator> memory_;
   VkSemaphore finished_ = VK_NULL_HANDLE;  // timeline: the serial of the newest finished submission
   mutable std::mutex submit_mutex_;        // the queue, the serial and the retired objects

@@ -22,7 +22,7 @@ class RenderTarget {
   // Pipelines made for it work in both passes (they differ only in load operations).
   VkRenderPass render_pass() const { return clearing_pass_.get(); }
   const gpu::Image& colour() const { return colour_; }
-  // The scene's depth, which SSFR copies as the start of its own (FluidTarget).
+  // The scene's depth, which SSFR's sphere pass tests against (FluidTarget).
   const gpu::Image& depth() const { return depth_; }
 
   // Begins the render pass, clearing to `background` (or keeping the depth); viewport and scissor
