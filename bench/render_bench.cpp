@@ -1,11 +1,12 @@
 // Rendering and encoding: GPU ms per pass (MC field and triangles, scene, particles, smoothing,
 // shading, read-back) from timestamps, frames/s with the read-back ring kept full, and JPEG
 // encode ms (quality 80, 4:2:0, one thread) from RGBA and from the YCbCr planes the GPU converts
-// (with their read-back: conversion and copy), and throughput on the encoder pool (one thread per
-// core), at 640×360, 1280×720 and 1920×1080 with 64k and 1M particles (the dam break after a few
-// GPU steps); Marching Cubes in a cubic 1 m tank on a 128³ grid (the target), and as the
-// client's local mode draws it (5000 particles, 640×360, grid from the particle size). `--smoke`
-// runs small cases (for CI, on lavapipe); `--device N` picks the device.
+// (with their read-back: conversion and copy), throughput on the encoder pool (one thread per
+// core), and the share of rough surface pixels (surface_roughness.h) in the last frame, at
+// 640×360, 1280×720 and 1920×1080 with 64k and 1M particles (the dam break after a few GPU steps);
+// Marching Cubes in a cubic 1 m tank on a 128³ grid (the target), and as the client's local
+// mode draws it (5000 particles, 640×360, grid from the particle size). `--smoke` runs small cases
+// (for CI, on lavapipe); `--device N` picks the device.
 #include <benchmark/benchmark.h>
 
 #include <chrono>
@@ -19,6 +20,7 @@
 #include "fluidcast/gpu/context.h"
 #include "fluidcast/render/frame_renderer.h"
 #include "fluidcast/render/particle_source.h"
+#include "fluidcast/render/surface_roughness.h"
 #include "fluidcast/sim/solver.h"
 
 namespace {
@@ -88,6 +90,12 @@ void run_render(benchmark::State& state, render::RendererKind kind, int frames_p
   state.counters["smoothing_ms"] = sum.smoothing_ms / timed;
   state.counters["shading_ms"] = sum.shading_ms / timed;
   state.counters["readback_ms"] = sum.readback_ms / timed;
+  if (kind != render::RendererKind::points) {
+    state.counters["rough_share"] =
+        render::measure_roughness(renderer.surface_distances(), width, height,
+                                  camera.projection(float(width) / float(height)))
+            .rough_share;
+  }
   if (kind == render::RendererKind::mc) {
     state.counters["mc_field_ms"] = sum.mc_field_ms / timed;
     state.counters["mc_triangles_ms"] = sum.mc_triangles_ms / timed;

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "fluid_target.h"
+#include "fluidcast/gpu/transfer.h"
 #include "fluidcast_shaders/fluidcast_render.h"
 #include "frame_params.h"
 #include "graphics_pipeline.h"
@@ -241,6 +242,11 @@ codec::Image FrameRenderer::take_oldest() {
   Slot* oldest = oldest_in_flight();
   if (!oldest) throw std::logic_error("frame renderer: no frame was submitted");
   return collect(*oldest);
+}
+
+std::vector<float> FrameRenderer::surface_distances() const {
+  // Queue order puts the copy after the frames submitted.
+  return gpu::download<float>(*context_, depth_, std::size_t{target_.width()} * target_.height());
 }
 
 codec::Image FrameRenderer::render(RendererKind kind, const ParticleView& particles,

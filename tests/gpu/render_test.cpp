@@ -5,9 +5,11 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <limits>
+#include <random>
 #include <set>
 #include <utility>
 #include <variant>
@@ -16,6 +18,7 @@
 #include "fluidcast/codec/png.h"
 #include "fluidcast/render/frame_renderer.h"
 #include "fluidcast/render/particle_source.h"
+#include "fluidcast/render/surface_roughness.h"
 #include "gpu_test_support.h"
 
 namespace fluidcast::render {
@@ -285,6 +288,81 @@ TEST_F(RenderTest, DepthSmoothingLowersSurfaceNoise) {
   keep(smoothed, "render_pool_ssfr_smoothed");
   std::printf("surface noise: %.1f unsmoothed, %.1f smoothed\n", noise(raw), noise(smoothed));
   EXPECT_LT(noise(smoothed), 0.7 * noise(raw));
+}
+
+// The roughness measure itself: a plane scores 0, a surface of random bumps most of its pixels.
+TEST(SurfaceRoughness, APlaneIsSmoothAndRandomBumpsAreRough) {
+  constexpr std::uint32_t w = 64, h = 48;
+  const glm::mat4 projection = OrbitCamera{}.projection(float(w) / float(h));
+  std::vector<float> plane(w * h, 2.0f), bumps(w * h);
+  std::mt19937 random(7);
+  std::uniform_real_distribution<float> jitter(-0.1f, 0.1f);
+  for (float& d : bumps) d = 2.0f + jitter(random);
+  const SurfaceRoughness flat = measure_roughness(plane, w, h, projection);
+  EXPECT_EQ(flat.pixels, std::uint64_t{(w - 4) * (h - 4)});
+  EXPECT_EQ(flat.rough_share, 0.0);
+  EXPECT_GT(measure_roughness(bumps, w, h, projection).rough_share, 0.5);
+  std::vector<float> none(w * h, std::numeric_limits<float>::infinity());
+  EXPECT_EQ(measure_roughness(none, w, h, projection).pixels, 0u);
+  EXPECT_THROW(measure_roughness(plane, w, h + 1, projection), std::invalid_argument);
+}
+
+// A resting pool, as the shading sees it: with the default filter the surface reads as water
+// (few pixels turn from their neighbours); without it, every sphere shows.
+TEST_F(RenderTest, TheDefaultFilterLeavesASurfaceThatReadsAsWater) {
+  auto pool = drop_of(3000);
+  ParticleSource source(context());
+  const ParticleView view = source.view_of(*pool);
+  constexpr std::uint32_t w = 320, h = 180;
+  FrameRenderer renderer(context(), w, h);
+  const OrbitCamera camera = camera_on(pool->tank(), 1.2f);
+  const glm::mat4 projection = camera.projection(float(w) / float(h));
+  const auto rough = [&] {
+    renderer.render(RendererKind::ssfr, view, pool->tank(), camera);
+    return measure_roughness(renderer.surface_distances(), w, h, projection);
+  };
+  renderer.ssfr.smoothing_passes = 0;
+  const SurfaceRoughness raw = rough();
+  renderer.ssfr = SsfrStyle{};
+  const SurfaceRoughness smoothed = rough();
+  std::printf(
+      "rough pixels (over 20 degrees from their neighbours): %.1f %% of %llu unsmoothed, "
+      "%.1f %% of %llu with the default filter\n",
+      100.0 * raw.rough_share, static_cast<unsigned long long>(raw.pixels),
+      100.0 * smoothed.rough_share, static_cast<unsigned long long>(smoothed.pixels));
+  EXPECT_GT(smoothed.pixels, 1000u);
+  EXPECT_GT(raw.rough_share, 0.1);
+  EXPECT_LT(smoothed.rough_share, 0.05);
+}
+
+// A splashing dam break (8000 particles, t = 0.5 s): the filter's depth range decides whether
+// the spheres' bumps read as one surface. The default (4 radii) against half of it.
+TEST_F(RenderTest, TheDefaultDepthRangeSmoothsASplashingDamBreak) {
+  sim::SceneParams scene;
+  scene.kind = sim::SceneKind::dam_break;
+  scene.particles = 8000;
+  auto dam = sim::make_cpu_solver(sim::SolverKind::pbf, sim::build_scene(scene), {});
+  while (dam->time() < 0.5) dam->step();
+  ParticleSource source(context());
+  const ParticleView view = source.view_of(*dam);
+  constexpr std::uint32_t w = 640, h = 360;
+  FrameRenderer renderer(context(), w, h);
+  OrbitCamera camera = camera_on(dam->tank(), 1.3f * glm::length(dam->tank().size()));
+  camera.yaw_degrees = 20.0f;
+  camera.pitch_degrees = 25.0f;
+  const auto rough = [&](const char* name) {
+    keep(rgba(renderer.render(RendererKind::ssfr, view, dam->tank(), camera)), name);
+    return measure_roughness(renderer.surface_distances(), w, h,
+                             camera.projection(float(w) / float(h)))
+        .rough_share;
+  };
+  const double by_default = rough("render_dam_break_surface_default");
+  renderer.ssfr.depth_falloff_radii = 0.5f * SsfrStyle{}.depth_falloff_radii;
+  const double narrower = rough("render_dam_break_surface_narrower_range");
+  std::printf("rough pixels: %.1f %% by default, %.1f %% with half the depth range\n",
+              100.0 * by_default, 100.0 * narrower);
+  EXPECT_LT(by_default, 0.1);
+  EXPECT_GT(narrower, 2.0 * by_default);
 }
 
 TEST_F(RenderTest, MarchingCubesShowsTheFluidAtAnyResolutionAndAutoPicksByCount) {

@@ -17,6 +17,7 @@ FrameWriter::FrameWriter(const SimOptions& options, gpu::Context& context,
   if (options.colour_by_density) {
     renderer_.points.colour_by = render::PointsStyle::ColourBy::density;
   }
+  renderer_.ssfr.depth_falloff_radii = options.ssfr_depth_falloff;
   renderer_.ssfr.filter = options.narrow_range_filter ? render::SsfrStyle::DepthFilter::narrow_range
                                                       : render::SsfrStyle::DepthFilter::bilateral;
   const sim::Box& tank = solver.tank();

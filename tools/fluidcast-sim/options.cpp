@@ -65,6 +65,10 @@ ParseOutcome parse_sim_options(int argc, char** argv) {
                  "SSFR depth filter: bilateral (van der Laan 2009) or narrow (the narrow-range "
                  "filter of Truong & Yuksel 2018)")
       ->capture_default_str();
+  app.add_option("--ssfr-depth-range", o.ssfr_depth_falloff,
+                 "SSFR depth filter: depth difference treated as another surface, in particle "
+                 "radii (0.5-20; narrower keeps more of each sphere's bump)")
+      ->capture_default_str();
   std::string colour_by = "speed";
   app.add_option("--colour-by", colour_by, "points renderer: speed or density")
       ->capture_default_str();
@@ -133,6 +137,10 @@ ParseOutcome parse_sim_options(int argc, char** argv) {
       throw sim::ParamError("--ssfr-filter: '" + ssfr_filter + "' is not bilateral or narrow");
     }
     o.narrow_range_filter = ssfr_filter == "narrow";
+    if (!(o.ssfr_depth_falloff >= 0.5f && o.ssfr_depth_falloff <= 20.0f)) {
+      throw sim::ParamError("--ssfr-depth-range: " + std::to_string(o.ssfr_depth_falloff) +
+                            " is outside 0.5-20 particle radii");
+    }
     if (colour_by != "speed" && colour_by != "density") {
       throw sim::ParamError("--colour-by: '" + colour_by + "' is not speed or density");
     }

@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "fluidcast/render/frame_renderer.h"
 #include "fluidcast/sim/scene.h"
 #include "fluidcast/sim/solver.h"
 
@@ -31,7 +32,8 @@ struct SimOptions {
   std::int64_t render_every = 2;
   std::string renderer = "auto";
   bool narrow_range_filter = true;  // --ssfr-filter narrow (else bilateral)
-  bool colour_by_density = false;    // --colour-by density (points)
+  float ssfr_depth_falloff = render::SsfrStyle{}.depth_falloff_radii;  // --ssfr-depth-range
+  bool colour_by_density = false;  // --colour-by density (points)
   int width = 640, height = 360;
   std::optional<std::array<float, 3>> camera;  // yaw, pitch (degrees), distance (m)
   bool progress = false;

@@ -65,8 +65,11 @@ struct SsfrStyle {
   int smoothing_passes = 2;
   // Depth difference, in particle radii, that the filter treats as a different surface (bilateral:
   // the range weight's scale; narrow range: the range's initial half-width and its growth per
-  // accepted sample).
-  float depth_falloff_radii = 2.0f;
+  // accepted sample). Narrower keeps more of each sphere's bump: at 2 radii a splashing 8000-
+  // particle dam break left 32 % of its surface pixels turned over 20° from their neighbours
+  // (specular speckle), at 4 radii 6 % (surface_roughness.h; docs/images/ssfr-surface-*).
+  // Range 0.5–20.
+  float depth_falloff_radii = 4.0f;
   // Beer–Lambert absorption per metre of water: red goes first, so thick water turns blue-green.
   glm::vec3 absorption{6.0f, 1.8f, 0.9f};
 };
@@ -137,6 +140,11 @@ class FrameRenderer {
   // Where, in the scene, that frame's probe met the fluid's (smoothed) surface; nothing when it
   // had no probe, drew points, or the probe missed the fluid.
   std::optional<glm::vec3> last_probe_hit() const { return last_probe_hit_; }
+
+  // The view distance per pixel of the newest frame submitted, after smoothing (+inf where there
+  // is no fluid; SSFR and MC), once the GPU has drawn it: what the shading took its normals
+  // from, for measuring the surface (surface_roughness.h).
+  std::vector<float> surface_distances() const;
 
   // submit() then take_oldest(): one frame, waited for.
   codec::Image render(RendererKind kind, const ParticleView& particles, const sim::Box& tank,
