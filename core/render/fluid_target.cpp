@@ -2,7 +2,7 @@
 
 #include <limits>
 
-#include "fluidcast/gpu/vk_check.h"
+#include "render_pass.h"
 
 namespace fluidcast::render {
 namespace {
@@ -56,16 +56,7 @@ gpu::UniqueRenderPass make_pass(VkDevice device) {
   after.dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT | kFragmentTests;
   after.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT | kDepthAccess;
   const VkSubpassDependency dependencies[2] = {before, after};
-  VkRenderPassCreateInfo info{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
-  info.attachmentCount = 3;
-  info.pAttachments = attachments;
-  info.subpassCount = 1;
-  info.pSubpasses = &subpass;
-  info.dependencyCount = 2;
-  info.pDependencies = dependencies;
-  VkRenderPass raw;
-  FLUIDCAST_VK_CHECK(vkCreateRenderPass(device, &info, nullptr, &raw));
-  return gpu::UniqueRenderPass(device, raw);
+  return make_render_pass(device, attachments, subpass, dependencies);
 }
 
 }  // namespace
@@ -88,16 +79,7 @@ FluidTarget::FluidTarget(gpu::Context& context, const RenderTarget& scene)
                  VK_IMAGE_ASPECT_COLOR_BIT),
       pass_(make_pass(context.device())) {
   const VkImageView views[3] = {distance_.view(), thickness_.view(), scene.depth().view()};
-  VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
-  info.renderPass = pass_.get();
-  info.attachmentCount = 3;
-  info.pAttachments = views;
-  info.width = width_;
-  info.height = height_;
-  info.layers = 1;
-  VkFramebuffer raw;
-  FLUIDCAST_VK_CHECK(vkCreateFramebuffer(context.device(), &info, nullptr, &raw));
-  framebuffer_ = gpu::UniqueFramebuffer(context.device(), raw);
+  framebuffer_ = make_framebuffer(context.device(), pass_.get(), views, width_, height_);
 }
 
 void FluidTarget::begin(VkCommandBuffer commands) const {
@@ -105,17 +87,7 @@ void FluidTarget::begin(VkCommandBuffer commands) const {
   values[0].color = {{std::numeric_limits<float>::infinity(), 0.0f, 0.0f, 0.0f}};
   values[1].color = {{0.0f, 0.0f, 0.0f, 0.0f}};
   values[2].depthStencil = {1.0f, 0};  // unused: the depth is loaded
-  VkRenderPassBeginInfo info{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
-  info.renderPass = pass_.get();
-  info.framebuffer = framebuffer_.get();
-  info.renderArea = {{0, 0}, {width_, height_}};
-  info.clearValueCount = 3;
-  info.pClearValues = values;
-  vkCmdBeginRenderPass(commands, &info, VK_SUBPASS_CONTENTS_INLINE);
-  const VkViewport viewport{0.0f, 0.0f, float(width_), float(height_), 0.0f, 1.0f};
-  const VkRect2D scissor{{0, 0}, {width_, height_}};
-  vkCmdSetViewport(commands, 0, 1, &viewport);
-  vkCmdSetScissor(commands, 0, 1, &scissor);
+  begin_render_pass(commands, pass_.get(), framebuffer_.get(), width_, height_, values);
 }
 
 void FluidTarget::end(VkCommandBuffer commands) const { vkCmdEndRenderPass(commands); }

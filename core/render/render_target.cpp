@@ -3,7 +3,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "fluidcast/gpu/vk_check.h"
+#include "render_pass.h"
 
 namespace fluidcast::render {
 namespace {
@@ -21,11 +21,10 @@ void check_size(const gpu::Context& context, std::uint32_t width, std::uint32_t 
   }
 }
 
-
 // The two passes differ only in how they start (so one framebuffer and the pipelines serve both):
 // `clear` clears colour and depth; `keep_depth` starts from the depth the previous pass stored and
 // leaves the colour undefined. Both store the depth for a later keep_depth pass.
-gpu::UniqueRenderPass make_render_pass(VkDevice device, RenderTarget::Start start) {
+gpu::UniqueRenderPass make_scene_pass(VkDevice device, RenderTarget::Start start) {
   const bool keep = start == RenderTarget::Start::keep_depth;
   VkAttachmentDescription attachments[2] = {};
   attachments[0].format = RenderTarget::kColourFormat;
@@ -72,16 +71,7 @@ gpu::UniqueRenderPass make_render_pass(VkDevice device, RenderTarget::Start star
   to_copy.dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
   to_copy.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
   const VkSubpassDependency dependencies[2] = {dependency, to_copy};
-  VkRenderPassCreateInfo info{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
-  info.attachmentCount = 2;
-  info.pAttachments = attachments;
-  info.subpassCount = 1;
-  info.pSubpasses = &subpass;
-  info.dependencyCount = 2;
-  info.pDependencies = dependencies;
-  VkRenderPass raw_pass;
-  FLUIDCAST_VK_CHECK(vkCreateRenderPass(device, &info, nullptr, &raw_pass));
-  return gpu::UniqueRenderPass(device, raw_pass);
+  return make_render_pass(device, attachments, subpass, dependencies);
 }
 
 }  // namespace
@@ -93,38 +83,20 @@ RenderTarget::RenderTarget(gpu::Context& context, std::uint32_t width, std::uint
                           VK_IMAGE_ASPECT_COLOR_BIT))),
       depth_(context, width, height, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
              VK_IMAGE_ASPECT_DEPTH_BIT) {
-  clearing_pass_ = make_render_pass(context.device(), Start::clear);
-  keeping_pass_ = make_render_pass(context.device(), Start::keep_depth);
+  clearing_pass_ = make_scene_pass(context.device(), Start::clear);
+  keeping_pass_ = make_scene_pass(context.device(), Start::keep_depth);
 
   const VkImageView views[2] = {colour_.view(), depth_.view()};
-  VkFramebufferCreateInfo framebuffer{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
-  framebuffer.renderPass = clearing_pass_.get();  // compatible with the keeping one
-  framebuffer.attachmentCount = 2;
-  framebuffer.pAttachments = views;
-  framebuffer.width = width;
-  framebuffer.height = height;
-  framebuffer.layers = 1;
-  VkFramebuffer raw_framebuffer;
-  FLUIDCAST_VK_CHECK(
-      vkCreateFramebuffer(context.device(), &framebuffer, nullptr, &raw_framebuffer));
-  framebuffer_ = gpu::UniqueFramebuffer(context.device(), raw_framebuffer);
+  // Made for the clearing pass, and compatible with the keeping one.
+  framebuffer_ = make_framebuffer(context.device(), clearing_pass_.get(), views, width, height);
 }
 
 void RenderTarget::begin(VkCommandBuffer commands, const float background[4], Start start) const {
   VkClearValue clear[2];
   clear[0].color = {{background[0], background[1], background[2], background[3]}};
   clear[1].depthStencil = {1.0f, 0};
-  VkRenderPassBeginInfo info{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
-  info.renderPass = start == Start::clear ? clearing_pass_.get() : keeping_pass_.get();
-  info.framebuffer = framebuffer_.get();
-  info.renderArea = {{0, 0}, {width(), height()}};
-  info.clearValueCount = 2;
-  info.pClearValues = clear;
-  vkCmdBeginRenderPass(commands, &info, VK_SUBPASS_CONTENTS_INLINE);
-  const VkViewport viewport{0.0f, 0.0f, float(width()), float(height()), 0.0f, 1.0f};
-  const VkRect2D scissor{{0, 0}, {width(), height()}};
-  vkCmdSetViewport(commands, 0, 1, &viewport);
-  vkCmdSetScissor(commands, 0, 1, &scissor);
+  begin_render_pass(commands, start == Start::clear ? clearing_pass_.get() : keeping_pass_.get(),
+                    framebuffer_.get(), width(), height(), clear);
 }
 
 void RenderTarget::end(VkCommandBuffer commands) const { vkCmdEndRenderPass(commands); }
