@@ -89,11 +89,14 @@ void Session::rebuild(SessionSetup setup) {
                       ? sim::make_gpu_solver(setup.solver, *services_.context, std::move(built),
                                              params, services_.steps)
                       : sim::make_cpu_solver(setup.solver, std::move(built), params);
-    // Frames in flight still read the old one's particles.
-    if (solver_)
+    // Frames in flight still read the old one's particles; steps it queued go first, so that
+    // none is recorded after it is retired (gpu_step_batch.h).
+    if (solver_) {
+      services_.steps->submit();
       services_.context->retire(std::exchange(solver_, std::move(solver)));
-    else
+    } else {
       solver_ = std::move(solver);
+    }
   } catch (const sim::ParamError& e) {
     throw Refusal(RefusalCode::resource_exhausted, e.what());
   }

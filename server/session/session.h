@@ -1,7 +1,7 @@
 // A session: one simulation and any number of viewers, each with its own camera, size and
 // quality. Transports post input from their threads; everything else runs on the GPU worker's
-// thread, one tick at a time: prepare() says what the tick would cost on the GPU, run() spends
-// what the hub grants (gpu_budget.h). Knows nothing of gRPC or HTTP.
+// thread, one tick at a time: prepare() says what the tick would cost on the GPU, simulate() and
+// draw() spend what the hub grants (gpu_budget.h). Knows nothing of gRPC or HTTP.
 #pragma once
 
 #include <map>
@@ -66,7 +66,7 @@ class Session {
   // ...and the frames it pays for, which draw those steps. The frames of the previous tick are
   // taken to the encoders first (waiting for them if need be).
   void draw(const GpuGrant& grant, Clock::time_point now);
-  // Takes frames in flight to the encoders: every one, waiting for the GPU if need be (run()
+  // Takes frames in flight to the encoders: every one, waiting for the GPU if need be (draw()
   // does, before new frames reuse the read-back ring), or only those the GPU has finished
   // (between ticks, so that a frame is sent as soon as it is drawn).
   enum class FrameWait { for_all, finished_only };

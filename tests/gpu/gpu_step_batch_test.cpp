@@ -139,6 +139,18 @@ TEST_F(GpuStepBatchTest, ASolverThatGoesAwayTakesItsWaitingStepsWithIt) {
   EXPECT_EQ(context().last_submitted(), before);
 }
 
+// As a retired solver that the context releases after the server's hub (and its batch) has gone.
+TEST_F(GpuStepBatchTest, ASolverWhoseStepsWereSubmittedMayOutliveItsBatch) {
+  std::unique_ptr<Solver> solver;
+  {
+    GpuStepBatch batch(context());
+    solver = make(kFluids[0], context(), &batch);
+    solver->step(solver->params().time_step, kSubsteps);
+    batch.submit();
+  }
+  solver.reset();
+}
+
 TEST_F(GpuStepBatchTest, ASnapshotSubmitsTheStepsItMustSee) {
   GpuStepBatch batch(context());
   auto solver = make(kFluids[0], context(), &batch);

@@ -78,7 +78,12 @@ GpuSolver::GpuSolver(SolverKind kind, gpu::Context& context, Scene scene,
 }
 
 GpuSolver::~GpuSolver() {
-  batch_->forget(this);
+  // Only a solver with steps still waiting reaches into its batch: a retired one (submitted
+  // before it was retired) may go after the batch has.
+  const bool queued = std::any_of(in_flight_.begin(), in_flight_.end(), [](const InFlight& slot) {
+    return !slot.harvested && slot.receipt.serial == 0;
+  });
+  if (queued) batch_->forget(this);
   try {
     for (const InFlight& slot : in_flight_) {
       if (slot.receipt.serial != 0) context_->wait_for(slot.receipt.serial);

@@ -10,13 +10,23 @@ namespace {
 
 // A step's passes read and write with shaders and with transfers (parameters, fills, copies of
 // figures): each pass waits for both kinds before it.
+constexpr VkPipelineStageFlags kPassStages =
+    VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
+constexpr VkAccessFlags kPassWrites = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+constexpr VkAccessFlags kPassAccess = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
+                                      VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+
 void pass_barrier(VkCommandBuffer commands) {
-  constexpr VkPipelineStageFlags stages =
-      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
-  gpu::memory_barrier(commands, stages, VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
-                      stages,
-                      VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
-                          VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
+  gpu::memory_barrier(commands, kPassStages, kPassWrites, kPassStages, kPassAccess);
+}
+
+// Before a submission's first pass: what earlier submissions wrote, and the frames that read the
+// particles with vertex and fragment shaders (write after read).
+void submission_barrier(VkCommandBuffer commands) {
+  gpu::memory_barrier(
+      commands,
+      kPassStages | VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+      kPassWrites, kPassStages, kPassAccess);
 }
 
 }  // namespace
@@ -40,7 +50,7 @@ void GpuStepBatch::forget(const void* owner) {
 }
 
 void GpuStepBatch::record_in_order(VkCommandBuffer commands, const std::vector<Pass>& passes) {
-  pass_barrier(commands);
+  submission_barrier(commands);
   for (const Pass& pass : passes) {
     pass.record(commands);
     pass_barrier(commands);
@@ -49,9 +59,21 @@ void GpuStepBatch::record_in_order(VkCommandBuffer commands, const std::vector<P
 
 void GpuStepBatch::submit() {
   if (queued_.empty()) return;
-  // Taken out first: submitting may destroy retired solvers, which forget() what they queued.
+  // Taken out first: a solver destroyed while this submits (one retired earlier, released by the
+  // context) must find nothing of its own left to forget.
   std::vector<Queued> steps = std::exchange(queued_, {});
+  try {
+    record_and_submit(steps);
+  } catch (...) {
+    // Nothing was submitted: the steps wait for the next try, and their owners' waits stay
+    // meaningful (a step that vanished would count as running for ever).
+    queued_.insert(queued_.begin(), std::make_move_iterator(steps.begin()),
+                   std::make_move_iterator(steps.end()));
+    throw;
+  }
+}
 
+void GpuStepBatch::record_and_submit(std::vector<Queued>& steps) {
   // One lane per owner: its steps' passes one after another, each pass knowing its step.
   struct Lane {
     std::uint64_t particles = 0;
@@ -81,8 +103,7 @@ void GpuStepBatch::submit() {
   }
   const bool timed = context_->timestamps_supported() && pass_count + 1 <= kTimestampCapacity;
   slot.timestamps->reset(commands);
-  // Earlier submissions (frames reading the particles, the previous steps) before any of these.
-  pass_barrier(commands);
+  submission_barrier(commands);
   if (timed) slot.timestamps->mark(commands);
   for (std::size_t k = 0; k < pass_count; ++k) {
     std::uint64_t weight = 0;

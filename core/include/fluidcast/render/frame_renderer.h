@@ -80,7 +80,7 @@ struct RenderTimes {
   double particles_ms = 0;     // points: the spheres; SSFR: surface depth and thickness
   double smoothing_ms = 0;     // SSFR: the depth filter passes
   double shading_ms = 0;       // SSFR: normals and shading (and the copy of the scene it refracts)
-  double readback_ms = 0;      // the copy of the finished frame to host-visible memory
+  double readback_ms = 0;      // the finished frame to host-visible memory (and to YCbCr planes)
   double mc_field_ms = 0;      // MC: the scalar field splatted from the particles
   double mc_triangles_ms = 0;  // MC: triangles and normals from the tables
 

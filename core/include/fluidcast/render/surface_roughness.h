@@ -2,7 +2,7 @@
 // normal turns more than `degrees` from the mean normal of the 8 pixels around it. A surface that
 // reads as water (smooth, with the waves the fluid has) scores a few per cent; one where every
 // sphere still shows scores tens of per cent, and shading turns it into specular speckle. Normals
-// are formed as the SSFR shading forms them, from the view distances after smoothing
+// come from central differences of the view positions after smoothing
 // (FrameRenderer::surface_distances()); pixels at a silhouette are left out.
 #pragma once
 

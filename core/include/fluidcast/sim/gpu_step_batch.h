@@ -7,9 +7,11 @@
 // A solver made without a batch keeps one of its own and submits each step as it is queued. A
 // solver given a shared batch queues its steps there until the batch's owner calls submit() (a
 // frame loop: after every session has queued its steps, before anything draws them), or until the
-// solver needs them done (snapshot, synchronize, a change of particles), which submits the batch.
+// solver needs them done (snapshot, synchronize, a change of particles, or a fifth step while its
+// ring of four is still waiting), which submits the whole batch.
 // Retire a solver only while it has no step waiting in a shared batch (submit first): a step
-// recorded after its solver was retired would outlive it.
+// recorded after its solver was retired would outlive it. A solver that goes away with steps
+// still waiting takes them with it (its destructor forgets them).
 #pragma once
 
 #include <vulkan/vulkan.h>
@@ -72,6 +74,9 @@ class GpuStepBatch {
     std::vector<Pass> passes;
     Receipt* receipt;
   };
+  // Throws what recording or submitting threw, having submitted nothing.
+  void record_and_submit(std::vector<Queued>& steps);
+
   struct Slot {
     explicit Slot(gpu::Context& context) : commands(context) {}
     std::shared_ptr<gpu::TimestampQueries> timestamps;
