@@ -34,8 +34,12 @@ class GpuNeighbourGridTest : public GpuTest {
     std::vector<GpuStepBatch::Pass> passes{
         {0, 0, [&](VkCommandBuffer commands) { gpu_grid.record_clear(commands); }}};
     gpu_grid.append_build(passes, key_buffer.address(), n, 0);
-    context().run_now(
-        [&](VkCommandBuffer commands) { GpuStepBatch::record_in_order(commands, passes); });
+    // Recorded and submitted as a solver's step is.
+    GpuStepBatch batch(context());
+    GpuStepBatch::Receipt receipt;
+    batch.queue(&gpu_grid, n, std::move(passes), receipt);
+    batch.submit();
+    ASSERT_TRUE(context().wait_for(receipt.serial));
 
     const auto cell_start =
         gpu::download<std::uint32_t>(context(), gpu_grid.cell_start(), cpu.cell_count() + 1);

@@ -49,14 +49,6 @@ void GpuStepBatch::forget(const void* owner) {
   std::erase_if(queued_, [owner](const Queued& q) { return q.owner == owner; });
 }
 
-void GpuStepBatch::record_in_order(VkCommandBuffer commands, const std::vector<Pass>& passes) {
-  submission_barrier(commands);
-  for (const Pass& pass : passes) {
-    pass.record(commands);
-    pass_barrier(commands);
-  }
-}
-
 void GpuStepBatch::submit() {
   if (queued_.empty()) return;
   // Taken out first: a solver destroyed while this submits (one retired earlier, released by the

@@ -63,10 +63,6 @@ class GpuStepBatch {
   // Records every waiting step into one command buffer and submits it; nothing when none waits.
   void submit();
 
-  // The passes in order, each after a barrier, into a command buffer of the caller's: for a step
-  // that is not a solver's (a test of the grid, say).
-  static void record_in_order(VkCommandBuffer commands, const std::vector<Pass>& passes);
-
  private:
   struct Queued {
     const void* owner;
