@@ -4,7 +4,10 @@ table of bench/results."""
 import json
 import sys
 
-runs = json.load(open(sys.argv[1]))["benchmarks"]
+everything = json.load(open(sys.argv[1]))["benchmarks"]
+# Many sessions (fluidcast-bench-gpu's Sessions/...) have a table of their own, after the rest.
+sessions = [r for r in everything if r["name"].startswith("Sessions/")]
+runs = [r for r in everything if not r["name"].startswith("Sessions/")]
 
 
 def fields_of(run):
@@ -21,6 +24,7 @@ if runs and "frames_per_s" in runs[0]:
           "particles/mesh | smoothing | shading | read-back (GPU ms) | JPEG encode ms (1 thread) | "
           "JPEG KiB | pool encodes/s |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    # Encoding from the YCbCr planes the GPU converts, and the surface's roughness, follow.
     for r in runs:
         f = fields_of(r)
         renderer = r['name'].split('/')[0]
@@ -33,6 +37,15 @@ if runs and "frames_per_s" in runs[0]:
               f"{r['scene_ms']:.3f} | {r['particles_ms']:.3f} | "
               f"{r['smoothing_ms']:.3f} | {r['shading_ms']:.3f} | {r['readback_ms']:.3f} | "
               f"{r['encode_ms']:.2f} | {r['jpeg_kib']:.0f} | {r['pool_encodes_per_s']:.0f} |")
+    print()
+    print("| renderer | size | particles | planes read-back (GPU ms) | JPEG encode from planes ms | "
+          "rough surface pixels |")
+    print("|---|---|---|---|---|---|")
+    for r in runs:
+        f = fields_of(r)
+        rough = f"{100 * r['rough_share']:.1f} %" if "rough_share" in r else "–"
+        print(f"| {r['name'].split('/')[0]} | {f['width']}×{f['height']} | {f['particles']} | "
+              f"{r['planes_readback_ms']:.3f} | {r['planes_encode_ms']:.2f} | {rough} |")
 elif runs and "gpu_ms" in runs[0]:
     print("| solver | particles | iterations | substeps/step | steps/s | GPU ms/step | grid | predict | "
           "iterations (each) | velocity | viscosity |")
@@ -55,3 +68,12 @@ else:
         print(f"| {solver} | {f['particles']} | {f['iterations'] if solver == 'Pbf' else '–'} | "
               f"{int(f['dt_us']) / 1000:g} | {r['substeps']:.2f} | {r['steps_per_s']:.1f} | "
               f"{r['grid_ms']:.2f} | {r['predict_ms']:.2f} | {r['solve_ms']:.2f} | {r['velocity_ms']:.2f} |")
+
+if sessions:
+    print()
+    print("| submissions | sessions × particles | GPU ms per round (all sessions) | wall ms per round |")
+    print("|---|---|---|---|")
+    for r in sessions:
+        f = fields_of(r)
+        mode = "one for all" if f["batched"] == "1" else "one per session"
+        print(f"| {mode} | {f['sessions']} × {f['particles']} | {r['gpu_ms']:.3f} | {r['wall_ms']:.3f} |")

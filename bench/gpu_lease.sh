@@ -1,0 +1,63 @@
+#!/usr/bin/env bash
+# Everything a session measures on a lent GPU machine, in parts that each fit one device call
+# (10 minutes) and bring back at most a few files. Build here first, then bundle:
+#   ../shared/tools/gpu-bundle build fluidcast-server fluidcast-bench-load fluidcast-bench-gpu \
+#     fluidcast-bench-render fluidcast-validate gpu_context_test gpu_neighbour_grid_test \
+#     gpu_solver_test gpu_step_batch_test solver_inputs_test render_test render_golden_test
+# and on the device (carry .gpu):  source .gpu/env.sh && BIN=.gpu/bin bench/gpu_lease.sh PART $OUT
+# PART: tests   every GPU test with the validation layer on (a message fails its test)
+#       solver  fluidcast-bench-gpu: the solver table and many sessions batched against serial
+#       render  fluidcast-bench-render: passes, encode from RGBA and from planes, roughness
+#       loop    the frame-loop table (bench/frame_loop_table.sh) and the validation at 1M
+# Each writes its log and tables under OUT. --smoke (third argument) runs the benchmarks' small
+# cases, to prove the script here on lavapipe.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+part=${1:?usage: bench/gpu_lease.sh tests|solver|render|loop OUT [--smoke]}
+out=${2:?usage: bench/gpu_lease.sh tests|solver|render|loop OUT [--smoke]}
+smoke=${3:-}
+bin=${BIN:-build/bin}
+mkdir -p "$out"
+smoke_flag=()
+[[ "$smoke" == --smoke ]] && smoke_flag=(--smoke)
+
+table() {  # JSON of a benchmark program into its Markdown table
+  bench/results_table.py "$1" >"${1%.json}.md" || echo "no table from $1" >&2
+}
+
+case "$part" in
+  tests)
+    status=0
+    for test in gpu_context_test gpu_neighbour_grid_test gpu_solver_test gpu_step_batch_test \
+      solver_inputs_test render_test render_golden_test; do
+      echo "== $test" >>"$out/tests.log"
+      FLUIDCAST_VALIDATION=1 "$bin/$test" >>"$out/tests.log" 2>&1 || status=1
+    done
+    grep -E "^\[  (PASSED|FAILED)|validation" "$out/tests.log" || true
+    exit $status
+    ;;
+  solver)
+    "$bin/fluidcast-bench-gpu" "${smoke_flag[@]}" --benchmark_out="$out/bench-gpu.json" \
+      --benchmark_out_format=json 2>&1 | tee "$out/bench-gpu.log"
+    table "$out/bench-gpu.json"
+    ;;
+  render)
+    "$bin/fluidcast-bench-render" "${smoke_flag[@]}" --benchmark_out="$out/bench-render.json" \
+      --benchmark_out_format=json 2>&1 | tee "$out/bench-render.log"
+    table "$out/bench-render.json"
+    ;;
+  loop)
+    BIN="$bin" bench/frame_loop_table.sh "$out/frame-loop.md" "$smoke" 2>&1 | tail -20
+    if [[ "$smoke" == --smoke ]]; then
+      BIN="$bin" bench/validate.sh "$out/validation" --backend gpu --column-resolution 8 \
+        --pool-particles 1000 2>&1 | tail -5
+    else
+      BIN="$bin" bench/validate.sh "$out/validation" --backend gpu --column-resolution 100 \
+        --pool-particles 1000000 2>&1 | tail -5
+    fi
+    ;;
+  *)
+    echo "bench/gpu_lease.sh: PART must be tests, solver, render or loop, not '$part'" >&2
+    exit 2
+    ;;
+esac
