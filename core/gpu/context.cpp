@@ -279,15 +279,12 @@ Context::Context(ContextOptions options) {
     VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
     v12.bufferDeviceAddress = VK_TRUE;
     v12.timelineSemaphore = VK_TRUE;  // the submission serial
-    // Fragment shaders that write buffers: the Marching Cubes surface pass sums thickness with
-    // atomics. Independent blending: the SSFR sphere pass keeps the nearest distance in one
-    // attachment and adds up thickness in another.
+    // Independent blending: the fluid's pass (SSFR spheres, MC mesh) keeps the nearest distance in
+    // one attachment and adds up thickness in another.
     VkPhysicalDeviceFeatures supported{};
     vkGetPhysicalDeviceFeatures(physical_device_, &supported);
     VkPhysicalDeviceFeatures features{};
-    features.fragmentStoresAndAtomics = supported.fragmentStoresAndAtomics;
     features.independentBlend = supported.independentBlend;
-    fragment_stores_ = supported.fragmentStoresAndAtomics == VK_TRUE;
     independent_blend_ = supported.independentBlend == VK_TRUE;
     VkDeviceCreateInfo device_info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &v12};
     device_info.queueCreateInfoCount = 1;
@@ -379,7 +376,8 @@ void Context::retire_object(std::unique_ptr<RetiredObject> object) {
   retired_.push_back({last_submitted_, std::move(object)});
 }
 
-std::vector<std::unique_ptr<Context::RetiredObject>> Context::take_released(std::uint64_t finished) {
+std::vector<std::unique_ptr<Context::RetiredObject>> Context::take_released(
+    std::uint64_t finished) {
   std::vector<std::unique_ptr<RetiredObject>> released;
   // Retired in submission order, so the finished ones are at the front.
   while (!retired_.empty() && retired_.front().after <= finished) {

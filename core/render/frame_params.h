@@ -36,20 +36,18 @@ static_assert(sizeof(FrameParams) % 16 == 0);
 
 // shaders/common/draw_pass.glsl
 struct DrawConstants {
-  VkDeviceAddress frame, position, velocity, depth, thickness, density_ratio;
+  VkDeviceAddress frame, position, velocity, density_ratio;
 };
-static_assert(sizeof(DrawConstants) == 48);
+static_assert(sizeof(DrawConstants) == 32);
 
 // shaders/common/screen_pass.glsl
 struct ScreenConstants {
   VkDeviceAddress frame, depth_in, depth_out, thickness, scene, image;
   std::uint32_t axis;
   std::uint32_t narrow_range;
-  std::uint32_t thickness_in_units;
 };
 static_assert(offsetof(ScreenConstants, axis) == 48 &&
-              offsetof(ScreenConstants, narrow_range) == 52 &&
-              offsetof(ScreenConstants, thickness_in_units) == 56);
+              offsetof(ScreenConstants, narrow_range) == 52);
 
 // shaders/render/yuv420.comp
 struct YuvConstants {

@@ -24,7 +24,6 @@ constexpr VkPipelineStageFlags kCompute = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
 constexpr VkPipelineStageFlags kTransfer = VK_PIPELINE_STAGE_TRANSFER_BIT;
 constexpr VkAccessFlags kShaderAccess = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
 constexpr std::uint32_t kScreenGroup = 64;
-constexpr std::uint32_t kInfinityBits = 0x7f800000u;
 
 }  // namespace
 
@@ -56,11 +55,6 @@ FrameRenderer::FrameRenderer(gpu::Context& context, std::uint32_t width, std::ui
       points_(std::make_unique<GraphicsPipeline>(context, target_.render_pass(),
                                                  shaders::render_points_vert,
                                                  shaders::render_points_frag, PipelineOptions{})),
-      mc_surface_(std::make_unique<GraphicsPipeline>(
-          context, target_.render_pass(), shaders::render_mc_vert, shaders::render_mc_surface_frag,
-          // No depth test: the mesh closes just outside the tank's walls, behind the scene, and
-          // the thickness needs every face.
-          PipelineOptions{false, false, false})),
       smooth_(context, shaders::render_ssfr_smooth_comp, sizeof(ScreenConstants), kScreenGroup),
       shade_(context, shaders::render_ssfr_shade_comp, sizeof(ScreenConstants), kScreenGroup),
       yuv420_(context, shaders::render_yuv420_comp, sizeof(YuvConstants), kScreenGroup),
@@ -71,6 +65,12 @@ FrameRenderer::FrameRenderer(gpu::Context& context, std::uint32_t width, std::ui
         context, fluid_target_->render_pass(), shaders::render_points_vert,
         shaders::render_fluid_surface_frag,
         PipelineOptions{true, false, true, {Blend::min, Blend::add}});
+    // No depth test: the mesh closes just outside the tank's walls, behind the scene, and the
+    // thickness needs every face.
+    mc_surface_ = std::make_unique<GraphicsPipeline>(
+        context, fluid_target_->render_pass(), shaders::render_mc_vert,
+        shaders::render_mc_surface_frag,
+        PipelineOptions{false, false, true, {Blend::min, Blend::add}});
   }
   const std::uint64_t per_pixel = std::uint64_t{width} * height * 4;
   for (gpu::Buffer* buffer : {&depth_, &depth_scratch_, &thickness_, &scene_, &image_}) {
@@ -170,16 +170,11 @@ std::uint64_t FrameRenderer::submit(RendererKind requested, const ParticleView& 
     throw std::invalid_argument(
         "renderer: smoothing radius and depth falloff must be positive, passes not negative");
   }
-  if (kind == RendererKind::mc && !context_->fragment_stores_supported()) {
-    throw std::invalid_argument("renderer mc: the device " + context_->info().name +
-                                " cannot write buffers from fragment shaders "
-                                "(fragmentStoresAndAtomics); use ssfr or points");
-  }
-  if (kind == RendererKind::ssfr && !fluid_target_) {
-    throw std::invalid_argument("renderer ssfr: the device " + context_->info().name +
+  if (kind != RendererKind::points && !fluid_target_) {
+    throw std::invalid_argument("renderers ssfr and mc: the device " + context_->info().name +
                                 " cannot blend 32-bit float attachments each its own way "
-                                "(R32_SFLOAT COLOR_ATTACHMENT_BLEND, independentBlend); use mc "
-                                "or points");
+                                "(R32_SFLOAT COLOR_ATTACHMENT_BLEND, independentBlend); use "
+                                "points");
   }
   if (kind == RendererKind::mc) {
     const int resolution =
@@ -284,18 +279,14 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
   frame.density_span = points.density_span;
 
   // The solver's writes (compute, transfers) before this frame reads the particles in place; and
-  // the previous frame's reads and atomics on the shared per-pixel buffers before this one's fills.
+  // the previous frame's reads of the shared per-pixel buffers before this one's copies into them.
   memory_barrier(commands, kCompute | kTransfer | kDrawStages,
                  VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, kDrawStages | kTransfer,
                  VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
   vkCmdUpdateBuffer(commands, frame_params_.get(), 0, sizeof(frame), &frame);
-  // SSFR and MC share the per-pixel surface buffers and the shading. MC draws into them with
-  // atomics; SSFR's spheres go through FluidTarget's attachments, which are copied over them.
+  // SSFR and MC draw through FluidTarget's attachments, copied into the per-pixel surface
+  // buffers that the filter and the shading read.
   const bool fluid = kind != RendererKind::points;
-  if (kind == RendererKind::mc) {
-    vkCmdFillBuffer(commands, depth_.get(), 0, VK_WHOLE_SIZE, kInfinityBits);
-    vkCmdFillBuffer(commands, thickness_.get(), 0, VK_WHOLE_SIZE, 0);
-  }
   memory_barrier(commands, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, kDrawStages, kShaderAccess);
 
   slot.timestamps.reset(commands);
@@ -304,37 +295,34 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
   slot.meshed = mesh;
   if (mesh) marching_cubes_->record(commands, particles, mc.threshold, slot.timestamps);
   // For the mesh, `position` is the vertex buffer.
-  const DrawConstants draw{
-      frame_params_.address(), mesh ? marching_cubes_->vertices() : particles.position,
-      particles.velocity,      depth_.address(),
-      thickness_.address(),    particles.density_ratio};
+  const DrawConstants draw{frame_params_.address(),
+                           mesh ? marching_cubes_->vertices() : particles.position,
+                           particles.velocity, particles.density_ratio};
   // The scene depends on the camera and the tank only: while they stay, fluid frames keep the
   // scene's depth in the attachment and its colour in scene_ from the frame that drew it.
   const SceneKey scene_key{frame.view, frame.projection, tank.min, tank.max};
   const bool scene_kept = fluid && scene_drawn_for_ == scene_key;
-  // The scene's pass draws the scene, and Marching Cubes or points over it; SSFR over a kept
-  // scene has nothing to draw there.
-  const bool scene_pass = !(scene_kept && kind == RendererKind::ssfr);
+  // The scene's pass draws the scene, and points over it; a fluid over a kept scene needs none
+  // (its pass tests against the depth the scene's pass left).
   const float clear[4] = {0.0f, 0.0f, 0.0f, 1.0f};
-  if (scene_pass) {
-    target_.begin(commands, clear,
-                  scene_kept ? RenderTarget::Start::keep_depth : RenderTarget::Start::clear);
-    if (!scene_kept) background_->draw(commands, draw, 3);
+  if (!scene_kept) {
+    target_.begin(commands, clear);
+    background_->draw(commands, draw, 3);
   }
   // Points write colour and depth over the scene.
   scene_drawn_for_ = fluid ? std::optional(scene_key) : std::nullopt;
   slot.timestamps.mark(commands);
-  if (scene_pass) {
-    if (mesh) {
-      mc_surface_->draw_indirect(commands, draw, marching_cubes_->draw_buffer());
-    } else if (kind == RendererKind::points) {
-      points_->draw(commands, draw, 6 * particles.count);
-    }
+  if (!scene_kept) {
+    if (kind == RendererKind::points) points_->draw(commands, draw, 6 * particles.count);
     target_.end(commands);
   }
-  if (kind == RendererKind::ssfr) {
+  if (fluid) {
     fluid_target_->begin(commands);
-    fluid_surface_->draw(commands, draw, 6 * particles.count);
+    if (mesh) {
+      mc_surface_->draw_indirect(commands, draw, marching_cubes_->draw_buffer());
+    } else if (kind == RendererKind::ssfr) {
+      fluid_surface_->draw(commands, draw, 6 * particles.count);
+    }
     fluid_target_->end(commands);
     fluid_target_->record_read(commands, depth_, thickness_);
   }
@@ -368,8 +356,7 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
                            scene_.address(),
                            image_.address(),
                            0,
-                           ssfr.filter == SsfrStyle::DepthFilter::narrow_range ? 1u : 0u,
-                           kind == RendererKind::mc ? 1u : 0u};
+                           ssfr.filter == SsfrStyle::DepthFilter::narrow_range ? 1u : 0u};
     // The separable filter, x then y, applied smoothing_passes times; ends in depth_.
     const int smoothing_passes =
         kind == RendererKind::mc ? mc.smoothing_passes : ssfr.smoothing_passes;

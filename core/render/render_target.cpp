@@ -21,15 +21,13 @@ void check_size(const gpu::Context& context, std::uint32_t width, std::uint32_t 
   }
 }
 
-// The two passes differ only in how they start (so one framebuffer and the pipelines serve both):
-// `clear` clears colour and depth; `keep_depth` starts from the depth the previous pass stored and
-// leaves the colour undefined. Both store the depth for a later keep_depth pass.
-gpu::UniqueRenderPass make_scene_pass(VkDevice device, RenderTarget::Start start) {
-  const bool keep = start == RenderTarget::Start::keep_depth;
+// Clears colour and depth, and stores both: the colour to be copied out, the depth for the
+// fluid's pass (FluidTarget) of this frame and of later frames of the same camera.
+gpu::UniqueRenderPass make_scene_pass(VkDevice device) {
   VkAttachmentDescription attachments[2] = {};
   attachments[0].format = RenderTarget::kColourFormat;
   attachments[0].samples = VK_SAMPLE_COUNT_1_BIT;
-  attachments[0].loadOp = keep ? VK_ATTACHMENT_LOAD_OP_DONT_CARE : VK_ATTACHMENT_LOAD_OP_CLEAR;
+  attachments[0].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
   attachments[0].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
   attachments[0].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
   attachments[0].stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
@@ -37,9 +35,6 @@ gpu::UniqueRenderPass make_scene_pass(VkDevice device, RenderTarget::Start start
   attachments[0].finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
   attachments[1] = attachments[0];
   attachments[1].format = RenderTarget::kDepthFormat;
-  attachments[1].loadOp = keep ? VK_ATTACHMENT_LOAD_OP_LOAD : VK_ATTACHMENT_LOAD_OP_CLEAR;
-  attachments[1].initialLayout =
-      keep ? VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL : VK_IMAGE_LAYOUT_UNDEFINED;
   attachments[1].finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
   const VkAttachmentReference colour_ref{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
   const VkAttachmentReference depth_ref{1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
@@ -83,20 +78,17 @@ RenderTarget::RenderTarget(gpu::Context& context, std::uint32_t width, std::uint
                           VK_IMAGE_ASPECT_COLOR_BIT))),
       depth_(context, width, height, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
              VK_IMAGE_ASPECT_DEPTH_BIT) {
-  clearing_pass_ = make_scene_pass(context.device(), Start::clear);
-  keeping_pass_ = make_scene_pass(context.device(), Start::keep_depth);
+  pass_ = make_scene_pass(context.device());
 
   const VkImageView views[2] = {colour_.view(), depth_.view()};
-  // Made for the clearing pass, and compatible with the keeping one.
-  framebuffer_ = make_framebuffer(context.device(), clearing_pass_.get(), views, width, height);
+  framebuffer_ = make_framebuffer(context.device(), pass_.get(), views, width, height);
 }
 
-void RenderTarget::begin(VkCommandBuffer commands, const float background[4], Start start) const {
+void RenderTarget::begin(VkCommandBuffer commands, const float background[4]) const {
   VkClearValue clear[2];
   clear[0].color = {{background[0], background[1], background[2], background[3]}};
   clear[1].depthStencil = {1.0f, 0};
-  begin_render_pass(commands, start == Start::clear ? clearing_pass_.get() : keeping_pass_.get(),
-                    framebuffer_.get(), width(), height(), clear);
+  begin_render_pass(commands, pass_.get(), framebuffer_.get(), width(), height(), clear);
 }
 
 void RenderTarget::end(VkCommandBuffer commands) const { vkCmdEndRenderPass(commands); }

@@ -25,6 +25,3 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Fr
   uint colour_by_density;  // points mode: 1 colours by ρ/ρ0 instead of speed
   float density_span;      // points mode: ρ/ρ0 = 1 ± span gets slow and fast colour
 };
-
-// Marching Cubes sums thickness with integer atomics, in micrometres.
-const float kThicknessUnit = 1e-6;

@@ -52,10 +52,7 @@ void main() {
   const vec3 to_eye = normalize(-position);
 
   // Signed: the mesh sums back minus front faces; a shortfall anywhere must not go negative.
-  const uint summed = screen.thickness.v[index];
-  const float thickness = screen.thickness_in_units != 0u
-                              ? float(max(int(summed), 0)) * kThicknessUnit
-                              : max(uintBitsToFloat(summed), 0.0);
+  const float thickness = max(screen.thickness.v[index], 0.0);
   // Refraction: the scene behind, displaced along the normal, dimmed by the water crossed.
   // A few per cent of the frame for a few centimetres of water.
   const vec2 offset = normal.xy * min(thickness, 0.1) * 0.4 * float(height);

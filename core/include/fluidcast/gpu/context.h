@@ -74,8 +74,6 @@ class Context {
   const DeviceInfo& info() const { return info_; }
   bool validation_enabled() const { return messenger_ != VK_NULL_HANDLE; }
   bool timestamps_supported() const { return timestamp_valid_bits_ > 0; }
-  // Fragment shaders may write storage buffers (fragmentStoresAndAtomics).
-  bool fragment_stores_supported() const { return fragment_stores_; }
   // Colour attachments of one pass may blend differently (independentBlend).
   bool independent_blend_supported() const { return independent_blend_; }
   float timestamp_period_ns() const { return properties_.limits.timestampPeriod; }
@@ -140,7 +138,6 @@ class Context {
   VkQueue queue_ = VK_NULL_HANDLE;
   std::uint32_t queue_family_ = 0;
   std::uint32_t timestamp_valid_bits_ = 0;
-  bool fragment_stores_ = false;
   bool independent_blend_ = false;
   std::unique_ptr<MemoryAllocator> memory_;
   VkSemaphore finished_ = VK_NULL_HANDLE;  // timeline: the serial of the newest finished submission

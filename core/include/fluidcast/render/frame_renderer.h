@@ -179,9 +179,11 @@ class FrameRenderer {
 
   gpu::Context* context_;
   RenderTarget target_;
-  // SSFR's spheres: none where the device cannot blend float attachments.
+  std::unique_ptr<GraphicsPipeline> background_, points_;
+  // SSFR's spheres and Marching Cubes' mesh: none where the device cannot blend float
+  // attachments.
   std::unique_ptr<FluidTarget> fluid_target_;
-  std::unique_ptr<GraphicsPipeline> background_, points_, mc_surface_, fluid_surface_;
+  std::unique_ptr<GraphicsPipeline> fluid_surface_, mc_surface_;
   std::unique_ptr<MarchingCubes> marching_cubes_;  // built for the tank of the first mc frame
   gpu::ComputePipeline smooth_, shade_, yuv420_;
   gpu::Buffer frame_params_;
