@@ -74,6 +74,7 @@ void GpuStepBatch::record_and_submit(std::vector<Queued>& steps) {
   std::vector<Lane> lanes;
   std::vector<const void*> lane_owner;
   for (Queued& step : steps) {
+    step.receipt->passes.clear();  // a failed try may have begun them
     const auto found = std::find(lane_owner.begin(), lane_owner.end(), step.owner);
     const std::size_t lane = static_cast<std::size_t>(found - lane_owner.begin());
     if (found == lane_owner.end()) {
