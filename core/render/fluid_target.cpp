@@ -13,23 +13,15 @@ constexpr VkAccessFlags kDepthAccess =
     VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
 
 gpu::UniqueRenderPass make_pass(VkDevice device) {
-  VkAttachmentDescription attachments[3] = {};
-  // Distance and thickness: cleared, left ready to be copied out.
-  attachments[0].format = FluidTarget::kFloatFormat;
-  attachments[0].samples = VK_SAMPLE_COUNT_1_BIT;
-  attachments[0].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-  attachments[0].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-  attachments[0].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
-  attachments[0].stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-  attachments[0].initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-  attachments[0].finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-  attachments[1] = attachments[0];
-  // The scene's depth as its pass left it, kept for later frames of the same camera.
-  attachments[2] = attachments[0];
-  attachments[2].format = RenderTarget::kDepthFormat;
+  // Distance and thickness: cleared, left ready to be copied out. Then the scene's depth as its
+  // pass left it, kept for later frames of the same camera.
+  VkAttachmentDescription attachments[3] = {
+      cleared_attachment(FluidTarget::kFloatFormat, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL),
+      cleared_attachment(FluidTarget::kFloatFormat, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL),
+      cleared_attachment(RenderTarget::kDepthFormat,
+                         VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL)};
   attachments[2].loadOp = VK_ATTACHMENT_LOAD_OP_LOAD;
   attachments[2].initialLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
-  attachments[2].finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
   const VkAttachmentReference colour_refs[2] = {{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL},
                                                 {1, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL}};
   const VkAttachmentReference depth_ref{2, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};

@@ -4,6 +4,19 @@
 
 namespace fluidcast::render {
 
+VkAttachmentDescription cleared_attachment(VkFormat format, VkImageLayout final_layout) {
+  VkAttachmentDescription attachment{};
+  attachment.format = format;
+  attachment.samples = VK_SAMPLE_COUNT_1_BIT;
+  attachment.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+  attachment.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+  attachment.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+  attachment.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+  attachment.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  attachment.finalLayout = final_layout;
+  return attachment;
+}
+
 gpu::UniqueRenderPass make_render_pass(VkDevice device,
                                        std::span<const VkAttachmentDescription> attachments,
                                        const VkSubpassDescription& subpass,

@@ -9,6 +9,10 @@
 
 namespace fluidcast::render {
 
+// An attachment cleared at the start of its pass (what it held before is dropped) and stored,
+// ending in `final_layout`.
+VkAttachmentDescription cleared_attachment(VkFormat format, VkImageLayout final_layout);
+
 gpu::UniqueRenderPass make_render_pass(VkDevice device,
                                        std::span<const VkAttachmentDescription> attachments,
                                        const VkSubpassDescription& subpass,

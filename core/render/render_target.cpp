@@ -24,18 +24,10 @@ void check_size(const gpu::Context& context, std::uint32_t width, std::uint32_t 
 // Clears colour and depth, and stores both: the colour to be copied out, the depth for the
 // fluid's pass (FluidTarget) of this frame and of later frames of the same camera.
 gpu::UniqueRenderPass make_scene_pass(VkDevice device) {
-  VkAttachmentDescription attachments[2] = {};
-  attachments[0].format = RenderTarget::kColourFormat;
-  attachments[0].samples = VK_SAMPLE_COUNT_1_BIT;
-  attachments[0].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-  attachments[0].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-  attachments[0].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
-  attachments[0].stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-  attachments[0].initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-  attachments[0].finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-  attachments[1] = attachments[0];
-  attachments[1].format = RenderTarget::kDepthFormat;
-  attachments[1].finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+  const VkAttachmentDescription attachments[2] = {
+      cleared_attachment(RenderTarget::kColourFormat, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL),
+      cleared_attachment(RenderTarget::kDepthFormat,
+                         VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL)};
   const VkAttachmentReference colour_ref{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
   const VkAttachmentReference depth_ref{1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
   VkSubpassDescription subpass{};
