@@ -1,6 +1,7 @@
 #include "fluid_target.h"
 
 #include <limits>
+#include <utility>
 
 #include "render_pass.h"
 
@@ -13,21 +14,23 @@ constexpr VkAccessFlags kDepthAccess =
     VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
 
 gpu::UniqueRenderPass make_pass(VkDevice device) {
-  // Distance and thickness: cleared, left ready to be copied out. Then the scene's depth as its
-  // pass left it, kept for later frames of the same camera.
-  VkAttachmentDescription attachments[3] = {
+  // Distance, thickness and spray: cleared, left ready to be copied out. Then the scene's depth
+  // as its pass left it, kept for later frames of the same camera.
+  VkAttachmentDescription attachments[4] = {
+      cleared_attachment(FluidTarget::kFloatFormat, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL),
       cleared_attachment(FluidTarget::kFloatFormat, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL),
       cleared_attachment(FluidTarget::kFloatFormat, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL),
       cleared_attachment(RenderTarget::kDepthFormat,
                          VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL)};
-  attachments[2].loadOp = VK_ATTACHMENT_LOAD_OP_LOAD;
-  attachments[2].initialLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
-  const VkAttachmentReference colour_refs[2] = {{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL},
-                                                {1, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL}};
-  const VkAttachmentReference depth_ref{2, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+  attachments[3].loadOp = VK_ATTACHMENT_LOAD_OP_LOAD;
+  attachments[3].initialLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+  const VkAttachmentReference colour_refs[3] = {{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL},
+                                                {1, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL},
+                                                {2, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL}};
+  const VkAttachmentReference depth_ref{3, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
   VkSubpassDescription subpass{};
   subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
-  subpass.colorAttachmentCount = 2;
+  subpass.colorAttachmentCount = 3;
   subpass.pColorAttachments = colour_refs;
   subpass.pDepthStencilAttachment = &depth_ref;
   // Before: the scene pass's depth writes, and the previous frame's copies out of the colour.
@@ -69,30 +72,37 @@ FluidTarget::FluidTarget(gpu::Context& context, const RenderTarget& scene)
       thickness_(context, width_, height_, kFloatFormat,
                  VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                  VK_IMAGE_ASPECT_COLOR_BIT),
+      spray_(context, width_, height_, kFloatFormat,
+             VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+             VK_IMAGE_ASPECT_COLOR_BIT),
       pass_(make_pass(context.device())) {
-  const VkImageView views[3] = {distance_.view(), thickness_.view(), scene.depth().view()};
+  const VkImageView views[4] = {distance_.view(), thickness_.view(), spray_.view(),
+                                scene.depth().view()};
   framebuffer_ = make_framebuffer(context.device(), pass_.get(), views, width_, height_);
 }
 
 void FluidTarget::begin(VkCommandBuffer commands) const {
-  VkClearValue values[3];
+  VkClearValue values[4];
   values[0].color = {{std::numeric_limits<float>::infinity(), 0.0f, 0.0f, 0.0f}};
   values[1].color = {{0.0f, 0.0f, 0.0f, 0.0f}};
-  values[2].depthStencil = {1.0f, 0};  // unused: the depth is loaded
+  values[2].color = {{0.0f, 0.0f, 0.0f, 0.0f}};
+  values[3].depthStencil = {1.0f, 0};  // unused: the depth is loaded
   begin_render_pass(commands, pass_.get(), framebuffer_.get(), width_, height_, values);
 }
 
 void FluidTarget::end(VkCommandBuffer commands) const { vkCmdEndRenderPass(commands); }
 
 void FluidTarget::record_read(VkCommandBuffer commands, const gpu::Buffer& distance,
-                              const gpu::Buffer& thickness) const {
+                              const gpu::Buffer& thickness, const gpu::Buffer& spray) const {
   VkBufferImageCopy region{};
   region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
   region.imageExtent = {width_, height_, 1};
-  vkCmdCopyImageToBuffer(commands, distance_.get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                         distance.get(), 1, &region);
-  vkCmdCopyImageToBuffer(commands, thickness_.get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                         thickness.get(), 1, &region);
+  const std::pair<const gpu::Image*, const gpu::Buffer*> copies[3] = {
+      {&distance_, &distance}, {&thickness_, &thickness}, {&spray_, &spray}};
+  for (const auto& [image, buffer] : copies) {
+    vkCmdCopyImageToBuffer(commands, image->get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                           buffer->get(), 1, &region);
+  }
 }
 
 }  // namespace fluidcast::render

@@ -1,8 +1,8 @@
-// Where SSFR draws its spheres through the rasterizer, in one pass: the nearest sphere's view
-// distance and the water crossed, each a float per pixel in an attachment of its own, combined by
-// the blend units (minimum, sum) rather than by buffer atomics, and tested against the scene's
-// depth (RenderTarget's, read, never written). Then both are copied into the buffers the
-// screen-space passes read.
+// Where SSFR draws its particles through the rasterizer, in one pass: the nearest surface's view
+// distance, the water crossed and the spray crossed, each a float per pixel in an attachment of
+// its own, combined by the blend units (minimum, sum, sum) rather than by buffer atomics, and
+// tested against the scene's depth (RenderTarget's, read, never written). Then all three are
+// copied into the buffers the screen-space passes read.
 #pragma once
 
 #include "fluidcast/gpu/buffer.h"
@@ -23,16 +23,18 @@ class FluidTarget {
 
   VkRenderPass render_pass() const { return pass_.get(); }
 
-  // Clears distance to +inf and thickness to 0 and begins the pass (after the scene's pass).
+  // Clears distance to +inf, thickness and spray to 0 and begins the pass (after the scene's
+  // pass).
   void begin(VkCommandBuffer commands) const;
   void end(VkCommandBuffer commands) const;
-  // Distances (+inf where no sphere is) and thicknesses (m) into buffers of a float per pixel.
+  // Distances (+inf where no surface is), thicknesses (m) and spray (particle diameters) into
+  // buffers of a float per pixel.
   void record_read(VkCommandBuffer commands, const gpu::Buffer& distance,
-                   const gpu::Buffer& thickness) const;
+                   const gpu::Buffer& thickness, const gpu::Buffer& spray) const;
 
  private:
   std::uint32_t width_, height_;
-  gpu::Image distance_, thickness_;
+  gpu::Image distance_, thickness_, spray_;
   gpu::UniqueRenderPass pass_;
   gpu::UniqueFramebuffer framebuffer_;
 };

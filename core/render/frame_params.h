@@ -36,18 +36,30 @@ static_assert(sizeof(FrameParams) % 16 == 0);
 
 // shaders/common/draw_pass.glsl
 struct DrawConstants {
-  VkDeviceAddress frame, position, velocity, density_ratio;
+  VkDeviceAddress frame, position, velocity, density_ratio, shape;
+  std::uint32_t ellipsoids;
 };
-static_assert(sizeof(DrawConstants) == 32);
+static_assert(offsetof(DrawConstants, ellipsoids) == 40 && sizeof(DrawConstants) == 48);
 
 // shaders/common/screen_pass.glsl
 struct ScreenConstants {
-  VkDeviceAddress frame, depth_in, depth_out, thickness, scene, image;
+  VkDeviceAddress frame, depth_in, depth_out, thickness, spray, scene, image;
   std::uint32_t axis;
   std::uint32_t narrow_range;
 };
-static_assert(offsetof(ScreenConstants, axis) == 48 &&
-              offsetof(ScreenConstants, narrow_range) == 52);
+static_assert(offsetof(ScreenConstants, axis) == 56 &&
+              offsetof(ScreenConstants, narrow_range) == 60);
+
+// shaders/render/anisotropy.comp
+struct AnisotropyConstants {
+  VkDeviceAddress position, order, cell_start, sorted_cell, centre, shape;
+  glm::ivec4 dims;
+  std::uint32_t particle_count;
+  float radius, search_radius, max_stretch, centre_smoothing;
+  std::uint32_t spray_below;
+};
+static_assert(offsetof(AnisotropyConstants, dims) == 48 &&
+              offsetof(AnisotropyConstants, spray_below) == 84);
 
 // shaders/render/yuv420.comp
 struct YuvConstants {

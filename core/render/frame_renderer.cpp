@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "anisotropy.h"
 #include "fluid_target.h"
 #include "fluidcast/gpu/transfer.h"
 #include "fluidcast_shaders/fluidcast_render.h"
@@ -62,18 +63,18 @@ FrameRenderer::FrameRenderer(gpu::Context& context, std::uint32_t width, std::ui
   if (FluidTarget::supported(context)) {
     fluid_target_ = std::make_unique<FluidTarget>(context, target_);
     fluid_surface_ = std::make_unique<GraphicsPipeline>(
-        context, fluid_target_->render_pass(), shaders::render_points_vert,
+        context, fluid_target_->render_pass(), shaders::render_ellipsoids_vert,
         shaders::render_fluid_surface_frag,
-        PipelineOptions{true, false, true, {Blend::min, Blend::add}});
+        PipelineOptions{true, false, true, {Blend::min, Blend::add, Blend::add}});
     // No depth test: the mesh closes just outside the tank's walls, behind the scene, and the
     // thickness needs every face.
     mc_surface_ = std::make_unique<GraphicsPipeline>(
         context, fluid_target_->render_pass(), shaders::render_mc_vert,
         shaders::render_mc_surface_frag,
-        PipelineOptions{false, false, true, {Blend::min, Blend::add}});
+        PipelineOptions{false, false, true, {Blend::min, Blend::add, Blend::add}});
   }
   const std::uint64_t per_pixel = std::uint64_t{width} * height * 4;
-  for (gpu::Buffer* buffer : {&depth_, &depth_scratch_, &thickness_, &scene_, &image_}) {
+  for (gpu::Buffer* buffer : {&depth_, &depth_scratch_, &thickness_, &spray_, &scene_, &image_}) {
     *buffer = gpu::Buffer(context, per_pixel, gpu::MemoryDomain::device);
   }
   planes_ = gpu::Buffer(context, frame_bytes(FrameFormat::yuv420), gpu::MemoryDomain::device);
@@ -110,21 +111,22 @@ std::size_t FrameRenderer::frames_pending() const {
 codec::Image FrameRenderer::collect(Slot& slot) {
   slot.commands.wait();
   slot.in_flight = false;
-  // Marks: start, [MC: field, triangles,] scene, particles; SSFR and MC: smoothing (with the copy
-  // of the scene), shading; then the read-back.
+  // Marks: start, [MC: field, triangles,] [SSFR: anisotropy,] scene, particles; SSFR and MC:
+  // smoothing (with the copy of the scene), shading; then the read-back.
   slot.timestamps.fetch();
   const std::uint32_t marks = slot.timestamps.marks();
-  const std::uint32_t mesh = slot.meshed ? 2 : 0;
+  const std::uint32_t first = (slot.meshed ? 2 : 0) + (slot.anisotropic ? 1 : 0);
   RenderTimes times;
   if (slot.meshed) {
     times.mc_field_ms = slot.timestamps.elapsed_ms(0, 1);
     times.mc_triangles_ms = slot.timestamps.elapsed_ms(1, 2);
   }
-  times.scene_ms = slot.timestamps.elapsed_ms(mesh, mesh + 1);
-  times.particles_ms = slot.timestamps.elapsed_ms(mesh + 1, mesh + 2);
-  if (marks == mesh + 6) {
-    times.smoothing_ms = slot.timestamps.elapsed_ms(mesh + 2, mesh + 3);
-    times.shading_ms = slot.timestamps.elapsed_ms(mesh + 3, mesh + 4);
+  if (slot.anisotropic) times.anisotropy_ms = slot.timestamps.elapsed_ms(0, 1);
+  times.scene_ms = slot.timestamps.elapsed_ms(first, first + 1);
+  times.particles_ms = slot.timestamps.elapsed_ms(first + 1, first + 2);
+  if (marks == first + 6) {
+    times.smoothing_ms = slot.timestamps.elapsed_ms(first + 2, first + 3);
+    times.shading_ms = slot.timestamps.elapsed_ms(first + 3, first + 4);
   }
   times.readback_ms = slot.timestamps.elapsed_ms(marks - 2, marks - 1);
   last_times_ = times;
@@ -169,6 +171,13 @@ std::uint64_t FrameRenderer::submit(RendererKind requested, const ParticleView& 
         mc.smoothing_radii > 0.0f && ssfr.smoothing_passes >= 0 && mc.smoothing_passes >= 0)) {
     throw std::invalid_argument(
         "renderer: smoothing radius and depth falloff must be positive, passes not negative");
+  }
+  if (!(ssfr.max_stretch >= 1.0f && ssfr.max_stretch <= 16.0f && ssfr.centre_smoothing >= 0.0f &&
+        ssfr.centre_smoothing <= 1.0f && ssfr.spray_neighbours >= 0 &&
+        ssfr.spray_neighbours <= 32)) {
+    throw std::invalid_argument(
+        "renderer: anisotropy's stretch must lie in 1 to 16, its centre smoothing in 0 to 1, its "
+        "spray neighbours in 0 to 32");
   }
   if (kind != RendererKind::points && !fluid_target_) {
     throw std::invalid_argument("renderers ssfr and mc: the device " + context_->info().name +
@@ -279,9 +288,11 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
   frame.density_span = points.density_span;
 
   // The solver's writes (compute, transfers) before this frame reads the particles in place; and
-  // the previous frame's reads of the shared per-pixel buffers before this one's copies into them.
+  // the previous frame's reads of what frames share (the per-pixel buffers, the anisotropy's
+  // grid and ellipsoids) before this one writes them.
   memory_barrier(commands, kCompute | kTransfer | kDrawStages,
-                 VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, kDrawStages | kTransfer,
+                 VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                 kDrawStages | kTransfer | kCompute,
                  VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
   vkCmdUpdateBuffer(commands, frame_params_.get(), 0, sizeof(frame), &frame);
   // SSFR and MC draw through FluidTarget's attachments, copied into the per-pixel surface
@@ -294,10 +305,22 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
   const bool mesh = kind == RendererKind::mc && particles.count > 0;
   slot.meshed = mesh;
   if (mesh) marching_cubes_->record(commands, particles, mc.threshold, slot.timestamps);
-  // For the mesh, `position` is the vertex buffer.
-  const DrawConstants draw{frame_params_.address(),
-                           mesh ? marching_cubes_->vertices() : particles.position,
-                           particles.velocity, particles.density_ratio};
+  const bool ellipsoids = kind == RendererKind::ssfr && ssfr.anisotropic && particles.count > 0;
+  slot.anisotropic = ellipsoids;
+  if (ellipsoids) {
+    if (!anisotropy_) anisotropy_ = std::make_unique<Anisotropy>(*context_);
+    anisotropy_->record(commands, particles, tank, ssfr);
+    slot.timestamps.mark(commands);
+  }
+  // For the mesh, `position` is the vertex buffer; for ellipsoids, their centres.
+  DrawConstants draw{frame_params_.address(), particles.position, particles.velocity,
+                     particles.density_ratio, 0, 0};
+  if (mesh) draw.position = marching_cubes_->vertices();
+  if (ellipsoids) {
+    draw.position = anisotropy_->centres().address();
+    draw.shape = anisotropy_->shapes().address();
+    draw.ellipsoids = 1;
+  }
   // The scene depends on the camera and the tank only: while they stay, fluid frames keep the
   // scene's depth in the attachment and its colour in scene_ from the frame that drew it.
   const SceneKey scene_key{frame.view, frame.projection, tank.min, tank.max};
@@ -324,7 +347,7 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
       fluid_surface_->draw(commands, draw, 6 * particles.count);
     }
     fluid_target_->end(commands);
-    fluid_target_->record_read(commands, depth_, thickness_);
+    fluid_target_->record_read(commands, depth_, thickness_, spray_);
   }
   slot.timestamps.mark(commands);
 
@@ -353,6 +376,7 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
                            depth_.address(),
                            depth_scratch_.address(),
                            thickness_.address(),
+                           spray_.address(),
                            scene_.address(),
                            image_.address(),
                            0,

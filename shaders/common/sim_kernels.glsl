@@ -113,16 +113,10 @@ ivec3 sorted_cell(uint k) {
   return ivec3(c % row, (c % layer) / row, c / layer);
 }
 
-// for every sorted slot j in the 5×5 rows of 5 cells around `cell` (a contiguous range per row):
+// for every sorted slot j in the 5×5 rows of 5 cells around `cell` (grid.glsl):
 //   const ivec3 cell = sorted_cell(k);
 //   FOR_EACH_CANDIDATE(cell, j) { ... }
-#define FOR_EACH_CANDIDATE(cell, j)                                                              \
-  for (int z_ = max(cell.z - 2, 0); z_ <= min(cell.z + 2, K_grid_dims.z - 1); ++z_)                \
-    for (int y_ = max(cell.y - 2, 0); y_ <= min(cell.y + 2, K_grid_dims.y - 1); ++y_)              \
-      for (uint j = K_cell_start.v[grid_cell_index(ivec3(max(cell.x - 2, 0), y_, z_), K_grid_dims)], \
-                end_ = K_cell_start.v[grid_cell_index(ivec3(min(cell.x + 2, K_grid_dims.x - 1), y_, z_), \
-                                                      K_grid_dims) + 1];                       \
-           j < end_; ++j)
+#define FOR_EACH_CANDIDATE(cell, j) FOR_EACH_CANDIDATE_IN(K_cell_start, K_grid_dims, cell, j)
 
 // The largest value over the dispatch, into P.stats.v[slot]: one global atomic per workgroup.
 // Every invocation must call it (no early return before).

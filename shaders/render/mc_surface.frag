@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Marching Cubes into SSFR's two float attachments (FluidTarget), so the mesh gets the same
+// Marching Cubes into SSFR's float attachments (FluidTarget), so the mesh gets the same
 // shading: the nearest camera-facing surface by minimum blending, and the water crossed as
 // Σ back-face distances − Σ front-face distances by additive blending (a closed mesh sums to its
 // thickness). No depth test: the mesh closes just outside the tank's walls, behind the scene.
@@ -11,6 +11,7 @@ layout(location = 0) in vec3 view_position;
 layout(location = 1) in vec3 view_normal;
 layout(location = 0) out float out_distance;
 layout(location = 1) out float out_thickness;
+layout(location = 2) out float out_spray;
 
 void main() {
   // The triangle's own plane decides which way it faces; the interpolated normal (outward, from
@@ -21,4 +22,5 @@ void main() {
   const float along_view = max(-view_position.z, 1e-4);  // never 0: the depth divides later
   out_distance = facing_camera ? along_view : uintBitsToFloat(0x7f800000u);  // +inf: no change
   out_thickness = facing_camera ? -along_view : along_view;
+  out_spray = 0.0;
 }

@@ -1,7 +1,8 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // SSFR, shading: normals from the smoothed depth, Fresnel reflection of the sky, refraction of the
-// scene behind with Beer–Lambert absorption by thickness, and a specular highlight.
+// scene behind with Beer–Lambert absorption by thickness, and a specular highlight; then spray
+// over it, white and matte, as dense as the spray the pixel's ray crossed.
 #include "common/frame.glsl"
 #include "common/screen_pass.glsl"
 #include "common/scene.glsl"
@@ -19,17 +20,11 @@ float depth_at(ivec2 q, uint width, uint height) {
   return screen.depth_in.v[uint(q.y) * width + uint(q.x)];
 }
 
+const vec3 kSprayColour = vec3(0.88, 0.92, 0.95);
 
-void main() {
-  const uint width = screen.frame.width, height = screen.frame.height;
-  const uint index = invocation();  // one per pixel, rows one after the other
-  if (index >= width * height) return;
-  const ivec2 p = ivec2(index % width, index / width);
-  const float d = screen.depth_in.v[index];
-  if (d == infinity()) {
-    screen.image.v[index] = screen.scene.v[index];
-    return;
-  }
+// The water's colour at pixel p, whose smoothed surface lies at view distance d.
+vec3 water(ivec2 p, float d, uint width, uint height) {
+  const uint index = uint(p.y) * width + uint(p.x);
   const mat4 projection = screen.frame.projection;
   const vec3 position = view_position(vec2(p), d, projection, width, height);
   // Normal from the smaller of the two one-sided differences on each axis (silhouettes).
@@ -69,5 +64,19 @@ void main() {
   const vec4 light = screen.frame.light_direction;
   const vec3 halfway = normalize(normalize(light.xyz) + to_eye);
   colour += vec3(pow(max(dot(normal, halfway), 0.0), 120.0)) * 0.8;
-  screen.image.v[index] = packUnorm4x8(vec4(clamp(colour, 0.0, 1.0), 1.0));
+  return clamp(colour, 0.0, 1.0);
 }
+
+void main() {
+  const uint width = screen.frame.width, height = screen.frame.height;
+  const uint index = invocation();  // one per pixel, rows one after the other
+  if (index >= width * height) return;
+  const ivec2 p = ivec2(index % width, index / width);
+  const float d = screen.depth_in.v[index];
+  const vec3 colour = d == infinity() ? unpackUnorm4x8(screen.scene.v[index]).rgb
+                                      : water(p, d, width, height);
+  // A particle diameter of spray hides about half of what is behind it.
+  const float foam = 1.0 - exp(-0.7 * screen.spray.v[index]);
+  screen.image.v[index] = packUnorm4x8(vec4(mix(colour, kSprayColour, foam), 1.0));
+}
+

@@ -1,6 +1,6 @@
 // The GPU counting sort against the CPU grid: the same cell for every particle and the same cell
 // ranges, exactly. Within a cell the GPU order follows its atomics, so cells compare as sets.
-#include "gpu/gpu_neighbour_grid.h"
+#include "fluidcast/sim/gpu_neighbour_grid.h"
 
 #include <gtest/gtest.h>
 

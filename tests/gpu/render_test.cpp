@@ -4,6 +4,8 @@
 // at.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -335,9 +337,10 @@ TEST_F(RenderTest, TheDefaultFilterLeavesASurfaceThatReadsAsWater) {
   EXPECT_LT(smoothed.rough_share, 0.05);
 }
 
-// A splashing dam break (8000 particles, t = 0.5 s): the filter's depth range decides whether
-// the spheres' bumps read as one surface. The default (4 radii) against half of it.
-TEST_F(RenderTest, TheDefaultDepthRangeSmoothsASplashingDamBreak) {
+// A splashing dam break (8000 particles, t = 0.5 s): whether the spheres' bumps read as one
+// surface. The defaults (ellipsoids, a depth range of 4 radii) against half that range, and
+// against spheres.
+TEST_F(RenderTest, TheDefaultsSmoothASplashingDamBreak) {
   sim::SceneParams scene;
   scene.kind = sim::SceneKind::dam_break;
   scene.particles = 8000;
@@ -359,10 +362,48 @@ TEST_F(RenderTest, TheDefaultDepthRangeSmoothsASplashingDamBreak) {
   const double by_default = rough("render_dam_break_surface_default");
   renderer.ssfr.depth_falloff_radii = 0.5f * SsfrStyle{}.depth_falloff_radii;
   const double narrower = rough("render_dam_break_surface_narrower_range");
-  std::printf("rough pixels: %.1f %% by default, %.1f %% with half the depth range\n",
-              100.0 * by_default, 100.0 * narrower);
-  EXPECT_LT(by_default, 0.1);
+  renderer.ssfr = SsfrStyle{};
+  renderer.ssfr.anisotropic = false;
+  const double spheres = rough("render_dam_break_surface_spheres");
+  std::printf("rough pixels: %.1f %% by default, %.1f %% with half the depth range, %.1f %% "
+              "with spheres\n",
+              100.0 * by_default, 100.0 * narrower, 100.0 * spheres);
+  EXPECT_LT(by_default, 0.03);
   EXPECT_GT(narrower, 2.0 * by_default);
+  EXPECT_GT(spheres, 3.0 * by_default);
+}
+
+// A particle far from the rest is spray: drawn, white over the scene, but no part of the surface
+// that the shading lights; as a sphere (no spray, or no anisotropy) it is the surface again.
+TEST_F(RenderTest, ALoneParticleIsSprayNotSurface) {
+  sim::ParticleSet one;
+  one.append({0.5f, 0.2f, 0.15f}, {0, 0, 0}, 0);
+  ParticleSource source(context());
+  const ParticleView view = source.upload(one, 0.02f);
+  constexpr std::uint32_t w = 160, h = 120;
+  FrameRenderer renderer(context(), w, h);
+  OrbitCamera camera = looking_at_tank();
+  camera.distance = 0.5f;
+  const auto empty = rgba(renderer.render(RendererKind::points, {}, kTank, camera));
+  const auto surface_pixels = [&] {
+    std::size_t pixels = 0;
+    for (float d : renderer.surface_distances()) pixels += std::isfinite(d) ? 1 : 0;
+    return pixels;
+  };
+  const auto spray = rgba(renderer.render(RendererKind::ssfr, view, kTank, camera));
+  keep(spray, "render_one_particle_spray");
+  EXPECT_EQ(surface_pixels(), 0u);
+  EXPECT_GT(pixels_differing(spray, empty), 40u);
+  const std::uint8_t* centre = spray.pixel(w / 2, h / 2);
+  EXPECT_GT(std::min({centre[0], centre[1], centre[2]}), empty.pixel(w / 2, h / 2)[0])
+      << "spray is lighter than what is behind it";
+  renderer.ssfr.spray_neighbours = 0;
+  renderer.render(RendererKind::ssfr, view, kTank, camera);
+  EXPECT_GT(surface_pixels(), 40u);
+  renderer.ssfr = SsfrStyle{};
+  renderer.ssfr.anisotropic = false;
+  renderer.render(RendererKind::ssfr, view, kTank, camera);
+  EXPECT_GT(surface_pixels(), 40u);
 }
 
 TEST_F(RenderTest, MarchingCubesShowsTheFluidAtAnyResolutionAndAutoPicksByCount) {
@@ -504,6 +545,7 @@ TEST_F(RenderTest, TheProbeFindsTheSurfaceUnderAPoint) {
   const ParticleView view = source.view_of(*pool);
   FrameRenderer renderer(context(), 160, 90);
   renderer.ssfr.smoothing_passes = 0;
+  renderer.ssfr.anisotropic = false;  // spheres, where the hit is checked
   OrbitCamera camera = camera_on(pool->tank(), 2.0f);
   camera.pitch_degrees = 89.0f;
   renderer.probe = glm::vec2(0.5f, 0.5f);

@@ -18,6 +18,8 @@ FrameWriter::FrameWriter(const SimOptions& options, gpu::Context& context,
     renderer_.points.colour_by = render::PointsStyle::ColourBy::density;
   }
   renderer_.ssfr.depth_falloff_radii = options.ssfr_depth_falloff;
+  renderer_.ssfr.anisotropic = options.ssfr_anisotropic;
+  renderer_.ssfr.spray_neighbours = options.ssfr_spray_neighbours;
   renderer_.ssfr.filter = options.narrow_range_filter ? render::SsfrStyle::DepthFilter::narrow_range
                                                       : render::SsfrStyle::DepthFilter::bilateral;
   const sim::Box& tank = solver.tank();

@@ -69,6 +69,15 @@ ParseOutcome parse_sim_options(int argc, char** argv) {
                  "SSFR depth filter: depth difference treated as another surface, in particle "
                  "radii (0.5-20; narrower keeps more of each sphere's bump)")
       ->capture_default_str();
+  std::string ssfr_particles = o.ssfr_anisotropic ? "ellipsoids" : "spheres";
+  app.add_option("--ssfr-particles", ssfr_particles,
+                 "SSFR particle shape: ellipsoids (anisotropic kernels of Yu & Turk 2013, shaped by "
+                 "the neighbours; lone particles drawn as spray) or spheres")
+      ->capture_default_str();
+  app.add_option("--ssfr-spray-below", o.ssfr_spray_neighbours,
+                 "SSFR ellipsoids: a particle with fewer neighbours than this within two particle "
+                 "spacings is drawn as spray (0-32; 0: none)")
+      ->capture_default_str();
   std::string colour_by = "speed";
   app.add_option("--colour-by", colour_by, "points renderer: speed or density")
       ->capture_default_str();
@@ -140,6 +149,15 @@ ParseOutcome parse_sim_options(int argc, char** argv) {
     if (!(o.ssfr_depth_falloff >= 0.5f && o.ssfr_depth_falloff <= 20.0f)) {
       throw sim::ParamError("--ssfr-depth-range: " + std::to_string(o.ssfr_depth_falloff) +
                             " is outside 0.5-20 particle radii");
+    }
+    if (ssfr_particles != "ellipsoids" && ssfr_particles != "spheres") {
+      throw sim::ParamError("--ssfr-particles: '" + ssfr_particles +
+                            "' is not ellipsoids or spheres");
+    }
+    o.ssfr_anisotropic = ssfr_particles == "ellipsoids";
+    if (!(o.ssfr_spray_neighbours >= 0 && o.ssfr_spray_neighbours <= 32)) {
+      throw sim::ParamError("--ssfr-spray-below: " + std::to_string(o.ssfr_spray_neighbours) +
+                            " is outside 0-32 neighbours");
     }
     if (colour_by != "speed" && colour_by != "density") {
       throw sim::ParamError("--colour-by: '" + colour_by + "' is not speed or density");

@@ -33,6 +33,8 @@ struct SimOptions {
   std::string renderer = "auto";
   bool narrow_range_filter = true;  // --ssfr-filter narrow (else bilateral)
   float ssfr_depth_falloff = render::SsfrStyle{}.depth_falloff_radii;  // --ssfr-depth-range
+  bool ssfr_anisotropic = render::SsfrStyle{}.anisotropic;             // --ssfr-particles
+  int ssfr_spray_neighbours = render::SsfrStyle{}.spray_neighbours;    // --ssfr-spray-below
   bool colour_by_density = false;  // --colour-by density (points)
   int width = 640, height = 360;
   std::optional<std::array<float, 3>> camera;  // yaw, pitch (degrees), distance (m)

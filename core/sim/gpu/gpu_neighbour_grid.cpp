@@ -1,4 +1,4 @@
-#include "gpu/gpu_neighbour_grid.h"
+#include "fluidcast/sim/gpu_neighbour_grid.h"
 
 #include <cstddef>
 #include <glm/glm.hpp>

@@ -18,9 +18,9 @@
 #include <optional>
 
 #include "fluidcast/gpu/compute_pipeline.h"
+#include "fluidcast/sim/gpu_neighbour_grid.h"
 #include "fluidcast/sim/gpu_step_batch.h"
 #include "fluidcast/sim/solver.h"
-#include "gpu/gpu_neighbour_grid.h"
 #include "gpu/gpu_sim_params.h"
 #include "substeps.h"
 

@@ -21,6 +21,7 @@
 
 namespace fluidcast::render {
 
+class Anisotropy;
 class FluidTarget;
 class GraphicsPipeline;
 class MarchingCubes;
@@ -70,6 +71,21 @@ struct SsfrStyle {
   // (specular speckle), at 4 radii 6 % (surface_roughness.h; docs/images/ssfr-surface-*).
   // Range 0.5–20.
   float depth_falloff_radii = 4.0f;
+  // Anisotropic kernels (Yu & Turk 2013): each particle drawn as an ellipsoid shaped by its
+  // neighbours, flat along the surface, so the surface is a sheet before any filtering; else
+  // spheres of the particle's radius. Costs a grid and a pass over the particles each frame
+  // (RenderTimes::anisotropy_ms).
+  bool anisotropic = true;
+  // Of an ellipsoid, the longest axis over the shortest, at most: 1 to 16 (1: spheres, still at
+  // the smoothed centres). Yu & Turk's 4.
+  float max_stretch = 4.0f;
+  // How far each centre moves to the weighted mean of its neighbours, 0 to 1 (Yu & Turk's λ):
+  // pulls lone bumps into the surface.
+  float centre_smoothing = 0.9f;
+  // Anisotropic only: a particle with fewer neighbours than this within two particle spacings
+  // (about 33 inside the fluid) is spray, drawn white and matte over the water instead of as a
+  // bead of its surface with its own highlight. 0 to 32 (0: none).
+  int spray_neighbours = 6;
   // Beer–Lambert absorption per metre of water: red goes first, so thick water turns blue-green.
   glm::vec3 absorption{6.0f, 1.8f, 0.9f};
 };
@@ -81,12 +97,14 @@ struct RenderTimes {
   double smoothing_ms = 0;     // SSFR: the depth filter passes
   double shading_ms = 0;       // SSFR: normals and shading (and the copy of the scene it refracts)
   double readback_ms = 0;      // the finished frame to host-visible memory (and to YCbCr planes)
+  double anisotropy_ms = 0;    // SSFR: the grid over the particles and their ellipsoids
   double mc_field_ms = 0;      // MC: the scalar field splatted from the particles
   double mc_triangles_ms = 0;  // MC: triangles and normals from the tables
 
   // Every pass but the read-back.
   double drawing_ms() const {
-    return mc_field_ms + mc_triangles_ms + scene_ms + particles_ms + smoothing_ms + shading_ms;
+    return mc_field_ms + mc_triangles_ms + anisotropy_ms + scene_ms + particles_ms +
+           smoothing_ms + shading_ms;
   }
 };
 
@@ -161,6 +179,7 @@ class FrameRenderer {
     std::uint64_t frame = 0;
     std::optional<glm::vec2> probe;  // where this frame read the surface back, if it did
     bool meshed = false;             // drew Marching Cubes: two more timestamps
+    bool anisotropic = false;        // computed ellipsoids: one more timestamp
     FrameFormat format = FrameFormat::rgba;
     glm::mat4 view{1.0f}, projection{1.0f};
   };
@@ -185,11 +204,12 @@ class FrameRenderer {
   std::unique_ptr<FluidTarget> fluid_target_;
   std::unique_ptr<GraphicsPipeline> fluid_surface_, mc_surface_;
   std::unique_ptr<MarchingCubes> marching_cubes_;  // built for the tank of the first mc frame
+  std::unique_ptr<Anisotropy> anisotropy_;         // made for the first anisotropic frame
   gpu::ComputePipeline smooth_, shade_, yuv420_;
   gpu::Buffer frame_params_;
   // SSFR and MC, one value per pixel: nearest fluid distance (and a filtered copy), thickness,
-  // the scene behind, and the finished frame.
-  gpu::Buffer depth_, depth_scratch_, thickness_, scene_, image_;
+  // spray, the scene behind, and the finished frame.
+  gpu::Buffer depth_, depth_scratch_, thickness_, spray_, scene_, image_;
   gpu::Buffer planes_;  // the finished frame as YCbCr 4:2:0 (codec::ImageYuv420's layout)
   std::vector<Slot> slots_;
   // The camera and tank whose scene the depth attachment and scene_ hold, if they hold one.
