@@ -1,12 +1,13 @@
-// Rendering and encoding: GPU ms per pass (MC field and triangles, scene, particles, smoothing,
-// shading, read-back) from timestamps, frames/s with the read-back ring kept full, and JPEG
-// encode ms (quality 80, 4:2:0, one thread) from RGBA and from the YCbCr planes the GPU converts
-// (with their read-back: conversion and copy), throughput on the encoder pool (one thread per
-// core), and the share of rough surface pixels (surface_roughness.h) in the last frame, at
-// 640×360, 1280×720 and 1920×1080 with 64k and 1M particles (the dam break after a few GPU steps);
-// Marching Cubes in a cubic 1 m tank on a 128³ grid (the target), and as the client's local
-// mode draws it (5000 particles, 640×360, grid from the particle size). `--smoke` runs small cases
-// (for CI, on lavapipe); `--device N` picks the device.
+// Rendering and encoding: GPU ms per pass (MC field and triangles, SSFR's anisotropy, scene,
+// particles, smoothing, shading, read-back) from timestamps, frames/s with the read-back ring kept
+// full, and JPEG encode ms (quality 80, 4:2:0, one thread) from RGBA and from the YCbCr planes the
+// GPU converts (with their read-back: conversion and copy), throughput on the encoder pool (one
+// thread per core), and the share of rough surface pixels (surface_roughness.h) in the last frame,
+// at 640×360, 1280×720 and 1920×1080 with 64k and 1M particles (the dam break after a few GPU
+// steps); Marching Cubes in a cubic 1 m tank on a 128³ grid (the target), and as the
+// client's local mode draws it (5000 particles, 640×360, grid from the particle size); SSFR with
+// spheres instead of ellipsoids at 1920×1080 (SsfrSpheres). `--smoke` runs small cases (for CI, on
+// lavapipe); `--device N` picks the device.
 #include <benchmark/benchmark.h>
 
 #include <chrono>
@@ -32,7 +33,11 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-void run_render(benchmark::State& state, render::RendererKind kind, int frames_per_iteration) {
+// SSFR draws ellipsoids by default; `spheres` turns the anisotropy off (the cost it adds).
+enum class Particles { as_styled, spheres };
+
+void run_render(benchmark::State& state, render::RendererKind kind, int frames_per_iteration,
+                Particles particles) {
   const auto width = static_cast<std::uint32_t>(state.range(0));
   const auto height = static_cast<std::uint32_t>(state.range(1));
   sim::SceneParams scene;
@@ -50,6 +55,7 @@ void run_render(benchmark::State& state, render::RendererKind kind, int frames_p
   const render::ParticleView view = source.view_of(*solver);
   render::FrameRenderer renderer(bench::gpu_context(), width, height);
   renderer.mc.resolution = mc_nodes;
+  renderer.ssfr.anisotropic = particles == Particles::as_styled;
   render::OrbitCamera camera;
   camera.target = 0.5f * (solver->tank().min + solver->tank().max);
   camera.distance = 1.3f * glm::length(solver->tank().size());
@@ -65,6 +71,7 @@ void run_render(benchmark::State& state, render::RendererKind kind, int frames_p
       if (renderer.frames_pending() >= render::FrameRenderer::kFramesInFlight) {
         last = renderer.take_oldest();
         const render::RenderTimes& t = renderer.last_times();
+        sum.anisotropy_ms += t.anisotropy_ms;
         sum.scene_ms += t.scene_ms;
         sum.particles_ms += t.particles_ms;
         sum.smoothing_ms += t.smoothing_ms;
@@ -85,6 +92,7 @@ void run_render(benchmark::State& state, render::RendererKind kind, int frames_p
   }
   const double timed = static_cast<double>(std::max<std::uint64_t>(frames, 1));
   state.counters["frames_per_s"] = static_cast<double>(frames) / seconds;
+  state.counters["anisotropy_ms"] = sum.anisotropy_ms / timed;
   state.counters["scene_ms"] = sum.scene_ms / timed;
   state.counters["particles_ms"] = sum.particles_ms / timed;
   state.counters["smoothing_ms"] = sum.smoothing_ms / timed;
@@ -128,8 +136,9 @@ void run_render(benchmark::State& state, render::RendererKind kind, int frames_p
 enum class Tank { dam_break, cube };
 
 void add(const char* name, render::RendererKind kind, int width, int height, int particles,
-         int frames, int mc_nodes = 0, Tank tank = Tank::dam_break) {
-  benchmark::RegisterBenchmark(name, run_render, kind, frames)
+         int frames, int mc_nodes = 0, Tank tank = Tank::dam_break,
+         Particles shape = Particles::as_styled) {
+  benchmark::RegisterBenchmark(name, run_render, kind, frames, shape)
       ->Args({width, height, particles, mc_nodes, tank == Tank::cube ? 1 : 0})
       ->ArgNames({"width", "height", "particles", "mc_nodes", "cube"})
       ->Iterations(1)
@@ -154,6 +163,8 @@ void register_cases(bool smoke) {
       add("Ssfr", render::RendererKind::ssfr, w, h, particles, 100);
       add("Points", render::RendererKind::points, w, h, particles, 100);
     }
+    add("SsfrSpheres", render::RendererKind::ssfr, 1920, 1080, particles, 100, 0, Tank::dam_break,
+        Particles::spheres);
   }
 }
 

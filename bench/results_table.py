@@ -20,10 +20,10 @@ def fields_of(run):
 
 
 if runs and "frames_per_s" in runs[0]:
-    print("| renderer | size | particles | MC nodes | frames/s | MC field | MC triangles | scene | "
-          "particles/mesh | smoothing | shading | read-back (GPU ms) | JPEG encode ms (1 thread) | "
-          "JPEG KiB | pool encodes/s |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    print("| renderer | size | particles | MC nodes | frames/s | MC field | MC triangles | "
+          "anisotropy | scene | particles/mesh | smoothing | shading | read-back (GPU ms) | "
+          "JPEG encode ms (1 thread) | JPEG KiB | pool encodes/s |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     # Encoding from the YCbCr planes the GPU converts, and the surface's roughness, follow.
     for r in runs:
         f = fields_of(r)
@@ -34,7 +34,7 @@ if runs and "frames_per_s" in runs[0]:
         print(f"| {renderer} | {f['width']}×{f['height']} | {f['particles']} | "
               f"{nodes} | {r['frames_per_s']:.1f} | "
               f"{r.get('mc_field_ms', 0):.3f} | {r.get('mc_triangles_ms', 0):.3f} | "
-              f"{r['scene_ms']:.3f} | {r['particles_ms']:.3f} | "
+              f"{r.get('anisotropy_ms', 0):.3f} | {r['scene_ms']:.3f} | {r['particles_ms']:.3f} | "
               f"{r['smoothing_ms']:.3f} | {r['shading_ms']:.3f} | {r['readback_ms']:.3f} | "
               f"{r['encode_ms']:.2f} | {r['jpeg_kib']:.0f} | {r['pool_encodes_per_s']:.0f} |")
     print()

@@ -63,7 +63,7 @@ bool gpu_solver_for(const ServerOptions& options, const gpu::Context& context) {
     case SolverBackend::cpu: return false;
     case SolverBackend::automatic: break;
   }
-  return context.info().type != "cpu";
+  return context.info().hardware();
 }
 
 int serve(const ServerOptions& options) {

@@ -75,7 +75,7 @@ LocalStream::LocalStream(v1::Hello hello, std::uint32_t max_particles)
   const server::ServerLimits limits = local_limits(max_particles);
   server::validate_hello(message, limits, std::nullopt);
   // A hardware device simulates on the GPU; lavapipe renders only (the CPU solver is faster).
-  hub_ = std::make_unique<server::SessionHub>(context_, context_.info().type != "cpu", limits,
+  hub_ = std::make_unique<server::SessionHub>(context_, context_.info().hardware(), limits,
                                               std::nullopt, metrics_);
   std::promise<server::SessionHub::Opened> opened;
   hub_->open(hello, sink_, [&opened](server::SessionHub::Opened result) {

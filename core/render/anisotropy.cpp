@@ -22,6 +22,8 @@ void compute_to_compute(VkCommandBuffer commands) {
 
 Anisotropy::Anisotropy(gpu::Context& context)
     : context_(&context),
+      gather_(context, shaders::render_anisotropy_gather_comp, sizeof(AnisotropyConstants),
+              kGroupSize),
       pass_(context, shaders::render_anisotropy_comp, sizeof(AnisotropyConstants), kGroupSize) {}
 
 void Anisotropy::record(VkCommandBuffer commands, const ParticleView& particles,
@@ -36,8 +38,10 @@ void Anisotropy::record(VkCommandBuffer commands, const ParticleView& particles,
   }
   grid_->reserve(particles.count);
   if (particles.count > capacity_) {
+    gpu::Buffer sorted(*context_, particles.count * sizeof(glm::vec4), gpu::MemoryDomain::device);
     gpu::Buffer centres(*context_, particles.count * sizeof(glm::vec4), gpu::MemoryDomain::device);
     gpu::Buffer shapes(*context_, particles.count * kShapeBytes, gpu::MemoryDomain::device);
+    context_->retire(std::exchange(sorted_positions_, std::move(sorted)));
     context_->retire(std::exchange(centres_, std::move(centres)));
     context_->retire(std::exchange(shapes_, std::move(shapes)));
     capacity_ = particles.count;
@@ -60,8 +64,10 @@ void Anisotropy::record(VkCommandBuffer commands, const ParticleView& particles,
   constants.order = grid_->order().address();
   constants.cell_start = grid_->cell_start().address();
   constants.sorted_cell = grid_->sorted_cell().address();
+  constants.sorted_position = sorted_positions_.address();
   constants.centre = centres_.address();
   constants.shape = shapes_.address();
+  constants.origin = glm::vec4(geometry.origin, 0.0f);
   constants.dims = glm::ivec4(geometry.dims, 0);
   constants.particle_count = particles.count;
   constants.radius = particles.radius;
@@ -69,6 +75,8 @@ void Anisotropy::record(VkCommandBuffer commands, const ParticleView& particles,
   constants.max_stretch = style.max_stretch;
   constants.centre_smoothing = style.centre_smoothing;
   constants.spray_below = static_cast<std::uint32_t>(style.spray_neighbours);
+  gather_.dispatch(commands, constants, particles.count);
+  compute_to_compute(commands);
   pass_.dispatch(commands, constants, particles.count);
   gpu::memory_barrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                       VK_PIPELINE_STAGE_VERTEX_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);

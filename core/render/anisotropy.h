@@ -43,11 +43,11 @@ class Anisotropy {
   };
 
   gpu::Context* context_;
-  gpu::ComputePipeline pass_;
+  gpu::ComputePipeline gather_, pass_;
   std::unique_ptr<sim::gpu_solver::GpuNeighbourGrid> grid_;
   std::optional<GridFor> grid_for_;
   std::size_t capacity_ = 0;
-  gpu::Buffer centres_, shapes_;
+  gpu::Buffer sorted_positions_, centres_, shapes_;
 };
 
 }  // namespace fluidcast::render

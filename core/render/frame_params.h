@@ -50,16 +50,18 @@ struct ScreenConstants {
 static_assert(offsetof(ScreenConstants, axis) == 56 &&
               offsetof(ScreenConstants, narrow_range) == 60);
 
-// shaders/render/anisotropy.comp
+// shaders/common/anisotropy_pass.glsl
 struct AnisotropyConstants {
-  VkDeviceAddress position, order, cell_start, sorted_cell, centre, shape;
+  glm::vec4 origin;
   glm::ivec4 dims;
+  VkDeviceAddress position, order, cell_start, sorted_cell, sorted_position, centre, shape;
   std::uint32_t particle_count;
   float radius, search_radius, max_stretch, centre_smoothing;
   std::uint32_t spray_below;
 };
-static_assert(offsetof(AnisotropyConstants, dims) == 48 &&
-              offsetof(AnisotropyConstants, spray_below) == 84);
+static_assert(offsetof(AnisotropyConstants, position) == 32 &&
+              offsetof(AnisotropyConstants, particle_count) == 88 &&
+              sizeof(AnisotropyConstants) == 112);
 
 // shaders/render/yuv420.comp
 struct YuvConstants {

@@ -28,6 +28,7 @@ TEST_P(RenderGoldenTest, MatchesTheAcceptedImage) {
   auto solver = sim::make_cpu_solver(sim::SolverKind::pbf, sim::build_scene(scene), {});
   ParticleSource source(context());
   FrameRenderer renderer(context(), 192, 108);
+  renderer.ssfr = SsfrStyle{};  // with ellipsoids, as on a GPU, on every device
   OrbitCamera camera;
   camera.target = 0.5f * (solver->tank().min + solver->tank().max);
   camera.distance = 2.2f;

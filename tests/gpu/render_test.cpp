@@ -350,6 +350,7 @@ TEST_F(RenderTest, TheDefaultsSmoothASplashingDamBreak) {
   const ParticleView view = source.view_of(*dam);
   constexpr std::uint32_t w = 640, h = 360;
   FrameRenderer renderer(context(), w, h);
+  renderer.ssfr = SsfrStyle{};  // ellipsoids, as on a GPU
   OrbitCamera camera = camera_on(dam->tank(), 1.3f * glm::length(dam->tank().size()));
   camera.yaw_degrees = 20.0f;
   camera.pitch_degrees = 25.0f;
@@ -382,6 +383,7 @@ TEST_F(RenderTest, ALoneParticleIsSprayNotSurface) {
   const ParticleView view = source.upload(one, 0.02f);
   constexpr std::uint32_t w = 160, h = 120;
   FrameRenderer renderer(context(), w, h);
+  renderer.ssfr = SsfrStyle{};  // ellipsoids and spray, as on a GPU
   OrbitCamera camera = looking_at_tank();
   camera.distance = 0.5f;
   const auto empty = rgba(renderer.render(RendererKind::points, {}, kTank, camera));
@@ -460,6 +462,9 @@ TEST_F(RenderTest, NarrowRangeFilterSmoothsAndDiffersFromBilateral) {
 // Looking straight down into a pool: three times the water over the same floor is darker.
 TEST_F(RenderTest, MoreThicknessDarkensTheWater) {
   FrameRenderer renderer(context(), 96, 96);
+  // Ellipsoids, as on a GPU: spheres on the lattice at rest leave specular streaks in the middle
+  // of the shallow pool, light that has nothing to do with the water's depth.
+  renderer.ssfr = SsfrStyle{};
   ParticleSource source(context());
   const auto centre_brightness = [&](int particles) {
     auto pool = drop_of(particles);
@@ -545,7 +550,7 @@ TEST_F(RenderTest, TheProbeFindsTheSurfaceUnderAPoint) {
   const ParticleView view = source.view_of(*pool);
   FrameRenderer renderer(context(), 160, 90);
   renderer.ssfr.smoothing_passes = 0;
-  renderer.ssfr.anisotropic = false;  // spheres, where the hit is checked
+  renderer.ssfr.anisotropic = false;  // spheres, where the hit is checked (a GPU's default is on)
   OrbitCamera camera = camera_on(pool->tank(), 2.0f);
   camera.pitch_degrees = 89.0f;
   renderer.probe = glm::vec2(0.5f, 0.5f);

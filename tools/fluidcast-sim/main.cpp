@@ -50,7 +50,7 @@ bool hardware_gpu_present(const tools::SimOptions& o) {
   if (o.device || std::getenv("FLUIDCAST_DEVICE")) return true;
   try {
     for (const auto& device : gpu::list_devices()) {
-      if (device.rejected_because.empty() && device.type != "cpu") return true;
+      if (device.rejected_because.empty() && device.hardware()) return true;
     }
   } catch (const gpu::GpuUnavailable&) {
   }

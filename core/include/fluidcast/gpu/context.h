@@ -37,6 +37,8 @@ struct DeviceInfo {
   std::uint64_t device_local_bytes = 0;
   std::vector<std::string> rejected_because;  // empty when the device is usable
   std::string describe() const;               // one line
+  // A GPU of any kind, not a driver that runs Vulkan on the CPU (lavapipe, SwiftShader).
+  bool hardware() const { return type != "cpu"; }
 };
 
 struct ContextOptions {

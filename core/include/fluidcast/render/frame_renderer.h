@@ -74,7 +74,7 @@ struct SsfrStyle {
   // Anisotropic kernels (Yu & Turk 2013): each particle drawn as an ellipsoid shaped by its
   // neighbours, flat along the surface, so the surface is a sheet before any filtering; else
   // spheres of the particle's radius. Costs a grid and a pass over the particles each frame
-  // (RenderTimes::anisotropy_ms).
+  // (RenderTimes::anisotropy_ms). A FrameRenderer on a CPU device (lavapipe) starts with it off.
   bool anisotropic = true;
   // Of an ellipsoid, the longest axis over the shortest, at most: 1 to 16 (1: spheres, still at
   // the smoothed centres). Yu & Turk's 4.
