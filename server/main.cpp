@@ -16,6 +16,7 @@
 #include <sstream>
 
 #include "fluidcast/gpu/context.h"
+#include "fluidcast/render/frame_renderer.h"
 #include "grpc/fluidcast_service.h"
 #include "options.h"
 #include "session/session_hub.h"
@@ -80,6 +81,9 @@ int serve(const ServerOptions& options) {
   const bool gpu_solver = gpu_solver_for(options, context);
   std::printf("fluidcast-server: sessions simulate on the %s\n",
               gpu_solver ? "GPU" : "CPU (the Vulkan device is a CPU; it renders only)");
+  if (const auto why = render::FrameRenderer::fluid_unsupported(context)) {
+    std::printf("fluidcast-server: %s; viewers get points\n", why->c_str());
+  }
 
   Metrics metrics;
   SessionHub hub(context, gpu_solver, options.limits, read_token(options.token_file), metrics);

@@ -189,6 +189,9 @@ ContextOptions options_from_environment(ContextOptions defaults) {
   if (const char* validation = std::getenv("FLUIDCAST_VALIDATION"); validation && *validation) {
     defaults.validation = std::strcmp(validation, "0") != 0;
   }
+  if (const char* blend = std::getenv("FLUIDCAST_INDEPENDENT_BLEND"); blend && *blend) {
+    defaults.independent_blend = std::strcmp(blend, "0") != 0;
+  }
   return defaults;
 }
 
@@ -284,8 +287,8 @@ Context::Context(ContextOptions options) {
     VkPhysicalDeviceFeatures supported{};
     vkGetPhysicalDeviceFeatures(physical_device_, &supported);
     VkPhysicalDeviceFeatures features{};
-    features.independentBlend = supported.independentBlend;
-    independent_blend_ = supported.independentBlend == VK_TRUE;
+    independent_blend_ = options.independent_blend && supported.independentBlend == VK_TRUE;
+    features.independentBlend = independent_blend_ ? VK_TRUE : VK_FALSE;
     VkDeviceCreateInfo device_info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &v12};
     device_info.queueCreateInfoCount = 1;
     device_info.pQueueCreateInfos = &queue_info;

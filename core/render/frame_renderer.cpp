@@ -33,6 +33,10 @@ const std::vector<std::string_view>& renderer_names() {
   return names;
 }
 
+std::string_view renderer_name(RendererKind kind) {
+  return renderer_names()[static_cast<std::size_t>(kind)];
+}
+
 RendererKind parse_renderer(std::string_view name) {
   if (name == "points") return RendererKind::points;
   if (name == "ssfr") return RendererKind::ssfr;
@@ -89,6 +93,18 @@ FrameRenderer::FrameRenderer(gpu::Context& context, std::uint32_t width, std::ui
   for (std::size_t k = 0; k < kFramesInFlight; ++k) {
     slots_.emplace_back(context, largest + sizeof(float));
   }
+}
+
+std::optional<std::string> FrameRenderer::fluid_unsupported(const gpu::Context& context) {
+  if (FluidTarget::supported(context)) return std::nullopt;
+  return "renderers ssfr and mc: the device " + context.info().name +
+         " cannot blend 32-bit float attachments each its own way (R32_SFLOAT "
+         "COLOR_ATTACHMENT_BLEND, independentBlend)";
+}
+
+RendererKind FrameRenderer::drawable(RendererKind kind, std::uint32_t particles) const {
+  const RendererKind resolved = resolve(kind, particles);
+  return resolved != RendererKind::points && !fluid_target_ ? RendererKind::points : resolved;
 }
 
 std::uint64_t FrameRenderer::frame_bytes(FrameFormat frame_format) const {
@@ -163,7 +179,9 @@ codec::Image FrameRenderer::collect(Slot& slot) {
 std::uint64_t FrameRenderer::submit(RendererKind requested, const ParticleView& particles,
                                     const sim::Box& tank, const OrbitCamera& camera) {
   camera.validate();
-  const RendererKind kind = resolve(requested, particles.count);
+  const RendererKind kind = requested == RendererKind::automatic
+                                ? drawable(requested, particles.count)
+                                : requested;
   if (points.colour_by == PointsStyle::ColourBy::density &&
       ((particles.count > 0 && particles.density_ratio == 0) || !(points.density_span > 0.0f))) {
     throw std::invalid_argument(
@@ -183,10 +201,7 @@ std::uint64_t FrameRenderer::submit(RendererKind requested, const ParticleView& 
         "spray neighbours in 0 to 32");
   }
   if (kind != RendererKind::points && !fluid_target_) {
-    throw std::invalid_argument("renderers ssfr and mc: the device " + context_->info().name +
-                                " cannot blend 32-bit float attachments each its own way "
-                                "(R32_SFLOAT COLOR_ATTACHMENT_BLEND, independentBlend); use "
-                                "points");
+    throw std::invalid_argument(*fluid_unsupported(*context_) + "; use points");
   }
   if (kind == RendererKind::mc) {
     const int resolution =

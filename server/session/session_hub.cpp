@@ -192,7 +192,11 @@ v1::ServerInfo SessionHub::info() const {
   limits.set_resume_grace_seconds(static_cast<std::uint32_t>(limits_.resume_grace.count()));
   for (auto name : sim::scene_names()) info.add_scenes(std::string(name));
   for (auto name : sim::solver_names()) info.add_solvers(std::string(name));
-  for (auto name : render::renderer_names()) info.add_renderers(std::string(name));
+  // Only what this device can draw; a viewer that asks for another gets points (Frame.renderer).
+  const bool fluid = !render::FrameRenderer::fluid_unsupported(*context_);
+  for (auto name : render::renderer_names()) {
+    if (fluid || name == "points" || name == "auto") info.add_renderers(std::string(name));
+  }
   info.set_token_required(token_.has_value());
   info.set_sessions(session_count_);
   return info;

@@ -141,11 +141,10 @@ double Viewer::input_wait_ms(Clock::time_point tick_start) {
 void Viewer::submit(const render::ParticleView& particles, const sim::Box& tank, Shows shows,
                     Clock::time_point now) {
   next_frame_ = std::max(next_frame_ + frame_interval_, now);
-  const render::RendererKind kind = render::resolve(renderer_kind_, particles.count);
+  // A renderer the device cannot draw falls back to points, and the frame says so.
+  const render::RendererKind kind = renderer_->drawable(renderer_kind_, particles.count);
   renderer_->submit(kind, particles, tank, camera_);
-  shows.renderer = kind == render::RendererKind::mc     ? "mc"
-                   : kind == render::RendererKind::ssfr ? "ssfr"
-                                                        : "points";
+  shows.renderer = std::string(render::renderer_name(kind));
   shows.submitted = Clock::now();
   in_flight_.push_back(std::move(shows));
 }

@@ -408,6 +408,40 @@ TEST_F(RenderTest, ALoneParticleIsSprayNotSurface) {
   EXPECT_GT(surface_pixels(), 40u);
 }
 
+// A device without independent blending (here: lavapipe with the feature left off) cannot draw
+// SSFR or MC: asked for by name they are refused, naming the feature; drawable() and automatic
+// fall back to points.
+TEST(RendererFallback, WithoutIndependentBlendOnlyPointsAndTheRefusalNamesTheFeature) {
+  gpu::ContextOptions options = gpu::options_from_environment();
+  options.validation = true;
+  options.independent_blend = false;
+  options.log = [](const std::string&) {};
+  gpu::Context context(options);
+  const auto why = FrameRenderer::fluid_unsupported(context);
+  ASSERT_TRUE(why.has_value());
+  EXPECT_NE(why->find("independentBlend"), std::string::npos) << *why;
+  sim::ParticleSet one;
+  one.append({0.5f, 0.2f, 0.15f}, {0, 0, 0}, 0);
+  ParticleSource source(context);
+  const ParticleView view = source.upload(one, 0.02f);
+  FrameRenderer renderer(context, 64, 48);
+  for (RendererKind kind : {RendererKind::ssfr, RendererKind::mc, RendererKind::automatic}) {
+    EXPECT_EQ(renderer.drawable(kind, 100000), RendererKind::points);
+  }
+  for (RendererKind kind : {RendererKind::ssfr, RendererKind::mc}) {
+    try {
+      renderer.render(kind, view, kTank, looking_at_tank());
+      ADD_FAILURE() << "drew " << renderer_name(kind) << " without independent blending";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("independentBlend"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_EQ(rgba(renderer.render(RendererKind::automatic, view, kTank, looking_at_tank())).pixels,
+            rgba(renderer.render(RendererKind::points, view, kTank, looking_at_tank())).pixels);
+  EXPECT_TRUE(context.validation_errors().empty());
+  EXPECT_FALSE(FrameRenderer::fluid_unsupported(fluidcast::testing::test_context()).has_value());
+}
+
 TEST_F(RenderTest, MarchingCubesShowsTheFluidAtAnyResolutionAndAutoPicksByCount) {
   auto pool = drop_of(3000);
   ParticleSource source(context());

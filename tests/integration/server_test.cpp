@@ -4,10 +4,12 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <thread>
+#include <vector>
 
 #include "fluidcast/codec/jpeg.h"
 #include "server_process.h"
@@ -79,6 +81,27 @@ TEST(ServerTest, HandshakeThenFramesThatDecodeAtTheRequestedSize) {
     EXPECT_EQ(frame.width(), 160u);
     EXPECT_GT(frame.timings().encode_ms(), 0.0f);
   }
+  EXPECT_TRUE(stream.finish().ok());
+  EXPECT_EQ(server.stop(), 0);
+}
+
+// On a device that cannot draw the fluid renderers (here lavapipe with independent blending left
+// off), the server offers points only, and a viewer that asks for SSFR gets points, as its frames
+// say.
+TEST(ServerTest, ARendererTheDeviceCannotDrawFallsBackToPoints) {
+  setenv("FLUIDCAST_INDEPENDENT_BLEND", "0", 1);
+  testing::ServerProcess server;
+  unsetenv("FLUIDCAST_INDEPENDENT_BLEND");
+  auto channel = client::connect(server.grpc_address());
+  grpc::ClientContext context;
+  v1::ServerInfo info;
+  ASSERT_TRUE(v1::Fluidcast::NewStub(channel)->GetServerInfo(&context, {}, &info).ok());
+  EXPECT_EQ(std::vector<std::string>(info.renderers().begin(), info.renderers().end()),
+            (std::vector<std::string>{"points", "auto"}));
+  v1::Hello hello = small_hello();
+  hello.mutable_quality()->set_renderer("ssfr");
+  StreamClient stream(channel, hello);
+  for (int k = 0; k < 2; ++k) EXPECT_EQ(frame_from(stream).renderer(), "points");
   EXPECT_TRUE(stream.finish().ok());
   EXPECT_EQ(server.stop(), 0);
 }

@@ -50,11 +50,15 @@ struct ContextOptions {
 #else
   bool validation = true;
 #endif
+  // Independent blending where the device has it; off, the context runs as on a device without
+  // it, so that the renderers' fallback (points) can be tried on any device.
+  bool independent_blend = true;
   // Where the context says which device it chose; stderr by default.
   std::function<void(const std::string&)> log;
 };
 
-// FLUIDCAST_DEVICE=N picks device N; FLUIDCAST_VALIDATION=1 or 0 turns validation on or off.
+// FLUIDCAST_DEVICE=N picks device N; FLUIDCAST_VALIDATION=1 or 0 turns validation on or off;
+// FLUIDCAST_INDEPENDENT_BLEND=0 leaves independent blending off.
 // Throws GpuUnavailable for a value that is not a number.
 ContextOptions options_from_environment(ContextOptions defaults = {});
 

@@ -8,6 +8,7 @@
 #include <glm/glm.hpp>
 #include <memory>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -31,6 +32,7 @@ class MarchingCubes;
 enum class RendererKind { points, ssfr, mc, automatic };
 inline constexpr std::uint32_t kMarchingCubesBelow = 5000;
 const std::vector<std::string_view>& renderer_names();
+std::string_view renderer_name(RendererKind kind);
 RendererKind parse_renderer(std::string_view name);  // throws std::invalid_argument listing them
 
 // Where the particles are on the GPU: vec4 positions and velocities (w unused).
@@ -125,6 +127,13 @@ class FrameRenderer {
   FrameRenderer(gpu::Context& context, std::uint32_t width, std::uint32_t height);
   ~FrameRenderer();
 
+  // Why the device cannot draw SSFR and Marching Cubes (a sentence naming the missing feature);
+  // nothing when it can. Points it always can.
+  static std::optional<std::string> fluid_unsupported(const gpu::Context& context);
+  // What `kind` draws for this many particles on this device: automatic resolved, and points in
+  // place of a renderer the device cannot draw.
+  RendererKind drawable(RendererKind kind, std::uint32_t particles) const;
+
   PointsStyle points;
   SsfrStyle ssfr;
   McStyle mc;
@@ -140,10 +149,12 @@ class FrameRenderer {
   // A ring of read-back slots: frame N is copied to the host while frame N+1 renders.
   static constexpr std::size_t kFramesInFlight = 2;
 
-  // Records and submits one frame of the particles in `tank`; returns its number at once. With
+  // Records and submits one frame of the particles in `tank` (automatic: as drawable() says);
+  // returns its number at once. With
   // kFramesInFlight frames already in flight, first waits for the oldest and keeps its image for
   // take_oldest(); of kept images beyond kFramesInFlight, the oldest are dropped (counted).
-  // Throws std::invalid_argument for a camera that is not finite or out of range.
+  // Throws std::invalid_argument for a camera that is not finite or out of range, and for a
+  // renderer the device cannot draw (fluid_unsupported says why).
   std::uint64_t submit(RendererKind kind, const ParticleView& particles, const sim::Box& tank,
                        const OrbitCamera& camera);
   // The oldest frame submitted and not yet taken, in the format it was submitted with, waiting
