@@ -1,6 +1,7 @@
 # Thin entry points; CMake does the real work (see CMakePresets.json).
 PRESET ?= release
 JOBS ?= $(shell nproc)
+BUILD_DIR := $(if $(filter release,$(PRESET)),build,build/$(PRESET))
 BIN := build/bin
 
 .PHONY: deps build run test bench validate clean
@@ -8,8 +9,11 @@ BIN := build/bin
 deps:
 	deploy/install-deps.sh
 
-build: deps
+# Configured once; afterwards the build re-runs CMake itself when a CMakeLists.txt changes.
+$(BUILD_DIR)/CMakeCache.txt:
 	cmake --preset $(PRESET)
+
+build: deps $(BUILD_DIR)/CMakeCache.txt
 	cmake --build --preset $(PRESET) -j $(JOBS)
 
 # The main job: the streaming server, headless, on the best Vulkan device present; it prints where

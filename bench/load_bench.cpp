@@ -6,7 +6,6 @@
 // measured).
 //   fluidcast-bench-load [--clients 8] [--seconds 30] [--warm-up 3] [--width 320] [--height 240]
 //                        [--particles 1000] [--renderer auto] [--server-flag=--backend=gpu ...]
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -14,6 +13,7 @@
 #include <mutex>
 #include <thread>
 
+#include "fluidcast/command_line.h"
 #include "dragging_viewer.h"
 #include "server_process.h"
 
@@ -40,7 +40,12 @@ int run(int argc, char** argv) {
   app.add_option("--particles", particles);
   app.add_option("--max-growth-mb", max_growth_mb, "Server memory growth allowed after warm-up");
   app.add_option("--server-flag", server_flags, "A flag for fluidcast-server (repeatable)");
-  CLI11_PARSE(app, argc, argv);
+  add_version_flag(app, "fluidcast-bench-load");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return exit_for(app, e);
+  }
 
   server_flags.insert(server_flags.end(), {"--max-sessions", std::to_string(clients)});
   testing::ServerProcess server(server_flags);

@@ -15,6 +15,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "fluidcast/command_line.h"
 #include "fluidcast/gpu/context.h"
 #include "fluidcast/render/frame_renderer.h"
 #include "grpc/fluidcast_service.h"
@@ -119,6 +120,9 @@ int serve(const ServerOptions& options) {
   int grpc_port = 0;
   const std::string grpc_address = options.listen + ":" + std::to_string(options.grpc_port);
   builder.AddListeningPort(grpc_address, credentials, &grpc_port);
+  // gRPC sets SO_REUSEPORT by default: a second server on the same port would silently take half
+  // of the new clients. Exclusive, it fails to start instead.
+  builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
   builder.RegisterService(&service);
   // Dead phones are noticed in seconds, not gRPC's default two hours.
   builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIME_MS, 10000);
@@ -130,8 +134,11 @@ int serve(const ServerOptions& options) {
       static_cast<int>(std::min<std::uint64_t>(INT32_MAX, 24ull * options.limits.max_particles + (1 << 20))));
   std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
   if (!server || grpc_port == 0) {
-    std::fprintf(stderr, "fluidcast-server: cannot listen for gRPC on %s\n", grpc_address.c_str());
-    return 1;
+    std::fprintf(stderr,
+                 "fluidcast-server: cannot listen for gRPC on %s: the address is in use (another "
+                 "server?) or not one of this machine's (--listen, --grpc-port)\n",
+                 grpc_address.c_str());
+    return kBadFlag;
   }
   grpc::HealthCheckServiceInterface* health = server->GetHealthCheckService();
   health->SetServingStatus(true);
@@ -181,6 +188,6 @@ int main(int argc, char** argv) {
     return fluidcast::server::serve(options);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "fluidcast-server: %s\n", e.what());
-    return 2;
+    return fluidcast::kBadFlag;
   }
 }

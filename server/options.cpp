@@ -1,6 +1,6 @@
 #include "options.h"
 
-#include <CLI/CLI.hpp>
+#include "fluidcast/command_line.h"
 
 namespace fluidcast::server {
 
@@ -9,6 +9,7 @@ ServerOptions parse_server_options(int argc, char** argv) {
   ServerLimits& l = o.limits;
   CLI::App app{"fluidcast-server: simulates and renders fluids on a GPU, headless, and streams "
                "them as JPEG frames over gRPC (and the page's WebSocket)"};
+  add_version_flag(app, "fluidcast-server");
   app.option_defaults()->always_capture_default();
   app.add_option("--listen", o.listen, "Address to listen on (0.0.0.0: every interface)")
       ->envname("FLUIDCAST_LISTEN");
@@ -95,7 +96,7 @@ ServerOptions parse_server_options(int argc, char** argv) {
       throw CLI::ValidationError("--target-fps", "more than --max-fps");
     }
   } catch (const CLI::ParseError& e) {
-    std::exit(app.exit(e));
+    std::exit(exit_for(app, e));
   }
   l.resume_grace = std::chrono::seconds(grace);
   o.backend = backend == "gpu"   ? SolverBackend::gpu

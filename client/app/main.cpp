@@ -1,8 +1,8 @@
 // fluidcast-client: a window on a server's fluid (or a local one), or --headless for scripts and
 // measurements.
-#include <CLI/CLI.hpp>
 #include <cstdio>
 
+#include "fluidcast/command_line.h"
 #include "headless_client.h"
 #include "stream_client.h"
 #include "window_client.h"
@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   std::uint32_t max_local = client::WindowOptions{}.max_local_particles;
   double seconds = 0.0;
   CLI::App app{"fluidcast-client: watch and touch a fluidcast session, or simulate one here"};
+  fluidcast::add_version_flag(app, "fluidcast-client");
   app.option_defaults()->always_capture_default();
   app.add_flag("--headless", headless, "No window: play a script, report figures");
   app.add_flag("--local", local, "Simulate and render here, without a server");
@@ -41,7 +42,11 @@ int main(int argc, char** argv) {
   app.add_option("--save-frames", save_frames, "Headless: write every frame received as JPEG");
   app.add_flag("--json", json, "Headless: last line is one JSON object with the figures");
   app.add_option("--screenshot", screenshot, "Window: write its last frame as PNG on exit");
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return fluidcast::exit_for(app, e);
+  }
 
   fluidcast::v1::Hello hello;
   hello.set_token(token);

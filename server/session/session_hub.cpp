@@ -5,10 +5,10 @@
 #include <cstdio>
 #include <random>
 
+#include "fluidcast/version.h"
 #include "fluidcast/gpu/vk_check.h"
 #include "fluidcast/render/frame_renderer.h"
 #include "fluidcast/sim/scene.h"
-#include "version.h"
 
 namespace fluidcast::server {
 

@@ -1,6 +1,6 @@
+#include "fluidcast/command_line.h"
 #include "options.h"
 
-#include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -12,8 +12,6 @@
 
 namespace fluidcast::tools {
 namespace {
-
-constexpr int kBadInput = 2;
 
 std::string tuning_markdown() {
   return "# Tuning\n\nEvery tunable of the scenes and solvers, in SI units, with its default and "
@@ -30,6 +28,7 @@ std::string tuning_markdown() {
 ParseOutcome parse_sim_options(int argc, char** argv) {
   SimOptions o;
   CLI::App app{"fluidcast-sim: run a fluid scene headless, write statistics and particle dumps"};
+  add_version_flag(app, "fluidcast-sim");
   std::string scene_name = "dam_break", solver_name = "pbf";
   std::optional<std::int64_t> steps;
   std::optional<double> until;
@@ -91,11 +90,11 @@ ParseOutcome parse_sim_options(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
+  } catch (const CLI::Success& e) {  // --help, --version
     return {std::nullopt, app.exit(e)};
   } catch (const CLI::ParseError& e) {
     std::cerr << "fluidcast-sim: " << e.what() << '\n';
-    return {std::nullopt, kBadInput};
+    return {std::nullopt, kBadFlag};
   }
   if (list_params) {
     std::cout << tuning_markdown();
@@ -201,7 +200,7 @@ ParseOutcome parse_sim_options(int argc, char** argv) {
                             " is negative; 0 means no dumps");
   } catch (const sim::ParamError& e) {
     std::cerr << "fluidcast-sim: " << e.what() << '\n';
-    return {std::nullopt, kBadInput};
+    return {std::nullopt, kBadFlag};
   }
   return {o, 0};
 }

@@ -6,7 +6,6 @@
 // Writes CSV and SVG charts into --out, prints a summary, and exits 1 when a figure misses its
 // bound (the bounds default to the project's targets; --fast runs small, for the test suite,
 // with bounds that tell working from broken). Bad flags: one line on stderr, exit code 2.
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -15,6 +14,7 @@
 #include <memory>
 #include <string>
 
+#include "fluidcast/command_line.h"
 #include "fluidcast/gpu/context.h"
 #include "fluidcast/sim/solver.h"
 #include "fluidcast/sim/statistics.h"
@@ -192,6 +192,7 @@ int main(int argc, char** argv) {
   Options o;
   CLI::App app{"fluidcast-validate: the solvers against Martin & Moyce's dam break (1952) and a "
                "resting pool's density error"};
+  add_version_flag(app, "fluidcast-validate");
   bool fast = false;
   std::string solver_name = "pbf";
   app.add_flag("--fast", fast,
@@ -228,7 +229,7 @@ int main(int argc, char** argv) {
     o.solver = sim::parse_solver(solver_name);
     sim::validate(o.params);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;
+    return exit_for(app, e);
   } catch (const sim::ParamError& e) {
     std::fprintf(stderr, "fluidcast-validate: %s\n", e.what());
     return 2;

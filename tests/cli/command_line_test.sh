@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Every program's command line, one way (common/include/fluidcast/command_line.h): --version
+# prints "NAME VERSION" and exits 0; an unknown flag or a value out of range exits 2 with a
+# sentence naming it.
+set -uo pipefail
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+for program in "$@"; do
+  name=$(basename "$program")
+  out=$("$program" --version) || fail "$name --version exited $?"
+  [[ "$out" =~ ^$name\ [0-9]+\.[0-9]+\.[0-9]+$ ]] || fail "$name --version printed '$out'"
+  err=$("$program" --no-such-flag 2>&1 >/dev/null)
+  status=$?
+  [[ $status -eq 2 ]] || fail "$name --no-such-flag exited $status"
+  [[ "$err" == *--no-such-flag* ]] || fail "$name --no-such-flag said '$err'"
+done
+server=$1
+err=$("$server" --max-sessions 0 2>&1 >/dev/null)
+status=$?
+[[ $status -eq 2 && "$err" == *--max-sessions* ]] || fail "--max-sessions 0: exit $status, '$err'"
+# A second server on a port in use fails to start, saying so, rather than sharing the port.
+work=$(mktemp -d)
+"$server" --listen 127.0.0.1 --grpc-port 0 --http-port 0 > "$work/first.txt" 2>&1 &
+first=$!
+trap 'kill $first 2>/dev/null; rm -rf "$work"' EXIT
+for _ in $(seq 300); do grep -q "listening: grpc=" "$work/first.txt" && break; sleep 0.1; done
+port=$(sed -n 's/.*listening: grpc=127.0.0.1:\([0-9]*\).*/\1/p' "$work/first.txt")
+if [[ -z "$port" ]]; then
+  fail "the first server did not start: $(cat "$work/first.txt")"
+else
+  err=$("$server" --listen 127.0.0.1 --grpc-port "$port" --http-port 0 2>&1 >/dev/null)
+  status=$?
+  [[ $status -eq 2 && "$err" == *"in use"* ]] || fail "second server on :$port: exit $status, '$err'"
+fi
+[[ $failures -eq 0 ]] && echo "all command lines behave" || exit 1
