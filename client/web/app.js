@@ -364,6 +364,7 @@ function setupControls() {
   const adaptive = page.panel.querySelector('#adaptive');
   adaptive.onchange = () => { wanted.adaptive = adaptive.checked; command({ quality: quality() }); };
   page.panel.querySelector('#reset').onclick = () => command({ reset: true });
+  page.panel.querySelector('#reset-view').onclick = () => command({ resetView: true });
   page.panel.querySelector('#pause').onclick = (e) => {
     paused = !paused;
     command({ pause: paused });

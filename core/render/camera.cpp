@@ -1,5 +1,6 @@
 #include "fluidcast/render/camera.h"
 
+#include <algorithm>
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
 #include <stdexcept>
@@ -43,6 +44,35 @@ glm::mat4 OrbitCamera::projection(float aspect) const {
   glm::mat4 p = glm::perspectiveRH_ZO(glm::radians(field_of_view_degrees), aspect, near, far);
   p[1][1] *= -1.0f;  // Vulkan's clip space has y down
   return p;
+}
+
+void OrbitCamera::fit(const sim::Box& tank, float aspect) {
+  constexpr float kMargin = 1.08f;
+  target = 0.5f * (tank.min + tank.max);
+  const float tan_y = std::tan(0.5f * glm::radians(field_of_view_degrees)), tan_x = tan_y * aspect;
+  // The view's axes; each corner at depth distance − z must satisfy |x| ≤ depth · tan_x and
+  // |y| ≤ depth · tan_y.
+  distance = 1.0f;
+  const glm::mat3 rotation(view());
+  float needed = 0.0f;
+  for (int corner = 0; corner < 8; ++corner) {
+    const glm::vec3 p((corner & 1) ? tank.max.x : tank.min.x, (corner & 2) ? tank.max.y : tank.min.y,
+                      (corner & 4) ? tank.max.z : tank.min.z);
+    const glm::vec3 c = rotation * (p - target);  // z towards the eye
+    needed = std::max({needed, c.z + std::abs(c.x) * kMargin / tan_x,
+                       c.z + std::abs(c.y) * kMargin / tan_y});
+  }
+  distance = std::max(needed, orbit_limits(tank).min_distance);
+}
+
+OrbitLimits orbit_limits(const sim::Box& tank) {
+  const float radius = 0.5f * glm::length(tank.size());
+  return {1.05f * radius, 16.0f * radius};
+}
+
+void OrbitLimits::clamp(OrbitCamera& camera) const {
+  camera.distance = std::clamp(camera.distance, min_distance, max_distance);
+  camera.pitch_degrees = std::clamp(camera.pitch_degrees, min_pitch_degrees, max_pitch_degrees);
 }
 
 }  // namespace fluidcast::render

@@ -322,6 +322,9 @@ void Session::apply(Viewer& viewer, const v1::ClientMessage& message, Clock::tim
         case v1::Command::kCamera:
           viewer.apply_camera(command.camera());
           break;
+        case v1::Command::kResetView:
+          viewer.reset_view();
+          break;
         case v1::Command::KIND_NOT_SET:
           break;
       }

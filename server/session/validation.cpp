@@ -101,6 +101,7 @@ void validate_command(const v1::Command& command, const ServerLimits& limits) {
   switch (command.kind_case()) {
     case v1::Command::kReset:
     case v1::Command::kPause:
+    case v1::Command::kResetView:
       return;
     case v1::Command::kScene:
       if (command.scene().empty()) refuse(RefusalCode::invalid_argument, "Command.scene is empty");

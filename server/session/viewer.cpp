@@ -48,9 +48,12 @@ void Viewer::resize(std::uint32_t width, std::uint32_t height) {
 }
 
 void Viewer::apply_viewport(const v1::Viewport& viewport) {
+  const bool turned = width_ != 0 && (viewport.width() > viewport.height()) != (width_ > height_);
   width_ = viewport.width();
   height_ = viewport.height();
   resize(width_, height_);
+  // A phone turned between portrait and landscape: the tank in view again.
+  if (turned) camera_.fit(tank_, float(width_) / float(height_));
 }
 
 void Viewer::apply_quality(const v1::Quality& quality) {
@@ -72,11 +75,18 @@ void Viewer::apply_camera(const v1::Camera& camera) {
   if (camera.field_of_view_degrees() != 0.0f) {
     camera_.field_of_view_degrees = camera.field_of_view_degrees();
   }
+  orbit_.clamp(camera_);
 }
 
 void Viewer::look_at(const sim::Box& tank) {
-  camera_.target = 0.5f * (tank.min + tank.max);
-  camera_.distance = 1.2f * glm::length(tank.size());
+  tank_ = tank;
+  orbit_ = render::orbit_limits(tank);
+  camera_.fit(tank, float(width_) / float(height_));
+}
+
+void Viewer::reset_view() {
+  camera_ = render::OrbitCamera{};
+  camera_.fit(tank_, float(width_) / float(height_));
 }
 
 void Viewer::apply_pointer(const v1::PointerEvent& event) {
@@ -87,8 +97,9 @@ void Viewer::apply_pointer(const v1::PointerEvent& event) {
     ++drags_;
   }
   camera_.yaw_degrees = std::remainder(camera_.yaw_degrees + change.yaw_degrees, 360.0f);
-  camera_.pitch_degrees = std::clamp(camera_.pitch_degrees + change.pitch_degrees, -89.0f, 89.0f);
-  camera_.distance = std::clamp(camera_.distance * change.zoom, 0.05f, 1000.0f);
+  camera_.pitch_degrees += change.pitch_degrees;
+  camera_.distance *= change.zoom;
+  orbit_.clamp(camera_);
 }
 
 glm::vec3 Viewer::gravity_from_tilt(const v1::Tilt& tilt) const {

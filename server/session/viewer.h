@@ -53,7 +53,11 @@ class Viewer {
   void acknowledge(std::uint64_t sequence, Clock::time_point now);
   // The world's gravity for a device's measured one, through this viewer's camera.
   glm::vec3 gravity_from_tilt(const v1::Tilt& tilt) const;
+  // Looks at the whole of `tank` (fitted to the frame's shape) and keeps gestures and cameras set
+  // outright within its orbit limits.
   void look_at(const sim::Box& tank);
+  // The camera back to where a new viewer's starts, the whole tank in view.
+  void reset_view();
 
   // Where the finger holds the fluid, in the scene, when a drag holds it: the session moves the
   // finger's sphere there in simulated time. `drag` counts drags, so a new one starts afresh.
@@ -122,6 +126,8 @@ class Viewer {
   std::uint32_t render_width_ = 0, render_height_ = 0;  // as rendered (adaptive may lower it)
   render::OrbitCamera camera_;
   render::RendererKind renderer_kind_ = render::RendererKind::automatic;
+  sim::Box tank_;                     // what the camera looks at
+  render::OrbitLimits orbit_{0.05f, 1000.0f};
   int requested_quality_ = 80, jpeg_quality_ = 80;
   bool adaptive_ = false;
   Clock::duration frame_interval_;

@@ -142,6 +142,16 @@ async function main() {
     check(tilted > 1.5 * calm + 0.5,
           `the tilt tips the water (image change ${tilted.toFixed(2)} vs ${calm.toFixed(2)} calm)`);
 
+    // Reset view: a command the server takes (a refused one would end the stream and reconnect).
+    const beforeReset = await page.evaluate(() => ({ frames: window.fluidcast.frames,
+                                                     reconnects: window.fluidcast.reconnects }));
+    await page.click('#menu');
+    await page.click('#reset-view');
+    await page.click('#menu');
+    await waitFor(page, `window.fluidcast.frames > ${beforeReset.frames + 3}`, 'frames after reset view');
+    check(await page.evaluate(() => window.fluidcast.reconnects) === beforeReset.reconnects,
+          'reset view keeps the stream');
+
     // The WebSocket drops: the page reconnects and resumes the same session.
     const before = await page.evaluate(() => ({ id: window.fluidcast.sessionId,
                                                 frames: window.fluidcast.frames }));

@@ -4,6 +4,8 @@
 
 #include <glm/glm.hpp>
 
+#include "fluidcast/sim/particles.h"
+
 namespace fluidcast::render {
 
 struct OrbitCamera {
@@ -18,6 +20,21 @@ struct OrbitCamera {
   glm::vec3 eye() const;
   glm::mat4 view() const;
   glm::mat4 projection(float aspect) const;
+
+  // Looks at the middle of `tank` from just far enough that all of it shows, with a margin, in a
+  // frame of `aspect` (width / height; a portrait phone's too), at the present yaw, pitch and
+  // field of view.
+  void fit(const sim::Box& tank, float aspect);
 };
+
+// Where gestures may take an orbit camera around a tank: outside it (beyond its bounding
+// sphere), not so far that it shrinks to a speck, and not below its middle.
+struct OrbitLimits {
+  float min_distance, max_distance;  // m
+  float min_pitch_degrees = 0.0f, max_pitch_degrees = 89.0f;
+
+  void clamp(OrbitCamera& camera) const;
+};
+OrbitLimits orbit_limits(const sim::Box& tank);
 
 }  // namespace fluidcast::render

@@ -1,0 +1,67 @@
+// The orbit camera's fit and limits, without a GPU: the whole tank in the frame on a portrait
+// phone, a landscape screen and a square, snugly; gestures kept outside the tank and above its
+// middle.
+#include "fluidcast/render/camera.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace fluidcast::render {
+namespace {
+
+const sim::Box kTank{{0, 0, 0}, {1.6f, 1.0f, 0.3f}};  // the dam break's
+
+// The largest |x| and |y| of the tank's corners in normalised device coordinates.
+glm::vec2 extent_in_frame(const OrbitCamera& camera, float aspect) {
+  const glm::mat4 clip = camera.projection(aspect) * camera.view();
+  glm::vec2 extent(0.0f);
+  for (int corner = 0; corner < 8; ++corner) {
+    const glm::vec3 p((corner & 1) ? kTank.max.x : kTank.min.x,
+                      (corner & 2) ? kTank.max.y : kTank.min.y,
+                      (corner & 4) ? kTank.max.z : kTank.min.z);
+    const glm::vec4 c = clip * glm::vec4(p, 1.0f);
+    EXPECT_GT(c.w, 0.0f) << "a corner behind the camera";
+    extent = glm::max(extent, glm::abs(glm::vec2(c) / c.w));
+  }
+  return extent;
+}
+
+TEST(OrbitCamera, FitShowsTheWholeTankInAnyFrameShape) {
+  for (float aspect : {390.0f / 844.0f, 16.0f / 9.0f, 1.0f, 3.0f}) {
+    for (float yaw : {0.0f, 30.0f, 90.0f, 200.0f}) {
+      OrbitCamera camera;
+      camera.yaw_degrees = yaw;
+      camera.fit(kTank, aspect);
+      const glm::vec2 extent = extent_in_frame(camera, aspect);
+      EXPECT_LE(std::max(extent.x, extent.y), 1.0f) << "aspect " << aspect << ", yaw " << yaw;
+      EXPECT_GT(std::max(extent.x, extent.y), 0.85f) << "not snug: aspect " << aspect;
+      EXPECT_EQ(camera.target, 0.5f * (kTank.min + kTank.max));
+    }
+  }
+  // A portrait phone needs the camera farther back than a landscape screen.
+  OrbitCamera portrait, landscape;
+  portrait.fit(kTank, 390.0f / 844.0f);
+  landscape.fit(kTank, 16.0f / 9.0f);
+  EXPECT_GT(portrait.distance, 1.5f * landscape.distance);
+}
+
+TEST(OrbitCamera, LimitsKeepTheCameraOutsideTheTankAndAboveItsMiddle) {
+  const OrbitLimits limits = orbit_limits(kTank);
+  OrbitCamera camera;
+  camera.fit(kTank, 1.0f);
+  camera.distance = 0.01f;  // pinched all the way in
+  camera.pitch_degrees = -60.0f;
+  limits.clamp(camera);
+  EXPECT_GT(glm::length(camera.eye() - camera.target), 0.5f * glm::length(kTank.size()));
+  EXPECT_FALSE(kTank.contains(camera.eye()));
+  EXPECT_GE(camera.pitch_degrees, 0.0f);
+  camera.distance = 1e4f;
+  limits.clamp(camera);
+  EXPECT_LE(camera.distance, limits.max_distance);
+  EXPECT_GE(camera.distance, limits.min_distance);
+}
+
+}  // namespace
+}  // namespace fluidcast::render
