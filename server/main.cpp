@@ -87,7 +87,8 @@ int serve(const ServerOptions& options) {
   }
 
   Metrics metrics;
-  SessionHub hub(context, gpu_solver, options.limits, read_token(options.token_file), metrics);
+  const ServerLimits limits = options.limits_for(context.info().hardware());
+  SessionHub hub(context, gpu_solver, limits, read_token(options.token_file), metrics);
   FluidcastService service(hub);
 
   // HTTP first: if its port is taken, nothing else has started yet.
@@ -131,7 +132,7 @@ int serve(const ServerOptions& options) {
   builder.AddChannelArgument(GRPC_ARG_HTTP2_MIN_RECV_PING_INTERVAL_WITHOUT_DATA_MS, 5000);
   // A snapshot of the largest session: 24 bytes a particle, and room for the rest.
   builder.SetMaxReceiveMessageSize(
-      static_cast<int>(std::min<std::uint64_t>(INT32_MAX, 24ull * options.limits.max_particles + (1 << 20))));
+      static_cast<int>(std::min<std::uint64_t>(INT32_MAX, 24ull * limits.max_particles + (1 << 20))));
   std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
   if (!server || grpc_port == 0) {
     std::fprintf(stderr,
@@ -146,9 +147,12 @@ int serve(const ServerOptions& options) {
   std::printf("fluidcast-server: listening: grpc=%s:%d http=%s:%u\n", options.listen.c_str(),
               grpc_port, options.listen.c_str(), static_cast<unsigned>(http.port()));
   std::printf("fluidcast-server: device %s; limits: %u sessions, %u particles, %ux%u, %u fps\n",
-              context.info().name.c_str(), options.limits.max_sessions,
-              options.limits.max_particles, options.limits.max_width, options.limits.max_height,
-              options.limits.target_fps);
+              context.info().name.c_str(), limits.max_sessions, limits.max_particles,
+              limits.max_width, limits.max_height, limits.max_fps);
+  std::printf("fluidcast-server: new sessions: %u particles at %u frames/s%s "
+              "(--default-particles, --target-fps; a page can ask: ?particles=N)\n",
+              limits.default_particles, limits.target_fps,
+              context.info().hardware() ? "" : ", sized for a CPU device");
   if (options.listen == "0.0.0.0") {
     for (const std::string& address : lan_addresses()) {
       std::printf("fluidcast-server: on a phone on this network, open http://%s:%u/ (gRPC: %s:%d)\n",

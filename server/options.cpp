@@ -1,5 +1,7 @@
 #include "options.h"
 
+#include <algorithm>
+
 #include "fluidcast/command_line.h"
 
 namespace fluidcast::server {
@@ -32,8 +34,9 @@ ServerOptions parse_server_options(int argc, char** argv) {
   app.add_option("--max-particles", l.max_particles, "Most particles per session")
       ->envname("FLUIDCAST_MAX_PARTICLES")
       ->check(CLI::Range(1u, 16u << 20));
-  app.add_option("--default-particles", l.default_particles,
-                 "Particles of a session whose client names no count")
+  app.add_option("--default-particles", o.default_particles,
+                 "Particles of a session whose client names no count (default: 20000 on a GPU, "
+                 "4000 on a CPU device)")
       ->envname("FLUIDCAST_DEFAULT_PARTICLES")
       ->check(CLI::Range(1u, 16u << 20));
   app.add_option("--max-width", l.max_width, "Widest frame a viewer may ask for, pixels")
@@ -42,7 +45,9 @@ ServerOptions parse_server_options(int argc, char** argv) {
   app.add_option("--max-height", l.max_height, "Tallest frame a viewer may ask for, pixels")
       ->envname("FLUIDCAST_MAX_HEIGHT")
       ->check(CLI::Range(1u, 16384u));
-  app.add_option("--target-fps", l.target_fps, "Ticks per second: sessions step and render")
+  app.add_option("--target-fps", o.target_fps,
+                 "Ticks per second: sessions step and render (default: 60 on a GPU, 30 on a CPU "
+                 "device)")
       ->envname("FLUIDCAST_TARGET_FPS")
       ->check(CLI::Range(1u, 1000u));
   app.add_option("--sim-share", l.sim_share,
@@ -89,10 +94,10 @@ ServerOptions parse_server_options(int argc, char** argv) {
     if (o.tls_certificate.empty() != o.tls_key.empty()) {
       throw CLI::ValidationError("--tls-cert and --tls-key", "give both, or neither");
     }
-    if (l.default_particles > l.max_particles) {
+    if (o.default_particles && *o.default_particles > l.max_particles) {
       throw CLI::ValidationError("--default-particles", "more than --max-particles");
     }
-    if (l.target_fps > l.max_fps) {
+    if (o.target_fps && *o.target_fps > l.max_fps) {
       throw CLI::ValidationError("--target-fps", "more than --max-fps");
     }
   } catch (const CLI::ParseError& e) {
@@ -103,6 +108,18 @@ ServerOptions parse_server_options(int argc, char** argv) {
               : backend == "cpu" ? SolverBackend::cpu
                                  : SolverBackend::automatic;
   return o;
+}
+
+ServerLimits ServerOptions::limits_for(bool hardware) const {
+  ServerLimits chosen = limits;
+  if (!hardware) {
+    chosen.default_particles = 4000;
+    chosen.target_fps = 30;
+  }
+  chosen.default_particles =
+      std::min(default_particles.value_or(chosen.default_particles), chosen.max_particles);
+  chosen.target_fps = std::min(target_fps.value_or(chosen.target_fps), chosen.max_fps);
+  return chosen;
 }
 
 }  // namespace fluidcast::server

@@ -17,12 +17,19 @@ struct ServerOptions {
   unsigned short http_port = 8080;
   std::optional<std::uint32_t> device;
   SolverBackend backend = SolverBackend::automatic;
-  ServerLimits limits;
+  ServerLimits limits;  // as given, but for the two below
+  // New sessions' particles and the tick rate, where the operator gave them.
+  std::optional<std::uint32_t> default_particles, target_fps;
   std::string tls_certificate, tls_key;  // PEM files; both or neither
   std::string token_file;                // a file whose first line is the token clients must send
   std::string web_root = FLUIDCAST_WEB_ROOT;      // the phone page's files
   std::string web_vendor = FLUIDCAST_WEB_VENDOR;  // node_modules with protobufjs (npm ci at build)
   std::string proto_file = FLUIDCAST_PROTO_FILE;  // the schema the page reads
+
+  // The limits for the device: where the operator gave no default particle count or tick rate,
+  // a CPU device (lavapipe, which renders a 20 000-particle session at 1.5–4 frames/s with a
+  // second of latency) gets 4000 particles at 30 frames/s, a GPU ServerLimits' defaults.
+  ServerLimits limits_for(bool hardware) const;
 };
 
 // Exits the process with CLI11's message and status for --help or bad flags.

@@ -10,10 +10,10 @@ namespace fluidcast::server {
 struct ServerLimits {
   std::uint32_t max_sessions = 8;
   std::uint32_t max_particles = 1 << 20;  // per session
-  std::uint32_t default_particles = 20000;
+  std::uint32_t default_particles = 20000;  // a GPU's; see ServerOptions::limits_for
   std::uint32_t max_width = 3840;
   std::uint32_t max_height = 2160;
-  std::uint32_t target_fps = 60;  // sessions step and render at this rate
+  std::uint32_t target_fps = 60;  // sessions step and render at this rate (a GPU's)
   // Of each tick's period, the GPU time that all sessions' simulation may take together (the rest
   // is for rendering, read-back and headroom); beyond it the fluid runs in slow motion.
   double sim_share = 0.5;

@@ -268,12 +268,13 @@ TEST(ServerTest, ADragStirsTheFluidWhereItTouches) {
   StreamClient calm(client::connect(address), hello);
   frame_from(touched);
   frame_from(calm);
-  // The camera looks at the tank's centre; the water fills its lower part: touch below the middle.
-  touched.pointer(0, v1::PointerEvent::DOWN, 0.45f, 0.62f);
+  // The camera looks at the tank's centre, the whole tank in the frame; the water fills its lower
+  // 30 %: touch well below the middle.
+  touched.pointer(0, v1::PointerEvent::DOWN, 0.45f, 0.7f);
   for (int k = 0; k < 20; ++k) {
     frame_from(touched);
     frame_from(calm);
-    touched.pointer(0, v1::PointerEvent::MOVE, 0.45f + 0.01f * float(k % 10), 0.62f);
+    touched.pointer(0, v1::PointerEvent::MOVE, 0.45f + 0.01f * float(k % 10), 0.7f);
   }
   const v1::Snapshot stirred = snapshot_of(address, touched.welcome().session_id());
   const v1::Snapshot still = snapshot_of(address, calm.welcome().session_id());
