@@ -41,9 +41,55 @@ let wanted = {
 };
 let paused = false;
 let retryDelayMs = 500;
+let retryTimer = 0;
 let giveUp = false;
+// Why the last stream ended, in words for the person holding the phone, when the server said:
+// what the close that follows shows, instead of a bare "dropped".
+let endReason = '';
+let sessionLost = false;  // the server no longer had our session: the next one is new
+const kServerDefaultQuality = 80;  // Quality.jpeg_quality 0 (fluidcast.proto)
 
-function say(text) { page.status.textContent = text; }
+// The server's status codes in plain words; its own sentence, written for protocol developers,
+// follows as the detail.
+const plainWords = {
+  RESOURCE_EXHAUSTED: 'The server is at one of its limits',
+  INVALID_ARGUMENT: 'The server could not use what this page asked for',
+  FAILED_PRECONDITION: 'The server could not use what this page asked for',
+  PERMISSION_DENIED: 'The server refused this page',
+  UNAVAILABLE: 'The server is shutting down or restarting',
+  INTERNAL: 'The server ran into a problem',
+};
+
+// Shows `text` in the middle of the screen (nothing: hides it), with a "Retry now" button when
+// `retry` is set.
+function say(text, retry = false) {
+  page.status.textContent = text;
+  if (retry && text) {
+    const button = document.createElement('button');
+    button.id = 'retry';
+    button.textContent = 'Retry now';
+    button.onclick = retryNow;
+    page.status.append(document.createElement('br'), button);
+  }
+}
+
+function retryNow() {
+  clearTimeout(retryTimer);
+  giveUp = false;
+  endReason = '';
+  retryDelayMs = 500;
+  if (!socket) connect();
+}
+
+// While no frames come, the figures of the last ones would mislead.
+function clearStats() {
+  state.fps = 0;
+  state.bitrateKbps = 0;
+  state.latencyMs = [];
+  frameTimes = [];
+  bytesWindow = [];
+  page.stats.textContent = '';
+}
 
 // ---- protocol ------------------------------------------------------------------------------
 
@@ -106,10 +152,16 @@ function connect() {
   socket.onclose = () => {
     state.connected = false;
     socket = null;
-    if (giveUp) return;
+    clearStats();
+    if (giveUp) {
+      if (endReason) say(endReason, true);
+      return;
+    }
     // The network dropped or the server went away: try again, resuming the session.
-    say('The connection dropped; reconnecting in ' + (retryDelayMs / 1000).toFixed(1) + ' s…');
-    setTimeout(() => { state.reconnects++; connect(); }, retryDelayMs);
+    say((endReason || 'The connection dropped') + '; reconnecting in ' +
+        (retryDelayMs / 1000).toFixed(1) + ' s…', true);
+    endReason = '';
+    retryTimer = setTimeout(() => { state.reconnects++; connect(); }, retryDelayMs);
     retryDelayMs = Math.min(retryDelayMs * 2, 8000);
   };
 }
@@ -122,7 +174,14 @@ function receive(bytes) {
     state.viewerId = message.welcome.viewerId;
     retryDelayMs = 500;
     history.replaceState(null, '', '#' + state.sessionId);
-    say('');
+    if (sessionLost) {
+      sessionLost = false;
+      say('The server no longer had the fluid you were watching (it may have restarted): this ' +
+          'is a new one.');
+      setTimeout(() => { if (state.connected) say(''); }, 5000);
+    } else {
+      say('');
+    }
     showSession(message.welcome.state);
   } else if (message.frame) {
     showFrame(message.frame);
@@ -144,14 +203,16 @@ function ended(code, text) {
       say('No token given: ' + text);
     }
   } else if (code === 'NOT_FOUND') {
-    // The session ended while we were away: start a new one.
+    // The session ended while we were away (or the server restarted): start a new one, and say so.
     state.sessionId = '';
+    state.viewerId = 0;
+    sessionLost = true;
     retryDelayMs = 100;
-  } else if (code === 'UNAVAILABLE' || code === 'RESOURCE_EXHAUSTED' || code === 'INTERNAL') {
-    say('The server ended the stream (' + code + '): ' + text + ' — retrying.');
   } else {
-    giveUp = true;
-    say('The server ended the stream (' + code + '): ' + text);
+    endReason = (plainWords[code] || 'The server ended the stream') + ' (' + text + ')';
+    // Going away or a fault may pass; a limit or a request it cannot use would be refused again:
+    // that waits for the person (Retry now).
+    if (code !== 'UNAVAILABLE' && code !== 'INTERNAL') giveUp = true;
   }
 }
 
@@ -240,11 +301,16 @@ function updateStats() {
   if (page.stats.hidden) return;
   const f = state.lastFrame || {};
   const t = f.timings || {};
+  // "—" until a touch has come back in a frame.
+  const latency = (p) => state.latencyMs.length ? `${percentile(state.latencyMs, p).toFixed(0)} ms`
+                                                : '—';
+  const lowered = wanted.adaptive && f.quality < (wanted.quality || kServerDefaultQuality)
+    ? ' (lowered to keep up)' : '';
   page.stats.textContent =
     `${state.fps.toFixed(1)} fps  ${state.bitrateKbps.toFixed(0)} kbit/s\n` +
-    `touch→photon p50 ${percentile(state.latencyMs, 0.5).toFixed(0)} ms, ` +
-    `p95 ${percentile(state.latencyMs, 0.95).toFixed(0)} ms\n` +
-    `${f.width}×${f.height} ${f.renderer} q${f.quality}  t=${(f.simTime || 0).toFixed(2)} s\n` +
+    `touch→photon p50 ${latency(0.5)}, p95 ${latency(0.95)}\n` +
+    `${f.width}×${f.height} ${f.renderer} q${f.quality}${lowered}  ` +
+    `t=${(f.simTime || 0).toFixed(2)} s\n` +
     `simulation ${simSpeedText(f.simSpeed)}\n` +
     `server: sim ${(t.simMs || 0).toFixed(1)} queue ${(t.queueMs || 0).toFixed(1)} ` +
     `render ${(t.renderMs || 0).toFixed(1)} read-back ${(t.readbackMs || 0).toFixed(2)} ` +

@@ -163,6 +163,23 @@ async function main() {
     check(after === before.id, 'the same session after the reconnect');
     await page.screenshot({ path: path.join(out, 'browser_reconnected.png') });
 
+    // A session the server refuses (over its particle limit): the reason stays on the screen, in
+    // plain words with the server's detail, and the page waits for "Retry now" instead of looping.
+    const refused = await context.newPage();
+    refused.on('pageerror', (e) => { console.log('page error: ' + e.message); failures++; });
+    await refused.goto(`http://127.0.0.1:${port}/?particles=99999999`);
+    await waitFor(refused, () => document.getElementById('retry') !== null, 'a refusal', 15000);
+    await sleep(2000);
+    const refusal = await refused.evaluate(() => ({
+      text: document.getElementById('status').textContent,
+      reconnects: window.fluidcast.reconnects,
+    }));
+    check(/limit/.test(refusal.text) && /99999999|99,999,999|particles/.test(refusal.text),
+          `the refusal says why: "${refusal.text}"`);
+    check(refusal.reconnects === 0, `a refusal is not retried by itself (${refusal.reconnects})`);
+    await refused.screenshot({ path: path.join(out, 'browser_refused.png') });
+    await refused.close();
+
     // The server goes away: the page says so instead of a blank screen.
     child.kill('SIGTERM');
     await waitFor(page, () => document.getElementById('status').textContent.length > 0,
