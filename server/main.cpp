@@ -104,6 +104,7 @@ int serve(const ServerOptions& options) {
        {{"/", web / "index.html"},
         {"/app.js", web / "app.js"},
         {"/style.css", web / "style.css"},
+        {"/manifest.webmanifest", web / "manifest.webmanifest"},
         {"/fluidcast.proto", options.proto_file},
         {"/vendor/protobuf.min.js",
          std::filesystem::path(options.web_vendor) / "protobufjs/dist/protobuf.min.js"}}});

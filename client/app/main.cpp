@@ -71,7 +71,12 @@ int main(int argc, char** argv) {
     try {
       return client::run_headless({server, hello, script, save_frames, seconds > 0 ? seconds : 5.0, json});
     } catch (const client::StreamError& e) {
-      std::fprintf(stderr, "fluidcast-client: the server refused: %s\n", e.what());
+      // A refusal carries the server's reason; no answer at all is not a refusal.
+      if (e.code() == grpc::StatusCode::UNAVAILABLE) {
+        std::fprintf(stderr, "fluidcast-client: %s (--server %s)\n", e.what(), server.c_str());
+      } else {
+        std::fprintf(stderr, "fluidcast-client: the server refused: %s\n", e.what());
+      }
       return 1;
     } catch (const std::exception& e) {
       std::fprintf(stderr, "fluidcast-client: %s\n", e.what());

@@ -22,7 +22,7 @@ StreamClient::StreamClient(std::shared_ptr<grpc::Channel> channel, const v1::Hel
   // A server that cannot be reached is said in seconds, not after gRPC's long backoff.
   if (!channel->WaitForConnected(std::chrono::system_clock::now() + kConnectTimeout)) {
     throw StreamError(grpc::Status(grpc::StatusCode::UNAVAILABLE,
-                                   "no server answered within 5 s"));
+                                   "no server answered within 5 s; is fluidcast-server running there?"));
   }
   stream_ = stub_->Stream(&context_);
   v1::ClientMessage message;

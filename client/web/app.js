@@ -153,6 +153,7 @@ function connect() {
     state.connected = false;
     socket = null;
     clearStats();
+    if (hiddenPause) return;
     if (giveUp) {
       if (endReason) say(endReason, true);
       return;
@@ -173,6 +174,7 @@ function receive(bytes) {
     state.sessionId = message.welcome.sessionId;
     state.viewerId = message.welcome.viewerId;
     retryDelayMs = 500;
+    keepAwake();
     history.replaceState(null, '', '#' + state.sessionId);
     if (sessionLost) {
       sessionLost = false;
@@ -392,7 +394,24 @@ function onMotion(event) {
   send({ tilt: gravity }, true);
 }
 
+// Why tilt cannot work in this browser, or '' when it can: browsers give motion sensors only to
+// secure pages (https://, or this machine's own address).
+function tiltUnavailable() {
+  if (!window.isSecureContext) {
+    return 'Tilt needs a secure page: open this one through https:// (the server prints the ' +
+           'address when it has a certificate).';
+  }
+  if (typeof DeviceMotionEvent === 'undefined') return 'This browser has no motion sensors.';
+  return '';
+}
+
 async function enableTilt() {
+  const why = tiltUnavailable();
+  if (why) {
+    say(why);
+    setTimeout(() => say(''), 5000);
+    return;
+  }
   try {
     // iOS asks the person first, and only from a tap.
     if (typeof DeviceMotionEvent !== 'undefined' &&
@@ -436,7 +455,18 @@ function setupControls() {
     command({ pause: paused });
     e.target.textContent = paused ? 'Go on' : 'Pause';
   };
-  page.panel.querySelector('#tilt').onclick = enableTilt;
+  const tilt = page.panel.querySelector('#tilt');
+  tilt.onclick = enableTilt;
+  if (tiltUnavailable()) {
+    tilt.textContent = 'Tilt: needs https';
+    tilt.title = tiltUnavailable();
+  }
+  const fullscreen = page.panel.querySelector('#fullscreen');
+  fullscreen.hidden = !document.fullscreenEnabled;  // an iPhone's Safari has none
+  fullscreen.onclick = () => {
+    if (document.fullscreenElement) document.exitFullscreen();
+    else document.documentElement.requestFullscreen().catch((e) => say(e.message));
+  };
   page.panel.querySelector('#toggle-stats').onclick = (e) => {
     page.stats.hidden = !page.stats.hidden;
     e.target.textContent = page.stats.hidden ? 'Show stats' : 'Hide stats';
@@ -449,6 +479,31 @@ function fitCanvas() {
   page.canvas.width = Math.round(page.canvas.clientWidth * scale);
   page.canvas.height = Math.round(page.canvas.clientHeight * scale);
 }
+
+// The screen stays on while frames come (secure pages only; elsewhere it sleeps as set).
+let wakeLock = null;
+async function keepAwake() {
+  if (wakeLock || !('wakeLock' in navigator) || document.hidden) return;
+  try {
+    wakeLock = await navigator.wakeLock.request('screen');
+    wakeLock.addEventListener('release', () => { wakeLock = null; });
+  } catch (error) {
+    wakeLock = null;  // refused (battery saver): not worth a message
+  }
+}
+
+// A hidden tab streams nothing: the stream closes, and the session waits (the server's resume
+// grace) for the tab to come back and resume it.
+let hiddenPause = false;
+document.addEventListener('visibilitychange', () => {
+  if (document.hidden) {
+    hiddenPause = true;
+    if (socket) socket.close();
+  } else if (hiddenPause) {
+    hiddenPause = false;
+    retryNow();
+  }
+});
 
 let resizeTimer = 0;
 window.addEventListener('resize', () => {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <future>
 #include <map>
 #include <memory>
@@ -48,6 +49,15 @@ struct SdlLibrary {
     if (SDL_Init(SDL_INIT_VIDEO | SDL_INIT_EVENTS | SDL_INIT_SENSOR) != 0) {
       throw std::runtime_error(std::string("SDL cannot start: ") + SDL_GetError() +
                                " (no display? run it under a desktop, or use --headless)");
+    }
+    // Without a display SDL falls back to drivers that show nothing: a window nobody sees.
+    // (Chosen on purpose through SDL_VIDEODRIVER, they are left alone.)
+    const std::string driver = SDL_GetCurrentVideoDriver() ? SDL_GetCurrentVideoDriver() : "";
+    const char* asked = std::getenv("SDL_VIDEODRIVER");
+    if ((driver == "offscreen" || driver == "dummy") && !(asked && driver == asked)) {
+      SDL_Quit();
+      throw std::runtime_error("no display: SDL found none to open a window on (only its " +
+                               driver + " driver); run it on a desktop, or use --headless");
     }
   }
   ~SdlLibrary() { SDL_Quit(); }

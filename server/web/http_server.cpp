@@ -23,6 +23,7 @@ std::string content_type(const std::filesystem::path& path) {
   if (extension == ".js") return "text/javascript; charset=utf-8";
   if (extension == ".css") return "text/css; charset=utf-8";
   if (extension == ".png") return "image/png";
+  if (extension == ".webmanifest") return "application/manifest+json";
   return "text/plain; charset=utf-8";
 }
 

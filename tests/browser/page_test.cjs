@@ -100,6 +100,12 @@ async function main() {
     check(state.lastFrame.width === 300 && state.lastFrame.height === 400,
           `frames at the canvas's size (${state.lastFrame.width}×${state.lastFrame.height})`);
     await page.screenshot({ path: path.join(out, 'browser_page.png') });
+    const manifest = await page.evaluate(async () => {
+      const link = document.querySelector('link[rel=manifest]');
+      return (await fetch(link.href)).json();
+    });
+    check(manifest.name === 'fluidcast' && manifest.display === 'fullscreen',
+          'a web-app manifest (installable, full screen)');
 
     // A calm pool changes little by itself; a finger dragged through it changes it a lot.
     await sleep(1500);
