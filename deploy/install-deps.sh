@@ -14,8 +14,8 @@ packages=(
   glslang-tools spirv-tools
   # frames: JPEG through TurboJPEG, PNG for tests and tools
   libturbojpeg0-dev libpng-dev
-  # thread pools (Asio), HTTP and WebSocket (Beast)
-  libboost-dev
+  # thread pools (Asio), HTTP and WebSocket (Beast), and their TLS (the page's HTTPS)
+  libboost-dev libssl-dev
   # the wire protocol: gRPC (health and reflection included) and protobuf
   libgrpc++-dev libprotobuf-dev protobuf-compiler protobuf-compiler-grpc
   # JSON: the headless client's report and gesture scripts

@@ -22,6 +22,7 @@
 #include "options.h"
 #include "session/session_hub.h"
 #include "web/http_server.h"
+#include "web/tls_certificate.h"
 #include "web/websocket_session.h"
 
 namespace fluidcast::server {
@@ -91,13 +92,32 @@ int serve(const ServerOptions& options) {
   SessionHub hub(context, gpu_solver, limits, read_token(options.token_file), metrics);
   FluidcastService service(hub);
 
+  // The page's HTTPS: the operator's certificate, else one made for this machine's addresses.
+  const std::vector<std::string> addresses = lan_addresses();
+  const TlsFiles tls_files =
+      options.tls_certificate.empty()
+          ? self_signed_certificate(options.state_dir.empty() ? default_state_folder()
+                                                              : std::filesystem::path(options.state_dir),
+                                    addresses)
+          : TlsFiles{options.tls_certificate, options.tls_key};
+  auto page_tls =
+      std::make_shared<boost::asio::ssl::context>(boost::asio::ssl::context::tls_server);
+  try {
+    page_tls->use_certificate_chain_file(tls_files.certificate.string());
+    page_tls->use_private_key_file(tls_files.key.string(), boost::asio::ssl::context::pem);
+  } catch (const std::exception& e) {
+    throw std::runtime_error("TLS: " + tls_files.certificate.string() + " and " +
+                             tls_files.key.string() + " are not a PEM certificate and its key: " +
+                             e.what());
+  }
+
   // HTTP first: if its port is taken, nothing else has started yet.
   std::atomic<bool> serving{true};
   const std::filesystem::path web = options.web_root;
   HttpServer http(
       options.listen, options.http_port,
       {[&] { return metrics.prometheus_text(); }, [&] { return serving.load(); },
-       [&hub](boost::beast::tcp_stream stream,
+       [&hub](WebStream stream,
               boost::beast::http::request<boost::beast::http::string_body> request) {
          serve_websocket(std::move(stream), std::move(request), hub);
        },
@@ -107,7 +127,8 @@ int serve(const ServerOptions& options) {
         {"/manifest.webmanifest", web / "manifest.webmanifest"},
         {"/fluidcast.proto", options.proto_file},
         {"/vendor/protobuf.min.js",
-         std::filesystem::path(options.web_vendor) / "protobufjs/dist/protobuf.min.js"}}});
+         std::filesystem::path(options.web_vendor) / "protobufjs/dist/protobuf.min.js"}}},
+      page_tls);
 
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
@@ -155,10 +176,16 @@ int serve(const ServerOptions& options) {
               limits.default_particles, limits.target_fps,
               context.info().hardware() ? "" : ", sized for a CPU device");
   if (options.listen == "0.0.0.0") {
-    for (const std::string& address : lan_addresses()) {
-      std::printf("fluidcast-server: on a phone on this network, open http://%s:%u/ (gRPC: %s:%d)\n",
+    for (const std::string& address : addresses) {
+      std::printf("fluidcast-server: on a phone on this network, open https://%s:%u/ (tilt "
+                  "needs https; http:// works too) (gRPC: %s:%d)\n",
                   address.c_str(), static_cast<unsigned>(http.port()), address.c_str(), grpc_port);
     }
+  }
+  if (options.tls_certificate.empty()) {
+    std::printf("fluidcast-server: https uses a self-signed certificate, %s: a browser asks once "
+                "to accept it (README: Connect your phone; --tls-cert for a real one)\n",
+                tls_files.certificate.c_str());
   }
   const char* local = options.listen == "0.0.0.0" ? "127.0.0.1" : options.listen.c_str();
   std::printf("fluidcast-server: here: open http://%s:%u/ in a browser, or run "

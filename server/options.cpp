@@ -70,12 +70,19 @@ ServerOptions parse_server_options(int argc, char** argv) {
                  "Seconds a session without viewers lives on, for a client to resume it")
       ->envname("FLUIDCAST_RESUME_GRACE")
       ->check(CLI::Range(0u, 86400u));
-  app.add_option("--tls-cert", o.tls_certificate, "TLS certificate chain (PEM) for gRPC")
+  app.add_option("--tls-cert", o.tls_certificate,
+                 "TLS certificate chain (PEM) for gRPC and the page's HTTPS (without it the page "
+                 "gets a self-signed one, made in --state-dir, and gRPC is plaintext)")
       ->envname("FLUIDCAST_TLS_CERT")
       ->check(CLI::ExistingFile);
-  app.add_option("--tls-key", o.tls_key, "TLS private key (PEM) for gRPC")
+  app.add_option("--tls-key", o.tls_key, "TLS private key (PEM) for --tls-cert")
       ->envname("FLUIDCAST_TLS_KEY")
       ->check(CLI::ExistingFile);
+  app.add_option("--state-dir", o.state_dir,
+                 "Folder for what the server makes and keeps: the self-signed certificate "
+                 "(default: $STATE_DIRECTORY, else $XDG_STATE_HOME/fluidcast, else "
+                 "~/.local/state/fluidcast)")
+      ->envname("FLUIDCAST_STATE_DIR");
   app.add_option("--token-file", o.token_file,
                  "File whose first line is the token every client must send in Hello.token")
       ->envname("FLUIDCAST_TOKEN_FILE")

@@ -3,6 +3,7 @@
 #include <boost/asio/strand.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
+#include <boost/beast/ssl.hpp>
 #include <boost/beast/websocket/rfc6455.hpp>
 #include <chrono>
 #include <fstream>
@@ -27,21 +28,26 @@ std::string content_type(const std::filesystem::path& path) {
   return "text/plain; charset=utf-8";
 }
 
-class Connection : public std::enable_shared_from_this<Connection> {
+// One connection's requests over Stream (beast::tcp_stream or TlsStream); `buffer` holds what
+// was read while telling TLS from plain HTTP.
+template <class Stream>
+class Connection : public std::enable_shared_from_this<Connection<Stream>> {
+  using std::enable_shared_from_this<Connection<Stream>>::shared_from_this;
+
  public:
-  Connection(tcp::socket socket, const HttpServer::Routes& routes)
-      : stream_(std::move(socket)), routes_(&routes) {}
+  Connection(Stream stream, beast::flat_buffer buffer, const HttpServer::Routes& routes)
+      : stream_(std::move(stream)), routes_(&routes), buffer_(std::move(buffer)) {}
 
   void read() {
     request_ = {};
-    stream_.expires_after(std::chrono::seconds(30));
+    beast::get_lowest_layer(stream_).expires_after(std::chrono::seconds(30));
     http::async_read(stream_, buffer_, request_,
                      [self = shared_from_this()](beast::error_code error, std::size_t) {
                        if (error) return;
                        if (beast::websocket::is_upgrade(self->request_) &&
                            self->request_.target() == "/ws" && self->routes_->websocket) {
-                         self->stream_.expires_never();
-                         self->routes_->websocket(std::move(self->stream_),
+                         beast::get_lowest_layer(self->stream_).expires_never();
+                         self->routes_->websocket(WebStream(std::move(self->stream_)),
                                                   std::move(self->request_));
                          return;
                        }
@@ -92,22 +98,67 @@ class Connection : public std::enable_shared_from_this<Connection> {
                           self->read();
                         } else {
                           beast::error_code ignored;
-                          self->stream_.socket().shutdown(tcp::socket::shutdown_send, ignored);
+                          beast::get_lowest_layer(self->stream_).socket().shutdown(
+                              tcp::socket::shutdown_send, ignored);
                         }
                       });
   }
 
-  beast::tcp_stream stream_;
+  Stream stream_;
   const HttpServer::Routes* routes_;
   beast::flat_buffer buffer_;
   http::request<http::string_body> request_;
 };
 
+// Reads a new connection's first bytes: a TLS handshake gets HTTPS (when there is a context),
+// anything else plain HTTP.
+class Detector : public std::enable_shared_from_this<Detector> {
+ public:
+  Detector(tcp::socket socket, const HttpServer::Routes& routes,
+           std::shared_ptr<boost::asio::ssl::context> tls)
+      : stream_(std::move(socket)), routes_(&routes), tls_(std::move(tls)) {}
+
+  void run() {
+    stream_.expires_after(std::chrono::seconds(30));
+    beast::async_detect_ssl(stream_, buffer_,
+                            [self = shared_from_this()](beast::error_code error, bool tls) {
+                              if (error) return;
+                              if (tls && self->tls_) {
+                                self->handshake();
+                              } else {
+                                std::make_shared<Connection<beast::tcp_stream>>(
+                                    std::move(self->stream_), std::move(self->buffer_),
+                                    *self->routes_)
+                                    ->read();
+                              }
+                            });
+  }
+
+ private:
+  void handshake() {
+    auto secure = std::make_shared<TlsStream>(std::move(stream_), *tls_);
+    secure->async_handshake(
+        boost::asio::ssl::stream_base::server, buffer_.data(),
+        [self = shared_from_this(), secure](beast::error_code error, std::size_t used) {
+          if (error) return;  // a browser that does not trust the certificate yet, say
+          self->buffer_.consume(used);
+          std::make_shared<Connection<TlsStream>>(std::move(*secure), std::move(self->buffer_),
+                                                  *self->routes_)
+              ->read();
+        });
+  }
+
+  beast::tcp_stream stream_;
+  const HttpServer::Routes* routes_;
+  std::shared_ptr<boost::asio::ssl::context> tls_;
+  beast::flat_buffer buffer_;
+};
+
 }  // namespace
 
 HttpServer::HttpServer(const std::string& address, unsigned short port, Routes routes,
-                       unsigned threads)
-    : routes_(std::move(routes)), acceptor_(io_) {
+                       std::shared_ptr<boost::asio::ssl::context> tls, unsigned threads)
+    : routes_(std::move(routes)), tls_(std::move(tls)), acceptor_(io_) {
   try {
     const tcp::endpoint endpoint(boost::asio::ip::make_address(address), port);
     acceptor_.open(endpoint.protocol());
@@ -136,7 +187,7 @@ void HttpServer::accept() {
   acceptor_.async_accept(boost::asio::make_strand(io_),
                          [this](beast::error_code error, tcp::socket socket) {
                            if (!error) {
-                             std::make_shared<Connection>(std::move(socket), routes_)->read();
+                             std::make_shared<Detector>(std::move(socket), routes_, tls_)->run();
                            }
                            if (acceptor_.is_open()) accept();
                          });

@@ -1,21 +1,30 @@
 // The server's HTTP side (Boost.Beast): the phone page and its files, the WebSocket on /ws,
-// GET /metrics (Prometheus text) and GET /healthz. One io_context on its own threads; each
-// connection runs on its own strand and handles one request at a time.
+// GET /metrics (Prometheus text) and GET /healthz, over plain HTTP and, with a TLS context, HTTPS
+// on the same port (each connection's first bytes say which). One io_context on its own threads;
+// each connection runs on its own strand and handles one request at a time.
 #pragma once
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/ssl/context.hpp>
 #include <boost/beast/core/tcp_stream.hpp>
+#include <boost/beast/ssl/ssl_stream.hpp>
 #include <boost/beast/http/message.hpp>
 #include <boost/beast/http/string_body.hpp>
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <memory>
 #include <string>
 #include <thread>
+#include <variant>
 #include <vector>
 
 namespace fluidcast::server {
+
+using TlsStream = boost::beast::ssl_stream<boost::beast::tcp_stream>;
+// A connection as the HTTP side hands it over: plain, or TLS.
+using WebStream = std::variant<boost::beast::tcp_stream, TlsStream>;
 
 class HttpServer {
  public:
@@ -23,15 +32,15 @@ class HttpServer {
     std::function<std::string()> metrics;  // the body of /metrics
     std::function<bool()> healthy;         // /healthz: 200 when true, else 503
     // Takes over a WebSocket upgrade of /ws.
-    std::function<void(boost::beast::tcp_stream,
-                       boost::beast::http::request<boost::beast::http::string_body>)>
+    std::function<void(WebStream, boost::beast::http::request<boost::beast::http::string_body>)>
         websocket;
     // GET paths served from files ("/" is index.html).
     std::map<std::string, std::filesystem::path> files;
   };
   // Listens on address:port (port 0: any free one); throws std::runtime_error naming the address
-  // when it cannot.
-  HttpServer(const std::string& address, unsigned short port, Routes routes, unsigned threads = 2);
+  // when it cannot. With `tls`, connections that open with a TLS handshake get HTTPS.
+  HttpServer(const std::string& address, unsigned short port, Routes routes,
+             std::shared_ptr<boost::asio::ssl::context> tls = nullptr, unsigned threads = 2);
   ~HttpServer();
   HttpServer(const HttpServer&) = delete;
   HttpServer& operator=(const HttpServer&) = delete;
@@ -43,6 +52,7 @@ class HttpServer {
   void accept();
 
   Routes routes_;
+  std::shared_ptr<boost::asio::ssl::context> tls_;
   boost::asio::io_context io_;
   boost::asio::ip::tcp::acceptor acceptor_;
   unsigned short port_ = 0;

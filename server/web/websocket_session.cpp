@@ -2,7 +2,10 @@
 
 #include <boost/asio/post.hpp>
 #include <boost/beast/core/flat_buffer.hpp>
+#include <boost/beast/ssl.hpp>
 #include <boost/beast/websocket.hpp>
+#include <boost/beast/websocket/ssl.hpp>
+#include <variant>
 
 #include "session/outgoing_messages.h"
 #include "session/validation.h"
@@ -30,9 +33,14 @@ const char* code_name(RefusalCode code) {
   return "INTERNAL";
 }
 
-class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
+// Over a plain connection or a TLS one (Stream: beast::tcp_stream or TlsStream).
+template <class Stream>
+class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<Stream>> {
+  using std::enable_shared_from_this<WebSocketSession<Stream>>::shared_from_this;
+  using std::enable_shared_from_this<WebSocketSession<Stream>>::weak_from_this;
+
  public:
-  WebSocketSession(beast::tcp_stream stream, SessionHub& hub)
+  WebSocketSession(Stream stream, SessionHub& hub)
       : socket_(std::move(stream)),
         hub_(&hub),
         rate_(hub.limits().max_input_events_per_second),
@@ -63,7 +71,21 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
   }
 
  private:
-  class Sink;
+  // The session's way in: a weak link, so a closed socket is simply gone.
+  class Sink final : public ViewerSink {
+   public:
+    explicit Sink(std::weak_ptr<WebSocketSession> owner) : owner_(std::move(owner)) {}
+    bool deliver(std::shared_ptr<const v1::ServerMessage> message) override {
+      if (auto owner = owner_.lock()) owner->post_send(std::move(message));
+      return true;  // replacements are counted on the strand
+    }
+    void end(const Refusal& why) override {
+      if (auto owner = owner_.lock()) owner->post_end(why);
+    }
+
+   private:
+    std::weak_ptr<WebSocketSession> owner_;
+  };
 
   void read() {
     if (ending_) return;
@@ -102,7 +124,25 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
     }
   }
 
-  void open(const v1::Hello& hello);
+  void open(const v1::Hello& hello) {
+    auto sink = std::make_shared<Sink>(weak_from_this());
+    hub_->open(hello, sink, [self = shared_from_this()](SessionHub::Opened opened) {
+      boost::asio::post(self->socket_.get_executor(), [self, opened = std::move(opened)]() mutable {
+        if (opened.refusal) {
+          self->hub_->metrics().streams_refused++;
+          self->end(opened.refusal->code(), opened.refusal->what());
+          return;
+        }
+        if (self->ending_) {  // the socket went away while the session opened
+          self->hub_->close(std::move(opened.session), opened.viewer);
+          return;
+        }
+        self->session_ = std::move(opened.session);
+        self->viewer_ = opened.viewer;
+        self->read();
+      });
+    });
+  }
 
   void send(std::shared_ptr<const v1::ServerMessage> message) {
     if (ending_ && !message->has_end()) return;
@@ -156,7 +196,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
     session_.reset();
   }
 
-  websocket::stream<beast::tcp_stream> socket_;
+  websocket::stream<Stream> socket_;
   SessionHub* hub_;
   beast::flat_buffer buffer_;
   InputRateLimit rate_, ack_rate_;
@@ -167,47 +207,17 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession> {
   bool ending_ = false, closed_ = false;
 };
 
-// The session's way in: a weak link, so a closed socket is simply gone.
-class WebSocketSession::Sink final : public ViewerSink {
- public:
-  explicit Sink(std::weak_ptr<WebSocketSession> owner) : owner_(std::move(owner)) {}
-  bool deliver(std::shared_ptr<const v1::ServerMessage> message) override {
-    if (auto owner = owner_.lock()) owner->post_send(std::move(message));
-    return true;  // replacements are counted on the strand
-  }
-  void end(const Refusal& why) override {
-    if (auto owner = owner_.lock()) owner->post_end(why);
-  }
-
- private:
-  std::weak_ptr<WebSocketSession> owner_;
-};
-
-void WebSocketSession::open(const v1::Hello& hello) {
-  auto sink = std::make_shared<Sink>(weak_from_this());
-  hub_->open(hello, sink, [self = shared_from_this()](SessionHub::Opened opened) {
-    boost::asio::post(self->socket_.get_executor(), [self, opened = std::move(opened)]() mutable {
-      if (opened.refusal) {
-        self->hub_->metrics().streams_refused++;
-        self->end(opened.refusal->code(), opened.refusal->what());
-        return;
-      }
-      if (self->ending_) {  // the socket went away while the session opened
-        self->hub_->close(std::move(opened.session), opened.viewer);
-        return;
-      }
-      self->session_ = std::move(opened.session);
-      self->viewer_ = opened.viewer;
-      self->read();
-    });
-  });
-}
-
 }  // namespace
 
-void serve_websocket(beast::tcp_stream stream,
-                     beast::http::request<beast::http::string_body> request, SessionHub& hub) {
-  std::make_shared<WebSocketSession>(std::move(stream), hub)->start(std::move(request));
+void serve_websocket(WebStream stream, beast::http::request<beast::http::string_body> request,
+                     SessionHub& hub) {
+  std::visit(
+      [&](auto& connection) {
+        using Stream = std::decay_t<decltype(connection)>;
+        std::make_shared<WebSocketSession<Stream>>(std::move(connection), hub)
+            ->start(std::move(request));
+      },
+      stream);
 }
 
 }  // namespace fluidcast::server

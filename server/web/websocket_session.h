@@ -4,17 +4,17 @@
 // flight and one frame waiting behind it: a newer frame replaces the waiting one.
 #pragma once
 
-#include <boost/beast/core/tcp_stream.hpp>
 #include <boost/beast/http/message.hpp>
 #include <boost/beast/http/string_body.hpp>
 #include <memory>
 
 #include "session/session_hub.h"
+#include "web/http_server.h"
 
 namespace fluidcast::server {
 
 // Takes over an upgrade request's connection; keeps itself alive while the socket is open.
-void serve_websocket(boost::beast::tcp_stream stream,
+void serve_websocket(WebStream stream,
                      boost::beast::http::request<boost::beast::http::string_body> request,
                      SessionHub& hub);
 

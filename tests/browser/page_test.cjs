@@ -22,8 +22,11 @@ function check(ok, what) {
 
 function startServer() {
   return new Promise((resolve, reject) => {
-    const child = spawn(server, ['--listen', '127.0.0.1', '--grpc-port', '0', '--http-port', '0'],
+    const state = fs.mkdtempSync(path.join(require('os').tmpdir(), 'fluidcast-page-'));
+    const child = spawn(server, ['--listen', '127.0.0.1', '--grpc-port', '0', '--http-port', '0',
+                                 '--state-dir', state],
                         { stdio: ['ignore', 'pipe', 'inherit'] });
+    child.on('exit', () => fs.rmSync(state, { recursive: true, force: true }));
     let text = '';
     child.stdout.on('data', (chunk) => {
       text += chunk;
@@ -168,6 +171,24 @@ async function main() {
     const after = await page.evaluate(() => window.fluidcast.sessionId);
     check(after === before.id, 'the same session after the reconnect');
     await page.screenshot({ path: path.join(out, 'browser_reconnected.png') });
+
+    // The same page over HTTPS (the server's self-signed certificate, accepted as a person
+    // would): a secure page, whose frames come over wss://, where browsers allow tilt.
+    const secureContext = await browser.newContext({
+      viewport: { width: 390, height: 844 }, isMobile: true, hasTouch: true,
+      ignoreHTTPSErrors: true,
+    });
+    const secure = await secureContext.newPage();
+    secure.on('pageerror', (e) => { console.log('page error: ' + e.message); failures++; });
+    await secure.goto(`https://127.0.0.1:${port}/?particles=1000`);
+    await waitFor(secure, () => window.fluidcast.frames >= 3, 'frames over https', 30000);
+    const https = await secure.evaluate(() => ({
+      secure: window.isSecureContext, protocol: location.protocol,
+      tilt: document.getElementById('tilt').textContent,
+    }));
+    check(https.protocol === 'https:' && https.secure && https.tilt === 'Enable tilt',
+          `https: a secure page with tilt offered (${JSON.stringify(https)})`);
+    await secureContext.close();
 
     // A session the server refuses (over its particle limit): the reason stays on the screen, in
     // plain words with the server's detail, and the page waits for "Retry now" instead of looping.

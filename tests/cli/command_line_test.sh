@@ -20,7 +20,7 @@ status=$?
 [[ $status -eq 2 && "$err" == *--max-sessions* ]] || fail "--max-sessions 0: exit $status, '$err'"
 # A second server on a port in use fails to start, saying so, rather than sharing the port.
 work=$(mktemp -d)
-"$server" --listen 127.0.0.1 --grpc-port 0 --http-port 0 > "$work/first.txt" 2>&1 &
+"$server" --listen 127.0.0.1 --grpc-port 0 --http-port 0 --state-dir "$work/state" > "$work/first.txt" 2>&1 &
 first=$!
 trap 'kill $first 2>/dev/null; rm -rf "$work"' EXIT
 for _ in $(seq 300); do grep -q "listening: grpc=" "$work/first.txt" && break; sleep 0.1; done
@@ -28,8 +28,16 @@ port=$(sed -n 's/.*listening: grpc=127.0.0.1:\([0-9]*\).*/\1/p' "$work/first.txt
 if [[ -z "$port" ]]; then
   fail "the first server did not start: $(cat "$work/first.txt")"
 else
-  err=$("$server" --listen 127.0.0.1 --grpc-port "$port" --http-port 0 2>&1 >/dev/null)
+  err=$("$server" --listen 127.0.0.1 --grpc-port "$port" --http-port 0 --state-dir "$work/state" 2>&1 >/dev/null)
   status=$?
   [[ $status -eq 2 && "$err" == *"in use"* ]] || fail "second server on :$port: exit $status, '$err'"
 fi
+# Where the page's certificate cannot be made or read: one sentence naming it, exit 2.
+err=$("$server" --listen 127.0.0.1 --grpc-port 0 --http-port 0 --state-dir /proc/fluidcast 2>&1 >/dev/null)
+status=$?
+[[ $status -eq 2 && "$err" == *"/proc/fluidcast"* ]] || fail "unwritable --state-dir: exit $status, '$err'"
+echo "not a certificate" > "$work/bad.pem"
+err=$("$server" --listen 127.0.0.1 --grpc-port 0 --http-port 0 --tls-cert "$work/bad.pem" --tls-key "$work/bad.pem" 2>&1 >/dev/null)
+status=$?
+[[ $status -eq 2 && "$err" == *"bad.pem"* ]] || fail "a bad --tls-cert: exit $status, '$err'"
 [[ $failures -eq 0 ]] && echo "all command lines behave" || exit 1

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <regex>
 #include <stdexcept>
 #include <string>
@@ -20,8 +21,12 @@ class ServerProcess {
   explicit ServerProcess(std::vector<std::string> flags = {}) {
     int out[2];
     if (pipe(out) != 0) throw std::runtime_error("pipe failed");
+    // Its own state folder (the page's self-signed certificate), not the person's home.
+    std::string state = (std::filesystem::temp_directory_path() / "fluidcast-test-XXXXXX").string();
+    if (!mkdtemp(state.data())) throw std::runtime_error("mkdtemp failed");
+    state_ = state;
     std::vector<std::string> args = {FLUIDCAST_SERVER_PATH, "--listen", "127.0.0.1",
-                                     "--http-port", "0"};
+                                     "--http-port", "0", "--state-dir", state};
     // Any free port, unless the flags name one (a restart on the same address).
     if (std::find(flags.begin(), flags.end(), "--grpc-port") == flags.end()) {
       args.insert(args.end(), {"--grpc-port", "0"});
@@ -55,6 +60,8 @@ class ServerProcess {
   ~ServerProcess() {
     if (pid_ > 0) stop();
     if (output_) fclose(output_);
+    std::error_code ignored;
+    std::filesystem::remove_all(state_, ignored);
   }
 
   const std::string& grpc_address() const { return grpc_address_; }
@@ -84,6 +91,7 @@ class ServerProcess {
   }
 
  private:
+  std::filesystem::path state_;
   pid_t pid_ = -1;
   FILE* output_ = nullptr;
   std::string grpc_address_;
