@@ -70,6 +70,12 @@ ServerOptions parse_server_options(int argc, char** argv) {
                  "Seconds a session without viewers lives on, for a client to resume it")
       ->envname("FLUIDCAST_RESUME_GRACE")
       ->check(CLI::Range(0u, 86400u));
+  unsigned idle = static_cast<unsigned>(l.idle_timeout.count());
+  app.add_option("--idle-timeout", idle,
+                 "Seconds a session may go without any viewer's touch, tilt or command before its "
+                 "streams end (0: never)")
+      ->envname("FLUIDCAST_IDLE_TIMEOUT")
+      ->check(CLI::Range(0u, 604800u));
   app.add_option("--tls-cert", o.tls_certificate,
                  "TLS certificate chain (PEM) for gRPC and the page's HTTPS (without it the page "
                  "gets a self-signed one, made in --state-dir, and gRPC is plaintext)")
@@ -111,6 +117,7 @@ ServerOptions parse_server_options(int argc, char** argv) {
     std::exit(exit_for(app, e));
   }
   l.resume_grace = std::chrono::seconds(grace);
+  l.idle_timeout = std::chrono::seconds(idle);
   o.backend = backend == "gpu"   ? SolverBackend::gpu
               : backend == "cpu" ? SolverBackend::cpu
                                  : SolverBackend::automatic;

@@ -58,6 +58,7 @@ const plainWords = {
   PERMISSION_DENIED: 'The server refused this page',
   UNAVAILABLE: 'The server is shutting down or restarting',
   INTERNAL: 'The server ran into a problem',
+  DEADLINE_EXCEEDED: 'Paused: nobody touched the fluid for a while',
 };
 
 // Shows `text` in the middle of the screen (nothing: hides it), with a "Retry now" button when

@@ -17,6 +17,7 @@ inline grpc::Status to_status(const Refusal& refusal) {
       case RefusalCode::failed_precondition: return grpc::StatusCode::FAILED_PRECONDITION;
       case RefusalCode::unavailable: return grpc::StatusCode::UNAVAILABLE;
       case RefusalCode::internal: return grpc::StatusCode::INTERNAL;
+      case RefusalCode::deadline_exceeded: return grpc::StatusCode::DEADLINE_EXCEEDED;
     }
     return grpc::StatusCode::INTERNAL;
   }();

@@ -15,6 +15,7 @@ enum class RefusalCode {
   failed_precondition,
   unavailable,
   internal,  // the server failed (out of GPU memory, a device lost): not the client's doing
+  deadline_exceeded,  // the session idled out: no viewer's input for ServerLimits::idle_timeout
 };
 
 class Refusal : public std::runtime_error {

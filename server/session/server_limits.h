@@ -7,6 +7,9 @@
 
 namespace fluidcast::server {
 
+// Turning a device by more than this counts as a viewer's input (ServerLimits::idle_timeout).
+inline constexpr float kIdleTiltDegrees = 10.0f;
+
 struct ServerLimits {
   std::uint32_t max_sessions = 8;
   std::uint32_t max_particles = 1 << 20;  // per session
@@ -21,6 +24,10 @@ struct ServerLimits {
   std::uint32_t max_viewers_per_session = 8;
   std::uint32_t max_input_events_per_second = 400;  // per stream; a flood ends the stream
   std::chrono::seconds resume_grace{30};  // a session without viewers lives this long
+  // A session whose viewers neither touch, tilt (by more than kIdleTiltDegrees) nor command it
+  // for this long ends their streams (DEADLINE_EXCEEDED) and frees the GPU; 0: never. A phone
+  // left on a table should not hold a GPU's share forever.
+  std::chrono::seconds idle_timeout{600};
 };
 
 }  // namespace fluidcast::server

@@ -140,6 +140,7 @@ std::uint32_t Session::add_viewer(const v1::Hello& hello, std::shared_ptr<Viewer
   }
   viewers_.emplace(id, std::move(viewer));
   services_.metrics->viewers++;
+  last_input_ = Clock::now();
   return id;
 }
 
@@ -280,15 +281,27 @@ void Session::apply(Viewer& viewer, const v1::ClientMessage& message, Clock::tim
   switch (message.kind_case()) {
     case v1::ClientMessage::kPointer:
       viewer.apply_pointer(message.pointer());
+      last_input_ = received;
       break;
-    case v1::ClientMessage::kTilt:
-      solver_->set_gravity(viewer.gravity_from_tilt(message.tilt()));
+    case v1::ClientMessage::kTilt: {
+      const glm::vec3 gravity = viewer.gravity_from_tilt(message.tilt());
+      solver_->set_gravity(gravity);
+      // A phone lying still sends the same tilt twenty times a second: only turning it counts.
+      const float turned = glm::degrees(std::acos(std::clamp(
+          glm::dot(glm::normalize(gravity), glm::normalize(last_active_tilt_)), -1.0f,
+          1.0f)));
+      if (turned > kIdleTiltDegrees) {
+        last_active_tilt_ = gravity;
+        last_input_ = received;
+      }
       break;
+    }
     case v1::ClientMessage::kAck:
       viewer.acknowledge(message.ack().sequence(), received);
       if (viewer.round_trip_ms()) services_.metrics->round_trip_ms.observe(*viewer.round_trip_ms());
       break;
     case v1::ClientMessage::kCommand: {
+      last_input_ = received;
       const v1::Command& command = message.command();
       SessionSetup setup = setup_wanted_.value_or(setup_);
       switch (command.kind_case()) {

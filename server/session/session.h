@@ -57,6 +57,8 @@ class Session {
   void remove_viewer(std::uint32_t viewer);
   std::size_t viewer_count() const { return viewers_.size(); }
   Clock::time_point empty_since() const { return empty_since_; }
+  // When a viewer last joined, touched, commanded, or tilted by more than kIdleTiltDegrees.
+  Clock::time_point last_input() const { return last_input_; }
   // A tick in three parts: the inputs and rebuilds that arrived, and what the tick would cost
   // (the substeps real time owes, the frames due, at their measured GPU costs)...
   GpuDemand prepare(Clock::time_point now);
@@ -130,6 +132,8 @@ class Session {
   };
   std::map<std::uint32_t, HeldCollider> colliders_;
   Clock::time_point empty_since_;
+  Clock::time_point last_input_ = Clock::now();
+  glm::vec3 last_active_tilt_{0.0f, -1.0f, 0.0f};  // the last tilt that counted as input
 
   struct Posted {
     std::uint32_t viewer;

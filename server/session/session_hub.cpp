@@ -190,6 +190,7 @@ v1::ServerInfo SessionHub::info() const {
   limits.set_max_viewers_per_session(limits_.max_viewers_per_session);
   limits.set_max_input_events_per_second(limits_.max_input_events_per_second);
   limits.set_resume_grace_seconds(static_cast<std::uint32_t>(limits_.resume_grace.count()));
+  limits.set_idle_timeout_seconds(static_cast<std::uint32_t>(limits_.idle_timeout.count()));
   for (auto name : sim::scene_names()) info.add_scenes(std::string(name));
   for (auto name : sim::solver_names()) info.add_solvers(std::string(name));
   // Only what this device can draw; a viewer that asks for another gets points (Frame.renderer).
@@ -267,6 +268,13 @@ void SessionHub::tick_all(Clock::time_point now) {
   tick_serials_.push_back(context_->last_submitted());
   for (auto it = sessions_.begin(); it != sessions_.end();) {
     Session& session = *it->second;
+    const auto idle = limits_.idle_timeout;
+    if (idle.count() > 0 && session.viewer_count() > 0 && now - session.last_input() > idle) {
+      session.end_all(Refusal(RefusalCode::deadline_exceeded,
+                              "no viewer touched, tilted or commanded the fluid for " +
+                                  std::to_string(idle.count()) +
+                                  " s (the server's --idle-timeout); resume to go on"));
+    }
     const bool expired =
         session.viewer_count() == 0 && now - session.empty_since() > limits_.resume_grace;
     if (expired) {

@@ -29,6 +29,7 @@ const char* code_name(RefusalCode code) {
     case RefusalCode::failed_precondition: return "FAILED_PRECONDITION";
     case RefusalCode::unavailable: return "UNAVAILABLE";
     case RefusalCode::internal: return "INTERNAL";
+    case RefusalCode::deadline_exceeded: return "DEADLINE_EXCEEDED";
   }
   return "INTERNAL";
 }

@@ -106,6 +106,36 @@ TEST(ServerTest, ARendererTheDeviceCannotDrawFallsBackToPoints) {
   EXPECT_EQ(server.stop(), 0);
 }
 
+// A session nobody touches for --idle-timeout ends its streams with DEADLINE_EXCEEDED, and a
+// resume goes on; a session whose viewer keeps touching it streams on; acks and a phone's
+// unchanging tilt are not input.
+TEST(ServerTest, AnUntouchedSessionIdlesOutAndATouchedOneStreamsOn) {
+  testing::ServerProcess server({"--idle-timeout", "2"});
+  const std::string& address = server.grpc_address();
+  StreamClient idle(client::connect(address), small_hello());
+  StreamClient busy(client::connect(address), small_hello());
+  const auto start = std::chrono::steady_clock::now();
+  while (std::chrono::steady_clock::now() - start < seconds(5) && !idle.ended()) {
+    idle.tilt(0.0f, -9.81f, 0.0f);  // lying still
+    idle.next_frame(milliseconds(100));
+    busy.pointer(0, v1::PointerEvent::DOWN, 0.5f, 0.7f);
+    busy.pointer(0, v1::PointerEvent::UP, 0.5f, 0.7f);
+    busy.next_frame(milliseconds(100));
+  }
+  ASSERT_TRUE(idle.ended()) << "still streaming after 5 s without input";
+  EXPECT_EQ(idle.status().error_code(), grpc::StatusCode::DEADLINE_EXCEEDED);
+  EXPECT_NE(idle.status().error_message().find("--idle-timeout"), std::string::npos);
+  EXPECT_FALSE(busy.ended()) << busy.status().error_message();
+  frame_from(busy);
+
+  v1::Hello resume = small_hello();
+  resume.mutable_resume()->set_session_id(idle.welcome().session_id());
+  resume.mutable_resume()->set_viewer_id(idle.welcome().viewer_id());
+  StreamClient resumed(client::connect(address), resume);
+  EXPECT_EQ(resumed.welcome().session_id(), idle.welcome().session_id());
+  frame_from(resumed);
+}
+
 TEST(ServerTest, EveryBadInputEndsOnlyItsOwnStreamWithItsStatus) {
   testing::ServerProcess server({"--max-width", "640", "--max-height", "480"});
   const std::string& address = server.grpc_address();
