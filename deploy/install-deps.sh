@@ -16,6 +16,8 @@ packages=(
   libturbojpeg0-dev libpng-dev
   # thread pools (Asio), HTTP and WebSocket (Beast), and their TLS (the page's HTTPS)
   libboost-dev libssl-dev
+  # structured logs
+  libspdlog-dev
   # the wire protocol: gRPC (health and reflection included) and protobuf
   libgrpc++-dev libprotobuf-dev protobuf-compiler protobuf-compiler-grpc
   # JSON: the headless client's report and gesture scripts

@@ -15,10 +15,13 @@
 #include <fstream>
 #include <sstream>
 
+#include <spdlog/spdlog.h>
+
 #include "fluidcast/command_line.h"
 #include "fluidcast/gpu/context.h"
 #include "fluidcast/render/frame_renderer.h"
 #include "grpc/fluidcast_service.h"
+#include "log.h"
 #include "options.h"
 #include "session/session_hub.h"
 #include "web/http_server.h"
@@ -77,14 +80,16 @@ int serve(const ServerOptions& options) {
   sigaddset(&signals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
+  configure_log(options.log_format);
   gpu::ContextOptions context_options = gpu::options_from_environment();
   if (options.device) context_options.device_index = options.device;
+  context_options.log = [](const std::string& line) { spdlog::info("{}", line); };
   gpu::Context context(context_options);
   const bool gpu_solver = gpu_solver_for(options, context);
-  std::printf("fluidcast-server: sessions simulate on the %s\n",
-              gpu_solver ? "GPU" : "CPU (the Vulkan device is a CPU; it renders only)");
+  spdlog::info("sessions simulate on the {}",
+               gpu_solver ? "GPU" : "CPU (the Vulkan device is a CPU; it renders only)");
   if (const auto why = render::FrameRenderer::fluid_unsupported(context)) {
-    std::printf("fluidcast-server: %s; viewers get points\n", why->c_str());
+    spdlog::warn("{}; viewers get points", *why);
   }
 
   Metrics metrics;
@@ -166,48 +171,46 @@ int serve(const ServerOptions& options) {
   grpc::HealthCheckServiceInterface* health = server->GetHealthCheckService();
   health->SetServingStatus(true);
 
-  std::printf("fluidcast-server: listening: grpc=%s:%d http=%s:%u\n", options.listen.c_str(),
-              grpc_port, options.listen.c_str(), static_cast<unsigned>(http.port()));
-  std::printf("fluidcast-server: device %s; limits: %u sessions, %u particles, %ux%u, %u fps\n",
-              context.info().name.c_str(), limits.max_sessions, limits.max_particles,
-              limits.max_width, limits.max_height, limits.max_fps);
-  std::printf("fluidcast-server: new sessions: %u particles at %u frames/s%s "
-              "(--default-particles, --target-fps; a page can ask: ?particles=N)\n",
-              limits.default_particles, limits.target_fps,
-              context.info().hardware() ? "" : ", sized for a CPU device");
+  spdlog::info("fluidcast-server {} listening: grpc={}:{} http={}:{} (and https)", kVersion,
+               options.listen, grpc_port, options.listen, http.port());
+  spdlog::info("device {}; limits: {} sessions, {} particles, {}x{}, {} fps",
+               context.info().name, limits.max_sessions, limits.max_particles, limits.max_width,
+               limits.max_height, limits.max_fps);
+  spdlog::info("new sessions: {} particles at {} frames/s{} (--default-particles, --target-fps; "
+               "a page can ask: ?particles=N)",
+               limits.default_particles, limits.target_fps,
+               context.info().hardware() ? "" : ", sized for a CPU device");
   if (options.listen == "0.0.0.0") {
     for (const std::string& address : addresses) {
-      std::printf("fluidcast-server: on a phone on this network, open https://%s:%u/ (tilt "
-                  "needs https; http:// works too) (gRPC: %s:%d)\n",
-                  address.c_str(), static_cast<unsigned>(http.port()), address.c_str(), grpc_port);
+      spdlog::info("on a phone on this network, open https://{}:{}/ (tilt needs https; http:// "
+                   "works too) (gRPC: {}:{})",
+                   address, http.port(), address, grpc_port);
     }
   }
   if (options.tls_certificate.empty()) {
-    std::printf("fluidcast-server: https uses a self-signed certificate, %s: a browser asks once "
-                "to accept it (README: Connect your phone; --tls-cert for a real one)\n",
-                tls_files.certificate.c_str());
+    spdlog::info("https uses a self-signed certificate, {}: a browser asks once to accept it "
+                 "(README: Connect your phone; --tls-cert for a real one)",
+                 tls_files.certificate.string());
   }
   const char* local = options.listen == "0.0.0.0" ? "127.0.0.1" : options.listen.c_str();
-  std::printf("fluidcast-server: here: open http://%s:%u/ in a browser, or run "
-              "build/bin/fluidcast-client --headless --server %s:%d --seconds 10\n",
-              local, static_cast<unsigned>(http.port()), local, grpc_port);
+  spdlog::info("here: open http://{}:{}/ in a browser, or run build/bin/fluidcast-client "
+               "--headless --server {}:{} --seconds 10",
+               local, http.port(), local, grpc_port);
   if (!std::filesystem::exists(std::filesystem::path(options.web_vendor) /
                                "protobufjs/dist/protobuf.min.js")) {
-    std::printf("fluidcast-server: warning: %s has no protobufjs (npm ci at build time); the "
-                "page will say it cannot start\n", options.web_vendor.c_str());
+    spdlog::warn("{} has no protobufjs (npm ci at build time); the page will say it cannot start",
+                 options.web_vendor);
   }
-  std::fflush(stdout);
 
   int signal = 0;
   sigwait(&signals, &signal);
-  std::printf("fluidcast-server: %s: ending every stream\n", signal == SIGINT ? "SIGINT" : "SIGTERM");
-  std::fflush(stdout);
+  spdlog::info("{}: ending every stream", signal == SIGINT ? "SIGINT" : "SIGTERM");
   serving = false;
   health->SetServingStatus(false);
   hub.stop();  // every stream ends with UNAVAILABLE; new ones are refused
   server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(3));
   http.stop();
-  std::printf("fluidcast-server: stopped\n");
+  spdlog::info("stopped");
   return 0;
 }
 

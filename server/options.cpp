@@ -84,6 +84,11 @@ ServerOptions parse_server_options(int argc, char** argv) {
   app.add_option("--tls-key", o.tls_key, "TLS private key (PEM) for --tls-cert")
       ->envname("FLUIDCAST_TLS_KEY")
       ->check(CLI::ExistingFile);
+  std::string log_format = "text";
+  app.add_option("--log-format", log_format,
+                 "Log lines on stdout as text (time, level, event) or json (an object a line)")
+      ->envname("FLUIDCAST_LOG_FORMAT")
+      ->check(CLI::IsMember({"text", "json"}));
   app.add_option("--state-dir", o.state_dir,
                  "Folder for what the server makes and keeps: the self-signed certificate "
                  "(default: $STATE_DIRECTORY, else $XDG_STATE_HOME/fluidcast, else "
@@ -116,6 +121,7 @@ ServerOptions parse_server_options(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     std::exit(exit_for(app, e));
   }
+  o.log_format = parse_log_format(log_format);
   l.resume_grace = std::chrono::seconds(grace);
   l.idle_timeout = std::chrono::seconds(idle);
   o.backend = backend == "gpu"   ? SolverBackend::gpu

@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 
+#include "log.h"
 #include "session/server_limits.h"
 
 namespace fluidcast::server {
@@ -22,6 +23,7 @@ struct ServerOptions {
   std::optional<std::uint32_t> default_particles, target_fps;
   std::string tls_certificate, tls_key;  // PEM files; both or neither
   std::string token_file;                // a file whose first line is the token clients must send
+  LogFormat log_format = LogFormat::text;
   std::string state_dir;                 // what the server makes and keeps (default_state_folder)
   std::string web_root = FLUIDCAST_WEB_ROOT;      // the phone page's files
   std::string web_vendor = FLUIDCAST_WEB_VENDOR;  // node_modules with protobufjs (npm ci at build)

@@ -1,5 +1,7 @@
 #include "stream_reactor.h"
 
+#include <spdlog/spdlog.h>
+
 #include <mutex>
 
 #include "session/outgoing_messages.h"
@@ -68,6 +70,7 @@ class GrpcViewerSink final : public ViewerSink {
     if (!reactor_ || finishing_) return false;
     if (opened.refusal) {
       metrics.streams_refused++;
+      spdlog::warn("refused a gRPC stream: {}", opened.refusal->what());
       finishing_ = true;
       reactor_->Finish(to_status(*opened.refusal));
       return true;
@@ -104,6 +107,7 @@ StreamReactor::StreamReactor(SessionHub& hub)
 
 void StreamReactor::refuse(const Refusal& refusal) {
   hub_->metrics().streams_refused++;
+  spdlog::warn("ended a gRPC stream: {}", refusal.what());
   sink_->end(refusal);
   // The viewer leaves now, even if a client that stopped reading holds the last write open.
   if (session_) hub_->close(session_, viewer_);

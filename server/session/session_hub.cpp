@@ -1,5 +1,7 @@
 #include "session_hub.h"
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -100,6 +102,12 @@ void SessionHub::open(v1::Hello hello, std::shared_ptr<ViewerSink> sink,
         metrics_->sessions = sessions_.size();
       }
       opened.viewer = opened.session->add_viewer(hello, sink);
+      spdlog::info("session {}: viewer {} {} ({} particles, {} sessions)", opened.session->id(),
+                   opened.viewer,
+                   hello.has_resume() ? "resumed"
+                   : hello.has_join() ? "joined"
+                                      : "created it",
+                   opened.session->state().particles(), sessions_.size());
     } catch (const Refusal& refusal) {
       opened.session.reset();
       opened.refusal = refusal;
@@ -123,7 +131,10 @@ void SessionHub::open(v1::Hello hello, std::shared_ptr<ViewerSink> sink,
 }
 
 void SessionHub::close(std::shared_ptr<Session> session, std::uint32_t viewer) {
-  post([session = std::move(session), viewer] { session->remove_viewer(viewer); });
+  post([session = std::move(session), viewer] {
+    session->remove_viewer(viewer);
+    spdlog::info("session {}: viewer {} left", session->id(), viewer);
+  });
 }
 
 void SessionHub::snapshot(
@@ -204,13 +215,13 @@ v1::ServerInfo SessionHub::info() const {
 }
 
 void SessionHub::end_failed(Session& session, const std::exception& e) {
-  std::fprintf(stderr, "session %s failed: %s\n", session.id().c_str(), e.what());
+  spdlog::error("session {} failed: {}", session.id(), e.what());
   session.end_all(
       Refusal(RefusalCode::internal, std::string("the session failed on the server: ") + e.what()));
 }
 
 void SessionHub::end_all_on_gpu_failure(const std::string& why) {
-  std::fprintf(stderr, "fluidcast-server: %s; every session ends\n", why.c_str());
+  spdlog::error("{}; every session ends", why);
   const Refusal failed(RefusalCode::internal, "the server's GPU failed: " + why);
   for (auto& [id, session] : sessions_) session->end_all(failed);
   tick_serials_.clear();
@@ -270,6 +281,8 @@ void SessionHub::tick_all(Clock::time_point now) {
     Session& session = *it->second;
     const auto idle = limits_.idle_timeout;
     if (idle.count() > 0 && session.viewer_count() > 0 && now - session.last_input() > idle) {
+      spdlog::info("session {}: idle for {} s, its {} viewers' streams end", session.id(),
+                   idle.count(), session.viewer_count());
       session.end_all(Refusal(RefusalCode::deadline_exceeded,
                               "no viewer touched, tilted or commanded the fluid for " +
                                   std::to_string(idle.count()) +
@@ -278,6 +291,8 @@ void SessionHub::tick_all(Clock::time_point now) {
     const bool expired =
         session.viewer_count() == 0 && now - session.empty_since() > limits_.resume_grace;
     if (expired) {
+      spdlog::info("session {} ended: no viewers for {} s", session.id(),
+                   limits_.resume_grace.count());
       metrics_->forget_session(session.id());
       it = sessions_.erase(it);
     } else {
@@ -349,7 +364,7 @@ void SessionHub::run_jobs(std::vector<std::function<void()>>& jobs) {
     try {
       job();
     } catch (const std::exception& e) {  // each job answers its caller; this is a last guard
-      std::fprintf(stderr, "fluidcast-server: a worker job failed: %s\n", e.what());
+      spdlog::error("a worker job failed: {}", e.what());
     }
   }
   jobs.clear();  // the jobs' captures (sessions among them) are released here, on the worker

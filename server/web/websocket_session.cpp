@@ -1,5 +1,7 @@
 #include "websocket_session.h"
 
+#include <spdlog/spdlog.h>
+
 #include <boost/asio/post.hpp>
 #include <boost/beast/core/flat_buffer.hpp>
 #include <boost/beast/ssl.hpp>
@@ -120,6 +122,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
       read();
     } catch (const Refusal& refusal) {
       hub_->metrics().streams_refused++;
+      spdlog::warn("ended a WebSocket stream: {}", refusal.what());
       end(refusal.code(), refusal.what());
       leave();  // the viewer leaves now; the socket closes once StreamEnd is written
     }
@@ -131,6 +134,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
       boost::asio::post(self->socket_.get_executor(), [self, opened = std::move(opened)]() mutable {
         if (opened.refusal) {
           self->hub_->metrics().streams_refused++;
+          spdlog::warn("refused a WebSocket stream: {}", opened.refusal->what());
           self->end(opened.refusal->code(), opened.refusal->what());
           return;
         }

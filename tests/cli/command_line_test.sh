@@ -20,7 +20,8 @@ status=$?
 [[ $status -eq 2 && "$err" == *--max-sessions* ]] || fail "--max-sessions 0: exit $status, '$err'"
 # A second server on a port in use fails to start, saying so, rather than sharing the port.
 work=$(mktemp -d)
-"$server" --listen 127.0.0.1 --grpc-port 0 --http-port 0 --state-dir "$work/state" > "$work/first.txt" 2>&1 &
+"$server" --listen 127.0.0.1 --grpc-port 0 --http-port 0 --state-dir "$work/state" \
+  --log-format json > "$work/first.txt" 2>&1 &
 first=$!
 trap 'kill $first 2>/dev/null; rm -rf "$work"' EXIT
 for _ in $(seq 300); do grep -q "listening: grpc=" "$work/first.txt" && break; sleep 0.1; done
@@ -31,6 +32,11 @@ else
   err=$("$server" --listen 127.0.0.1 --grpc-port "$port" --http-port 0 --state-dir "$work/state" 2>&1 >/dev/null)
   status=$?
   [[ $status -eq 2 && "$err" == *"in use"* ]] || fail "second server on :$port: exit $status, '$err'"
+  # --log-format json: every line an object with a time, a level and a message.
+  node -e 'for (const line of require("fs").readFileSync(process.argv[1], "utf8").trim().split("\n")) {
+             const o = JSON.parse(line);
+             if (!o.time || !o.level || typeof o.message !== "string") throw new Error(line);
+           }' "$work/first.txt" || fail "--log-format json: $(head -3 "$work/first.txt")"
 fi
 # Where the page's certificate cannot be made or read: one sentence naming it, exit 2.
 err=$("$server" --listen 127.0.0.1 --grpc-port 0 --http-port 0 --state-dir /proc/fluidcast 2>&1 >/dev/null)
