@@ -3,11 +3,14 @@
 # (10 minutes) and bring back at most a few files. Build here first, then bundle:
 #   ../shared/tools/gpu-bundle build fluidcast-server fluidcast-bench-load fluidcast-bench-gpu \
 #     fluidcast-bench-render fluidcast-validate gpu_context_test gpu_neighbour_grid_test \
-#     gpu_solver_test gpu_step_batch_test solver_inputs_test render_test render_golden_test
+#     gpu_solver_test gpu_step_batch_test solver_inputs_test render_test render_golden_test \
+#     anisotropy_test fluidcast-sim
 # and on the device (carry .gpu):  source .gpu/env.sh && BIN=.gpu/bin bench/gpu_lease.sh PART $OUT
 # PART: tests   every GPU test with the validation layer on (a message fails its test)
 #       solver  fluidcast-bench-gpu: the solver table and many sessions batched against serial
-#       render  fluidcast-bench-render: passes, encode from RGBA and from planes, roughness
+#       render  fluidcast-bench-render: passes, encode from RGBA and from planes, roughness; and
+#               the dam break at 216k and 1M, t = 0.5 s, with spheres and ellipsoids, as PNG
+#               (for docs/images: ssfr-ellipsoids-216k.png, -1m.png)
 #       loop    the frame-loop table (bench/frame_loop_table.sh) and the validation at 1M
 # Each writes its log and tables under OUT. --smoke (third argument) runs the benchmarks' small
 # cases, to prove the script here on lavapipe.
@@ -29,7 +32,7 @@ case "$part" in
   tests)
     status=0
     for test in gpu_context_test gpu_neighbour_grid_test gpu_solver_test gpu_step_batch_test \
-      solver_inputs_test render_test render_golden_test; do
+      solver_inputs_test render_test render_golden_test anisotropy_test; do
       echo "== $test" >>"$out/tests.log"
       FLUIDCAST_VALIDATION=1 "$bin/$test" >>"$out/tests.log" 2>&1 || status=1
     done
@@ -45,6 +48,15 @@ case "$part" in
     "$bin/fluidcast-bench-render" "${smoke_flag[@]}" --benchmark_out="$out/bench-render.json" \
       --benchmark_out_format=json 2>&1 | tee "$out/bench-render.log"
     table "$out/bench-render.json"
+    if [[ "$smoke" != --smoke ]]; then
+      for particles in 216000 1000000; do
+        for shape in spheres ellipsoids; do
+          "$bin/fluidcast-sim" --backend gpu --particles "$particles" --until 0.5 \
+            --render "$out/frames-$particles-$shape" --render-every 60 --renderer ssfr \
+            --ssfr-particles "$shape" --camera 30,35,1.9 --width 1280 --height 720 2>&1 | tail -1
+        done
+      done
+    fi
     ;;
   loop)
     BIN="$bin" bench/frame_loop_table.sh "$out/frame-loop.md" "$smoke" 2>&1 | tail -20
