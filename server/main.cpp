@@ -204,9 +204,15 @@ int serve(const ServerOptions& options) {
 
   int signal = 0;
   sigwait(&signals, &signal);
-  spdlog::info("{}: ending every stream", signal == SIGINT ? "SIGINT" : "SIGTERM");
   serving = false;
   health->SetServingStatus(false);
+  if (options.drain_seconds > 0) {
+    spdlog::info("{}: draining for {} s (/healthz 503; streams go on)",
+                 signal == SIGINT ? "SIGINT" : "SIGTERM", options.drain_seconds);
+    const timespec drain{static_cast<time_t>(options.drain_seconds), 0};
+    sigtimedwait(&signals, nullptr, &drain);
+  }
+  spdlog::info("ending every stream");
   hub.stop();  // every stream ends with UNAVAILABLE; new ones are refused
   server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(3));
   http.stop();

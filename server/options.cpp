@@ -84,6 +84,11 @@ ServerOptions parse_server_options(int argc, char** argv) {
   app.add_option("--tls-key", o.tls_key, "TLS private key (PEM) for --tls-cert")
       ->envname("FLUIDCAST_TLS_KEY")
       ->check(CLI::ExistingFile);
+  app.add_option("--drain", o.drain_seconds,
+                 "Seconds between SIGTERM and the streams' end, while /healthz says 503 (a second "
+                 "signal cuts it short)")
+      ->envname("FLUIDCAST_DRAIN")
+      ->check(CLI::Range(0u, 3600u));
   std::string log_format = "text";
   app.add_option("--log-format", log_format,
                  "Log lines on stdout as text (time, level, event) or json (an object a line)")

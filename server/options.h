@@ -24,6 +24,9 @@ struct ServerOptions {
   std::string tls_certificate, tls_key;  // PEM files; both or neither
   std::string token_file;                // a file whose first line is the token clients must send
   LogFormat log_format = LogFormat::text;
+  // After SIGTERM, how long /healthz says 503 and the gRPC health service NOT_SERVING while
+  // streams go on, before they end: time for a load balancer to send new clients elsewhere.
+  unsigned drain_seconds = 0;
   std::string state_dir;                 // what the server makes and keeps (default_state_folder)
   std::string web_root = FLUIDCAST_WEB_ROOT;      // the phone page's files
   std::string web_vendor = FLUIDCAST_WEB_VENDOR;  // node_modules with protobufjs (npm ci at build)

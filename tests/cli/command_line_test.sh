@@ -38,6 +38,21 @@ else
              if (!o.time || !o.level || typeof o.message !== "string") throw new Error(line);
            }' "$work/first.txt" || fail "--log-format json: $(head -3 "$work/first.txt")"
 fi
+# --drain: after SIGTERM /healthz says 503 while the server drains, then it exits 0.
+"$server" --listen 127.0.0.1 --grpc-port 0 --http-port 0 --state-dir "$work/state" --drain 2 \
+  > "$work/drain.txt" 2>&1 &
+draining=$!
+for _ in $(seq 300); do grep -q "listening: grpc=" "$work/drain.txt" && break; sleep 0.1; done
+http=$(sed -n 's/.*http=127.0.0.1:\([0-9]*\).*/\1/p' "$work/drain.txt")
+health() { node -e 'fetch(process.argv[1]).then((r) => console.log(r.status), () => console.log("none"))' \
+  "http://127.0.0.1:$http/healthz"; }
+[[ $(health) == 200 ]] || fail "/healthz before SIGTERM: $(health)"
+kill -TERM $draining
+sleep 0.5
+[[ $(health) == 503 ]] || fail "/healthz while draining: $(health)"
+wait $draining
+status=$?
+[[ $status -eq 0 ]] || fail "a drained server exited $status"
 # Where the page's certificate cannot be made or read: one sentence naming it, exit 2.
 err=$("$server" --listen 127.0.0.1 --grpc-port 0 --http-port 0 --state-dir /proc/fluidcast 2>&1 >/dev/null)
 status=$?
