@@ -17,14 +17,14 @@ void require(bool ok, const std::string& what) {
 
 void OrbitCamera::validate() const {
   require(std::isfinite(yaw_degrees), "yaw must be finite");
-  require(std::isfinite(pitch_degrees) && pitch_degrees >= -89.0f && pitch_degrees <= 89.0f,
+  require(std::isfinite(pitch_degrees) && std::abs(pitch_degrees) <= kMaxPitchDegrees,
           "pitch must be between -89 and 89 degrees, got " + std::to_string(pitch_degrees));
-  require(std::isfinite(distance) && distance > 0.0f && distance <= 1e4f,
-          "distance must be in (0, 10000] m, got " + std::to_string(distance));
+  require(std::isfinite(distance) && distance > 0.0f && distance <= kMaxDistance,
+          "distance must be above 0 and at most 1000 m, got " + std::to_string(distance));
   require(std::isfinite(target.x) && std::isfinite(target.y) && std::isfinite(target.z),
           "target must be finite");
-  require(std::isfinite(field_of_view_degrees) && field_of_view_degrees >= 1.0f &&
-              field_of_view_degrees <= 170.0f,
+  require(std::isfinite(field_of_view_degrees) && field_of_view_degrees >= kMinFieldOfView &&
+              field_of_view_degrees <= kMaxFieldOfView,
           "field of view must be between 1 and 170 degrees, got " +
               std::to_string(field_of_view_degrees));
 }
@@ -67,7 +67,7 @@ void OrbitCamera::fit(const sim::Box& tank, float aspect) {
 
 OrbitLimits orbit_limits(const sim::Box& tank) {
   const float radius = 0.5f * glm::length(tank.size());
-  return {1.05f * radius, 16.0f * radius};
+  return {1.05f * radius, std::min(16.0f * radius, OrbitCamera::kMaxDistance)};
 }
 
 void OrbitLimits::clamp(OrbitCamera& camera) const {

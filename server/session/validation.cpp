@@ -3,6 +3,7 @@
 #include <cmath>
 #include <string_view>
 
+#include "fluidcast/render/camera.h"
 #include "fluidcast/render/frame_renderer.h"
 #include "fluidcast/sim/scene.h"
 #include "fluidcast/sim/solver.h"
@@ -62,14 +63,15 @@ void validate_camera(const v1::Camera& camera) {
       !finite(camera.distance()) || !finite(camera.field_of_view_degrees())) {
     refuse(RefusalCode::invalid_argument, "Camera: every value must be finite");
   }
-  if (std::abs(camera.pitch_degrees()) > 89.0f) {
+  using render::OrbitCamera;
+  if (std::abs(camera.pitch_degrees()) > OrbitCamera::kMaxPitchDegrees) {
     refuse(RefusalCode::invalid_argument, "Camera.pitch_degrees must lie within −89 to 89");
   }
-  if (!(camera.distance() > 0.0f) || camera.distance() > 1000.0f) {
+  if (!(camera.distance() > 0.0f) || camera.distance() > OrbitCamera::kMaxDistance) {
     refuse(RefusalCode::invalid_argument, "Camera.distance must be above 0 and at most 1000 m");
   }
   const float fov = camera.field_of_view_degrees();
-  if (fov != 0.0f && (fov < 1.0f || fov > 170.0f)) {
+  if (fov != 0.0f && (fov < OrbitCamera::kMinFieldOfView || fov > OrbitCamera::kMaxFieldOfView)) {
     refuse(RefusalCode::invalid_argument,
            "Camera.field_of_view_degrees must be 0 (keep) or within 1 to 170");
   }

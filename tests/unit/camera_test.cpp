@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace fluidcast::render {
 namespace {
@@ -61,6 +62,21 @@ TEST(OrbitCamera, LimitsKeepTheCameraOutsideTheTankAndAboveItsMiddle) {
   limits.clamp(camera);
   EXPECT_LE(camera.distance, limits.max_distance);
   EXPECT_GE(camera.distance, limits.min_distance);
+}
+
+// One set of ranges: what validate() refuses is what the server's Camera validation refuses.
+TEST(OrbitCamera, ValidateRefusesBeyondTheDeclaredRanges) {
+  OrbitCamera camera;
+  camera.distance = OrbitCamera::kMaxDistance;
+  camera.pitch_degrees = OrbitCamera::kMaxPitchDegrees;
+  EXPECT_NO_THROW(camera.validate());
+  camera.distance = 1.01f * OrbitCamera::kMaxDistance;
+  EXPECT_THROW(camera.validate(), std::invalid_argument);
+  camera.distance = 2.0f;
+  camera.pitch_degrees = OrbitCamera::kMaxPitchDegrees + 0.5f;
+  EXPECT_THROW(camera.validate(), std::invalid_argument);
+  // A huge tank's farthest orbit stays within what validate() accepts.
+  EXPECT_LE(orbit_limits({{0, 0, 0}, {100, 100, 100}}).max_distance, OrbitCamera::kMaxDistance);
 }
 
 }  // namespace

@@ -9,11 +9,17 @@
 namespace fluidcast::render {
 
 struct OrbitCamera {
+  // The ranges of every camera, whoever sets it: validate() and the server's validation of
+  // Camera messages read these.
+  static constexpr float kMaxPitchDegrees = 89.0f;
+  static constexpr float kMaxDistance = 1000.0f;  // m
+  static constexpr float kMinFieldOfView = 1.0f, kMaxFieldOfView = 170.0f;  // degrees
+
   float yaw_degrees = 30.0f;            // about +y, from looking along −z
-  float pitch_degrees = 20.0f;          // above the horizon, −89 to 89
-  float distance = 2.5f;                // m, positive
+  float pitch_degrees = 20.0f;          // above the horizon, within ±kMaxPitchDegrees
+  float distance = 2.5f;                // m, above 0, at most kMaxDistance
   glm::vec3 target{0.8f, 0.2f, 0.15f};  // m
-  float field_of_view_degrees = 45.0f;  // vertical, 1 to 170
+  float field_of_view_degrees = 45.0f;  // vertical, kMinFieldOfView to kMaxFieldOfView
 
   // Throws std::invalid_argument naming the first value that is not finite or out of range.
   void validate() const;
@@ -31,7 +37,7 @@ struct OrbitCamera {
 // sphere), not so far that it shrinks to a speck, and not below its middle.
 struct OrbitLimits {
   float min_distance, max_distance;  // m
-  float min_pitch_degrees = 0.0f, max_pitch_degrees = 89.0f;
+  float min_pitch_degrees = 0.0f, max_pitch_degrees = OrbitCamera::kMaxPitchDegrees;
 
   void clamp(OrbitCamera& camera) const;
 };
