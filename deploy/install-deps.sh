@@ -38,7 +38,7 @@ for package in "${packages[@]}"; do
 done
 
 # Debian's nodejs comes without npm; some archives' nodejs includes it.
-if ((${#missing[@]} == 0)) && command -v npm >/dev/null; then
+if ((${#missing[@]} == 0)) && command -v npm >/dev/null && command -v promtool >/dev/null; then
   echo "install-deps: all ${#packages[@]} packages present"
   exit 0
 fi
@@ -57,4 +57,14 @@ fi
 if ! command -v npm >/dev/null; then
   echo "install-deps: installing npm"
   "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends npm
+fi
+# promtool, with which a test lints the server's /metrics: Debian ships it in the prometheus package,
+# whose installation would also start a Prometheus server, so only the tool is taken out of it.
+if ! command -v promtool >/dev/null; then
+  echo "install-deps: installing promtool (from Debian's prometheus package) in /usr/local/bin"
+  download=$(mktemp -d)
+  (cd "$download" && apt-get download -qq prometheus)
+  dpkg-deb --fsys-tarfile "$download"/prometheus_*.deb | tar -x -C "$download" ./usr/bin/promtool
+  "${sudo_cmd[@]}" install -m 755 "$download/usr/bin/promtool" /usr/local/bin/promtool
+  rm -rf "$download"
 fi

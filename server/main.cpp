@@ -1,12 +1,13 @@
 // fluidcast-server: headless. One GPU worker runs every session; gRPC serves the Stream and the
 // unary calls; HTTP serves /metrics and /healthz. SIGINT or SIGTERM: stop accepting, end every
 // stream with UNAVAILABLE, exit 0.
+#include <arpa/inet.h>
 #include <grpcpp/ext/proto_server_reflection_plugin.h>
 #include <grpcpp/grpcpp.h>
 #include <grpcpp/health_check_service_interface.h>
 #include <ifaddrs.h>
 #include <netinet/in.h>
-#include <arpa/inet.h>
+#include <spdlog/spdlog.h>
 
 #include <atomic>
 #include <csignal>
@@ -14,8 +15,6 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-
-#include <spdlog/spdlog.h>
 
 #include "fluidcast/command_line.h"
 #include "fluidcast/gpu/context.h"
@@ -65,9 +64,12 @@ std::vector<std::string> lan_addresses() {
 
 bool gpu_solver_for(const ServerOptions& options, const gpu::Context& context) {
   switch (options.backend) {
-    case SolverBackend::gpu: return true;
-    case SolverBackend::cpu: return false;
-    case SolverBackend::automatic: break;
+    case SolverBackend::gpu:
+      return true;
+    case SolverBackend::cpu:
+      return false;
+    case SolverBackend::automatic:
+      break;
   }
   return context.info().hardware();
 }
@@ -93,6 +95,7 @@ int serve(const ServerOptions& options) {
   }
 
   Metrics metrics;
+  metrics.describe_device(context.info().name, context.info().hardware());
   const ServerLimits limits = options.limits_for(context.info().hardware());
   SessionHub hub(context, gpu_solver, limits, read_token(options.token_file), metrics);
   FluidcastService service(hub);
@@ -101,8 +104,9 @@ int serve(const ServerOptions& options) {
   const std::vector<std::string> addresses = lan_addresses();
   const TlsFiles tls_files =
       options.tls_certificate.empty()
-          ? self_signed_certificate(options.state_dir.empty() ? default_state_folder()
-                                                              : std::filesystem::path(options.state_dir),
+          ? self_signed_certificate(options.state_dir.empty()
+                                        ? default_state_folder()
+                                        : std::filesystem::path(options.state_dir),
                                     addresses)
           : TlsFiles{options.tls_certificate, options.tls_key};
   auto page_tls =
@@ -112,28 +116,28 @@ int serve(const ServerOptions& options) {
     page_tls->use_private_key_file(tls_files.key.string(), boost::asio::ssl::context::pem);
   } catch (const std::exception& e) {
     throw std::runtime_error("TLS: " + tls_files.certificate.string() + " and " +
-                             tls_files.key.string() + " are not a PEM certificate and its key: " +
-                             e.what());
+                             tls_files.key.string() +
+                             " are not a PEM certificate and its key: " + e.what());
   }
 
   // HTTP first: if its port is taken, nothing else has started yet.
   std::atomic<bool> serving{true};
   const std::filesystem::path web = options.web_root;
-  HttpServer http(
-      options.listen, options.http_port,
-      {[&] { return metrics.prometheus_text(); }, [&] { return serving.load(); },
-       [&hub](WebStream stream,
-              boost::beast::http::request<boost::beast::http::string_body> request) {
-         serve_websocket(std::move(stream), std::move(request), hub);
-       },
-       {{"/", web / "index.html"},
-        {"/app.js", web / "app.js"},
-        {"/style.css", web / "style.css"},
-        {"/manifest.webmanifest", web / "manifest.webmanifest"},
-        {"/fluidcast.proto", options.proto_file},
-        {"/vendor/protobuf.min.js",
-         std::filesystem::path(options.web_vendor) / "protobufjs/dist/protobuf.min.js"}}},
-      page_tls);
+  HttpServer http(options.listen, options.http_port,
+                  {[&] { return metrics.prometheus_text(); },
+                   [&] { return serving.load(); },
+                   [&hub](WebStream stream,
+                          boost::beast::http::request<boost::beast::http::string_body> request) {
+                     serve_websocket(std::move(stream), std::move(request), hub);
+                   },
+                   {{"/", web / "index.html"},
+                    {"/app.js", web / "app.js"},
+                    {"/style.css", web / "style.css"},
+                    {"/manifest.webmanifest", web / "manifest.webmanifest"},
+                    {"/fluidcast.proto", options.proto_file},
+                    {"/vendor/protobuf.min.js", std::filesystem::path(options.web_vendor) /
+                                                    "protobufjs/dist/protobuf.min.js"}}},
+                  page_tls);
 
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
@@ -158,8 +162,8 @@ int serve(const ServerOptions& options) {
   builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_PERMIT_WITHOUT_CALLS, 1);
   builder.AddChannelArgument(GRPC_ARG_HTTP2_MIN_RECV_PING_INTERVAL_WITHOUT_DATA_MS, 5000);
   // A snapshot of the largest session: 24 bytes a particle, and room for the rest.
-  builder.SetMaxReceiveMessageSize(
-      static_cast<int>(std::min<std::uint64_t>(INT32_MAX, 24ull * limits.max_particles + (1 << 20))));
+  builder.SetMaxReceiveMessageSize(static_cast<int>(
+      std::min<std::uint64_t>(INT32_MAX, 24ull * limits.max_particles + (1 << 20))));
   std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
   if (!server || grpc_port == 0) {
     std::fprintf(stderr,
@@ -173,29 +177,33 @@ int serve(const ServerOptions& options) {
 
   spdlog::info("fluidcast-server {} listening: grpc={}:{} http={}:{} (and https)", kVersion,
                options.listen, grpc_port, options.listen, http.port());
-  spdlog::info("device {}; limits: {} sessions, {} particles, {}x{}, {} fps",
-               context.info().name, limits.max_sessions, limits.max_particles, limits.max_width,
-               limits.max_height, limits.max_fps);
-  spdlog::info("new sessions: {} particles at {} frames/s{} (--default-particles, --target-fps; "
-               "a page can ask: ?particles=N)",
-               limits.default_particles, limits.target_fps,
-               context.info().hardware() ? "" : ", sized for a CPU device");
+  spdlog::info("device {}; limits: {} sessions, {} particles, {}x{}, {} fps", context.info().name,
+               limits.max_sessions, limits.max_particles, limits.max_width, limits.max_height,
+               limits.max_fps);
+  spdlog::info(
+      "new sessions: {} particles at {} frames/s{} (--default-particles, --target-fps; "
+      "a page can ask: ?particles=N)",
+      limits.default_particles, limits.target_fps,
+      context.info().hardware() ? "" : ", sized for a CPU device");
   if (options.listen == "0.0.0.0") {
     for (const std::string& address : addresses) {
-      spdlog::info("on a phone on this network, open https://{}:{}/ (tilt needs https; http:// "
-                   "works too) (gRPC: {}:{})",
-                   address, http.port(), address, grpc_port);
+      spdlog::info(
+          "on a phone on this network, open https://{}:{}/ (tilt needs https; http:// "
+          "works too) (gRPC: {}:{})",
+          address, http.port(), address, grpc_port);
     }
   }
   if (options.tls_certificate.empty()) {
-    spdlog::info("https uses a self-signed certificate, {}: a browser asks once to accept it "
-                 "(README: Connect your phone; --tls-cert for a real one)",
-                 tls_files.certificate.string());
+    spdlog::info(
+        "https uses a self-signed certificate, {}: a browser asks once to accept it "
+        "(README: Connect your phone; --tls-cert for a real one)",
+        tls_files.certificate.string());
   }
   const char* local = options.listen == "0.0.0.0" ? "127.0.0.1" : options.listen.c_str();
-  spdlog::info("here: open http://{}:{}/ in a browser, or run build/bin/fluidcast-client "
-               "--headless --server {}:{} --seconds 10",
-               local, http.port(), local, grpc_port);
+  spdlog::info(
+      "here: open http://{}:{}/ in a browser, or run build/bin/fluidcast-client "
+      "--headless --server {}:{} --seconds 10",
+      local, http.port(), local, grpc_port);
   if (!std::filesystem::exists(std::filesystem::path(options.web_vendor) /
                                "protobufjs/dist/protobuf.min.js")) {
     spdlog::warn("{} has no protobufjs (npm ci at build time); the page will say it cannot start",

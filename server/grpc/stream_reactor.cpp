@@ -13,7 +13,8 @@ namespace fluidcast::server {
 // and the reactions, so all under a lock.
 class GrpcViewerSink final : public ViewerSink {
  public:
-  GrpcViewerSink(StreamReactor* reactor, Metrics& metrics) : reactor_(reactor), metrics_(&metrics) {}
+  GrpcViewerSink(StreamReactor* reactor, Metrics& metrics)
+      : reactor_(reactor), metrics_(&metrics) {}
 
   bool deliver(std::shared_ptr<const v1::ServerMessage> message) override {
     std::lock_guard lock(mutex_);
@@ -45,7 +46,8 @@ class GrpcViewerSink final : public ViewerSink {
 
   void on_write_done(bool ok) {
     std::lock_guard lock(mutex_);
-    if (const auto send_ms = outgoing_.written(); send_ms && ok) metrics_->send_ms.observe(*send_ms);
+    if (const auto send_ms = outgoing_.written(); send_ms && ok)
+      metrics_->sent(Transport::grpc, *send_ms);
     writing_ = false;
     writing_message_.reset();
     if (!reactor_) return;
@@ -69,7 +71,7 @@ class GrpcViewerSink final : public ViewerSink {
     std::lock_guard lock(mutex_);
     if (!reactor_ || finishing_) return false;
     if (opened.refusal) {
-      metrics.streams_refused++;
+      metrics.refused(Transport::grpc, opened.refusal->code());
       spdlog::warn("refused a gRPC stream: {}", opened.refusal->what());
       finishing_ = true;
       reactor_->Finish(to_status(*opened.refusal));
@@ -106,7 +108,7 @@ StreamReactor::StreamReactor(SessionHub& hub)
 }
 
 void StreamReactor::refuse(const Refusal& refusal) {
-  hub_->metrics().streams_refused++;
+  hub_->metrics().refused(Transport::grpc, refusal.code());
   spdlog::warn("ended a gRPC stream: {}", refusal.what());
   sink_->end(refusal);
   // The viewer leaves now, even if a client that stopped reading holds the last write open.
@@ -122,13 +124,12 @@ void StreamReactor::OnReadDone(bool ok) {
     if (!session_) {
       validate_hello(incoming_, hub_->limits(), hub_->token());
       // The next read starts once the session is open (on_opened).
-      hub_->open(incoming_.hello(), sink_,
-                 [sink = sink_, hub = hub_](SessionHub::Opened opened) {
-                   const auto session = opened.session;
-                   if (!sink->opened(opened, hub->metrics()) && session) {
-                     hub->close(session, opened.viewer);
-                   }
-                 });
+      hub_->open(incoming_.hello(), sink_, [sink = sink_, hub = hub_](SessionHub::Opened opened) {
+        const auto session = opened.session;
+        if (!sink->opened(opened, hub->metrics()) && session) {
+          hub->close(session, opened.viewer);
+        }
+      });
       return;
     }
     validate_event(incoming_, hub_->limits());

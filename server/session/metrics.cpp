@@ -1,5 +1,7 @@
 #include "metrics.h"
 
+#include <fluidcast/version.h>
+
 #include <cstdio>
 
 namespace fluidcast::server {
@@ -11,10 +13,31 @@ std::string number(double value) {
   return text;
 }
 
+// A label's value as the text format wants it: backslash, quote and newline escaped.
+std::string quoted(const std::string& value) {
+  std::string out = "\"";
+  for (const char c : value) {
+    if (c == '\\' || c == '"') out += '\\';
+    out += c == '\n' ? std::string("\\n") : std::string(1, c);
+  }
+  return out + "\"";
+}
+
+void write_header(std::string& out, const std::string& name, const char* type,
+                  const std::string& help) {
+  out += "# HELP " + name + " " + help + "\n# TYPE " + name + " " + type + "\n";
+}
+
 void write_value(std::string& out, const std::string& name, const char* type,
                  const std::string& help, std::uint64_t value) {
-  out += "# HELP " + name + " " + help + "\n# TYPE " + name + " " + type + "\n";
+  write_header(out, name, type, help);
   out += name + " " + std::to_string(value) + "\n";
+}
+
+void write_histogram(std::string& out, const Histogram& histogram, const std::string& name,
+                     const std::string& help) {
+  write_header(out, name, "histogram", help);
+  histogram.write_series(out, name, "");
 }
 
 // The per-session gauges, labelled with the session's id.
@@ -24,55 +47,80 @@ struct SessionSeries {
   double (*value)(const SessionFigures&);
 };
 constexpr SessionSeries kSessionSeries[] = {
-    {"fluidcast_session_sim_speed",
+    {"fluidcast_session_sim_speed_ratio",
      "Simulated seconds per wall second over the last second (1: real time).",
      [](const SessionFigures& f) { return f.sim_speed; }},
-    {"fluidcast_session_substep_milliseconds",
+    {"fluidcast_session_substep_seconds",
      "Measured cost of one solver substep (GPU time on a GPU solver).",
-     [](const SessionFigures& f) { return f.substep_ms; }},
-    {"fluidcast_session_frame_milliseconds",
+     [](const SessionFigures& f) { return f.substep_ms / 1000.0; }},
+    {"fluidcast_session_frame_seconds",
      "Measured GPU time of one frame for each of the session's viewers, summed.",
-     [](const SessionFigures& f) { return f.frame_ms; }},
+     [](const SessionFigures& f) { return f.frame_ms / 1000.0; }},
     {"fluidcast_session_particles", "Particles in the session.",
      [](const SessionFigures& f) { return double(f.particles); }},
 };
 
 }  // namespace
 
+const char* transport_name(Transport transport) {
+  return transport == Transport::grpc ? "grpc" : "websocket";
+}
+
+void Histogram::observe_ms(double milliseconds) {
+  const double seconds = milliseconds / 1000.0;
+  std::size_t bucket = 0;
+  while (bucket < kBoundsSeconds.size() && seconds > kBoundsSeconds[bucket]) ++bucket;
+  std::lock_guard lock(mutex_);
+  ++counts_[bucket];
+  sum_seconds_ += seconds;
+}
+
+void Histogram::write_series(std::string& out, const std::string& name,
+                             const std::string& labels) const {
+  const std::string before_le = labels.empty() ? "{" : "{" + labels + ",";
+  const std::string braced = labels.empty() ? "" : "{" + labels + "}";
+  std::lock_guard lock(mutex_);
+  std::uint64_t cumulative = 0;
+  for (std::size_t k = 0; k < kBoundsSeconds.size(); ++k) {
+    cumulative += counts_[k];
+    out += name + "_bucket" + before_le + "le=\"" + number(kBoundsSeconds[k]) + "\"} " +
+           std::to_string(cumulative) + "\n";
+  }
+  cumulative += counts_.back();
+  out += name + "_bucket" + before_le + "le=\"+Inf\"} " + std::to_string(cumulative) + "\n";
+  out += name + "_sum" + braced + " " + number(sum_seconds_) + "\n";
+  out += name + "_count" + braced + " " + std::to_string(cumulative) + "\n";
+}
+
+void Metrics::describe_device(const std::string& name, bool hardware) {
+  std::lock_guard lock(mutex_);
+  device_name_ = name;
+  device_hardware_ = hardware;
+}
+
+void Metrics::refused(Transport transport, RefusalCode reason) {
+  std::lock_guard lock(mutex_);
+  ++refusals_[{transport, reason}];
+}
+
+void Metrics::sent(Transport transport, double milliseconds) {
+  send_time_[static_cast<std::size_t>(transport)].observe_ms(milliseconds);
+}
+
 void Metrics::set_session(const std::string& id, const SessionFigures& figures) {
-  std::lock_guard lock(sessions_mutex_);
+  std::lock_guard lock(mutex_);
   session_figures_[id] = figures;
 }
 
 void Metrics::forget_session(const std::string& id) {
-  std::lock_guard lock(sessions_mutex_);
+  std::lock_guard lock(mutex_);
   session_figures_.erase(id);
-}
-
-void Histogram::observe(double milliseconds) {
-  std::size_t bucket = 0;
-  while (bucket < kBounds.size() && milliseconds > kBounds[bucket]) ++bucket;
-  std::lock_guard lock(mutex_);
-  ++counts_[bucket];
-  sum_ += milliseconds;
-}
-
-void Histogram::write(std::string& out, const std::string& name, const std::string& help) const {
-  std::lock_guard lock(mutex_);
-  out += "# HELP " + name + " " + help + "\n# TYPE " + name + " histogram\n";
-  std::uint64_t cumulative = 0;
-  for (std::size_t k = 0; k < kBounds.size(); ++k) {
-    cumulative += counts_[k];
-    out += name + "_bucket{le=\"" + number(kBounds[k]) + "\"} " + std::to_string(cumulative) + "\n";
-  }
-  cumulative += counts_.back();
-  out += name + "_bucket{le=\"+Inf\"} " + std::to_string(cumulative) + "\n";
-  out += name + "_sum " + number(sum_) + "\n";
-  out += name + "_count " + std::to_string(cumulative) + "\n";
 }
 
 std::string Metrics::prometheus_text() const {
   std::string out;
+  write_header(out, "fluidcast_build_info", "gauge", "The server's version; always 1.");
+  out += std::string("fluidcast_build_info{version=") + quoted(kVersion) + "} 1\n";
   write_value(out, "fluidcast_sessions", "gauge", "Sessions alive.", sessions);
   write_value(out, "fluidcast_viewers", "gauge", "Viewers connected.", viewers);
   write_value(out, "fluidcast_frames_sent_total", "counter", "Frames handed to transports.",
@@ -85,34 +133,52 @@ std::string Metrics::prometheus_text() const {
               "Frames not rendered in a tick because their session had spent its share of the GPU "
               "while other sessions were watched.",
               frames_deferred);
-  write_value(out, "fluidcast_bytes_sent_total", "counter", "JPEG bytes handed to transports.",
+  write_value(out, "fluidcast_sent_bytes_total", "counter", "JPEG bytes handed to transports.",
               bytes_sent);
-  write_value(out, "fluidcast_streams_refused_total", "counter",
-              "Streams ended with an error status for bad input or a limit.", streams_refused);
   write_value(out, "fluidcast_gpu_memory_bytes", "gauge", "GPU memory held by the allocator.",
               gpu_memory_bytes);
-  sim_ms.write(out, "fluidcast_sim_milliseconds", "Simulation time per tick of a session.");
-  render_ms.write(out, "fluidcast_render_milliseconds", "GPU time of a frame's render passes.");
-  readback_ms.write(out, "fluidcast_readback_milliseconds", "GPU time of a frame's read-back.");
-  encode_ms.write(out, "fluidcast_encode_milliseconds", "JPEG encoding time of a frame.");
-  round_trip_ms.write(out, "fluidcast_round_trip_milliseconds",
-                      "From a frame's production to the client's acknowledgement.");
-  input_wait_ms.write(out, "fluidcast_input_wait_milliseconds",
-                      "From an input's arrival to the start of the tick that drew its first frame.");
-  queue_ms.write(out, "fluidcast_queue_milliseconds",
-                 "From a frame's submission to the GPU until the server took it back.");
-  encode_wait_ms.write(out, "fluidcast_encode_wait_milliseconds",
-                       "A frame's wait for an encoder thread.");
-  server_ms.write(out, "fluidcast_server_milliseconds",
+  write_histogram(out, sim_time, "fluidcast_sim_seconds", "Simulation time per tick of a session.");
+  write_histogram(out, render_time, "fluidcast_render_seconds",
+                  "GPU time of a frame's render passes.");
+  write_histogram(out, readback_time, "fluidcast_readback_seconds",
+                  "GPU time of a frame's read-back.");
+  write_histogram(out, encode_time, "fluidcast_encode_seconds", "JPEG encoding time of a frame.");
+  write_histogram(out, round_trip_time, "fluidcast_round_trip_seconds",
+                  "From a frame's production to the client's acknowledgement.");
+  write_histogram(out, input_wait_time, "fluidcast_input_wait_seconds",
+                  "From an input's arrival to the start of the tick that drew its first frame.");
+  write_histogram(out, queue_time, "fluidcast_queue_seconds",
+                  "From a frame's submission to the GPU until the server took it back.");
+  write_histogram(out, encode_wait_time, "fluidcast_encode_wait_seconds",
+                  "A frame's wait for an encoder thread.");
+  write_histogram(out, server_time, "fluidcast_server_seconds",
                   "From the start of a frame's tick until it was handed to the transport.");
-  send_ms.write(out, "fluidcast_send_milliseconds",
-                "From a frame's hand-over to the transport until it was written.");
-  std::lock_guard lock(sessions_mutex_);
+  write_header(out, "fluidcast_send_seconds", "histogram",
+               "From a frame's hand-over to the transport until it was written.");
+  for (const Transport transport : kTransports) {
+    send_time_[static_cast<std::size_t>(transport)].write_series(
+        out, "fluidcast_send_seconds",
+        std::string("transport=") + quoted(transport_name(transport)));
+  }
+
+  std::lock_guard lock(mutex_);
+  write_header(out, "fluidcast_device_info", "gauge",
+               "The Vulkan device the server runs on (type: gpu, or cpu for a software device); "
+               "always 1.");
+  out += "fluidcast_device_info{device=" + quoted(device_name_) +
+         ",type=" + quoted(device_hardware_ ? "gpu" : "cpu") + "} 1\n";
+  write_header(out, "fluidcast_streams_refused_total", "counter",
+               "Streams ended with an error status for bad input or a limit, by transport and "
+               "status code.");
+  for (const auto& [key, count] : refusals_) {
+    out += std::string("fluidcast_streams_refused_total{transport=") +
+           quoted(transport_name(key.first)) + ",reason=" + quoted(refusal_code_name(key.second)) +
+           "} " + std::to_string(count) + "\n";
+  }
   for (const SessionSeries& series : kSessionSeries) {
-    out += "# HELP " + std::string(series.name) + " " + series.help + "\n# TYPE " + series.name +
-           " gauge\n";
+    write_header(out, series.name, "gauge", series.help);
     for (const auto& [id, figures] : session_figures_) {
-      out += std::string(series.name) + "{session=\"" + id + "\"} " +
+      out += std::string(series.name) + "{session=" + quoted(id) + "} " +
              number(series.value(figures)) + "\n";
     }
   }

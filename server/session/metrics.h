@@ -1,27 +1,36 @@
-// The server's counters and timings, shown in Prometheus text format on GET /metrics.
+// The server's counters and timings, shown in Prometheus text format on GET /metrics: base units
+// (seconds, bytes), labels where a count splits by transport or reason, and the build's version.
 #pragma once
 
 #include <array>
 #include <atomic>
 #include <cstdint>
-#include <functional>
 #include <map>
 #include <mutex>
 #include <string>
 
+#include "refusal.h"
+
 namespace fluidcast::server {
 
-// Milliseconds, bucketed: what Prometheus calls a histogram.
+enum class Transport { grpc, websocket };
+constexpr std::array kTransports = {Transport::grpc, Transport::websocket};
+const char* transport_name(Transport transport);
+
+// Durations, bucketed (what Prometheus calls a histogram): observed in the milliseconds the
+// server's clocks give, exported in seconds.
 class Histogram {
  public:
-  static constexpr std::array<double, 12> kBounds = {0.25, 0.5, 1, 2, 4, 8, 16, 32, 64, 128, 256, 512};
-  void observe(double milliseconds);
-  void write(std::string& out, const std::string& name, const std::string& help) const;
+  static constexpr std::array<double, 12> kBoundsSeconds = {
+      0.00025, 0.0005, 0.001, 0.002, 0.004, 0.008, 0.016, 0.032, 0.064, 0.128, 0.256, 0.512};
+  void observe_ms(double milliseconds);
+  // The series of one histogram (`labels` is empty or `key="value",...`), without HELP and TYPE.
+  void write_series(std::string& out, const std::string& name, const std::string& labels) const;
 
  private:
   mutable std::mutex mutex_;
-  std::array<std::uint64_t, kBounds.size() + 1> counts_{};
-  double sum_ = 0.0;
+  std::array<std::uint64_t, kBoundsSeconds.size() + 1> counts_{};
+  double sum_seconds_ = 0.0;
 };
 
 // One session's figures, exported with its id as a label.
@@ -41,20 +50,28 @@ struct Metrics {
   // Not rendered in a tick: the session had spent its share of the GPU while others were watched.
   std::atomic<std::uint64_t> frames_deferred{0};
   std::atomic<std::uint64_t> bytes_sent{0};
-  std::atomic<std::uint64_t> streams_refused{0};
   std::atomic<std::uint64_t> gpu_memory_bytes{0};
-  Histogram sim_ms, render_ms, readback_ms, encode_ms, round_trip_ms;
+  Histogram sim_time, render_time, readback_time, encode_time, round_trip_time;
   // Where a frame's time went, in the order it passed (v1::StageTimings says each).
-  Histogram input_wait_ms, queue_ms, encode_wait_ms, server_ms;
-  Histogram send_ms;  // from a frame's hand-over to the transport until it is written
+  Histogram input_wait_time, queue_time, encode_wait_time, server_time;
 
+  // What the server runs on, for fluidcast_device_info.
+  void describe_device(const std::string& name, bool hardware);
+  // A stream ended with an error status for bad input or a limit.
+  void refused(Transport transport, RefusalCode reason);
+  // From a frame's hand-over to the transport until it was written.
+  void sent(Transport transport, double milliseconds);
   void set_session(const std::string& id, const SessionFigures& figures);
   void forget_session(const std::string& id);
   std::string prometheus_text() const;
 
  private:
-  mutable std::mutex sessions_mutex_;
+  mutable std::mutex mutex_;  // guards what follows
+  std::string device_name_;
+  bool device_hardware_ = false;
+  std::map<std::pair<Transport, RefusalCode>, std::uint64_t> refusals_;
   std::map<std::string, SessionFigures> session_figures_;
+  std::array<Histogram, kTransports.size()> send_time_;
 };
 
 }  // namespace fluidcast::server

@@ -18,6 +18,29 @@ enum class RefusalCode {
   deadline_exceeded,  // the session idled out: no viewer's input for ServerLimits::idle_timeout
 };
 
+// The code's name as gRPC spells it: the WebSocket's close reason and the metrics' label.
+inline const char* refusal_code_name(RefusalCode code) {
+  switch (code) {
+    case RefusalCode::invalid_argument:
+      return "INVALID_ARGUMENT";
+    case RefusalCode::unauthenticated:
+      return "UNAUTHENTICATED";
+    case RefusalCode::not_found:
+      return "NOT_FOUND";
+    case RefusalCode::resource_exhausted:
+      return "RESOURCE_EXHAUSTED";
+    case RefusalCode::failed_precondition:
+      return "FAILED_PRECONDITION";
+    case RefusalCode::unavailable:
+      return "UNAVAILABLE";
+    case RefusalCode::internal:
+      return "INTERNAL";
+    case RefusalCode::deadline_exceeded:
+      return "DEADLINE_EXCEEDED";
+  }
+  return "INTERNAL";
+}
+
 class Refusal : public std::runtime_error {
  public:
   Refusal(RefusalCode code, const std::string& message)

@@ -298,7 +298,7 @@ void Session::apply(Viewer& viewer, const v1::ClientMessage& message, Clock::tim
     }
     case v1::ClientMessage::kAck:
       viewer.acknowledge(message.ack().sequence(), received);
-      if (viewer.round_trip_ms()) services_.metrics->round_trip_ms.observe(*viewer.round_trip_ms());
+      if (viewer.round_trip_ms()) services_.metrics->round_trip_time.observe_ms(*viewer.round_trip_ms());
       break;
     case v1::ClientMessage::kCommand: {
       last_input_ = received;
@@ -429,7 +429,7 @@ void Session::measure_steps(double ms, std::uint64_t substeps) {
   if (substeps == 0) return;
   substep_cost_.add(ms / double(substeps));
   measured_sim_ms_ += ms;
-  services_.metrics->sim_ms.observe(ms);
+  services_.metrics->sim_time.observe_ms(ms);
 }
 
 void Session::simulate(const GpuGrant& grant) {
@@ -535,10 +535,10 @@ void Session::draw(const GpuGrant& grant, Clock::time_point now) {
 
 void Session::encode(Viewer& viewer, Viewer::Finished frame) {
   Metrics& metrics = *services_.metrics;
-  metrics.render_ms.observe(frame.times.drawing_ms());
-  metrics.readback_ms.observe(frame.times.readback_ms);
-  metrics.input_wait_ms.observe(frame.shows.input_wait_ms);
-  metrics.queue_ms.observe(frame.queue_ms);
+  metrics.render_time.observe_ms(frame.times.drawing_ms());
+  metrics.readback_time.observe_ms(frame.times.readback_ms);
+  metrics.input_wait_time.observe_ms(frame.shows.input_wait_ms);
+  metrics.queue_time.observe_ms(frame.queue_ms);
   auto message = std::make_shared<v1::ServerMessage>();
   v1::Frame& out = *message->mutable_frame();
   out.set_sequence(frame.sequence);
@@ -573,9 +573,9 @@ void Session::encode(Viewer& viewer, Viewer::Finished frame) {
         stages.set_encode_ms(static_cast<float>(milliseconds));
         stages.set_encode_wait_ms(static_cast<float>(encode_wait_ms));
         stages.set_server_ms(static_cast<float>(server_ms));
-        metrics->encode_ms.observe(milliseconds);
-        metrics->encode_wait_ms.observe(encode_wait_ms);
-        metrics->server_ms.observe(server_ms);
+        metrics->encode_time.observe_ms(milliseconds);
+        metrics->encode_wait_time.observe_ms(encode_wait_ms);
+        metrics->server_time.observe_ms(server_ms);
         v1::Frame& encoded = *message->mutable_frame();
         metrics->bytes_sent += jpeg.size();
         encoded.set_jpeg(jpeg.data(), jpeg.size());

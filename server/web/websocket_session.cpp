@@ -22,20 +22,6 @@ namespace websocket = beast::websocket;
 // socket before it is buffered.
 constexpr std::size_t kMaxMessageBytes = 64 * 1024;
 
-const char* code_name(RefusalCode code) {
-  switch (code) {
-    case RefusalCode::invalid_argument: return "INVALID_ARGUMENT";
-    case RefusalCode::unauthenticated: return "UNAUTHENTICATED";
-    case RefusalCode::not_found: return "NOT_FOUND";
-    case RefusalCode::resource_exhausted: return "RESOURCE_EXHAUSTED";
-    case RefusalCode::failed_precondition: return "FAILED_PRECONDITION";
-    case RefusalCode::unavailable: return "UNAVAILABLE";
-    case RefusalCode::internal: return "INTERNAL";
-    case RefusalCode::deadline_exceeded: return "DEADLINE_EXCEEDED";
-  }
-  return "INTERNAL";
-}
-
 // Over a plain connection or a TLS one (Stream: beast::tcp_stream or TlsStream).
 template <class Stream>
 class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<Stream>> {
@@ -52,8 +38,8 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
   void start(beast::http::request<beast::http::string_body> request) {
     // Pings after 5 s of silence; a phone that does not answer within 15 s is gone, and its
     // viewer leaves (a resume finds its camera).
-    socket_.set_option(websocket::stream_base::timeout{std::chrono::seconds(10),
-                                                       std::chrono::seconds(15), true});
+    socket_.set_option(
+        websocket::stream_base::timeout{std::chrono::seconds(10), std::chrono::seconds(15), true});
     socket_.read_message_max(kMaxMessageBytes);
     socket_.binary(true);
     socket_.async_accept(request, [self = shared_from_this()](beast::error_code error) {
@@ -63,10 +49,9 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
 
   // From any thread: onto the strand.
   void post_send(std::shared_ptr<const v1::ServerMessage> message) {
-    boost::asio::post(socket_.get_executor(),
-                      [self = shared_from_this(), message = std::move(message)] {
-                        self->send(message);
-                      });
+    boost::asio::post(
+        socket_.get_executor(),
+        [self = shared_from_this(), message = std::move(message)] { self->send(message); });
   }
   void post_end(const Refusal& why) {
     boost::asio::post(socket_.get_executor(),
@@ -100,14 +85,15 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
   void on_read(beast::error_code error) {
     if (error) {  // closed, broken, or a frame over the limit
       if (error == websocket::error::message_too_big) {
+        hub_->metrics().refused(Transport::websocket, RefusalCode::resource_exhausted);
         end(RefusalCode::resource_exhausted, "a WebSocket message over 64 KiB");
       }
       leave();
       return;
     }
     v1::ClientMessage message;
-    const bool parsed = message.ParseFromArray(buffer_.data().data(),
-                                               static_cast<int>(buffer_.size()));
+    const bool parsed =
+        message.ParseFromArray(buffer_.data().data(), static_cast<int>(buffer_.size()));
     buffer_.consume(buffer_.size());
     try {
       if (!parsed) throw Refusal(RefusalCode::invalid_argument, "not a fluidcast.v1.ClientMessage");
@@ -121,7 +107,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
       session_->post(viewer_, std::move(message));
       read();
     } catch (const Refusal& refusal) {
-      hub_->metrics().streams_refused++;
+      hub_->metrics().refused(Transport::websocket, refusal.code());
       spdlog::warn("ended a WebSocket stream: {}", refusal.what());
       end(refusal.code(), refusal.what());
       leave();  // the viewer leaves now; the socket closes once StreamEnd is written
@@ -133,7 +119,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
     hub_->open(hello, sink, [self = shared_from_this()](SessionHub::Opened opened) {
       boost::asio::post(self->socket_.get_executor(), [self, opened = std::move(opened)]() mutable {
         if (opened.refusal) {
-          self->hub_->metrics().streams_refused++;
+          self->hub_->metrics().refused(Transport::websocket, opened.refusal->code());
           spdlog::warn("refused a WebSocket stream: {}", opened.refusal->what());
           self->end(opened.refusal->code(), opened.refusal->what());
           return;
@@ -170,7 +156,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
                             self->leave();
                             return;
                           }
-                          if (send_ms) self->hub_->metrics().send_ms.observe(*send_ms);
+                          if (send_ms) self->hub_->metrics().sent(Transport::websocket, *send_ms);
                           self->write_next();
                         });
   }
@@ -181,7 +167,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
     ending_ = true;
     outgoing_.stop_frames();
     auto message = std::make_shared<v1::ServerMessage>();
-    message->mutable_end()->set_code(code_name(code));
+    message->mutable_end()->set_code(refusal_code_name(code));
     message->mutable_end()->set_message(why);
     outgoing_.push(std::move(message));
     if (!writing_) write_next();
