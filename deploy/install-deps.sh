@@ -18,6 +18,8 @@ packages=(
   libboost-dev libssl-dev
   # structured logs
   libspdlog-dev
+  # readiness and stopping for systemd (sd_notify; Type=notify)
+  libsystemd-dev
   # the wire protocol: gRPC (health and reflection included) and protobuf
   libgrpc++-dev libprotobuf-dev protobuf-compiler protobuf-compiler-grpc
   # JSON: the headless client's report and gesture scripts

@@ -8,16 +8,19 @@
 #include <ifaddrs.h>
 #include <netinet/in.h>
 #include <spdlog/spdlog.h>
+#include <systemd/sd-daemon.h>
 
 #include <atomic>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include "fluidcast/command_line.h"
 #include "fluidcast/gpu/context.h"
+#include "fluidcast/program_folder.h"
 #include "fluidcast/render/frame_renderer.h"
 #include "grpc/fluidcast_service.h"
 #include "log.h"
@@ -60,6 +63,16 @@ std::vector<std::string> lan_addresses() {
   }
   freeifaddrs(list);
   return addresses;
+}
+
+// What the page's folder holds, by the path a browser asks for.
+std::map<std::string, std::filesystem::path> page_routes(const std::filesystem::path& web) {
+  std::map<std::string, std::filesystem::path> routes{{"/", web / "index.html"}};
+  for (const char* file : {"app.js", "style.css", "manifest.webmanifest", "fluidcast.proto",
+                           "vendor/protobuf.min.js"}) {
+    routes[std::string("/") + file] = web / file;
+  }
+  return routes;
 }
 
 bool gpu_solver_for(const ServerOptions& options, const gpu::Context& context) {
@@ -124,19 +137,12 @@ int serve(const ServerOptions& options) {
   std::atomic<bool> serving{true};
   const std::filesystem::path web = options.web_root;
   HttpServer http(options.listen, options.http_port,
-                  {[&] { return metrics.prometheus_text(); },
-                   [&] { return serving.load(); },
+                  {[&] { return metrics.prometheus_text(); }, [&] { return serving.load(); },
                    [&hub](WebStream stream,
                           boost::beast::http::request<boost::beast::http::string_body> request) {
                      serve_websocket(std::move(stream), std::move(request), hub);
                    },
-                   {{"/", web / "index.html"},
-                    {"/app.js", web / "app.js"},
-                    {"/style.css", web / "style.css"},
-                    {"/manifest.webmanifest", web / "manifest.webmanifest"},
-                    {"/fluidcast.proto", options.proto_file},
-                    {"/vendor/protobuf.min.js", std::filesystem::path(options.web_vendor) /
-                                                    "protobufjs/dist/protobuf.min.js"}}},
+                   page_routes(web)},
                   page_tls);
 
   grpc::EnableDefaultHealthCheckService(true);
@@ -201,17 +207,19 @@ int serve(const ServerOptions& options) {
   }
   const char* local = options.listen == "0.0.0.0" ? "127.0.0.1" : options.listen.c_str();
   spdlog::info(
-      "here: open http://{}:{}/ in a browser, or run build/bin/fluidcast-client "
-      "--headless --server {}:{} --seconds 10",
-      local, http.port(), local, grpc_port);
-  if (!std::filesystem::exists(std::filesystem::path(options.web_vendor) /
-                               "protobufjs/dist/protobuf.min.js")) {
-    spdlog::warn("{} has no protobufjs (npm ci at build time); the page will say it cannot start",
-                 options.web_vendor);
+      "here: open http://{}:{}/ in a browser, or run {} --headless --server {}:{} --seconds 10",
+      local, http.port(), (program_folder() / "fluidcast-client").string(), local, grpc_port);
+  for (const auto& [target, file] : page_routes(web)) {
+    if (!std::filesystem::exists(file)) {
+      spdlog::warn("the page lacks {} (--web-root): phones will not get it", file.string());
+    }
   }
 
+  // Under systemd (Type=notify): started once every port listens; stopping from the signal on.
+  sd_notifyf(0, "READY=1\nSTATUS=serving: grpc %d, http %d", grpc_port, http.port());
   int signal = 0;
   sigwait(&signals, &signal);
+  sd_notify(0, "STOPPING=1");
   serving = false;
   health->SetServingStatus(false);
   if (options.drain_seconds > 0) {

@@ -3,14 +3,16 @@
 #include <algorithm>
 
 #include "fluidcast/command_line.h"
+#include "fluidcast/program_folder.h"
 
 namespace fluidcast::server {
 
 ServerOptions parse_server_options(int argc, char** argv) {
   ServerOptions o;
   ServerLimits& l = o.limits;
-  CLI::App app{"fluidcast-server: simulates and renders fluids on a GPU, headless, and streams "
-               "them as JPEG frames over gRPC (and the page's WebSocket)"};
+  CLI::App app{
+      "fluidcast-server: simulates and renders fluids on a GPU, headless, and streams "
+      "them as JPEG frames over gRPC (and the page's WebSocket)"};
   add_version_flag(app, "fluidcast-server");
   app.option_defaults()->always_capture_default();
   app.add_option("--listen", o.listen, "Address to listen on (0.0.0.0: every interface)")
@@ -103,15 +105,11 @@ ServerOptions parse_server_options(int argc, char** argv) {
                  "File whose first line is the token every client must send in Hello.token")
       ->envname("FLUIDCAST_TOKEN_FILE")
       ->check(CLI::ExistingFile);
-  app.add_option("--web-root", o.web_root, "Folder of the phone page (index.html, app.js)")
+  o.web_root = (program_folder() / FLUIDCAST_WEB_FROM_BINARY).lexically_normal().string();
+  app.add_option("--web-root", o.web_root,
+                 "Folder of the phone page: index.html, app.js, fluidcast.proto, vendor/")
       ->envname("FLUIDCAST_WEB_ROOT")
       ->check(CLI::ExistingDirectory);
-  app.add_option("--web-vendor", o.web_vendor,
-                 "node_modules folder with protobufjs, which the page loads")
-      ->envname("FLUIDCAST_WEB_VENDOR");
-  app.add_option("--proto", o.proto_file, "proto/fluidcast/v1/fluidcast.proto, which the page reads")
-      ->envname("FLUIDCAST_PROTO")
-      ->check(CLI::ExistingFile);
   try {
     app.parse(argc, argv);
     if (o.tls_certificate.empty() != o.tls_key.empty()) {

@@ -28,9 +28,9 @@ struct ServerOptions {
   // streams go on, before they end: time for a load balancer to send new clients elsewhere.
   unsigned drain_seconds = 0;
   std::string state_dir;                 // what the server makes and keeps (default_state_folder)
-  std::string web_root = FLUIDCAST_WEB_ROOT;      // the phone page's files
-  std::string web_vendor = FLUIDCAST_WEB_VENDOR;  // node_modules with protobufjs (npm ci at build)
-  std::string proto_file = FLUIDCAST_PROTO_FILE;  // the schema the page reads
+  // The phone page's folder: index.html, app.js, style.css, manifest.webmanifest, fluidcast.proto
+  // and vendor/protobuf.min.js (default: share/fluidcast/web beside the binary's bin/).
+  std::string web_root;
 
   // The limits for the device: where the operator gave no default particle count or tick rate,
   // a CPU device (lavapipe, which renders a 20 000-particle session at 1.5–4 frames/s with a

@@ -1,6 +1,8 @@
 // The real server on loopback (lavapipe), driven by the real client library: handshake, frames,
 // sessions, interaction, and every bad input with its documented status while others stream on.
 #include <gtest/gtest.h>
+#include <sys/socket.h>
+#include <sys/un.h>
 
 #include <cmath>
 #include <cstdio>
@@ -55,6 +57,35 @@ grpc::StatusCode refusal_of(const std::string& address, const v1::Hello& hello) 
     return e.code();
   }
   return grpc::StatusCode::OK;
+}
+
+// Under systemd's Type=notify: READY=1 once gRPC and HTTP listen, STOPPING=1 on SIGTERM.
+TEST(ServerTest, TellsSystemdWhenReadyAndWhenStopping) {
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() / ("fluidcast-notify-" + std::to_string(getpid()));
+  const int socket_fd = socket(AF_UNIX, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+  ASSERT_GE(socket_fd, 0);
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  std::snprintf(address.sun_path, sizeof address.sun_path, "%s", path.c_str());
+  std::filesystem::remove(path);
+  ASSERT_EQ(bind(socket_fd, reinterpret_cast<const sockaddr*>(&address), sizeof address), 0);
+  const timeval wait{30, 0};
+  setsockopt(socket_fd, SOL_SOCKET, SO_RCVTIMEO, &wait, sizeof wait);
+  const auto next_notice = [&] {
+    char text[512];
+    const ssize_t size = recv(socket_fd, text, sizeof text, 0);
+    return size > 0 ? std::string(text, std::size_t(size)) : std::string("(nothing within 30 s)");
+  };
+
+  setenv("NOTIFY_SOCKET", path.c_str(), 1);
+  testing::ServerProcess server;
+  unsetenv("NOTIFY_SOCKET");
+  EXPECT_NE(next_notice().find("READY=1"), std::string::npos);
+  EXPECT_EQ(server.stop(), 0);
+  EXPECT_NE(next_notice().find("STOPPING=1"), std::string::npos);
+  close(socket_fd);
+  std::filesystem::remove(path);
 }
 
 TEST(ServerTest, HandshakeThenFramesThatDecodeAtTheRequestedSize) {
@@ -193,8 +224,8 @@ TEST(ServerTest, EveryBadInputEndsOnlyItsOwnStreamWithItsStatus) {
 TEST(ServerTest, LimitsAndTokensAreEnforcedWithTheirStatus) {
   const auto token_file = std::filesystem::temp_directory_path() / "fluidcast_test_token";
   std::ofstream(token_file) << "open sesame\n";
-  testing::ServerProcess server({"--max-sessions", "1", "--token-file", token_file.string(),
-                                 "--max-input-rate", "50"});
+  testing::ServerProcess server(
+      {"--max-sessions", "1", "--token-file", token_file.string(), "--max-input-rate", "50"});
   const std::string& address = server.grpc_address();
   v1::Hello hello = small_hello();
   EXPECT_EQ(refusal_of(address, hello), grpc::StatusCode::UNAUTHENTICATED);
@@ -312,8 +343,8 @@ TEST(ServerTest, ADragStirsTheFluidWhereItTouches) {
                                  touched.welcome().state().tank().max().x());
   const double stirred_speed = mean_speed_near(stirred, centre_x, 0.3f);
   const double still_speed = mean_speed_near(still, centre_x, 0.3f);
-  std::printf("mean speed near the finger: %.3f m/s stirred, %.3f m/s left alone\n",
-              stirred_speed, still_speed);
+  std::printf("mean speed near the finger: %.3f m/s stirred, %.3f m/s left alone\n", stirred_speed,
+              still_speed);
   EXPECT_GT(stirred_speed, 3.0 * still_speed + 0.02);
 }
 
