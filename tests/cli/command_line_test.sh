@@ -18,6 +18,10 @@ server=$1
 err=$("$server" --max-sessions 0 2>&1 >/dev/null)
 status=$?
 [[ $status -eq 2 && "$err" == *--max-sessions* ]] || fail "--max-sessions 0: exit $status, '$err'"
+# A bad value in a flag's environment variable names the variable.
+err=$(FLUIDCAST_GRPC_PORT=abc "$server" 2>&1 >/dev/null)
+status=$?
+[[ $status -eq 2 && "$err" == *FLUIDCAST_GRPC_PORT* ]] || fail "FLUIDCAST_GRPC_PORT=abc: exit $status, '$err'"
 # A second server on a port in use fails to start, saying so, rather than sharing the port.
 work=$(mktemp -d)
 "$server" --listen 127.0.0.1 --grpc-port 0 --http-port 0 --state-dir "$work/state" \

@@ -4,6 +4,8 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <cstdio>
+#include <cstdlib>
 #include <string>
 
 #include "fluidcast/version.h"
@@ -16,8 +18,21 @@ inline void add_version_flag(CLI::App& app, const std::string& program) {
   app.set_version_flag("--version", program + " " + kVersion);
 }
 
-// For a CLI::ParseError from app.parse(): what CLI11 prints for it, and the exit code.
+// For a CLI::ParseError from app.parse(): what CLI11 prints for it, and the exit code. A bad value
+// that came from an option's environment variable is said to come from there (a container's or a
+// unit's settings are variables, not flags).
 inline int exit_for(const CLI::App& app, const CLI::ParseError& error) {
+  const std::string what = error.what();
+  for (const CLI::Option* option : app.get_options()) {
+    const std::string& variable = option->get_envname();
+    const char* value = variable.empty() ? nullptr : std::getenv(variable.c_str());
+    if (value && *value && what.find(option->get_name()) != std::string::npos &&
+        what.find(value) != std::string::npos) {
+      std::fprintf(stderr, "the environment variable %s (for %s) is not valid: %s\n",
+                   variable.c_str(), option->get_name().c_str(), what.c_str());
+      return kBadFlag;
+    }
+  }
   return app.exit(error) == 0 ? 0 : kBadFlag;
 }
 
