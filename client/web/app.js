@@ -23,6 +23,7 @@ const state = window.fluidcast = {
   lastFrame: null,  // sequence, sim time, size, renderer, timings
   reconnects: 0,
   tilt: null,       // the last gravity sent
+  rules: null,      // what inputs may be (Welcome.rules): the menus, pointer ids, the tilt range
   // Drops the connection as a lost network would (for tests, and to try the reconnect).
   drop: () => { if (socket) socket.close(); },
 };
@@ -174,6 +175,8 @@ function receive(bytes) {
     state.connected = true;
     state.sessionId = message.welcome.sessionId;
     state.viewerId = message.welcome.viewerId;
+    state.rules = message.welcome.rules;
+    fillMenus(state.rules);
     retryDelayMs = 500;
     keepAwake();
     history.replaceState(null, '', '#' + state.sessionId);
@@ -347,8 +350,9 @@ function pointer(event, phase) {
   if (id === undefined) {
     if (phase !== 'DOWN') return;
     const used = new Set(pointerIds.values());
-    for (id = 0; id < 16 && used.has(id); id++);
-    if (id === 16) return;
+    const ids = state.rules ? state.rules.pointerIds : 0;  // none before the Welcome
+    for (id = 0; id < ids && used.has(id); id++);
+    if (id === ids) return;
     pointerIds.set(event.pointerId, id);
   }
   const at = normalised(event);
@@ -389,7 +393,9 @@ function onMotion(event) {
   const gravity = { x: -(a.x * c - a.y * s), y: -(a.x * s + a.y * c), z: -a.z };
   const magnitude = Math.hypot(gravity.x, gravity.y, gravity.z);
   const now = performance.now();
-  if (magnitude < 0.1 || magnitude > 200 || now - lastTiltSent < 50) return;  // 20 a second
+  const range = state.rules && state.rules.tiltGravity;
+  if (!range || magnitude < range.min || magnitude > range.max) return;  // free fall, a first zero
+  if (now - lastTiltSent < 50) return;  // 20 a second
   lastTiltSent = now;
   state.tilt = gravity;
   send({ tilt: gravity }, true);
@@ -434,14 +440,21 @@ async function enableTilt() {
 
 function command(fields) { send({ command: fields }, true); }
 
+// The scene and renderer menus offer what the server says it has (Welcome.rules): its scenes, and
+// the renderers its device can draw.
+function fillMenus(rules) {
+  const fill = (select, names, label) => {
+    select.replaceChildren(...names.map((name) => new Option(label(name), name)));
+  };
+  fill(page.panel.querySelector('#scene'), rules.scenes, (name) => name.replace(/_/g, ' '));
+  const renderer = page.panel.querySelector('#renderer');
+  fill(renderer, rules.renderers, (name) => name);
+  renderer.value = rules.renderers.includes(wanted.renderer) ? wanted.renderer : 'auto';
+}
+
 function setupControls() {
   const scene = page.panel.querySelector('#scene');
-  for (const name of ['dam_break', 'double_dam_break', 'drop', 'pool']) {
-    scene.add(new Option(name.replace(/_/g, ' '), name));
-  }
   const renderer = page.panel.querySelector('#renderer');
-  for (const name of ['auto', 'ssfr', 'mc', 'points']) renderer.add(new Option(name, name));
-  renderer.value = wanted.renderer || 'auto';
   page.panel.querySelector('#adaptive').checked = wanted.adaptive;
   scene.onchange = () => command({ scene: scene.value });
   renderer.onchange = () => { wanted.renderer = renderer.value; command({ quality: quality() }); };

@@ -3,8 +3,8 @@
 #include <SDL.h>
 
 #include <algorithm>
-#include <cmath>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <future>
@@ -29,8 +29,6 @@ constexpr auto kRetryEvery = std::chrono::seconds(2);
 constexpr auto kStallAfter = std::chrono::seconds(5);
 // Pointer moves sent per finger at most: the server limits input events per second.
 constexpr auto kMoveInterval = std::chrono::milliseconds(16);
-// Pointer ids are below 16 (the server's limit): fingers take 0 to 14, the mouse the last one.
-constexpr std::uint32_t kMousePointer = 15;
 // Frames asked for are at most this many pixels along each side (aspect kept).
 constexpr int kMaxViewportWidth = 1920, kMaxViewportHeight = 1080;
 
@@ -80,6 +78,10 @@ class Client {
   void open_first();
   void handle(const SDL_Event& event);
   void pointer(std::uint32_t id, v1::PointerEvent::Phase phase, float window_x, float window_y);
+  // The mouse takes the last pointer id the server allows (Welcome.rules), fingers those below.
+  std::uint32_t mouse_pointer() const {
+    return stream_ ? std::max(1u, stream_->welcome().rules().pointer_ids()) - 1 : 0;
+  }
   void show(const v1::Frame& frame);
   void draw();
   void keep_snapshot();
@@ -190,14 +192,14 @@ void Client::handle(const SDL_Event& event) {
     case SDL_MOUSEBUTTONDOWN:
     case SDL_MOUSEBUTTONUP:  // touches also arrive as fingers: their mouse copies are skipped
       if (event.button.which != SDL_TOUCH_MOUSEID) {
-        pointer(kMousePointer,
+        pointer(mouse_pointer(),
                 event.type == SDL_MOUSEBUTTONDOWN ? v1::PointerEvent::DOWN : v1::PointerEvent::UP,
                 float(event.button.x), float(event.button.y));
       }
       break;
     case SDL_MOUSEMOTION:
       if (event.motion.which != SDL_TOUCH_MOUSEID && (event.motion.state & SDL_BUTTON_LMASK)) {
-        pointer(kMousePointer, v1::PointerEvent::MOVE, float(event.motion.x),
+        pointer(mouse_pointer(), v1::PointerEvent::MOVE, float(event.motion.x),
                 float(event.motion.y));
       }
       break;
@@ -208,7 +210,7 @@ void Client::handle(const SDL_Event& event) {
       SDL_GetWindowSize(window_.get(), &width, &height);
       auto found = fingers_.find(event.tfinger.fingerId);
       if (found == fingers_.end()) {
-        if (event.type != SDL_FINGERDOWN || fingers_.size() >= kMousePointer) break;
+        if (event.type != SDL_FINGERDOWN || fingers_.size() >= mouse_pointer()) break;
         std::uint32_t id = 0;  // the smallest free
         while (std::any_of(fingers_.begin(), fingers_.end(),
                            [id](const auto& entry) { return entry.second == id; })) {
@@ -216,9 +218,9 @@ void Client::handle(const SDL_Event& event) {
         }
         found = fingers_.emplace(event.tfinger.fingerId, id).first;
       }
-      const auto phase = event.type == SDL_FINGERDOWN   ? v1::PointerEvent::DOWN
-                         : event.type == SDL_FINGERUP   ? v1::PointerEvent::UP
-                                                        : v1::PointerEvent::MOVE;
+      const auto phase = event.type == SDL_FINGERDOWN ? v1::PointerEvent::DOWN
+                         : event.type == SDL_FINGERUP ? v1::PointerEvent::UP
+                                                      : v1::PointerEvent::MOVE;
       pointer(found->second, phase, event.tfinger.x * width, event.tfinger.y * height);
       if (event.type == SDL_FINGERUP) fingers_.erase(found);
       break;
@@ -230,7 +232,9 @@ void Client::handle(const SDL_Event& event) {
       // The accelerometer reads the reaction to gravity: gravity is its opposite.
       const float* a = event.sensor.data;
       const float magnitude = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-      if (!(magnitude >= 0.1f && magnitude <= 200.0f)) break;  // free fall, or a first zero
+      const v1::Range& range = stream_->welcome().rules().tilt_gravity();
+      if (!(magnitude >= range.min() && magnitude <= range.max()))
+        break;  // free fall, a first zero
       stream_->tilt(-a[0], -a[1], -a[2]);
       break;
     }
@@ -238,18 +242,18 @@ void Client::handle(const SDL_Event& event) {
       if (!stream_) break;
       v1::Command command;
       const SDL_Keycode key = event.key.keysym.sym;
-      static const char* const kScenes[] = {"dam_break", "double_dam_break", "drop", "pool"};
-      static const char* const kRenderers[] = {"auto", "ssfr", "mc", "points"};
+      // The server's scenes on keys 1 to 9, its device's renderers in turn (Welcome.rules).
+      const v1::InputRules& rules = stream_->welcome().rules();
       if (key == SDLK_ESCAPE || key == SDLK_q) {
         quit_ = true;
       } else if (key == SDLK_r) {
         command.set_reset(true);
-      } else if (key >= SDLK_1 && key <= SDLK_4) {
-        command.set_scene(kScenes[key - SDLK_1]);
-      } else if (key == SDLK_m) {
-        renderer_choice_ = (renderer_choice_ + 1) % 4;
+      } else if (key >= SDLK_1 && key <= SDLK_9 && key - SDLK_1 < rules.scenes_size()) {
+        command.set_scene(rules.scenes(key - SDLK_1));
+      } else if (key == SDLK_m && rules.renderers_size() > 0) {
+        renderer_choice_ = (renderer_choice_ + 1) % rules.renderers_size();
         *command.mutable_quality() = options_.hello.quality();
-        command.mutable_quality()->set_renderer(kRenderers[renderer_choice_]);
+        command.mutable_quality()->set_renderer(rules.renderers(renderer_choice_));
       } else if (key == SDLK_p) {
         paused_ = !paused_;
         command.set_pause(paused_);
@@ -354,15 +358,15 @@ void Client::keep_standby() {
   hello.mutable_quality()->set_renderer("mc");
   hello.mutable_quality()->set_max_fps(1);
   standby_ = std::make_shared<Standby>();
-  standby_start_ = std::async(
-      std::launch::async, [standby = standby_, hello, cap = options_.max_local_particles] {
-        auto local = std::make_unique<LocalStream>(hello, cap);
-        v1::Command pause;
-        pause.set_pause(true);
-        local->command(pause);
-        const std::lock_guard lock(standby->mutex);
-        standby->local = std::move(local);
-      });
+  standby_start_ = std::async(std::launch::async,
+                              [standby = standby_, hello, cap = options_.max_local_particles] {
+                                auto local = std::make_unique<LocalStream>(hello, cap);
+                                v1::Command pause;
+                                pause.set_pause(true);
+                                local->command(pause);
+                                const std::lock_guard lock(standby->mutex);
+                                standby->local = std::move(local);
+                              });
 }
 
 void Client::on_remote_lost() {
@@ -470,33 +474,32 @@ void Client::try_reconnect() {
   // The local stream outlives the task: stream_ changes only once the task is done, and
   // reconnect_ is destroyed (waited for) before stream_.
   auto* local = dynamic_cast<LocalStream*>(stream_.get());
-  reconnect_ = std::async(std::launch::async, [server = options_.server, hello, local,
-                                               token = options_.hello.token()] {
-    Reconnected reconnected{std::make_unique<StreamClient>(connect(server), hello), {}, {}};
-    if (!local) return reconnected;
-    // The fluid here stops while its state goes over, so that nothing done meanwhile is lost.
-    v1::ClientMessage pause;
-    pause.mutable_command()->set_pause(true);
-    try {
-      local->send(pause);
-      v1::Snapshot state = local->snapshot();
-      reconnected.stream->put_snapshot(token, state);
-      reconnected.state_put = std::move(state);
-    } catch (const std::exception& e) {
-      reconnected.put_error = e.what();
-      pause.mutable_command()->set_pause(false);
-      local->send(pause);
-    }
-    return reconnected;
-  });
+  reconnect_ = std::async(
+      std::launch::async, [server = options_.server, hello, local, token = options_.hello.token()] {
+        Reconnected reconnected{std::make_unique<StreamClient>(connect(server), hello), {}, {}};
+        if (!local) return reconnected;
+        // The fluid here stops while its state goes over, so that nothing done meanwhile is lost.
+        v1::ClientMessage pause;
+        pause.mutable_command()->set_pause(true);
+        try {
+          local->send(pause);
+          v1::Snapshot state = local->snapshot();
+          reconnected.stream->put_snapshot(token, state);
+          reconnected.state_put = std::move(state);
+        } catch (const std::exception& e) {
+          reconnected.put_error = e.what();
+          pause.mutable_command()->set_pause(false);
+          local->send(pause);
+        }
+        return reconnected;
+      });
 }
 
 void Client::update_title(Clock::time_point now) {
   if (now - last_title_ < std::chrono::milliseconds(500)) return;
   last_title_ = now;
-  std::erase_if(recent_frames_, [&](const auto& frame) {
-    return now - frame.first > std::chrono::seconds(2);
-  });
+  std::erase_if(recent_frames_,
+                [&](const auto& frame) { return now - frame.first > std::chrono::seconds(2); });
   std::size_t bytes = 0;
   for (const auto& frame : recent_frames_) bytes += frame.second;
   const double fps = recent_frames_.size() / 2.0, kbps = 8.0 * bytes / 2.0 / 1000.0;
@@ -509,12 +512,13 @@ void Client::update_title(Clock::time_point now) {
                 percentile(latencies, 0.5), percentile(latencies, 0.95));
   lines.emplace_back(line);
   const v1::StageTimings& t = last_frame_.timings();
-  std::snprintf(line, sizeof line, "%u×%u %s q%u  t=%.2f s  %.2f× real time%s",
-                last_frame_.width(), last_frame_.height(), last_frame_.renderer().c_str(),
-                last_frame_.jpeg_quality(), last_frame_.sim_time(), last_frame_.sim_speed(),
+  std::snprintf(line, sizeof line, "%u×%u %s q%u  t=%.2f s  %.2f× real time%s", last_frame_.width(),
+                last_frame_.height(), last_frame_.renderer().c_str(), last_frame_.jpeg_quality(),
+                last_frame_.sim_time(), last_frame_.sim_speed(),
                 last_frame_.sim_speed() < 0.95f ? " (slow motion)" : "");
   lines.emplace_back(line);
-  std::snprintf(line, sizeof line, "%s: sim %.1f queue %.1f render %.1f read-back %.2f encode %.1f ms",
+  std::snprintf(line, sizeof line,
+                "%s: sim %.1f queue %.1f render %.1f read-back %.2f encode %.1f ms",
                 remote_ ? "server" : "here", t.sim_ms(), t.queue_ms(), t.render_ms(),
                 t.readback_ms(), t.encode_ms());
   lines.emplace_back(line);
@@ -532,8 +536,8 @@ void Client::screenshot() const {
   int width = 0, height = 0;
   SDL_GetRendererOutputSize(renderer_.get(), &width, &height);
   codec::ImageRgba image(width, height);
-  if (SDL_RenderReadPixels(renderer_.get(), nullptr, SDL_PIXELFORMAT_ABGR8888,
-                           image.pixels.data(), width * 4) != 0) {
+  if (SDL_RenderReadPixels(renderer_.get(), nullptr, SDL_PIXELFORMAT_ABGR8888, image.pixels.data(),
+                           width * 4) != 0) {
     std::fprintf(stderr, "fluidcast-client: screenshot: %s\n", SDL_GetError());
     return;
   }
@@ -583,7 +587,8 @@ int Client::run() {
       if (frame && frame->input_event_id() < show_from_event_) frame.reset();
       if (frame && report_next_frame_) {
         report_next_frame_ = false;
-        std::fprintf(stderr, "fluidcast-client: first frame streamed after the handoff: t = %.3f s\n",
+        std::fprintf(stderr,
+                     "fluidcast-client: first frame streamed after the handoff: t = %.3f s\n",
                      frame->sim_time());
       }
       if (frame) {

@@ -7,10 +7,11 @@
 #include <cstdio>
 #include <random>
 
-#include "fluidcast/version.h"
 #include "fluidcast/gpu/vk_check.h"
 #include "fluidcast/render/frame_renderer.h"
 #include "fluidcast/sim/scene.h"
+#include "fluidcast/version.h"
+#include "input_rules.h"
 
 namespace fluidcast::server {
 
@@ -124,7 +125,9 @@ void SessionHub::open(v1::Hello hello, std::shared_ptr<ViewerSink> sink,
     welcome->mutable_welcome()->set_session_id(opened.session->id());
     welcome->mutable_welcome()->set_viewer_id(opened.viewer);
     *welcome->mutable_welcome()->mutable_state() = opened.session->state();
-    *welcome->mutable_welcome()->mutable_limits() = info().limits();
+    const v1::ServerInfo server = info();
+    *welcome->mutable_welcome()->mutable_limits() = server.limits();
+    *welcome->mutable_welcome()->mutable_rules() = server.rules();
     done(opened);
     sink->deliver(welcome);
   });
@@ -202,13 +205,7 @@ v1::ServerInfo SessionHub::info() const {
   limits.set_max_input_events_per_second(limits_.max_input_events_per_second);
   limits.set_resume_grace_seconds(static_cast<std::uint32_t>(limits_.resume_grace.count()));
   limits.set_idle_timeout_seconds(static_cast<std::uint32_t>(limits_.idle_timeout.count()));
-  for (auto name : sim::scene_names()) info.add_scenes(std::string(name));
-  for (auto name : sim::solver_names()) info.add_solvers(std::string(name));
-  // Only what this device can draw; a viewer that asks for another gets points (Frame.renderer).
-  const bool fluid = !render::FrameRenderer::fluid_unsupported(*context_);
-  for (auto name : render::renderer_names()) {
-    if (fluid || name == "points" || name == "auto") info.add_renderers(std::string(name));
-  }
+  *info.mutable_rules() = input_rules(!render::FrameRenderer::fluid_unsupported(*context_));
   info.set_token_required(token_.has_value());
   info.set_sessions(session_count_);
   return info;

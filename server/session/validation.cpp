@@ -1,12 +1,14 @@
 #include "validation.h"
 
 #include <cmath>
+#include <cstdio>
 #include <string_view>
 
 #include "fluidcast/render/camera.h"
 #include "fluidcast/render/frame_renderer.h"
 #include "fluidcast/sim/scene.h"
 #include "fluidcast/sim/solver.h"
+#include "input_rules.h"
 #include "refusal.h"
 
 namespace fluidcast::server {
@@ -17,6 +19,13 @@ namespace {
 }
 
 std::string text(std::uint32_t value) { return std::to_string(value); }
+
+// A declared bound as a person writes it: 0.1, 89, 1000.
+std::string number(float value) {
+  char out[32];
+  std::snprintf(out, sizeof out, "%g", double(value));
+  return out;
+}
 
 // Names, ids and tokens are short; a long one is refused before it is copied anywhere.
 constexpr std::size_t kMaxStringBytes = 256;
@@ -52,9 +61,9 @@ void validate_solver(const std::string& solver) {
 
 void validate_particles(std::uint32_t particles, const ServerLimits& limits) {
   if (particles > limits.max_particles) {
-    refuse(RefusalCode::resource_exhausted,
-           text(particles) + " particles are more than this server's limit of " +
-               text(limits.max_particles) + " per session");
+    refuse(RefusalCode::resource_exhausted, text(particles) +
+                                                " particles are more than this server's limit of " +
+                                                text(limits.max_particles) + " per session");
   }
 }
 
@@ -65,15 +74,20 @@ void validate_camera(const v1::Camera& camera) {
   }
   using render::OrbitCamera;
   if (std::abs(camera.pitch_degrees()) > OrbitCamera::kMaxPitchDegrees) {
-    refuse(RefusalCode::invalid_argument, "Camera.pitch_degrees must lie within −89 to 89");
+    refuse(RefusalCode::invalid_argument, "Camera.pitch_degrees must lie within −" +
+                                              number(OrbitCamera::kMaxPitchDegrees) + " to " +
+                                              number(OrbitCamera::kMaxPitchDegrees));
   }
   if (!(camera.distance() > 0.0f) || camera.distance() > OrbitCamera::kMaxDistance) {
-    refuse(RefusalCode::invalid_argument, "Camera.distance must be above 0 and at most 1000 m");
+    refuse(RefusalCode::invalid_argument, "Camera.distance must be above 0 and at most " +
+                                              number(OrbitCamera::kMaxDistance) + " m");
   }
   const float fov = camera.field_of_view_degrees();
   if (fov != 0.0f && (fov < OrbitCamera::kMinFieldOfView || fov > OrbitCamera::kMaxFieldOfView)) {
     refuse(RefusalCode::invalid_argument,
-           "Camera.field_of_view_degrees must be 0 (keep) or within 1 to 170");
+           "Camera.field_of_view_degrees must be 0 (keep) or within " +
+               number(OrbitCamera::kMinFieldOfView) + " to " +
+               number(OrbitCamera::kMaxFieldOfView));
   }
 }
 
@@ -81,8 +95,9 @@ void validate_pointer(const v1::PointerEvent& pointer) {
   if (pointer.phase() == v1::PointerEvent::PHASE_UNSPECIFIED) {
     refuse(RefusalCode::invalid_argument, "PointerEvent.phase must be DOWN, MOVE, UP or CANCEL");
   }
-  if (pointer.pointer_id() >= 16) {
-    refuse(RefusalCode::invalid_argument, "PointerEvent.pointer_id must be below 16");
+  if (pointer.pointer_id() >= kPointerIds) {
+    refuse(RefusalCode::invalid_argument,
+           "PointerEvent.pointer_id must be below " + text(kPointerIds));
   }
   if (!finite(pointer.x()) || !finite(pointer.y()) || pointer.x() < 0.0f || pointer.x() > 1.0f ||
       pointer.y() < 0.0f || pointer.y() > 1.0f) {
@@ -92,10 +107,12 @@ void validate_pointer(const v1::PointerEvent& pointer) {
 }
 
 void validate_tilt(const v1::Tilt& tilt) {
-  const float magnitude = std::sqrt(tilt.x() * tilt.x() + tilt.y() * tilt.y() + tilt.z() * tilt.z());
-  if (!std::isfinite(magnitude) || magnitude < 0.1f || magnitude > 200.0f) {
+  const float magnitude =
+      std::sqrt(tilt.x() * tilt.x() + tilt.y() * tilt.y() + tilt.z() * tilt.z());
+  if (!std::isfinite(magnitude) || magnitude < kMinTiltGravity || magnitude > kMaxTiltGravity) {
     refuse(RefusalCode::invalid_argument,
-           "Tilt: the gravity vector must be finite with a magnitude of 0.1 to 200 m/s²");
+           "Tilt: the gravity vector must be finite with a magnitude of " +
+               number(kMinTiltGravity) + " to " + number(kMaxTiltGravity) + " m/s²");
   }
 }
 
@@ -135,9 +152,9 @@ void validate_command(const v1::Command& command, const ServerLimits& limits) {
 void validate_token(const std::string& given, const std::optional<std::string>& token) {
   check_length(given, "the token");
   if (token && given != *token) {
-    refuse(RefusalCode::unauthenticated,
-           given.empty() ? "this server needs a token: set Hello.token"
-                         : "the token is not this server's");
+    refuse(RefusalCode::unauthenticated, given.empty()
+                                             ? "this server needs a token: set Hello.token"
+                                             : "the token is not this server's");
   }
 }
 
@@ -154,12 +171,13 @@ void validate_viewport(const v1::Viewport& viewport, const ServerLimits& limits)
 }
 
 void validate_quality(const v1::Quality& quality, const ServerLimits& limits) {
-  if (quality.jpeg_quality() > 100) {
-    refuse(RefusalCode::invalid_argument, "Quality.jpeg_quality must be 0 (default) or 1 to 100");
+  if (quality.jpeg_quality() > kMaxJpegQuality) {
+    refuse(RefusalCode::invalid_argument,
+           "Quality.jpeg_quality must be 0 (default) or 1 to " + text(kMaxJpegQuality));
   }
   if (quality.max_fps() > limits.max_fps) {
-    refuse(RefusalCode::invalid_argument, "Quality.max_fps must be 0 (default) or 1 to " +
-                                              text(limits.max_fps));
+    refuse(RefusalCode::invalid_argument,
+           "Quality.max_fps must be 0 (default) or 1 to " + text(limits.max_fps));
   }
   check_length(quality.renderer(), "Quality.renderer");
   if (!quality.renderer().empty()) {
@@ -225,9 +243,9 @@ void check_rate(const v1::ClientMessage& message, InputRateLimit& input, InputRa
   const auto now = std::chrono::steady_clock::now();
   if (message.has_ack()) {
     if (!acks.allow(now)) {
-      refuse(RefusalCode::resource_exhausted,
-             "more than " + text(kAcknowledgementsPerFrame * limits.max_fps) +
-                 " acknowledgements per second");
+      refuse(RefusalCode::resource_exhausted, "more than " +
+                                                  text(kAcknowledgementsPerFrame * limits.max_fps) +
+                                                  " acknowledgements per second");
     }
   } else if (!input.allow(now)) {
     refuse(RefusalCode::resource_exhausted,

@@ -109,6 +109,20 @@ async function main() {
     });
     check(manifest.name === 'fluidcast' && manifest.display === 'fullscreen',
           'a web-app manifest (installable, full screen)');
+    // The menus offer what the server's Welcome says it has, the session's scene chosen.
+    const menus = await page.evaluate(() => ({
+      scenes: [...document.querySelectorAll('#scene option')].map((o) => o.value),
+      scene: document.querySelector('#scene').value,
+      renderers: [...document.querySelectorAll('#renderer option')].map((o) => o.value),
+      renderer: document.querySelector('#renderer').value,
+      rules: window.fluidcast.rules,
+    }));
+    check(JSON.stringify(menus.scenes) === JSON.stringify(menus.rules.scenes) &&
+          menus.scenes.includes('pool') && menus.scene === 'pool',
+          `the scene menu is the server's (${menus.scenes}; ${menus.scene} chosen)`);
+    check(JSON.stringify(menus.renderers) === JSON.stringify(menus.rules.renderers) &&
+          menus.renderer === 'ssfr',
+          `the renderer menu is the device's (${menus.renderers}; ${menus.renderer} chosen)`);
 
     // A calm pool changes little by itself; a finger dragged through it changes it a lot.
     await sleep(1500);

@@ -95,10 +95,13 @@ TEST(ServerTest, HandshakeThenFramesThatDecodeAtTheRequestedSize) {
   v1::ServerInfo info;
   ASSERT_TRUE(v1::Fluidcast::NewStub(channel)->GetServerInfo(&context, {}, &info).ok());
   EXPECT_FALSE(info.device().empty());
-  EXPECT_GT(info.scenes_size(), 0);
+  EXPECT_GT(info.rules().scenes_size(), 0);
 
   StreamClient stream(channel, small_hello());
   EXPECT_EQ(stream.welcome().session_id().size(), 32u);
+  // The client builds its menus and clamps from the same table GetServerInfo gives.
+  EXPECT_EQ(stream.welcome().rules().SerializeAsString(), info.rules().SerializeAsString());
+  EXPECT_EQ(stream.welcome().rules().pointer_ids(), 16u);
   EXPECT_EQ(stream.welcome().state().particles(), 1000u);
   std::uint64_t last_sequence = 0;
   for (int k = 0; k < 3; ++k) {
@@ -127,8 +130,9 @@ TEST(ServerTest, ARendererTheDeviceCannotDrawFallsBackToPoints) {
   grpc::ClientContext context;
   v1::ServerInfo info;
   ASSERT_TRUE(v1::Fluidcast::NewStub(channel)->GetServerInfo(&context, {}, &info).ok());
-  EXPECT_EQ(std::vector<std::string>(info.renderers().begin(), info.renderers().end()),
-            (std::vector<std::string>{"points", "auto"}));
+  EXPECT_EQ(
+      std::vector<std::string>(info.rules().renderers().begin(), info.rules().renderers().end()),
+      (std::vector<std::string>{"points", "auto"}));
   v1::Hello hello = small_hello();
   hello.mutable_quality()->set_renderer("ssfr");
   StreamClient stream(channel, hello);

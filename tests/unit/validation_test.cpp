@@ -1,11 +1,13 @@
 // Every rule of the protocol that the transport adapter checks, with the code it answers.
+#include "session/validation.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
 
+#include "session/input_rules.h"
 #include "session/refusal.h"
-#include "session/validation.h"
 
 namespace fluidcast::server {
 namespace {
@@ -120,6 +122,75 @@ TEST(ValidationTest, InputOutOfItsRangeIsRefused) {
   EXPECT_EQ(code_of([&] { validate_event(message, limits); }), RefusalCode::resource_exhausted);
   message.mutable_command()->set_particles(0);
   EXPECT_EQ(code_of([&] { validate_event(message, limits); }), RefusalCode::invalid_argument);
+}
+
+// What InputRules tells clients is exactly what validation enforces: each bound accepted, the
+// step beyond it refused, and every advertised name accepted.
+TEST(ValidationTest, TheAdvertisedRulesAreTheEnforcedOnes) {
+  const ServerLimits limits;
+  const v1::InputRules rules = input_rules(true);
+  const auto pointer = [](std::uint32_t id) {
+    v1::ClientMessage message;
+    message.mutable_pointer()->set_pointer_id(id);
+    message.mutable_pointer()->set_phase(v1::PointerEvent::DOWN);
+    return message;
+  };
+  EXPECT_NO_THROW(validate_event(pointer(rules.pointer_ids() - 1), limits));
+  EXPECT_EQ(code_of([&] { validate_event(pointer(rules.pointer_ids()), limits); }),
+            RefusalCode::invalid_argument);
+  const auto tilt = [](double magnitude) {
+    v1::ClientMessage message;
+    message.mutable_tilt()->set_y(static_cast<float>(-magnitude));
+    return message;
+  };
+  EXPECT_NO_THROW(validate_event(tilt(rules.tilt_gravity().min()), limits));
+  EXPECT_NO_THROW(validate_event(tilt(rules.tilt_gravity().max()), limits));
+  EXPECT_EQ(code_of([&] { validate_event(tilt(rules.tilt_gravity().max() * 1.01), limits); }),
+            RefusalCode::invalid_argument);
+  EXPECT_EQ(code_of([&] { validate_event(tilt(rules.tilt_gravity().min() * 0.5), limits); }),
+            RefusalCode::invalid_argument);
+  const auto camera = [](double pitch, double distance, double fov) {
+    v1::ClientMessage message;
+    v1::Camera& c = *message.mutable_command()->mutable_camera();
+    c.set_pitch_degrees(static_cast<float>(pitch));
+    c.set_distance(static_cast<float>(distance));
+    c.set_field_of_view_degrees(static_cast<float>(fov));
+    return message;
+  };
+  const v1::Range& pitch = rules.camera_pitch_degrees();
+  const v1::Range& distance = rules.camera_distance();
+  const v1::Range& fov = rules.camera_field_of_view_degrees();
+  EXPECT_NO_THROW(validate_event(camera(pitch.min(), distance.max(), fov.min()), limits));
+  EXPECT_NO_THROW(validate_event(camera(pitch.max(), distance.max(), fov.max()), limits));
+  EXPECT_EQ(code_of([&] { validate_event(camera(pitch.max() + 1, 1, 45), limits); }),
+            RefusalCode::invalid_argument);
+  EXPECT_EQ(code_of([&] { validate_event(camera(0, distance.max() * 1.01, 45), limits); }),
+            RefusalCode::invalid_argument);
+  EXPECT_EQ(code_of([&] { validate_event(camera(0, distance.min(), 45), limits); }),
+            RefusalCode::invalid_argument);
+  EXPECT_EQ(code_of([&] { validate_event(camera(0, 1, fov.max() + 1), limits); }),
+            RefusalCode::invalid_argument);
+  v1::ClientMessage quality;
+  quality.mutable_command()->mutable_quality()->set_jpeg_quality(rules.max_jpeg_quality());
+  EXPECT_NO_THROW(validate_event(quality, limits));
+  quality.mutable_command()->mutable_quality()->set_jpeg_quality(rules.max_jpeg_quality() + 1);
+  EXPECT_EQ(code_of([&] { validate_event(quality, limits); }), RefusalCode::invalid_argument);
+  for (const std::string& name : rules.scenes()) {
+    v1::ClientMessage message;
+    message.mutable_command()->set_scene(name);
+    EXPECT_NO_THROW(validate_event(message, limits)) << name;
+  }
+  for (const std::string& name : rules.solvers()) {
+    v1::ClientMessage message;
+    message.mutable_command()->set_solver(name);
+    EXPECT_NO_THROW(validate_event(message, limits)) << name;
+  }
+  for (const std::string& name : rules.renderers()) {
+    v1::ClientMessage message;
+    message.mutable_command()->mutable_quality()->set_renderer(name);
+    EXPECT_NO_THROW(validate_event(message, limits)) << name;
+  }
+  EXPECT_EQ(input_rules(false).renderers_size(), 2);  // points and auto
 }
 
 TEST(ValidationTest, TheRateLimitAllowsASecondsBurstThenTheRate) {

@@ -1,0 +1,25 @@
+// Every input's range and vocabulary, declared once: validation refuses what lies outside them, and
+// Welcome and ServerInfo send them (v1::InputRules) so clients build their menus and clamps from
+// them. The camera's ranges are the camera's own (render::OrbitCamera), the names the simulation's
+// and the renderer's.
+#pragma once
+
+#include <cstdint>
+
+#include "fluidcast/v1/fluidcast.pb.h"
+
+namespace fluidcast::server {
+
+// A tilt's gravity, m/s²: below the least, the phone is in free fall (or its sensor's first
+// reading is zero); the most is about 20 g, more than a shaken phone reads.
+inline constexpr float kMinTiltGravity = 0.1f;
+inline constexpr float kMaxTiltGravity = 200.0f;
+// Touches at once: PointerEvent.pointer_id lies below this.
+inline constexpr std::uint32_t kPointerIds = 16;
+inline constexpr std::uint32_t kMaxJpegQuality = 100;
+
+// The table as clients receive it; `fluid_drawable`: the device draws SSFR and Marching Cubes (else
+// it offers "points" and "auto" only).
+v1::InputRules input_rules(bool fluid_drawable);
+
+}  // namespace fluidcast::server
