@@ -28,6 +28,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   # the native client's window, its overlay's text and font, and a virtual display for its tests
   libsdl2-dev libsdl2-ttf-dev fonts-dejavu-core xvfb xauth
+  # the page's local fluid: the C++ solvers compiled to WebAssembly
+  emscripten
   # the phone page: npm fetches protobufjs (and playwright-core for the browser test, which drives
   # Debian's Chromium headless)
   nodejs chromium

@@ -47,7 +47,7 @@ ForkJoinPool::ForkJoinPool(unsigned threads) {
   workers_.reserve(threads - 1);
   try {
     for (unsigned chunk = 1; chunk < threads; ++chunk) {
-      workers_.emplace_back([this, chunk](std::stop_token stop) { worker_loop(chunk, stop); });
+      workers_.emplace_back([this, chunk] { worker_loop(chunk); });
     }
   } catch (...) {
     stop_workers();
@@ -59,7 +59,7 @@ ForkJoinPool::~ForkJoinPool() { stop_workers(); }
 
 // Joined here, not by the members' destructors: the workers use the atomics declared after them.
 void ForkJoinPool::stop_workers() noexcept {
-  for (auto& w : workers_) w.request_stop();
+  stopping_.store(true, std::memory_order_release);
   generation_.fetch_add(1, std::memory_order_release);
   generation_.notify_all();
   for (auto& w : workers_) w.join();
@@ -103,11 +103,11 @@ void ForkJoinPool::run(std::size_t n, void* body, Trampoline trampoline) {
   if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
 }
 
-void ForkJoinPool::worker_loop(unsigned chunk, std::stop_token stop) {
+void ForkJoinPool::worker_loop(unsigned chunk) {
   unsigned seen = 0;
   while (true) {
     seen = wait_while_equal(generation_, seen, spin_);
-    if (stop.stop_requested()) return;
+    if (stopping_.load(std::memory_order_acquire)) return;
     if (chunk < chunks_) run_chunk(chunk);
     if (pending_.fetch_sub(1, std::memory_order_acq_rel) == 1) pending_.notify_one();
   }

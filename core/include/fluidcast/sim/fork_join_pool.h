@@ -1,5 +1,5 @@
-// A fixed set of threads that splits [0, n) into contiguous chunks, one per thread, and returns when
-// all are done. The split depends only on n and the thread count, so results are deterministic
+// A fixed set of threads that splits [0, n) into contiguous chunks, one per thread, and returns
+// when all are done. The split depends only on n and the thread count, so results are deterministic
 // for a fixed thread count. The calling thread runs chunk 0.
 #pragma once
 
@@ -50,10 +50,12 @@ class ForkJoinPool {
   using Trampoline = void (*)(void*, unsigned, std::size_t, std::size_t);
   void run(std::size_t n, void* body, Trampoline trampoline);
   void run_chunk(unsigned chunk) noexcept;
-  void worker_loop(unsigned chunk, std::stop_token stop);
+  void worker_loop(unsigned chunk);
   void stop_workers() noexcept;
 
-  std::vector<std::jthread> workers_;
+  // std::thread and a flag rather than std::jthread: the WebAssembly build's libc++ has no jthread.
+  std::vector<std::thread> workers_;
+  std::atomic<bool> stopping_{false};
   // The current job, published by bumping generation_.
   void* body_ = nullptr;
   Trampoline trampoline_ = nullptr;

@@ -1,0 +1,171 @@
+// The page's local fluid: the project's CPU solvers (PBF, SPH), scenes and colliders, compiled to
+// WebAssembly and driven from JavaScript (client/web/local_fluid.js) through these C functions.
+// One fluid per module instance. Functions that can fail return nullptr on success and otherwise
+// a sentence saying what was wrong, valid until the next call.
+#include <emscripten/emscripten.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <exception>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "fluidcast/sim/scene.h"
+#include "fluidcast/sim/solver.h"
+
+namespace {
+
+using namespace fluidcast::sim;
+
+struct LocalFluid {
+  std::unique_ptr<Solver> solver;
+  ParticleSet shown;  // the newest state, read by JavaScript in place
+  std::string error;
+  std::vector<Collider> fingers;
+  std::vector<float> tank;  // min x, y, z, max x, y, z
+};
+
+LocalFluid fluid;
+
+// Runs `body`; a thrown exception becomes the returned sentence.
+template <class Body>
+const char* attempt(Body&& body) {
+  try {
+    body();
+    return nullptr;
+  } catch (const std::exception& e) {
+    fluid.error = e.what();
+    return fluid.error.c_str();
+  }
+}
+
+void show() {
+  fluid.shown = fluid.solver->snapshot();
+  const Box& box = fluid.solver->tank();
+  fluid.tank = {box.min.x, box.min.y, box.min.z, box.max.x, box.max.y, box.max.z};
+}
+
+void make(Scene scene, SolverKind kind, glm::vec3 gravity) {
+  SolverParams params;
+  params.threads = 1;  // no threads in this build: the page runs it on its own thread
+  auto solver = make_cpu_solver(kind, std::move(scene), params);
+  solver->set_gravity(gravity);
+  fluid.solver = std::move(solver);
+  fluid.fingers.clear();
+  show();
+}
+
+glm::vec3 gravity_now() {
+  return fluid.solver ? fluid.solver->gravity() : glm::vec3(0.0f, -9.81f, 0.0f);
+}
+
+}  // namespace
+
+extern "C" {
+
+EMSCRIPTEN_KEEPALIVE const char* fluid_create(const char* scene, const char* solver,
+                                              std::uint32_t particles) {
+  return attempt([&] {
+    SceneParams params;
+    params.kind = parse_scene(scene);
+    params.particles = static_cast<int>(particles);
+    make(build_scene(params), parse_solver(solver), gravity_now());
+  });
+}
+
+// Continues from a state (a server's snapshot): the scene's tank with these particles, packed
+// x, y, z each, at simulated time `time`.
+EMSCRIPTEN_KEEPALIVE const char* fluid_load(const char* scene, const char* solver,
+                                            std::uint32_t particles, const float* positions,
+                                            const float* velocities, std::uint32_t count,
+                                            double time) {
+  return attempt([&] {
+    SceneParams params;
+    params.kind = parse_scene(scene);
+    params.particles = static_cast<int>(particles);
+    Scene state = build_scene(params);
+    state.particles = {};
+    for (std::uint32_t i = 0; i < count; ++i) {
+      state.particles.append({positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]},
+                             {velocities[3 * i], velocities[3 * i + 1], velocities[3 * i + 2]}, i);
+    }
+    make(std::move(state), parse_solver(solver), gravity_now());
+    fluid.solver->set_time(time);
+  });
+}
+
+// Advances by `seconds` (at most the solver's step, 1/120 s by default; the page calls it as
+// often as a frame needs), in as many substeps as the solver's rule asks.
+EMSCRIPTEN_KEEPALIVE const char* fluid_step(float seconds) {
+  return attempt([&] {
+    if (!fluid.solver) throw std::invalid_argument("no fluid: call fluid_create first");
+    const float step = std::min(seconds, fluid.solver->params().time_step);
+    fluid.solver->step(step, fluid.solver->substeps_for(step));
+    show();
+  });
+}
+
+EMSCRIPTEN_KEEPALIVE float fluid_time_step() {
+  return fluid.solver ? fluid.solver->params().time_step : 0.0f;
+}
+EMSCRIPTEN_KEEPALIVE double fluid_time() { return fluid.solver ? fluid.solver->time() : 0.0; }
+EMSCRIPTEN_KEEPALIVE std::uint32_t fluid_count() {
+  return static_cast<std::uint32_t>(fluid.shown.size());
+}
+// x, y, z per particle (m, m/s), valid until the next call that changes the fluid.
+EMSCRIPTEN_KEEPALIVE const float* fluid_positions() {
+  return reinterpret_cast<const float*>(fluid.shown.position.data());
+}
+EMSCRIPTEN_KEEPALIVE const float* fluid_velocities() {
+  return reinterpret_cast<const float*>(fluid.shown.velocity.data());
+}
+EMSCRIPTEN_KEEPALIVE const float* fluid_tank() { return fluid.tank.data(); }
+EMSCRIPTEN_KEEPALIVE float fluid_spacing() {
+  return fluid.solver ? fluid.solver->fluid().spacing : 0.0f;
+}
+
+EMSCRIPTEN_KEEPALIVE const char* fluid_set_gravity(float x, float y, float z) {
+  return attempt([&] {
+    if (fluid.solver) fluid.solver->set_gravity({x, y, z});
+  });
+}
+
+// A finger: a sphere at (x, y, z) m moving at (vx, vy, vz) m/s; `id` 0 to 15 (PointerEvent ids).
+EMSCRIPTEN_KEEPALIVE const char* fluid_set_finger(std::uint32_t id, float x, float y, float z,
+                                                  float vx, float vy, float vz, float radius) {
+  return attempt([&] {
+    if (!fluid.solver) return;
+    std::vector<Collider> fingers = fluid.fingers;
+    if (fingers.size() <= id) fingers.resize(id + 1, Collider{glm::vec3(1e9f), 0.0f, {}});
+    fingers[id] = Collider{{x, y, z}, radius, {vx, vy, vz}};
+    std::vector<Collider> active;
+    for (const Collider& c : fingers) {
+      if (c.radius > 0.0f) active.push_back(c);
+    }
+    fluid.solver->set_colliders(active);
+    fluid.fingers = std::move(fingers);
+  });
+}
+
+EMSCRIPTEN_KEEPALIVE const char* fluid_lift_finger(std::uint32_t id) {
+  return attempt([&] {
+    if (!fluid.solver || id >= fluid.fingers.size()) return;
+    fluid.fingers[id].radius = 0.0f;
+    std::vector<Collider> active;
+    for (const Collider& c : fluid.fingers) {
+      if (c.radius > 0.0f) active.push_back(c);
+    }
+    fluid.solver->set_colliders(active);
+  });
+}
+
+EMSCRIPTEN_KEEPALIVE const char* fluid_reset() {
+  return attempt([&] {
+    if (!fluid.solver) return;
+    fluid.solver->reset();
+    show();
+  });
+}
+
+}  // extern "C"

@@ -1,0 +1,139 @@
+// The page's local fluid (client/wasm, the project's CPU solvers in WebAssembly) under node: it
+// runs a dam break as the native solver does (same code, so the same motion within rounding),
+// keeps every particle in the tank, answers gravity and a finger, continues from a loaded state,
+// and says what was wrong with bad input.
+//   node tests/wasm/local_fluid_test.cjs WASM_DIR FLUIDCAST_SIM
+'use strict';
+
+const { execFileSync } = require('child_process');
+const fs = require('fs');
+const os = require('os');
+const path = require('path');
+
+const [wasmDir, nativeSim] = process.argv.slice(2).map((p) => path.resolve(p));
+let failures = 0;
+function check(ok, what) {
+  console.log((ok ? 'ok   ' : 'FAIL ') + what);
+  if (!ok) failures++;
+}
+
+// The fluid's state as the native CSV reports it: centre of mass and the largest speed.
+function figures(module) {
+  const n = module._fluid_count();
+  const p = new Float32Array(module.HEAPF32.buffer, module._fluid_positions(), 3 * n);
+  const v = new Float32Array(module.HEAPF32.buffer, module._fluid_velocities(), 3 * n);
+  const tank = new Float32Array(module.HEAPF32.buffer, module._fluid_tank(), 6);
+  let cx = 0, cy = 0, cz = 0, maxSpeed = 0, outside = 0;
+  for (let i = 0; i < n; i++) {
+    const [x, y, z] = [p[3 * i], p[3 * i + 1], p[3 * i + 2]];
+    cx += x; cy += y; cz += z;
+    maxSpeed = Math.max(maxSpeed, Math.hypot(v[3 * i], v[3 * i + 1], v[3 * i + 2]));
+    if (!(x >= tank[0] && y >= tank[1] && z >= tank[2] && x <= tank[3] && y <= tank[4] &&
+          z <= tank[5])) outside++;
+  }
+  return { n, com: [cx / n, cy / n, cz / n], maxSpeed, outside };
+}
+
+function run(module, seconds) {
+  const dt = module._fluid_time_step();
+  for (let t = 0; t < seconds - 1e-6; t += dt) {
+    const error = module._fluid_step(dt);
+    if (error) throw new Error(module.UTF8ToString(error));
+  }
+}
+
+// ccall reads a null sentence (success) as ''.
+function create(module, scene, solver, particles) {
+  return module.ccall('fluid_create', 'string', ['string', 'string', 'number'],
+                      [scene, solver, particles]) || null;
+}
+
+async function main() {
+  const createLocalFluid = require(path.join(wasmDir, 'local_fluid.js'));
+  // Node has fetch but no file URLs for it: hand the module its bytes.
+  const module = await createLocalFluid({
+    wasmBinary: fs.readFileSync(path.join(wasmDir, 'local_fluid.wasm')) });
+
+  // The same dam break natively, one thread (the fork-join split is deterministic per count).
+  const work = fs.mkdtempSync(path.join(os.tmpdir(), 'fluidcast-wasm-'));
+  const csv = path.join(work, 'dam.csv');
+  execFileSync(nativeSim, ['--scene', 'dam_break', '--solver', 'pbf', '--particles', '2000',
+                           '--until', '0.5', '--threads', '1', '--stats', csv]);
+  const rows = fs.readFileSync(csv, 'utf8').trim().split('\n');
+  const header = rows[0].split(',');
+  const last = Object.fromEntries(rows[rows.length - 1].split(',').map((v, k) => [header[k], Number(v)]));
+  fs.rmSync(work, { recursive: true, force: true });
+
+  check(create(module, 'dam_break', 'pbf', 2000) === null, 'a 2000-particle dam break is made');
+  const start = figures(module);
+  const begun = Date.now();
+  run(module, 0.5);
+  const msPerStep = (Date.now() - begun) / 60;
+  const end = figures(module);
+  console.log(`0.5 s of PBF at 2000 particles: ${msPerStep.toFixed(2)} ms a step (node, one thread)`);
+  check(end.n === 2000 && end.outside === 0, `every particle stays in the tank (${end.outside} out)`);
+  check(end.com[1] < start.com[1] - 0.05 && end.com[0] > start.com[0] + 0.05,
+        `the column falls and spreads (centre ${start.com.map((c) => c.toFixed(3))} → ` +
+        `${end.com.map((c) => c.toFixed(3))})`);
+  const native = [last.com_x, last.com_y, last.com_z];
+  const apart = Math.hypot(...end.com.map((c, k) => c - native[k]));
+  check(Math.abs(module._fluid_time() - last.t) < 1e-6 && apart < 0.01,
+        `it moves as the native solver does: centres ${(apart * 1000).toFixed(2)} mm apart at ` +
+        `t = ${last.t} s (native ${native.map((c) => c.toFixed(4))})`);
+
+  // Tilted: gravity along +x carries the water that way.
+  check(module._fluid_set_gravity(9.81, 0, 0) === 0, 'gravity along +x is taken');
+  const beforeTilt = figures(module).com[0];
+  run(module, 0.3);
+  check(figures(module).com[0] > beforeTilt + 0.02,
+        `tilted gravity moves the water along x (${beforeTilt.toFixed(3)} → ` +
+        `${figures(module).com[0].toFixed(3)})`);
+  module._fluid_set_gravity(0, -9.81, 0);
+
+  // A finger swept through the water speeds it up; lifted, it stops pushing.
+  module._fluid_reset();
+  run(module, 0.2);
+  const still = figures(module).maxSpeed;
+  for (let k = 0; k < 24; k++) {
+    const x = 0.05 + 0.5 * k / 24;
+    if (module._fluid_set_finger(0, x, 0.1, 0.15, 3, 0, 0, 0.06) !== 0) throw new Error('finger');
+    run(module, 1 / 120);
+  }
+  const pushed = figures(module).maxSpeed;
+  check(pushed > still + 1, `a finger pushes the fluid (speed ${still.toFixed(2)} → ${pushed.toFixed(2)} m/s)`);
+  check(module._fluid_lift_finger(0) === 0, 'the finger lifts');
+
+  // Continued from a state (as from a server's snapshot): same particles, same clock.
+  const n = module._fluid_count();
+  const bytes = 12 * n;
+  const positions = module._malloc(bytes), velocities = module._malloc(bytes);
+  module.HEAPU8.copyWithin(positions, module._fluid_positions(), module._fluid_positions() + bytes);
+  module.HEAPU8.copyWithin(velocities, module._fluid_velocities(), module._fluid_velocities() + bytes);
+  const time = module._fluid_time();
+  const centre = figures(module).com;
+  const loaded = module.ccall('fluid_load', 'string',
+    ['string', 'string', 'number', 'number', 'number', 'number', 'number'],
+    ['dam_break', 'pbf', 2000, positions, velocities, n, time]) || null;
+  module._free(positions);
+  module._free(velocities);
+  check(loaded === null && module._fluid_count() === n && module._fluid_time() === time &&
+        Math.hypot(...figures(module).com.map((c, k) => c - centre[k])) < 1e-6,
+        `a loaded state goes on where it was (t = ${time.toFixed(3)} s, ${n} particles)`);
+
+  // Bad input: a sentence naming it, and the fluid as it was.
+  const unknown = create(module, 'lake', 'pbf', 100);
+  check(unknown !== null && unknown.includes('lake') && unknown.includes('dam_break'),
+        `an unknown scene is named, with the known ones: "${unknown}"`);
+  const badGravity = module._fluid_set_gravity(NaN, 0, 0);
+  check(badGravity !== 0 && module._fluid_count() === n,
+        `gravity that is not finite is refused: "${module.UTF8ToString(badGravity)}"`);
+  check(create(module, 'pool', 'sph', 1000) === null && module._fluid_count() === 1000,
+        'SPH runs too');
+  run(module, 0.1);
+  check(figures(module).outside === 0, 'SPH keeps its particles in the tank');
+
+  if (failures) process.exit(1);
+  console.log('the local fluid behaves');
+}
+
+main().catch((e) => { console.error(e); process.exit(1); });
