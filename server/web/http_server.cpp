@@ -25,8 +25,6 @@ std::string content_type(const std::filesystem::path& path) {
   if (extension == ".css") return "text/css; charset=utf-8";
   if (extension == ".png") return "image/png";
   if (extension == ".webmanifest") return "application/manifest+json";
-  // WebAssembly.instantiateStreaming compiles while it downloads only with this type.
-  if (extension == ".wasm") return "application/wasm";
   return "text/plain; charset=utf-8";
 }
 

@@ -13,7 +13,7 @@ fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 for file in bin/fluidcast-server bin/fluidcast-client bin/fluidcast-sim \
             share/fluidcast/web/index.html share/fluidcast/web/app.js \
             share/fluidcast/web/fluidcast.proto share/fluidcast/web/vendor/protobuf.min.js \
-            share/fluidcast/web/wasm/local_fluid.wasm \
+            share/fluidcast/web/wasm/local_fluid.js \
             lib/systemd/system/fluidcast-server.service; do
   [[ -f "$prefix/$file" ]] || fail "no $file installed"
 done
@@ -26,7 +26,7 @@ http=$(sed -n 's/.*http=127.0.0.1:\([0-9]*\).*/\1/p' "$work/server.txt")
 grep -q "lacks" "$work/server.txt" && fail "the installed page is incomplete: $(grep lacks "$work/server.txt")"
 grep -qF "$prefix/bin/fluidcast-client" "$work/server.txt" || fail "the start lines do not name the installed client"
 for path in / /app.js /fluidcast.proto /vendor/protobuf.min.js /manifest.webmanifest \
-            /wasm/local_fluid.js /wasm/local_fluid.wasm; do
+            /wasm/local_fluid.js; do
   status=$(node -e 'fetch(process.argv[1]).then((r) => console.log(r.status), () => console.log("none"))' \
     "http://127.0.0.1:$http$path")
   [[ $status == 200 ]] || fail "GET $path from the installed server: $status"

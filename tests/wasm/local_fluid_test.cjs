@@ -50,9 +50,7 @@ function create(module, scene, solver, particles) {
 
 async function main() {
   const createLocalFluid = require(path.join(wasmDir, 'local_fluid.js'));
-  // Node has fetch but no file URLs for it: hand the module its bytes.
-  const module = await createLocalFluid({
-    wasmBinary: fs.readFileSync(path.join(wasmDir, 'local_fluid.wasm')) });
+  const module = await createLocalFluid();
 
   // The same dam break natively, one thread (the fork-join split is deterministic per count).
   const work = fs.mkdtempSync(path.join(os.tmpdir(), 'fluidcast-wasm-'));
