@@ -68,8 +68,9 @@ std::vector<std::string> lan_addresses() {
 // What the page's folder holds, by the path a browser asks for.
 std::map<std::string, std::filesystem::path> page_routes(const std::filesystem::path& web) {
   std::map<std::string, std::filesystem::path> routes{{"/", web / "index.html"}};
-  for (const char* file : {"app.js", "style.css", "manifest.webmanifest", "fluidcast.proto",
-                           "vendor/protobuf.min.js", "wasm/local_fluid.js"}) {
+  for (const char* file :
+       {"app.js", "local_mode.js", "local_view.js", "style.css", "manifest.webmanifest",
+        "fluidcast.proto", "vendor/protobuf.min.js", "wasm/local_fluid.js"}) {
     routes[std::string("/") + file] = web / file;
   }
   return routes;

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <exception>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,8 +23,8 @@ struct LocalFluid {
   std::unique_ptr<Solver> solver;
   ParticleSet shown;  // the newest state, read by JavaScript in place
   std::string error;
-  std::vector<Collider> fingers;
-  std::vector<float> tank;  // min x, y, z, max x, y, z
+  std::vector<std::optional<Collider>> fingers;  // by finger id; lifted ones empty
+  std::vector<float> tank;                       // min x, y, z, max x, y, z
 };
 
 LocalFluid fluid;
@@ -54,6 +55,16 @@ void make(Scene scene, SolverKind kind, glm::vec3 gravity) {
   fluid.solver = std::move(solver);
   fluid.fingers.clear();
   show();
+}
+
+// The fingers down become the solver's colliders; refused as a whole, nothing changes.
+void touch(std::vector<std::optional<Collider>> fingers) {
+  std::vector<Collider> down;
+  for (const auto& finger : fingers) {
+    if (finger) down.push_back(*finger);
+  }
+  fluid.solver->set_colliders(down);
+  fluid.fingers = std::move(fingers);
 }
 
 glm::vec3 gravity_now() {
@@ -136,28 +147,31 @@ EMSCRIPTEN_KEEPALIVE const char* fluid_set_finger(std::uint32_t id, float x, flo
                                                   float vx, float vy, float vz, float radius) {
   return attempt([&] {
     if (!fluid.solver) return;
-    std::vector<Collider> fingers = fluid.fingers;
-    if (fingers.size() <= id) fingers.resize(id + 1, Collider{glm::vec3(1e9f), 0.0f, {}});
+    std::vector<std::optional<Collider>> fingers = fluid.fingers;
+    if (fingers.size() <= id) fingers.resize(id + 1);
     fingers[id] = Collider{{x, y, z}, radius, {vx, vy, vz}};
-    std::vector<Collider> active;
-    for (const Collider& c : fingers) {
-      if (c.radius > 0.0f) active.push_back(c);
-    }
-    fluid.solver->set_colliders(active);
-    fluid.fingers = std::move(fingers);
+    touch(std::move(fingers));
   });
 }
 
 EMSCRIPTEN_KEEPALIVE const char* fluid_lift_finger(std::uint32_t id) {
   return attempt([&] {
     if (!fluid.solver || id >= fluid.fingers.size()) return;
-    fluid.fingers[id].radius = 0.0f;
-    std::vector<Collider> active;
-    for (const Collider& c : fluid.fingers) {
-      if (c.radius > 0.0f) active.push_back(c);
-    }
-    fluid.solver->set_colliders(active);
+    std::vector<std::optional<Collider>> fingers = fluid.fingers;
+    fingers[id].reset();
+    touch(std::move(fingers));
   });
+}
+
+// The scenes, comma-separated: what the page's menu offers.
+EMSCRIPTEN_KEEPALIVE const char* fluid_scene_names() {
+  static const std::string names = [] {
+    std::string joined;
+    for (std::string_view name : scene_names())
+      joined += (joined.empty() ? "" : ",") + std::string(name);
+    return joined;
+  }();
+  return names.c_str();
 }
 
 EMSCRIPTEN_KEEPALIVE const char* fluid_reset() {

@@ -24,6 +24,8 @@ const state = window.fluidcast = {
   reconnects: 0,
   tilt: null,       // the last gravity sent
   rules: null,      // what inputs may be (Welcome.rules): the menus, pointer ids, the tilt range
+  mode: 'stream',   // or 'local': simulated in this page (?local)
+  local: null,      // local mode's figures: fps, stepMs, speed, particles, scene, solver
   // Drops the connection as a lost network would (for tests, and to try the reconnect).
   drop: () => { if (socket) socket.close(); },
 };
@@ -41,6 +43,7 @@ let wanted = {
   scene: query.get('scene') || '', particles: Number(query.get('particles')) || 0,
 };
 let paused = false;
+let local = null;  // the LocalMode when this page simulates the fluid itself (?local)
 let retryDelayMs = 500;
 let retryTimer = 0;
 let giveUp = false;
@@ -99,7 +102,7 @@ async function loadProtocol() {
   if (typeof protobuf === 'undefined') {
     throw new Error('the page could not load protobufjs from the server (/vendor/protobuf.min.js)');
   }
-  const root = await protobuf.load('/fluidcast.proto');
+  const root = await protobuf.load('fluidcast.proto');
   return {
     ClientMessage: root.lookupType('fluidcast.v1.ClientMessage'),
     ServerMessage: root.lookupType('fluidcast.v1.ServerMessage'),
@@ -119,9 +122,11 @@ function send(fields, isInput) {
   return message.eventId || 0;
 }
 
-function viewport() {
-  // Device pixels, capped: a phone's 3× screen does not need 3× the pixels streamed.
-  const cssWidth = page.canvas.clientWidth, cssHeight = page.canvas.clientHeight;
+function viewport() { return pixelSize(page.canvas); }
+
+// Device pixels, capped: a phone's 3× screen does not need 3× the pixels streamed or drawn.
+function pixelSize(element) {
+  const cssWidth = element.clientWidth, cssHeight = element.clientHeight;
   const scale = Math.min(window.devicePixelRatio || 1, 2,
                          Math.max(cssWidth, cssHeight) > 0 ? 1920 / Math.max(cssWidth, cssHeight) : 1,
                          Math.min(cssWidth, cssHeight) > 0 ? 1080 / Math.min(cssWidth, cssHeight) : 1);
@@ -393,9 +398,16 @@ function onMotion(event) {
   const gravity = { x: -(a.x * c - a.y * s), y: -(a.x * s + a.y * c), z: -a.z };
   const magnitude = Math.hypot(gravity.x, gravity.y, gravity.z);
   const now = performance.now();
+  if (now - lastTiltSent < 50) return;  // 20 a second
+  if (local) {
+    if (!(magnitude > 0.1)) return;  // free fall, or a first zero
+    lastTiltSent = now;
+    state.tilt = gravity;
+    local.tilt(gravity);
+    return;
+  }
   const range = state.rules && state.rules.tiltGravity;
   if (!range || magnitude < range.min || magnitude > range.max) return;  // free fall, a first zero
-  if (now - lastTiltSent < 50) return;  // 20 a second
   lastTiltSent = now;
   state.tilt = gravity;
   send({ tilt: gravity }, true);
@@ -443,31 +455,50 @@ function command(fields) { send({ command: fields }, true); }
 // The scene and renderer menus offer what the server says it has (Welcome.rules): its scenes, and
 // the renderers its device can draw.
 function fillMenus(rules) {
-  const fill = (select, names, label) => {
-    select.replaceChildren(...names.map((name) => new Option(label(name), name)));
-  };
-  fill(page.panel.querySelector('#scene'), rules.scenes, (name) => name.replace(/_/g, ' '));
+  fillScenes(rules.scenes);
   const renderer = page.panel.querySelector('#renderer');
-  fill(renderer, rules.renderers, (name) => name);
+  renderer.replaceChildren(...rules.renderers.map((name) => new Option(name, name)));
   renderer.value = rules.renderers.includes(wanted.renderer) ? wanted.renderer : 'auto';
+}
+
+function fillScenes(names) {
+  page.panel.querySelector('#scene').replaceChildren(
+    ...names.map((name) => new Option(name.replace(/_/g, ' '), name)));
 }
 
 function setupControls() {
   const scene = page.panel.querySelector('#scene');
   const renderer = page.panel.querySelector('#renderer');
   page.panel.querySelector('#adaptive').checked = wanted.adaptive;
-  scene.onchange = () => command({ scene: scene.value });
+  // In local mode the controls act on the fluid here; a failure is said, the fluid stays as it was.
+  const here = (action) => () => {
+    try { action(); } catch (error) { say(error.message); setTimeout(() => say(''), 5000); }
+  };
+  scene.onchange = local ? here(() => local.create(scene.value, local.stats.solver, local.stats.particles))
+                         : () => command({ scene: scene.value });
   renderer.onchange = () => { wanted.renderer = renderer.value; command({ quality: quality() }); };
   const jpeg = page.panel.querySelector('#quality');
   jpeg.onchange = () => { wanted.quality = Number(jpeg.value); command({ quality: quality() }); };
   const adaptive = page.panel.querySelector('#adaptive');
   adaptive.onchange = () => { wanted.adaptive = adaptive.checked; command({ quality: quality() }); };
-  page.panel.querySelector('#reset').onclick = () => command({ reset: true });
-  page.panel.querySelector('#reset-view').onclick = () => command({ resetView: true });
+  page.panel.querySelector('#reset').onclick =
+    local ? here(() => local.reset()) : () => command({ reset: true });
+  page.panel.querySelector('#reset-view').onclick =
+    local ? () => local.resetView() : () => command({ resetView: true });
   page.panel.querySelector('#pause').onclick = (e) => {
     paused = !paused;
-    command({ pause: paused });
+    if (local) local.paused = paused;
+    else command({ pause: paused });
     e.target.textContent = paused ? 'Go on' : 'Pause';
+  };
+  // Switching reloads the page in the other mode (?local), keeping the other parameters.
+  const mode = page.panel.querySelector('#mode');
+  mode.textContent = local ? 'Stream from the server' : 'Simulate here';
+  mode.onclick = () => {
+    const next = new URLSearchParams(location.search);
+    if (local) next.delete('local');
+    else next.set('local', '');
+    location.search = next.toString();
   };
   const tilt = page.panel.querySelector('#tilt');
   tilt.onclick = enableTilt;
@@ -510,6 +541,7 @@ async function keepAwake() {
 // grace) for the tab to come back and resume it.
 let hiddenPause = false;
 document.addEventListener('visibilitychange', () => {
+  if (local) return;  // the browser stops animating a hidden page, and the fluid with it
   if (document.hidden) {
     hiddenPause = true;
     if (socket) socket.close();
@@ -521,13 +553,62 @@ document.addEventListener('visibilitychange', () => {
 
 let resizeTimer = 0;
 window.addEventListener('resize', () => {
+  if (local) {
+    fitLocalCanvas();
+    return;
+  }
   fitCanvas();
   clearTimeout(resizeTimer);
   resizeTimer = setTimeout(() => command({ viewport: viewport() }), 250);
 });
 
+// ---- local mode ----------------------------------------------------------------------------
+
+async function startLocal() {
+  document.body.classList.add('local');
+  page.canvas.hidden = true;
+  const canvas = document.getElementById('local-view');
+  canvas.hidden = false;
+  fitLocalCanvas();
+  say('Starting the fluid here…');
+  try {
+    local = await LocalMode.start(canvas, { scene: wanted.scene, solver: query.get('solver') || '',
+                                            particles: wanted.particles });
+  } catch (error) {
+    say('This browser cannot simulate the fluid here: ' + error.message);
+    return;
+  }
+  state.mode = 'local';
+  state.local = local.stats;
+  fillScenes(local.scenes());
+  page.panel.querySelector('#scene').value = local.stats.scene;
+  setupControls();
+  say('');
+  setInterval(showLocalStats, 500);
+}
+
+function fitLocalCanvas() {
+  const canvas = document.getElementById('local-view');
+  const size = pixelSize(canvas);
+  canvas.width = size.width;
+  canvas.height = size.height;
+}
+
+function showLocalStats() {
+  if (page.stats.hidden) return;
+  const s = local.stats;
+  page.stats.textContent =
+    `local: simulated in this page\n${s.fps.toFixed(1)} fps  ${s.particles} particles ` +
+    `(${s.scene.replace(/_/g, ' ')}, ${s.solver})\n` +
+    `step ${s.stepMs.toFixed(1)} ms  simulation ${paused ? 'paused' : simSpeedText(s.speed)}`;
+}
+
 (async () => {
   try {
+    if (query.has('local')) {
+      await startLocal();
+      return;
+    }
     fitCanvas();
     types = await loadProtocol();
     setupControls();

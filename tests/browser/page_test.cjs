@@ -1,8 +1,11 @@
 // The phone page in Debian's Chromium, headless, as a phone (touch, small screen), driven by
 // playwright-core against the real server on loopback: frames arrive and the canvas shows them,
-// a touch drag stirs the fluid, a dropped WebSocket reconnects and resumes the same session, and
-// over https at a phone's size Chromium's emulated motion sensors tilt the water. Screenshots go to test-output/browser_*.png.
-//   node tests/browser/page_test.cjs   (env: FLUIDCAST_SERVER, FLUIDCAST_WEB_MODULES, CHROMIUM)
+// a touch drag stirs the fluid, a dropped WebSocket reconnects and resumes the same session,
+// over https at a phone's size Chromium's emulated motion sensors tilt the water, and local mode
+// simulates and draws the fluid in the page (from the server and from a file). Screenshots go to
+// test-output/browser_*.png.
+//   node tests/browser/page_test.cjs
+//   (env: FLUIDCAST_SERVER, FLUIDCAST_WEB_MODULES, FLUIDCAST_WEB_ROOT, CHROMIUM)
 'use strict';
 
 const { spawn } = require('child_process');
@@ -11,6 +14,7 @@ const path = require('path');
 const { chromium } = require(path.join(process.env.FLUIDCAST_WEB_MODULES, 'playwright-core'));
 
 const server = process.env.FLUIDCAST_SERVER;
+const webRoot = process.env.FLUIDCAST_WEB_ROOT;  // the page's files, opened from a file too
 const browserPath = process.env.CHROMIUM || '/usr/bin/chromium';
 const out = 'test-output';
 let failures = 0, passes = 0;
@@ -53,6 +57,20 @@ async function pixels(page) {
   return page.evaluate(() => {
     const canvas = document.getElementById('view');
     const data = canvas.getContext('2d').getImageData(0, 0, canvas.width, canvas.height).data;
+    return Array.from(data.filter((_, k) => k % 4 !== 3 && (k >> 2) % 7 === 0));
+  });
+}
+
+// The local mode's WebGL canvas, through a 2D copy (it keeps its drawing buffer).
+async function localPixels(page) {
+  return page.evaluate(() => {
+    const source = document.getElementById('local-view');
+    const copy = document.createElement('canvas');
+    copy.width = source.width;
+    copy.height = source.height;
+    const context2d = copy.getContext('2d');
+    context2d.drawImage(source, 0, 0);
+    const data = context2d.getImageData(0, 0, copy.width, copy.height).data;
     return Array.from(data.filter((_, k) => k % 4 !== 3 && (k >> 2) % 7 === 0));
   });
 }
@@ -222,6 +240,52 @@ async function main() {
     check(tilted > 1.5 * stillness + 0.5,
           `the tilt tips the water (image change ${tilted.toFixed(2)} vs ${stillness.toFixed(2)} calm)`);
     await secureContext.close();
+
+    // Local mode: the fluid simulated in the page by the solver in WebAssembly and drawn with
+    // WebGL2, at a phone's size; a finger stirs it; the stats say it is local.
+    const localContext = await browser.newContext({
+      viewport: { width: 390, height: 844 }, isMobile: true, hasTouch: true });
+    const localPage = await localContext.newPage();
+    localPage.on('pageerror', (e) => { console.log('page error: ' + e.message); failures++; });
+    await localPage.goto(`http://127.0.0.1:${port}/?local&particles=1000&scene=pool`);
+    await waitFor(localPage, () => window.fluidcast.local && window.fluidcast.local.fps > 0,
+                  'the local fluid drawing', 30000);
+    const localStart = await localPixels(localPage);
+    check(spread(localStart) > 10, 'local mode draws a picture (spread ' +
+          spread(localStart).toFixed(1) + ')');
+    // Fingers swept through the pool move its water (a body moving left through water shifts the
+    // water's centre of mass right) by far more than it drifts alone in as long (the drags take
+    // 3 s; a pool on two cores runs in slow motion).
+    const centreX = () => localPage.evaluate(() => window.fluidcast.local.centre[0]);
+    await sleep(2000);
+    const settled = await centreX();
+    await sleep(3000);
+    const localBefore = await centreX();
+    const drift = Math.abs(localBefore - settled);
+    const localCdp = await localContext.newCDPSession(localPage);
+    for (let pass = 0; pass < 2; pass++) {
+      await touchDrag(localPage, localCdp, { x: 340, y: 480 }, { x: 50, y: 480 }, 30);
+    }
+    await sleep(500);
+    const localAfter = await centreX();
+    await localPage.screenshot({ path: path.join(out, 'browser_local.png') });
+    check(Math.abs(localAfter - localBefore) > Math.max(0.02, 3 * drift),
+          `a finger moves the local fluid (its centre ${localBefore.toFixed(3)} → ` +
+          `${localAfter.toFixed(3)} m; ${drift.toFixed(3)} m alone)`);
+    const localState = await localPage.evaluate(() => ({
+      mode: window.fluidcast.mode, local: window.fluidcast.local,
+      stats: document.getElementById('stats').textContent }));
+    check(localState.mode === 'local' && localState.local.particles === 1000 &&
+          localState.stats.startsWith('local'),
+          `the stats say local (${JSON.stringify(localState.stats)})`);
+    // The same page from a file, no server: it runs.
+    const fromFile = await localContext.newPage();
+    fromFile.on('pageerror', (e) => { console.log('page error: ' + e.message); failures++; });
+    await fromFile.goto('file://' + path.join(webRoot, 'index.html') + '?local&particles=500');
+    await waitFor(fromFile, () => window.fluidcast.local && window.fluidcast.local.fps > 0,
+                  'the local fluid from a file', 30000);
+    check(spread(await localPixels(fromFile)) > 10, 'from a file, with no server, it runs');
+    await localContext.close();
 
     // A session the server refuses (over its particle limit): the reason stays on the screen, in
     // plain words with the server's detail, and the page waits for "Retry now" instead of looping.
