@@ -1,5 +1,7 @@
 #include "stream_client.h"
 
+#include <utility>
+
 namespace fluidcast::client {
 namespace {
 
@@ -21,8 +23,9 @@ StreamClient::StreamClient(std::shared_ptr<grpc::Channel> channel, const v1::Hel
     : channel_(channel), stub_(v1::Fluidcast::NewStub(channel)) {
   // A server that cannot be reached is said in seconds, not after gRPC's long backoff.
   if (!channel->WaitForConnected(std::chrono::system_clock::now() + kConnectTimeout)) {
-    throw StreamError(grpc::Status(grpc::StatusCode::UNAVAILABLE,
-                                   "no server answered within 5 s; is fluidcast-server running there?"));
+    throw StreamError(
+        grpc::Status(grpc::StatusCode::UNAVAILABLE,
+                     "no server answered within 5 s; is fluidcast-server running there?"));
   }
   stream_ = stub_->Stream(&context_);
   v1::ClientMessage message;
@@ -62,9 +65,21 @@ StreamClient::~StreamClient() {
   if (reader_.joinable()) reader_.join();
 }
 
+std::optional<v1::Snapshot> StreamClient::take_state(std::chrono::milliseconds timeout) {
+  std::unique_lock lock(mutex_);
+  state_arrived_.wait_for(lock, timeout, [this] { return state_.has_value(); });
+  return std::exchange(state_, std::nullopt);
+}
+
 void StreamClient::read_loop() {
   v1::ServerMessage message;
   while (stream_->Read(&message)) {
+    if (message.has_state()) {
+      std::lock_guard lock(mutex_);
+      state_ = std::move(*message.mutable_state());
+      state_arrived_.notify_all();
+      continue;
+    }
     if (!message.has_frame()) continue;
     v1::ClientMessage ack;
     ack.mutable_ack()->set_sequence(message.frame().sequence());

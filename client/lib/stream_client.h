@@ -71,6 +71,9 @@ class StreamClient final : public FluidStream {
   void drop();
 
   const std::shared_ptr<grpc::Channel>& channel() const { return channel_; }
+  // The newest state the server sent (after a StateRequest) that was not taken yet, waiting up to
+  // `timeout` for one.
+  std::optional<v1::Snapshot> take_state(std::chrono::milliseconds timeout);
   // Puts a fluid simulated elsewhere into this stream's session (after a local continuation).
   void put_snapshot(const std::string& token, const v1::Snapshot& snapshot);
 
@@ -89,13 +92,15 @@ class StreamClient final : public FluidStream {
   // Frames kept for a caller that reads slower than they come; older ones are dropped.
   FrameQueue frames_{4};
   mutable std::mutex mutex_;
-  grpc::Status status_;  // once frames_ is closed
+  grpc::Status status_;                // once frames_ is closed
+  std::optional<v1::Snapshot> state_;  // under mutex_
+  std::condition_variable state_arrived_;
 
   std::mutex write_mutex_;  // guards what follows, up to the threads
   std::condition_variable write_wanted_;
   std::deque<v1::ClientMessage> outgoing_;
-  bool closing_ = false;     // finish(): WritesDone once the queue is written
-  bool stopping_ = false;    // the stream ended: the writer stops
+  bool closing_ = false;           // finish(): WritesDone once the queue is written
+  bool stopping_ = false;          // the stream ended: the writer stops
   std::string cancelled_because_;  // why we cancelled the call, if we did: the status says so
   bool writer_done_ = false;
   std::thread writer_, reader_;

@@ -102,8 +102,7 @@ class GrpcViewerSink final : public ViewerSink {
 StreamReactor::StreamReactor(SessionHub& hub)
     : hub_(&hub),
       sink_(std::make_shared<GrpcViewerSink>(this, hub.metrics())),
-      rate_(hub.limits().max_input_events_per_second),
-      ack_rate_(kAcknowledgementsPerFrame * hub.limits().max_fps) {
+      rates_(hub.limits()) {
   StartRead(&incoming_);
 }
 
@@ -133,7 +132,7 @@ void StreamReactor::OnReadDone(bool ok) {
       return;
     }
     validate_event(incoming_, hub_->limits());
-    check_rate(incoming_, rate_, ack_rate_, hub_->limits());
+    check_rate(incoming_, rates_, hub_->limits());
     session_->post(viewer_, std::move(incoming_));
     incoming_.Clear();
     sink_->read_next(&incoming_);

@@ -33,7 +33,7 @@ class StreamReactor final : public grpc::ServerBidiReactor<v1::ClientMessage, v1
   SessionHub* hub_;
   std::shared_ptr<GrpcViewerSink> sink_;
   v1::ClientMessage incoming_;
-  InputRateLimit rate_, ack_rate_;
+  StreamRates rates_;
   // Set once, on the worker's thread, before the next read starts; read by reactions after.
   std::shared_ptr<Session> session_;
   std::uint32_t viewer_ = 0;

@@ -26,6 +26,7 @@ v1::InputRules input_rules(bool fluid_drawable) {
   set(*rules.mutable_tilt_gravity(), kMinTiltGravity, kMaxTiltGravity);
   rules.set_pointer_ids(kPointerIds);
   rules.set_max_jpeg_quality(kMaxJpegQuality);
+  rules.set_max_state_particles(kMaxStateParticles);
   for (auto name : sim::scene_names()) rules.add_scenes(std::string(name));
   for (auto name : sim::solver_names()) rules.add_solvers(std::string(name));
   // A viewer that asks for a renderer the device cannot draw gets points (Frame.renderer).

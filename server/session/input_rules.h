@@ -17,6 +17,10 @@ inline constexpr float kMaxTiltGravity = 200.0f;
 // Touches at once: PointerEvent.pointer_id lies below this.
 inline constexpr std::uint32_t kPointerIds = 16;
 inline constexpr std::uint32_t kMaxJpegQuality = 100;
+// The largest session whose state a stream carries (StateRequest, NewSession.state): 24 bytes a
+// particle, so that a WebSocket message stays small. Larger ones use GetSnapshot and PutSnapshot.
+inline constexpr std::uint32_t kMaxStateParticles = 16384;
+inline constexpr std::uint32_t kStateRequestsPerSecond = 4;
 
 // The table as clients receive it; `fluid_drawable`: the device draws SSFR and Marching Cubes (else
 // it offers "points" and "auto" only).

@@ -3,6 +3,11 @@
 namespace fluidcast::server {
 
 bool OutgoingMessages::push(std::shared_ptr<const v1::ServerMessage> message) {
+  if (message->has_state()) {
+    if (frames_stopped_) return true;
+    state_ = std::move(message);
+    return true;
+  }
   if (!message->has_frame()) {
     control_.push_back(std::move(message));
     return true;
@@ -22,6 +27,7 @@ std::shared_ptr<const v1::ServerMessage> OutgoingMessages::next() {
     control_.pop_front();
     return message;
   }
+  if (state_) return std::move(state_);
   if (frame_) writing_frame_pushed_ = frame_pushed_;
   return std::move(frame_);
 }
@@ -37,6 +43,7 @@ std::optional<double> OutgoingMessages::written() {
 void OutgoingMessages::stop_frames() {
   frames_stopped_ = true;
   frame_.reset();
+  state_.reset();
 }
 
 }  // namespace fluidcast::server

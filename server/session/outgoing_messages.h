@@ -1,15 +1,16 @@
 // What a transport has yet to write to one viewer, behind its one write in flight: control
-// messages (Welcome, StreamEnd) in order and never dropped, and at most one frame — a newer
-// frame replaces the waiting one, and a frame no newer than one already queued (encoders finish
-// in any order) is dropped. Memory per viewer stays bounded however slowly the client reads.
-// Not thread-safe: each transport calls it under its own lock or strand.
+// messages (Welcome, StreamEnd) in order and never dropped, at most one state (a newer one
+// replaces the waiting one), and at most one frame — a newer frame replaces the waiting one, and
+// a frame no newer than one already queued (encoders finish in any order) is dropped. Memory per
+// viewer stays bounded however slowly the client reads. Not thread-safe: each transport calls it
+// under its own lock or strand.
 #pragma once
 
-#include <cstdint>
 #include <chrono>
+#include <cstdint>
 #include <deque>
-#include <optional>
 #include <memory>
+#include <optional>
 
 #include "fluidcast/v1/fluidcast.pb.h"
 
@@ -22,7 +23,8 @@ class OutgoingMessages {
   bool push(std::shared_ptr<const v1::ServerMessage> message);
   // The next message to write, control messages first; null when there is none.
   std::shared_ptr<const v1::ServerMessage> next();
-  // The stream is ending: the waiting frame and later ones are dropped; control messages still go.
+  // The stream is ending: the waiting frame and state and later ones are dropped; control
+  // messages still go.
   void stop_frames();
   // The message next() gave has been written: when it was a frame, the milliseconds from its
   // push to now (waiting behind the write before it, then being written): its send time.
@@ -31,6 +33,7 @@ class OutgoingMessages {
  private:
   using Clock = std::chrono::steady_clock;
   std::deque<std::shared_ptr<const v1::ServerMessage>> control_;
+  std::shared_ptr<const v1::ServerMessage> state_;
   std::shared_ptr<const v1::ServerMessage> frame_;
   Clock::time_point frame_pushed_{};
   std::optional<Clock::time_point> writing_frame_pushed_;

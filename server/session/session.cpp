@@ -7,6 +7,7 @@
 #include "fluidcast/render/frame_renderer.h"
 #include "fluidcast/sim/param_spec.h"
 #include "fluidcast/sim/scene.h"
+#include "input_rules.h"
 
 namespace fluidcast::server {
 namespace {
@@ -288,17 +289,29 @@ void Session::apply(Viewer& viewer, const v1::ClientMessage& message, Clock::tim
       solver_->set_gravity(gravity);
       // A phone lying still sends the same tilt twenty times a second: only turning it counts.
       const float turned = glm::degrees(std::acos(std::clamp(
-          glm::dot(glm::normalize(gravity), glm::normalize(last_active_tilt_)), -1.0f,
-          1.0f)));
+          glm::dot(glm::normalize(gravity), glm::normalize(last_active_tilt_)), -1.0f, 1.0f)));
       if (turned > kIdleTiltDegrees) {
         last_active_tilt_ = gravity;
         last_input_ = received;
       }
       break;
     }
+    case v1::ClientMessage::kStateRequest: {
+      if (solver_->particle_count() > kMaxStateParticles) {
+        throw Refusal(RefusalCode::failed_precondition,
+                      "StateRequest: this session's " + std::to_string(solver_->particle_count()) +
+                          " particles are more than the " + std::to_string(kMaxStateParticles) +
+                          " a stream carries; use GetSnapshot");
+      }
+      auto answer = std::make_shared<v1::ServerMessage>();
+      *answer->mutable_state() = snapshot();
+      viewer.sink().deliver(answer);
+      break;
+    }
     case v1::ClientMessage::kAck:
       viewer.acknowledge(message.ack().sequence(), received);
-      if (viewer.round_trip_ms()) services_.metrics->round_trip_time.observe_ms(*viewer.round_trip_ms());
+      if (viewer.round_trip_ms())
+        services_.metrics->round_trip_time.observe_ms(*viewer.round_trip_ms());
       break;
     case v1::ClientMessage::kCommand: {
       last_input_ = received;

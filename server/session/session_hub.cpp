@@ -88,16 +88,22 @@ void SessionHub::open(v1::Hello hello, std::shared_ptr<ViewerSink> sink,
                                                              std::to_string(limits_.max_sessions) +
                                                              " sessions; join one or try later");
         }
+        // A state handed back (NewSession.state) names its scene and solver and counts its
+        // particles; the session starts from the scene and then takes the state.
+        const v1::NewSession& create = hello.create();
+        const std::string& scene = create.has_state() ? create.state().scene() : create.scene();
+        const std::string& solver = create.has_state() ? create.state().solver() : create.solver();
         SessionSetup setup;
-        if (!hello.create().scene().empty()) setup.scene = sim::parse_scene(hello.create().scene());
-        if (!hello.create().solver().empty()) {
-          setup.solver = sim::parse_solver(hello.create().solver());
-        }
-        setup.particles = hello.create().particles();
+        if (!scene.empty()) setup.scene = sim::parse_scene(scene);
+        if (!solver.empty()) setup.solver = sim::parse_solver(solver);
+        setup.particles = create.has_state()
+                              ? static_cast<std::uint32_t>(create.state().positions_size() / 3)
+                              : create.particles();
         const std::string id = new_session_id();
         opened.session = std::make_shared<Session>(
             id, setup,
             SessionServices{context_, gpu_solver_, &steps_, &limits_, metrics_, encoders_.get()});
+        if (create.has_state()) opened.session->load(create.state());
         sessions_.emplace(id, opened.session);
         session_count_ = static_cast<std::uint32_t>(sessions_.size());
         metrics_->sessions = sessions_.size();

@@ -116,6 +116,28 @@ void validate_tilt(const v1::Tilt& tilt) {
   }
 }
 
+// A state handed back in NewSession.state: its names and its size (the session checks each particle
+// against its tank when it loads it).
+void validate_state(const v1::Snapshot& state, const ServerLimits& limits) {
+  validate_scene(state.scene());
+  validate_solver(state.solver());
+  if (state.positions_size() % 3 != 0 || state.velocities_size() != state.positions_size()) {
+    refuse(RefusalCode::invalid_argument,
+           "NewSession.state: positions and velocities need three values per particle each");
+  }
+  const auto particles = static_cast<std::uint32_t>(state.positions_size() / 3);
+  if (particles == 0) refuse(RefusalCode::invalid_argument, "NewSession.state has no particles");
+  if (particles > kMaxStateParticles) {
+    refuse(RefusalCode::resource_exhausted,
+           "NewSession.state: " + text(particles) + " particles are more than the " +
+               text(kMaxStateParticles) + " a stream carries (InputRules.max_state_particles)");
+  }
+  validate_particles(particles, limits);
+  if (!std::isfinite(state.time()) || state.time() < 0.0) {
+    refuse(RefusalCode::invalid_argument, "NewSession.state.time must be finite and not negative");
+  }
+}
+
 void validate_command(const v1::Command& command, const ServerLimits& limits) {
   switch (command.kind_case()) {
     case v1::Command::kReset:
@@ -204,6 +226,7 @@ void validate_hello(const v1::ClientMessage& message, const ServerLimits& limits
       validate_scene(hello.create().scene());
       validate_solver(hello.create().solver());
       validate_particles(hello.create().particles(), limits);
+      if (hello.create().has_state()) validate_state(hello.create().state(), limits);
       break;
     case v1::Hello::kJoin:
       check_length(hello.join(), "Hello.join");
@@ -230,6 +253,8 @@ void validate_event(const v1::ClientMessage& message, const ServerLimits& limits
       return validate_tilt(message.tilt());
     case v1::ClientMessage::kCommand:
       return validate_command(message.command(), limits);
+    case v1::ClientMessage::kStateRequest:
+      return;
     case v1::ClientMessage::kAck:
       return;
     case v1::ClientMessage::KIND_NOT_SET:
@@ -238,20 +263,29 @@ void validate_event(const v1::ClientMessage& message, const ServerLimits& limits
   refuse(RefusalCode::invalid_argument, "ClientMessage: no message kind was set");
 }
 
-void check_rate(const v1::ClientMessage& message, InputRateLimit& input, InputRateLimit& acks,
-                const ServerLimits& limits) {
+void check_rate(const v1::ClientMessage& message, StreamRates& rates, const ServerLimits& limits) {
   const auto now = std::chrono::steady_clock::now();
-  if (message.has_ack()) {
-    if (!acks.allow(now)) {
+  if (message.has_state_request()) {
+    if (!rates.states.allow(now)) {
+      refuse(RefusalCode::resource_exhausted,
+             "more than " + text(kStateRequestsPerSecond) + " state requests per second");
+    }
+  } else if (message.has_ack()) {
+    if (!rates.acks.allow(now)) {
       refuse(RefusalCode::resource_exhausted, "more than " +
                                                   text(kAcknowledgementsPerFrame * limits.max_fps) +
                                                   " acknowledgements per second");
     }
-  } else if (!input.allow(now)) {
+  } else if (!rates.input.allow(now)) {
     refuse(RefusalCode::resource_exhausted,
            "more than " + text(limits.max_input_events_per_second) + " input events per second");
   }
 }
+
+StreamRates::StreamRates(const ServerLimits& limits)
+    : input(limits.max_input_events_per_second),
+      acks(kAcknowledgementsPerFrame * limits.max_fps),
+      states(kStateRequestsPerSecond) {}
 
 InputRateLimit::InputRateLimit(std::uint32_t per_second)
     : per_second_(per_second), tokens_(per_second), last_(std::chrono::steady_clock::now()) {}

@@ -38,10 +38,16 @@ class InputRateLimit {
   std::chrono::steady_clock::time_point last_;
 };
 
-// Input events beyond `input`'s rate, or acknowledgements beyond `acks`' (a few per frame the
-// server may send), throw RESOURCE_EXHAUSTED naming the limit.
 inline constexpr std::uint32_t kAcknowledgementsPerFrame = 4;
-void check_rate(const v1::ClientMessage& message, InputRateLimit& input, InputRateLimit& acks,
-                const ServerLimits& limits);
+
+// One stream's rates: input events, acknowledgements (a few per frame the server may send) and
+// state requests, each limited apart.
+struct StreamRates {
+  explicit StreamRates(const ServerLimits& limits);
+  InputRateLimit input, acks, states;
+};
+
+// A message beyond its kind's rate throws RESOURCE_EXHAUSTED naming the limit.
+void check_rate(const v1::ClientMessage& message, StreamRates& rates, const ServerLimits& limits);
 
 }  // namespace fluidcast::server

@@ -9,6 +9,7 @@
 #include <boost/beast/websocket/ssl.hpp>
 #include <variant>
 
+#include "session/input_rules.h"
 #include "session/outgoing_messages.h"
 #include "session/validation.h"
 
@@ -18,9 +19,10 @@ namespace {
 namespace beast = boost::beast;
 namespace websocket = beast::websocket;
 
-// Larger than any valid ClientMessage (a Hello is well under 1 KiB); a bigger frame ends the
-// socket before it is buffered.
-constexpr std::size_t kMaxMessageBytes = 64 * 1024;
+// Larger than any valid ClientMessage (a Hello carrying the largest state a stream takes: 24 bytes
+// a particle; everything else is well under 1 KiB); a bigger frame ends the socket before it is
+// buffered.
+constexpr std::size_t kMaxMessageBytes = 24 * kMaxStateParticles + 64 * 1024;
 
 // Over a plain connection or a TLS one (Stream: beast::tcp_stream or TlsStream).
 template <class Stream>
@@ -30,10 +32,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
 
  public:
   WebSocketSession(Stream stream, SessionHub& hub)
-      : socket_(std::move(stream)),
-        hub_(&hub),
-        rate_(hub.limits().max_input_events_per_second),
-        ack_rate_(kAcknowledgementsPerFrame * hub.limits().max_fps) {}
+      : socket_(std::move(stream)), hub_(&hub), rates_(hub.limits()) {}
 
   void start(beast::http::request<beast::http::string_body> request) {
     // Pings after 5 s of silence; a phone that does not answer within 15 s is gone, and its
@@ -86,7 +85,8 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
     if (error) {  // closed, broken, or a frame over the limit
       if (error == websocket::error::message_too_big) {
         hub_->metrics().refused(Transport::websocket, RefusalCode::resource_exhausted);
-        end(RefusalCode::resource_exhausted, "a WebSocket message over 64 KiB");
+        end(RefusalCode::resource_exhausted,
+            "a WebSocket message over " + std::to_string(kMaxMessageBytes / 1024) + " KiB");
       }
       leave();
       return;
@@ -103,7 +103,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
         return;  // the next read starts once the session is open
       }
       validate_event(message, hub_->limits());
-      check_rate(message, rate_, ack_rate_, hub_->limits());
+      check_rate(message, rates_, hub_->limits());
       session_->post(viewer_, std::move(message));
       read();
     } catch (const Refusal& refusal) {
@@ -190,7 +190,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
   websocket::stream<Stream> socket_;
   SessionHub* hub_;
   beast::flat_buffer buffer_;
-  InputRateLimit rate_, ack_rate_;
+  StreamRates rates_;
   std::shared_ptr<Session> session_;
   std::uint32_t viewer_ = 0;
   std::shared_ptr<std::string> writing_;

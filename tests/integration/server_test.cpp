@@ -88,6 +88,52 @@ TEST(ServerTest, TellsSystemdWhenReadyAndWhenStopping) {
   std::filesystem::remove(path);
 }
 
+// A client keeps its session's state (StateRequest) and hands it back in a new session
+// (NewSession.state), which goes on from it: what the page does across a dropped network.
+TEST(ServerTest, AStreamCarriesTheStateBothWays) {
+  testing::ServerProcess server;
+  auto channel = client::connect(server.grpc_address());
+  StreamClient first(channel, small_hello(800));
+  for (int k = 0; k < 5; ++k) frame_from(first);
+  v1::ClientMessage request;
+  request.mutable_state_request();
+  ASSERT_TRUE(first.send_raw(request));
+  const auto state = first.take_state(seconds(30));
+  ASSERT_TRUE(state) << first.status().error_message();
+  EXPECT_EQ(state->positions_size(), 3 * 800);
+  EXPECT_EQ(state->velocities_size(), 3 * 800);
+  EXPECT_EQ(state->scene(), "dam_break");
+  EXPECT_GT(state->time(), 0.0);
+
+  v1::Hello hello = small_hello(100);  // the state's count wins
+  hello.mutable_create()->set_scene("pool");
+  *hello.mutable_create()->mutable_state() = *state;
+  StreamClient second(channel, hello);
+  EXPECT_EQ(second.welcome().state().particles(), 800u);
+  EXPECT_EQ(second.welcome().state().scene(), "dam_break");
+  EXPECT_GE(frame_from(second).sim_time(), state->time());
+
+  // Its rules: a state outside the tank, and more than a stream carries, are refused.
+  v1::Hello outside = hello;
+  outside.mutable_create()->mutable_state()->set_positions(1, -5.0f);
+  EXPECT_EQ(refusal_of(server.grpc_address(), outside), grpc::StatusCode::INVALID_ARGUMENT);
+  v1::Hello huge = hello;
+  v1::Snapshot& big = *huge.mutable_create()->mutable_state();
+  while (big.positions_size() / 3 <= int(second.welcome().rules().max_state_particles())) {
+    for (int axis = 0; axis < 3; ++axis) {
+      big.add_positions(state->positions(axis));
+      big.add_velocities(0.0f);
+    }
+  }
+  EXPECT_EQ(refusal_of(server.grpc_address(), huge), grpc::StatusCode::RESOURCE_EXHAUSTED);
+  // Asked too often, the stream ends; the other goes on.
+  for (int k = 0; k < 10 && !first.ended(); ++k) first.send_raw(request);
+  for (int k = 0; k < 300 && !first.ended(); ++k) first.next_frame(milliseconds(100));
+  EXPECT_EQ(first.status().error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+  frame_from(second);
+  EXPECT_TRUE(second.finish().ok());
+}
+
 TEST(ServerTest, HandshakeThenFramesThatDecodeAtTheRequestedSize) {
   testing::ServerProcess server;
   auto channel = client::connect(server.grpc_address());

@@ -20,6 +20,28 @@ std::shared_ptr<const v1::ServerMessage> welcome() {
   return message;
 }
 
+// States (answers to StateRequest) wait like frames: only the newest, after control messages and
+// before the frame, and none once the stream ends.
+TEST(OutgoingMessagesTest, OnlyTheNewestStateWaits) {
+  OutgoingMessages queue;
+  const auto state = [](double time) {
+    auto message = std::make_shared<v1::ServerMessage>();
+    message->mutable_state()->set_time(time);
+    return std::shared_ptr<const v1::ServerMessage>(message);
+  };
+  queue.push(frame(1));
+  queue.push(state(1.0));
+  queue.push(state(2.0));
+  queue.push(welcome());
+  EXPECT_TRUE(queue.next()->has_welcome());
+  EXPECT_EQ(queue.next()->state().time(), 2.0);
+  EXPECT_TRUE(queue.next()->has_frame());
+  EXPECT_FALSE(queue.next());
+  queue.push(state(3.0));
+  queue.stop_frames();
+  EXPECT_FALSE(queue.next());
+}
+
 TEST(OutgoingMessagesTest, ControlFirstThenOnlyTheNewestFrame) {
   OutgoingMessages queue;
   EXPECT_FALSE(queue.next());
