@@ -132,6 +132,13 @@ EMSCRIPTEN_KEEPALIVE const float* fluid_velocities() {
   return reinterpret_cast<const float*>(fluid.shown.velocity.data());
 }
 EMSCRIPTEN_KEEPALIVE const float* fluid_tank() { return fluid.tank.data(); }
+// The gravity now (m/s², x, y, z), valid until the next call.
+EMSCRIPTEN_KEEPALIVE const float* fluid_gravity() {
+  static glm::vec3 gravity;
+  gravity = gravity_now();
+  return &gravity.x;
+}
+
 EMSCRIPTEN_KEEPALIVE float fluid_spacing() {
   return fluid.solver ? fluid.solver->fluid().spacing : 0.0f;
 }

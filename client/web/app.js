@@ -24,7 +24,9 @@ const state = window.fluidcast = {
   reconnects: 0,
   tilt: null,       // the last gravity sent
   rules: null,      // what inputs may be (Welcome.rules): the menus, pointer ids, the tilt range
-  mode: 'stream',   // or 'local': simulated in this page (?local)
+  mode: 'stream',   // or 'local': simulated in this page (?local, or after the network dropped)
+  handoffs: 0,      // times the page continued a streamed fluid by itself
+  handoffGapMs: 0,  // the last one's gap: from the last frame streamed to the first drawn here
   local: null,      // local mode's figures: fps, stepMs, speed, particles, scene, solver
   // Drops the connection as a lost network would (for tests, and to try the reconnect).
   drop: () => { if (socket) socket.close(); },
@@ -146,7 +148,10 @@ function connect() {
   say(state.sessionId ? 'Reconnecting…' : 'Connecting…');
   socket.onopen = () => {
     const hello = { token, viewport: viewport(), quality: quality() };
-    if (state.sessionId && state.viewerId) {
+    if (handoff && handoff.mode) {
+      // The fluid went on here: the server gets it back in a new session.
+      hello.create = { state: handoff.mode.exportState() };
+    } else if (state.sessionId && state.viewerId) {
       hello.resume = { sessionId: state.sessionId, viewerId: state.viewerId };
     } else if (state.sessionId) {
       hello.join = state.sessionId;  // a shared link
@@ -159,15 +164,18 @@ function connect() {
   socket.onclose = () => {
     state.connected = false;
     socket = null;
+    clearInterval(stateTimer);
     clearStats();
     if (hiddenPause) return;
+    if (!giveUp && newestState && !handoff) startHandoff(newestState);
     if (giveUp) {
       if (endReason) say(endReason, true);
       return;
     }
-    // The network dropped or the server went away: try again, resuming the session.
-    say((endReason || 'The connection dropped') + '; reconnecting in ' +
-        (retryDelayMs / 1000).toFixed(1) + ' s…', true);
+    // The network dropped or the server went away: try again, resuming the session (or, while
+    // the fluid goes on here, handing it back; the stats say so, the screen stays clear).
+    say(handoff ? '' : (endReason || 'The connection dropped') + '; reconnecting in ' +
+        (retryDelayMs / 1000).toFixed(1) + ' s…', !handoff);
     endReason = '';
     retryTimer = setTimeout(() => { state.reconnects++; connect(); }, retryDelayMs);
     retryDelayMs = Math.min(retryDelayMs * 2, 8000);
@@ -194,6 +202,10 @@ function receive(bytes) {
       say('');
     }
     showSession(message.welcome.state);
+    if (handoff) endHandoff();
+    askForStates();
+  } else if (message.state) {
+    newestState = message.state;
   } else if (message.frame) {
     showFrame(message.frame);
   } else if (message.end) {
@@ -399,11 +411,12 @@ function onMotion(event) {
   const magnitude = Math.hypot(gravity.x, gravity.y, gravity.z);
   const now = performance.now();
   if (now - lastTiltSent < 50) return;  // 20 a second
-  if (local) {
+  const here = local || (handoff && handoff.mode);
+  if (here) {
     if (!(magnitude > 0.1)) return;  // free fall, or a first zero
     lastTiltSent = now;
     state.tilt = gravity;
-    local.tilt(gravity);
+    here.tilt(gravity);
     return;
   }
   const range = state.rules && state.rules.tiltGravity;
@@ -562,6 +575,59 @@ window.addEventListener('resize', () => {
   resizeTimer = setTimeout(() => command({ viewport: viewport() }), 250);
 });
 
+// ---- handoff -------------------------------------------------------------------------------
+// While it streams a session of at most kHandoffParticles (?handoff=N; the server's
+// InputRules.max_state_particles at most; 0: never), the page keeps the session's newest state;
+// when the connection drops it continues that fluid here within a frame or two, retries, and
+// when the server is back hands the fluid back in a new session and streams again.
+const kHandoffParticles = query.has('handoff') ? Number(query.get('handoff')) || 0 : 8000;
+const kStateEveryMs = 250;
+let newestState = null;  // the session's, while streaming
+let stateTimer = 0;
+let handoff = null;      // { mode, since } while the page simulates after a drop
+let statsTimer = 0;
+
+function askForStates() {
+  clearInterval(stateTimer);
+  newestState = null;
+  const most = Math.min(kHandoffParticles, state.rules ? state.rules.maxStateParticles : 0);
+  if (!(state.particles > 0 && state.particles <= most) || typeof WebAssembly === 'undefined') return;
+  loadLocalFluid().catch(() => {});  // ready before it is needed
+  stateTimer = setInterval(() => send({ stateRequest: {} }, false), kStateEveryMs);
+}
+
+async function startHandoff(snapshot) {
+  const lastFrameAt = frameTimes.length ? frameTimes[frameTimes.length - 1] : performance.now();
+  handoff = { mode: null, since: performance.now() };
+  const canvas = document.getElementById('local-view');
+  canvas.hidden = false;
+  fitLocalCanvas();
+  try {
+    handoff.mode = await LocalMode.startFrom(canvas, snapshot);
+  } catch (error) {
+    canvas.hidden = true;
+    handoff = null;
+    console.log('cannot continue here: ' + error.message);
+    return;
+  }
+  page.canvas.hidden = true;
+  state.mode = 'local';
+  state.local = handoff.mode.stats;
+  state.handoffs++;
+  state.handoffGapMs = performance.now() - lastFrameAt;
+  statsTimer = setInterval(showLocalStats, 500);
+}
+
+function endHandoff() {
+  handoff.mode.stop();
+  document.getElementById('local-view').hidden = true;
+  page.canvas.hidden = false;
+  clearInterval(statsTimer);
+  state.mode = 'stream';
+  state.local = null;
+  handoff = null;
+}
+
 // ---- local mode ----------------------------------------------------------------------------
 
 async function startLocal() {
@@ -584,7 +650,7 @@ async function startLocal() {
   page.panel.querySelector('#scene').value = local.stats.scene;
   setupControls();
   say('');
-  setInterval(showLocalStats, 500);
+  statsTimer = setInterval(showLocalStats, 500);
 }
 
 function fitLocalCanvas() {
@@ -596,9 +662,13 @@ function fitLocalCanvas() {
 
 function showLocalStats() {
   if (page.stats.hidden) return;
-  const s = local.stats;
+  const s = state.local;
+  const why = handoff
+    ? `local: the network dropped ${((performance.now() - handoff.since) / 1000).toFixed(0)} s ` +
+      `ago (gap ${state.handoffGapMs.toFixed(0)} ms); simulating here, retrying`
+    : 'local: simulated in this page';
   page.stats.textContent =
-    `local: simulated in this page\n${s.fps.toFixed(1)} fps  ${s.particles} particles ` +
+    `${why}\n${s.fps.toFixed(1)} fps  ${s.particles} particles ` +
     `(${s.scene.replace(/_/g, ' ')}, ${s.solver})\n` +
     `step ${s.stepMs.toFixed(1)} ms  simulation ${paused ? 'paused' : simSpeedText(s.speed)}`;
 }

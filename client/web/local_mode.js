@@ -38,6 +38,16 @@ class LocalMode {
     return mode;
   }
 
+  // Continues a fluid from a state (a Snapshot as the server sent it, decoded by protobufjs).
+  static async startFrom(canvas, snapshot) {
+    const mode = new LocalMode(canvas, new LocalView(canvas), await loadLocalFluid());
+    mode.load(snapshot);
+    mode.camera.fit(mode.tank(), canvas.width / canvas.height);
+    mode.listen();
+    mode.frame(performance.now());
+    return mode;
+  }
+
   constructor(canvas, view, module) {
     this.canvas = canvas;
     this.view = view;
@@ -64,6 +74,43 @@ class LocalMode {
     if (error) throw new Error(error);
     Object.assign(this.stats, { particles: count, scene, solver });
   }
+
+  load(snapshot) {
+    const count = snapshot.positions.length / 3;
+    if (!(count >= 1 && count <= kMaxLocalParticles)) {
+      throw new Error(`${count} particles are more than this page simulates (${kMaxLocalParticles})`);
+    }
+    const bytes = 4 * snapshot.positions.length;
+    const positions = this.fluid._malloc(bytes), velocities = this.fluid._malloc(bytes);
+    try {
+      this.fluid.HEAPF32.set(snapshot.positions, positions / 4);
+      this.fluid.HEAPF32.set(snapshot.velocities, velocities / 4);
+      const error = this.fluid.ccall(
+        'fluid_load', 'string', ['string', 'string', 'number', 'number', 'number', 'number', 'number'],
+        [snapshot.scene, snapshot.solver, count, positions, velocities, count, snapshot.time]);
+      if (error) throw new Error(error);
+    } finally {
+      this.fluid._free(positions);
+      this.fluid._free(velocities);
+    }
+    const g = snapshot.gravity || { x: 0, y: -9.81, z: 0 };
+    this.check(this.fluid._fluid_set_gravity(g.x || 0, g.y || 0, g.z || 0));
+    Object.assign(this.stats, { particles: count, scene: snapshot.scene, solver: snapshot.solver });
+  }
+
+  // The fluid as a Snapshot (fluidcast.proto's fields), to hand back to a server.
+  exportState() {
+    const count = this.fluid._fluid_count();
+    const floats = (pointer) => Array.from(new Float32Array(this.fluid.HEAPF32.buffer, pointer, 3 * count));
+    const g = new Float32Array(this.fluid.HEAPF32.buffer, this.fluid._fluid_gravity(), 3);
+    return { time: this.fluid._fluid_time(), gravity: { x: g[0], y: g[1], z: g[2] },
+             scene: this.stats.scene, solver: this.stats.solver,
+             positions: floats(this.fluid._fluid_positions()),
+             velocities: floats(this.fluid._fluid_velocities()) };
+  }
+
+  // Stops simulating and drawing (the stream is back); touches on its canvas are ignored.
+  stop() { this.stopped = true; }
 
   reset() { this.check(this.fluid._fluid_reset()); }
   resetView() { this.camera.fit(this.tank(), this.canvas.width / this.canvas.height); }
@@ -102,6 +149,7 @@ class LocalMode {
                y: (event.clientY - bounds.top) / bounds.height };
     };
     this.canvas.addEventListener('pointerdown', (event) => {
+      if (this.stopped) return;
       this.canvas.setPointerCapture(event.pointerId);
       const used = new Set([...this.pointers.values()].map((p) => p.id));
       let id = 0;
@@ -166,6 +214,7 @@ class LocalMode {
   }
 
   frame(now) {
+    if (this.stopped) return;
     requestAnimationFrame((t) => this.frame(t));
     const wall = this.last ? Math.min(0.1, (now - this.last) / 1000) : 1 / 60;
     this.last = now;

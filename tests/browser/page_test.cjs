@@ -24,10 +24,10 @@ function check(ok, what) {
   if (ok) passes++; else failures++;
 }
 
-function startServer() {
+function startServer(httpPort = 0) {
   return new Promise((resolve, reject) => {
     const state = fs.mkdtempSync(path.join(require('os').tmpdir(), 'fluidcast-page-'));
-    const child = spawn(server, ['--listen', '127.0.0.1', '--grpc-port', '0', '--http-port', '0',
+    const child = spawn(server, ['--listen', '127.0.0.1', '--grpc-port', '0', '--http-port', String(httpPort),
                                  '--state-dir', state],
                         { stdio: ['ignore', 'pipe', 'inherit'] });
     child.on('exit', () => fs.rmSync(state, { recursive: true, force: true }));
@@ -100,6 +100,7 @@ async function touchDrag(page, cdp, from, to, steps) {
 async function main() {
   fs.mkdirSync(out, { recursive: true });
   const { child, port } = await startServer();
+  let restarted = null;  // the server started again on the same port (the handoff's return)
   const browser = await chromium.launch({ executablePath: browserPath, headless: true,
                                           args: ['--no-sandbox',
                                                  '--host-resolver-rules=MAP phone.test 127.0.0.1'] });
@@ -110,7 +111,8 @@ async function main() {
     const page = await context.newPage();
     page.on('console', (m) => console.log('page: ' + m.text()));
     page.on('pageerror', (e) => { console.log('page error: ' + e.message); failures++; });
-    await page.goto(`http://127.0.0.1:${port}/?scene=pool&particles=2000&renderer=ssfr&adaptive=0`);
+    // This page may not continue the fluid by itself (?handoff=0): when the server goes, it says so.
+    await page.goto(`http://127.0.0.1:${port}/?scene=pool&particles=2000&renderer=ssfr&adaptive=0&handoff=0`);
 
     // Frames arrive and show.
     await waitFor(page, () => window.fluidcast.frames >= 5, 'five frames');
@@ -304,8 +306,42 @@ async function main() {
     await refused.screenshot({ path: path.join(out, 'browser_refused.png') });
     await refused.close();
 
-    // The server goes away: the page says so instead of a blank screen.
+    // A page streaming a small session keeps its state; when the server goes away it continues
+    // the fluid itself within a frame or two, and when the server is back it hands the fluid
+    // back in a new session and streams again.
+    const handing = await context.newPage();
+    handing.on('pageerror', (e) => { console.log('page error: ' + e.message); failures++; });
+    await handing.goto(`http://127.0.0.1:${port}/?particles=1000`);
+    await waitFor(handing, () => window.fluidcast.frames >= 3, 'frames before the handoff');
+    await sleep(1500);  // states come four times a second
+    const streamed = await handing.evaluate(() => ({ id: window.fluidcast.sessionId,
+                                                     time: window.fluidcast.lastFrame.simTime }));
+
+    // The server goes away: the page that may not continue says so instead of a blank screen.
     child.kill('SIGTERM');
+    await waitFor(handing, () => window.fluidcast.mode === 'local' && window.fluidcast.local &&
+                                window.fluidcast.local.fps > 0, 'the fluid going on here', 15000);
+    await sleep(1000);
+    const during = await handing.evaluate(() => ({
+      gap: window.fluidcast.handoffGapMs, particles: window.fluidcast.local.particles,
+      stats: document.getElementById('stats').textContent,
+      status: document.getElementById('status').textContent }));
+    await handing.screenshot({ path: path.join(out, 'browser_handoff.png') });
+    check(during.particles === 1000 && /network dropped/.test(during.stats) && during.status === '',
+          `the server gone, the fluid goes on here (${JSON.stringify(during.stats)})`);
+    check(during.gap < 2000, `within a frame or two of the last streamed one (gap ${during.gap.toFixed(0)} ms)`);
+    restarted = await startServer(port);
+    await waitFor(handing, () => window.fluidcast.mode === 'stream' && window.fluidcast.connected,
+                  'streaming again', 30000);
+    const framesBack = await handing.evaluate(() => window.fluidcast.frames);
+    await waitFor(handing, `window.fluidcast.frames > ${framesBack + 2}`, 'frames again');
+    const back = await handing.evaluate(() => ({ id: window.fluidcast.sessionId,
+      particles: window.fluidcast.particles, time: window.fluidcast.lastFrame.simTime }));
+    check(back.id !== streamed.id && back.particles === 1000 && back.time > streamed.time,
+          `the server back, the fluid goes back to it (new session, ${back.particles} particles, ` +
+          `t = ${streamed.time.toFixed(2)} → ${back.time.toFixed(2)} s)`);
+    await handing.close();
+
     await waitFor(page, () => document.getElementById('status').textContent.length > 0,
                   'a message when the server is gone', 15000);
     const message = await page.evaluate(() => document.getElementById('status').textContent);
@@ -313,6 +349,7 @@ async function main() {
   } finally {
     await browser.close();
     child.kill('SIGTERM');
+    if (restarted) restarted.child.kill('SIGTERM');
   }
   console.log(`${passes} passed, ${failures} failed`);
   process.exit(failures === 0 ? 0 : 1);
