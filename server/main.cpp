@@ -70,7 +70,8 @@ std::map<std::string, std::filesystem::path> page_routes(const std::filesystem::
   std::map<std::string, std::filesystem::path> routes{{"/", web / "index.html"}};
   for (const char* file :
        {"app.js", "local_mode.js", "local_view.js", "style.css", "manifest.webmanifest",
-        "fluidcast.proto", "vendor/protobuf.min.js", "wasm/local_fluid.js"}) {
+        "fluidcast.proto", "vendor/protobuf.min.js", "wasm/local_fluid.js",
+        "wasm/local_fluid_mt.js", "wasm/local_fluid_mt.worker.js"}) {
     routes[std::string("/") + file] = web / file;
   }
   return routes;

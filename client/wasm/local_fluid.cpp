@@ -25,6 +25,7 @@ struct LocalFluid {
   std::string error;
   std::vector<std::optional<Collider>> fingers;  // by finger id; lifted ones empty
   std::vector<float> tank;                       // min x, y, z, max x, y, z
+  unsigned threads = 1;  // the solver's, 1 to FLUIDCAST_MAX_THREADS (Web Workers beyond one)
 };
 
 LocalFluid fluid;
@@ -49,7 +50,7 @@ void show() {
 
 void make(Scene scene, SolverKind kind, glm::vec3 gravity) {
   SolverParams params;
-  params.threads = 1;  // no threads in this build: the page runs it on its own thread
+  params.threads = static_cast<int>(fluid.threads);
   auto solver = make_cpu_solver(kind, std::move(scene), params);
   solver->set_gravity(gravity);
   fluid.solver = std::move(solver);
@@ -74,6 +75,13 @@ glm::vec3 gravity_now() {
 }  // namespace
 
 extern "C" {
+
+// The threads the next fluid steps with, at most what this build has (1 without pthreads);
+// returns the number taken.
+EMSCRIPTEN_KEEPALIVE std::uint32_t fluid_use_threads(std::uint32_t threads) {
+  fluid.threads = std::clamp<std::uint32_t>(threads, 1, FLUIDCAST_MAX_THREADS);
+  return fluid.threads;
+}
 
 EMSCRIPTEN_KEEPALIVE const char* fluid_create(const char* scene, const char* solver,
                                               std::uint32_t particles) {

@@ -670,7 +670,8 @@ function showLocalStats() {
   page.stats.textContent =
     `${why}\n${s.fps.toFixed(1)} fps  ${s.particles} particles ` +
     `(${s.scene.replace(/_/g, ' ')}, ${s.solver})\n` +
-    `step ${s.stepMs.toFixed(1)} ms  simulation ${paused ? 'paused' : simSpeedText(s.speed)}`;
+    `step ${s.stepMs.toFixed(1)} ms on ${s.threads} thread${s.threads > 1 ? 's' : ''}  ` +
+    `simulation ${paused ? 'paused' : simSpeedText(s.speed)}`;
 }
 
 (async () => {

@@ -80,6 +80,10 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
       if (in) {
         response->set(http::field::content_type, content_type(file->second));
         response->set(http::field::cache_control, "no-cache");
+        // Cross-origin isolation: the page may then share memory with Web Workers, and its local
+        // fluid steps on several threads (it loads nothing from other origins).
+        response->set("Cross-Origin-Opener-Policy", "same-origin");
+        response->set("Cross-Origin-Embedder-Policy", "require-corp");
         response->body() = body.str();
       } else {
         response->result(http::status::not_found);

@@ -280,13 +280,22 @@ async function main() {
     check(localState.mode === 'local' && localState.local.particles === 1000 &&
           localState.stats.startsWith('local'),
           `the stats say local (${JSON.stringify(localState.stats)})`);
+    // The server's pages are cross-origin isolated: the solver may step on the cores the browser
+    // leaves (all but two, up to 4; the threaded build itself: tests/wasm).
+    const cores = await localPage.evaluate(() => ({
+      isolated: self.crossOriginIsolated, cores: navigator.hardwareConcurrency }));
+    const wanted = Math.max(1, Math.min(4, cores.cores - 2));
+    check(cores.isolated && localState.local.threads === wanted,
+          `cross-origin isolated, ${localState.local.threads} solver threads on ${cores.cores} cores`);
     // The same page from a file, no server: it runs.
     const fromFile = await localContext.newPage();
     fromFile.on('pageerror', (e) => { console.log('page error: ' + e.message); failures++; });
     await fromFile.goto('file://' + path.join(webRoot, 'index.html') + '?local&particles=500');
     await waitFor(fromFile, () => window.fluidcast.local && window.fluidcast.local.fps > 0,
                   'the local fluid from a file', 30000);
-    check(spread(await localPixels(fromFile)) > 10, 'from a file, with no server, it runs');
+    check(spread(await localPixels(fromFile)) > 10 &&
+          await fromFile.evaluate(() => window.fluidcast.local.threads) === 1,
+          'from a file, with no server, it runs (on one thread: a file is not cross-origin isolated)');
     await localContext.close();
 
     // A session the server refuses (over its particle limit): the reason stays on the screen, in

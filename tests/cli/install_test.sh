@@ -13,7 +13,8 @@ fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 for file in bin/fluidcast-server bin/fluidcast-client bin/fluidcast-sim \
             share/fluidcast/web/index.html share/fluidcast/web/app.js \
             share/fluidcast/web/fluidcast.proto share/fluidcast/web/vendor/protobuf.min.js \
-            share/fluidcast/web/wasm/local_fluid.js \
+            share/fluidcast/web/wasm/local_fluid.js share/fluidcast/web/wasm/local_fluid_mt.js \
+            share/fluidcast/web/wasm/local_fluid_mt.worker.js \
             lib/systemd/system/fluidcast-server.service; do
   [[ -f "$prefix/$file" ]] || fail "no $file installed"
 done

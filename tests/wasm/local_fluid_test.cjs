@@ -1,5 +1,6 @@
-// The page's local fluid (client/wasm, the project's CPU solvers in WebAssembly) under node: it
-// runs a dam break as the native solver does (same code, so the same motion within rounding),
+// The page's local fluid (client/wasm, the project's CPU solvers in WebAssembly, with and without
+// threads) under node: it runs a dam break as the native solver does (same code, so the same
+// motion within rounding),
 // keeps every particle in the tank, answers gravity and a finger, continues from a loaded state,
 // and says what was wrong with bad input.
 //   node tests/wasm/local_fluid_test.cjs WASM_DIR FLUIDCAST_SIM
@@ -48,19 +49,41 @@ function create(module, scene, solver, particles) {
                       [scene, solver, particles]) || null;
 }
 
+// The same dam break natively with `threads` threads (the fork-join split is deterministic per
+// count): its last CSV row.
+function nativeDamBreak(threads) {
+  const work = fs.mkdtempSync(path.join(os.tmpdir(), 'fluidcast-wasm-'));
+  const csv = path.join(work, 'dam.csv');
+  execFileSync(nativeSim, ['--scene', 'dam_break', '--solver', 'pbf', '--particles', '2000',
+                           '--until', '0.5', '--threads', String(threads), '--stats', csv]);
+  const rows = fs.readFileSync(csv, 'utf8').trim().split('\n');
+  const header = rows[0].split(',');
+  fs.rmSync(work, { recursive: true, force: true });
+  return Object.fromEntries(rows[rows.length - 1].split(',').map((v, k) => [header[k], Number(v)]));
+}
+
+// The build with threads (Web Workers; node's worker threads here) splits the work as the native
+// solver does with as many threads, and moves the fluid the same way.
+async function threaded() {
+  const module = await require(path.join(wasmDir, 'local_fluid_mt.js'))();
+  check(module._fluid_use_threads(2) === 2 && module._fluid_use_threads(64) === 4,
+        'the threaded build takes 2 threads, and at most 4');
+  module._fluid_use_threads(2);
+  check(create(module, 'dam_break', 'pbf', 2000) === null, 'it makes the dam break');
+  const begun = Date.now();
+  run(module, 0.5);
+  console.log(`with 2 threads: ${((Date.now() - begun) / 60).toFixed(2)} ms a step`);
+  const native = nativeDamBreak(2);
+  const centre = figures(module).com;
+  const apart = Math.hypot(centre[0] - native.com_x, centre[1] - native.com_y, centre[2] - native.com_z);
+  check(apart < 0.01, `with 2 threads it moves as the native solver does with 2 (${(apart * 1000).toFixed(2)} mm apart)`);
+}
+
 async function main() {
   const createLocalFluid = require(path.join(wasmDir, 'local_fluid.js'));
   const module = await createLocalFluid();
 
-  // The same dam break natively, one thread (the fork-join split is deterministic per count).
-  const work = fs.mkdtempSync(path.join(os.tmpdir(), 'fluidcast-wasm-'));
-  const csv = path.join(work, 'dam.csv');
-  execFileSync(nativeSim, ['--scene', 'dam_break', '--solver', 'pbf', '--particles', '2000',
-                           '--until', '0.5', '--threads', '1', '--stats', csv]);
-  const rows = fs.readFileSync(csv, 'utf8').trim().split('\n');
-  const header = rows[0].split(',');
-  const last = Object.fromEntries(rows[rows.length - 1].split(',').map((v, k) => [header[k], Number(v)]));
-  fs.rmSync(work, { recursive: true, force: true });
+  const last = nativeDamBreak(1);
 
   check(create(module, 'dam_break', 'pbf', 2000) === null, 'a 2000-particle dam break is made');
   const start = figures(module);
@@ -130,8 +153,10 @@ async function main() {
   run(module, 0.1);
   check(figures(module).outside === 0, 'SPH keeps its particles in the tank');
 
+  await threaded();
   if (failures) process.exit(1);
   console.log('the local fluid behaves');
+  process.exit(0);  // the threaded build's workers would keep node running
 }
 
 main().catch((e) => { console.error(e); process.exit(1); });
