@@ -26,6 +26,7 @@ struct LocalFluid {
   std::vector<std::optional<Collider>> fingers;  // by finger id; lifted ones empty
   std::vector<float> tank;                       // min x, y, z, max x, y, z
   unsigned threads = 1;  // the solver's, 1 to FLUIDCAST_MAX_THREADS (Web Workers beyond one)
+  int iterations = SolverParams{}.iterations;  // PBF's density iterations a substep
 };
 
 LocalFluid fluid;
@@ -51,6 +52,7 @@ void show() {
 void make(Scene scene, SolverKind kind, glm::vec3 gravity) {
   SolverParams params;
   params.threads = static_cast<int>(fluid.threads);
+  params.iterations = fluid.iterations;
   auto solver = make_cpu_solver(kind, std::move(scene), params);
   solver->set_gravity(gravity);
   fluid.solver = std::move(solver);
@@ -82,6 +84,9 @@ EMSCRIPTEN_KEEPALIVE std::uint32_t fluid_use_threads(std::uint32_t threads) {
   fluid.threads = std::clamp<std::uint32_t>(threads, 1, FLUIDCAST_MAX_THREADS);
   return fluid.threads;
 }
+
+// PBF's density iterations for the next fluid (the solver checks the range when it is made).
+EMSCRIPTEN_KEEPALIVE void fluid_use_iterations(int iterations) { fluid.iterations = iterations; }
 
 EMSCRIPTEN_KEEPALIVE const char* fluid_create(const char* scene, const char* solver,
                                               std::uint32_t particles) {

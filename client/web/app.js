@@ -639,7 +639,8 @@ async function startLocal() {
   say('Starting the fluid here…');
   try {
     local = await LocalMode.start(canvas, { scene: wanted.scene, solver: query.get('solver') || '',
-                                            particles: wanted.particles });
+                                            particles: wanted.particles,
+                                            iterations: Number(query.get('iterations')) || 0 });
   } catch (error) {
     say('This browser cannot simulate the fluid here: ' + error.message);
     return;

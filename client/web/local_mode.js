@@ -42,9 +42,10 @@ function loadLocalFluid() {
 
 class LocalMode {
   // Starts a fluid drawn on `canvas`; throws an Error saying what this browser lacks.
-  static async start(canvas, { scene, solver, particles }) {
+  static async start(canvas, { scene, solver, particles, iterations }) {
     const view = new LocalView(canvas);
     const mode = new LocalMode(canvas, view, await loadLocalFluid());
+    if (iterations) mode.fluid._fluid_use_iterations(iterations);
     mode.create(scene || 'dam_break', solver || 'pbf', particles || kDefaultLocalParticles);
     mode.camera.fit(mode.tank(), canvas.width / canvas.height);
     mode.listen();

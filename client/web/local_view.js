@@ -99,34 +99,35 @@ void main() {
   gl_Position = projection * (c + vec4(corner * radius, 0.0, 0.0));
 }`;
 
-// The sphere's front surface: its view-space depth, and the hardware depth for occlusion.
-const kDepthFragment = `#version 300 es
+// What both sphere passes share: the sphere's height over its square at this fragment (0 to 1,
+// in radii), outside the disc discarded.
+const kSphereFragment = `#version 300 es
 precision highp float;
 in vec2 uv;
 in vec3 centreView;
 uniform mat4 projection;
 uniform float radius;
-out float depth;
-void main() {
+float sphereHeight() {
   float r2 = dot(uv, uv);
   if (r2 > 1.0) discard;
-  vec3 p = centreView + vec3(uv, sqrt(1.0 - r2)) * radius;
+  return sqrt(1.0 - r2);
+}
+`;
+
+// The sphere's front surface: its view-space depth, and the hardware depth for occlusion.
+const kDepthFragment = kSphereFragment + `
+out float depth;
+void main() {
+  vec3 p = centreView + vec3(uv, sphereHeight()) * radius;
   vec4 clip = projection * vec4(p, 1.0);
   gl_FragDepth = clip.z / clip.w * 0.5 + 0.5;
   depth = p.z;
 }`;
 
 // The sphere's chord, added up per pixel: how much water the pixel looks through.
-const kThicknessFragment = `#version 300 es
-precision highp float;
-in vec2 uv;
-uniform float radius;
+const kThicknessFragment = kSphereFragment + `
 out float thickness;
-void main() {
-  float r2 = dot(uv, uv);
-  if (r2 > 1.0) discard;
-  thickness = 2.0 * radius * sqrt(1.0 - r2);
-}`;
+void main() { thickness = 2.0 * radius * sphereHeight(); }`;
 
 const kFullScreenVertex = `#version 300 es
 out vec2 screen;
