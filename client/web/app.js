@@ -657,8 +657,13 @@ async function startLocal() {
 function fitLocalCanvas() {
   const canvas = document.getElementById('local-view');
   const size = pixelSize(canvas);
-  canvas.width = size.width;
-  canvas.height = size.height;
+  const drawing = local || (handoff && handoff.mode);
+  if (drawing) {
+    drawing.resize(size);  // it draws at a fraction of it while frames are slow
+  } else {
+    canvas.width = size.width;
+    canvas.height = size.height;
+  }
 }
 
 function showLocalStats() {
@@ -669,7 +674,7 @@ function showLocalStats() {
       `ago (gap ${state.handoffGapMs.toFixed(0)} ms); simulating here, retrying`
     : 'local: simulated in this page';
   page.stats.textContent =
-    `${why}\n${s.fps.toFixed(1)} fps  ${s.particles} particles ` +
+    `${why}\n${s.fps.toFixed(1)} fps at ${s.resolution}  ${s.particles} particles ` +
     `(${s.scene.replace(/_/g, ' ')}, ${s.solver})\n` +
     `step ${s.stepMs.toFixed(1)} ms on ${s.threads} thread${s.threads > 1 ? 's' : ''}  ` +
     `simulation ${paused ? 'paused' : simSpeedText(s.speed)}`;

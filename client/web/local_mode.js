@@ -10,6 +10,12 @@ const kDefaultLocalParticles = 3000;
 // The most a frame spends stepping: beyond it the fluid runs in slow motion instead of the page
 // missing its frames.
 const kStepBudgetMs = 12;
+// The drawing adapts its size to what a frame leaves it: when a frame spends more than
+// kDrawingTooSlowMs outside the solver (drawing, the browser's compositing) it draws fewer pixels
+// (down to a quarter of the screen's along each side, the browser scaling them up), under
+// kDrawingRoomMs more again. Software WebGL on a CPU pays for every pixel; a phone's GPU stays at
+// full size. (A slow solver is not helped by fewer pixels: it is not counted.)
+const kDrawingTooSlowMs = 16, kDrawingRoomMs = 8, kMinRenderScale = 0.25;
 
 // Threads the solver steps with: Web Workers share the module's memory only on a cross-origin
 // isolated page (the server's pages are; a file is not); the threaded build has at most 4. Two
@@ -72,10 +78,46 @@ class LocalMode {
     this.pointers = new Map();  // the browser's pointer id → { id, x, y, at, world }
     // centre: the water's centre of mass (m), which the browser test follows.
     this.stats = { fps: 0, stepMs: 0, speed: 1, particles: 0, scene: '', solver: '', centre: [0, 0, 0],
-                   threads: kLocalThreads };
+                   threads: kLocalThreads, resolution: `${canvas.width}×${canvas.height}` };
     this.frameTimes = [];
     this.simulated = [];  // [wall time, simulated seconds] over the last second
     this.last = 0;
+    this.fullSize = { width: canvas.width, height: canvas.height };
+    this.renderScale = 1;
+    this.lastAdapted = 0;
+    this.steppingMs = 0;  // spent stepping since the last adaptation
+    this.framesSinceAdapted = 0;
+  }
+
+  // The size to draw at when the frame rate allows (device pixels, as the page fits them).
+  resize(size) {
+    this.fullSize = size;
+    this.applyScale();
+  }
+
+  applyScale() {
+    this.canvas.width = Math.max(1, Math.round(this.fullSize.width * this.renderScale));
+    this.canvas.height = Math.max(1, Math.round(this.fullSize.height * this.renderScale));
+    this.stats.resolution = `${this.canvas.width}×${this.canvas.height}`;
+  }
+
+  // Once a second: fewer pixels when drawing takes too long, more when there is room.
+  adaptResolution(now) {
+    this.framesSinceAdapted++;
+    if (!this.lastAdapted) this.lastAdapted = now;
+    if (now - this.lastAdapted < 1000) return;
+    const frames = this.framesSinceAdapted;
+    const drawingMs = (now - this.lastAdapted - this.steppingMs) / frames;
+    this.lastAdapted = now;
+    this.framesSinceAdapted = 0;
+    this.steppingMs = 0;
+    const before = this.renderScale;
+    if (drawingMs > kDrawingTooSlowMs) {
+      this.renderScale = Math.max(kMinRenderScale, this.renderScale * 0.75);
+    } else if (drawingMs < kDrawingRoomMs) {
+      this.renderScale = Math.min(1, this.renderScale * 1.25);
+    }
+    if (this.renderScale !== before) this.applyScale();
   }
 
   scenes() {
@@ -234,7 +276,10 @@ class LocalMode {
     requestAnimationFrame((t) => this.frame(t));
     const wall = this.last ? Math.min(0.1, (now - this.last) / 1000) : 1 / 60;
     this.last = now;
+    const stepping = performance.now();
     if (!this.paused) this.step(wall, now);
+    this.steppingMs += performance.now() - stepping;
+    this.adaptResolution(now);  // before drawing: a resized canvas is blank until drawn
     const count = this.fluid._fluid_count();
     const positions = new Float32Array(this.fluid.HEAPF32.buffer, this.fluid._fluid_positions(),
                                        3 * count);
