@@ -194,11 +194,12 @@ EMSCRIPTEN_KEEPALIVE const char* fluid_scene_names() {
   return names.c_str();
 }
 
+// Back to the scene's start at t = 0 — the scene's, also for a fluid continued from a state (whose
+// solver would go back to that state).
 EMSCRIPTEN_KEEPALIVE const char* fluid_reset() {
   return attempt([&] {
     if (!fluid.solver) return;
-    fluid.solver->reset();
-    show();
+    make(build_scene(fluid.solver->scene().params), fluid.solver->kind(), gravity_now());
   });
 }
 

@@ -483,25 +483,27 @@ function setupControls() {
   const scene = page.panel.querySelector('#scene');
   const renderer = page.panel.querySelector('#renderer');
   page.panel.querySelector('#adaptive').checked = wanted.adaptive;
-  // In local mode the controls act on the fluid here; a failure is said, the fluid stays as it was.
-  const here = (action) => () => {
-    try { action(); } catch (error) { say(error.message); setTimeout(() => say(''), 5000); }
+  // Each control acts on the fluid simulated here when there is one (local mode, or after the
+  // network dropped), else on the server's; a failure here is said, the fluid stays as it was.
+  const act = (hereAction, serverAction) => () => {
+    const fluid = local || (handoff && handoff.mode);
+    if (!fluid) return serverAction();
+    try { hereAction(fluid); } catch (error) { say(error.message); setTimeout(() => say(''), 5000); }
   };
-  scene.onchange = local ? here(() => local.create(scene.value, local.stats.solver, local.stats.particles))
-                         : () => command({ scene: scene.value });
+  scene.onchange = act((fluid) => fluid.create(scene.value, fluid.stats.solver, fluid.stats.particles),
+                       () => command({ scene: scene.value }));
   renderer.onchange = () => { wanted.renderer = renderer.value; command({ quality: quality() }); };
   const jpeg = page.panel.querySelector('#quality');
   jpeg.onchange = () => { wanted.quality = Number(jpeg.value); command({ quality: quality() }); };
   const adaptive = page.panel.querySelector('#adaptive');
   adaptive.onchange = () => { wanted.adaptive = adaptive.checked; command({ quality: quality() }); };
   page.panel.querySelector('#reset').onclick =
-    local ? here(() => local.reset()) : () => command({ reset: true });
+    act((fluid) => fluid.reset(), () => command({ reset: true }));
   page.panel.querySelector('#reset-view').onclick =
-    local ? () => local.resetView() : () => command({ resetView: true });
+    act((fluid) => fluid.resetView(), () => command({ resetView: true }));
   page.panel.querySelector('#pause').onclick = (e) => {
     paused = !paused;
-    if (local) local.paused = paused;
-    else command({ pause: paused });
+    act((fluid) => { fluid.paused = paused; }, () => command({ pause: paused }))();
     e.target.textContent = paused ? 'Go on' : 'Pause';
   };
   // Switching reloads the page in the other mode (?local), keeping the other parameters.

@@ -76,7 +76,8 @@ class LocalMode {
     this.camera = new LocalCamera();
     this.paused = false;
     this.pointers = new Map();  // the browser's pointer id → { id, x, y, at, world }
-    // centre: the water's centre of mass (m), which the browser test follows.
+    // centre: the water's centre of mass (m), and time, its simulated clock (s), which the
+    // browser test follows.
     this.stats = { fps: 0, stepMs: 0, speed: 1, particles: 0, scene: '', solver: '', centre: [0, 0, 0],
                    threads: kLocalThreads, resolution: `${canvas.width}×${canvas.height}` };
     this.frameTimes = [];
@@ -289,6 +290,7 @@ class LocalMode {
     while (now - this.frameTimes[0] > 2000) this.frameTimes.shift();
     this.stats.fps = this.frameTimes.length / 2;
     this.stats.particles = count;
+    this.stats.time = this.fluid._fluid_time();
     const centre = [0, 0, 0];
     for (let i = 0; i < 3 * count; i++) centre[i % 3] += positions[i] / count;
     this.stats.centre = centre;

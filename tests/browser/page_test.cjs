@@ -339,6 +339,16 @@ async function main() {
     check(during.particles === 1000 && /network dropped/.test(during.stats) && during.status === '',
           `the server gone, the fluid goes on here (${JSON.stringify(during.stats)})`);
     check(during.gap < 2000, `within a frame or two of the last streamed one (gap ${during.gap.toFixed(0)} ms)`);
+    // Meanwhile the controls act on the fluid here: Reset starts it again.
+    const localBeforeReset = await handing.evaluate(() => window.fluidcast.local.time);
+    await handing.click('#menu');
+    await handing.click('#reset');
+    await handing.click('#menu');
+    await sleep(300);
+    const localAfterReset = await handing.evaluate(() => window.fluidcast.local.time);
+    check(localAfterReset < localBeforeReset,
+          `Reset acts on the fluid here (t = ${localBeforeReset.toFixed(2)} → ` +
+          `${localAfterReset.toFixed(2)} s)`);
     restarted = await startServer(port);
     await waitFor(handing, () => window.fluidcast.mode === 'stream' && window.fluidcast.connected,
                   'streaming again', 30000);

@@ -140,6 +140,11 @@ async function main() {
   check(loaded === null && module._fluid_count() === n && module._fluid_time() === time &&
         Math.hypot(...figures(module).com.map((c, k) => c - centre[k])) < 1e-6,
         `a loaded state goes on where it was (t = ${time.toFixed(3)} s, ${n} particles)`);
+  // Reset goes back to the scene's start, not to the state it was loaded from.
+  module._fluid_reset();
+  check(module._fluid_time() === 0 &&
+        Math.hypot(...figures(module).com.map((c, k) => c - start.com[k])) < 1e-6,
+        'reset after a load starts the scene again');
 
   // Bad input: a sentence naming it, and the fluid as it was.
   const unknown = create(module, 'lake', 'pbf', 100);
