@@ -582,7 +582,8 @@ window.addEventListener('resize', () => {
 // InputRules.max_state_particles at most; 0: never), the page keeps the session's newest state;
 // when the connection drops it continues that fluid here within a frame or two, retries, and
 // when the server is back hands the fluid back in a new session and streams again.
-const kHandoffParticles = query.has('handoff') ? Number(query.get('handoff')) || 0 : 8000;
+const kHandoffParticles =
+  query.has('handoff') ? Number(query.get('handoff')) || 0 : kMaxLocalParticles;
 const kStateEveryMs = 250;
 let newestState = null;  // the session's, while streaming
 let stateTimer = 0;

@@ -18,25 +18,24 @@ const kStepBudgetMs = 12;
 const kDrawingTooSlowMs = 16, kDrawingRoomMs = 8, kMinRenderScale = 0.25;
 
 // Threads the solver steps with: Web Workers share the module's memory only on a cross-origin
-// isolated page (the server's pages are; a file is not); the threaded build has at most 4. Two
-// cores are left to the browser, which draws and composites on its own threads: on two cores
+// isolated page (the server's pages are; a file is not); the threaded build takes at most its
+// own limit (client/wasm). Two cores are left to the browser, which draws and composites on its own threads: on two cores
 // shared with them (headless Chromium, software WebGL), two solver threads took a 1000-particle
 // step from 2.5 ms to 36 ms, while under node, with the cores free, 2000 particles went from 5.8
 // to 4.1 ms.
-const kLocalThreads = self.crossOriginIsolated
-  ? Math.max(1, Math.min(4, (navigator.hardwareConcurrency || 1) - 2)) : 1;
+const kSolverCores = self.crossOriginIsolated ? Math.max(1, (navigator.hardwareConcurrency || 1) - 2) : 1;
 
 // Loads the module (a classic script defining createLocalFluid) once: the threaded build where
 // the page can use threads.
 let localFluidModule = null;
 function loadLocalFluid() {
   if (!localFluidModule) {
-    const source = kLocalThreads > 1 ? 'wasm/local_fluid_mt.js' : 'wasm/local_fluid.js';
+    const source = kSolverCores > 1 ? 'wasm/local_fluid_mt.js' : 'wasm/local_fluid.js';
     localFluidModule = new Promise((resolve, reject) => {
       const script = document.createElement('script');
       script.src = source;
       script.onload = () => createLocalFluid().then((module) => {
-        module._fluid_use_threads(kLocalThreads);
+        module.threads = module._fluid_use_threads(kSolverCores);  // as many as the build has
         resolve(module);
       }, reject);
       script.onerror = () => reject(new Error('the page could not load ' + source));
@@ -78,8 +77,10 @@ class LocalMode {
     this.pointers = new Map();  // the browser's pointer id → { id, x, y, at, world }
     // centre: the water's centre of mass (m), and time, its simulated clock (s), which the
     // browser test follows.
-    this.stats = { fps: 0, stepMs: 0, speed: 1, particles: 0, scene: '', solver: '', centre: [0, 0, 0],
-                   threads: kLocalThreads, resolution: `${canvas.width}×${canvas.height}` };
+    this.stats = { fps: 0, stepMs: 0, speed: 1, particles: 0, scene: '', solver: '',
+                   threads: module.threads, resolution: `${canvas.width}×${canvas.height}` };
+    Object.defineProperty(this.stats, 'centre', {  // worked out when read, not every frame
+      enumerable: true, get: () => this.centre() });
     this.frameTimes = [];
     this.simulated = [];  // [wall time, simulated seconds] over the last second
     this.last = 0;
@@ -291,9 +292,15 @@ class LocalMode {
     this.stats.fps = this.frameTimes.length / 2;
     this.stats.particles = count;
     this.stats.time = this.fluid._fluid_time();
+  }
+
+  centre() {
+    const count = this.fluid._fluid_count();
+    const positions = new Float32Array(this.fluid.HEAPF32.buffer, this.fluid._fluid_positions(),
+                                       3 * count);
     const centre = [0, 0, 0];
     for (let i = 0; i < 3 * count; i++) centre[i % 3] += positions[i] / count;
-    this.stats.centre = centre;
+    return centre;
   }
 
   // As many solver steps as the wall time asks, within the frame's budget: beyond it, slow motion.

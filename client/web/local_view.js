@@ -391,24 +391,27 @@ class LocalView {
     gl.activeTexture(gl.TEXTURE0);
     gl.bindVertexArray(null);
 
-    // The tank's edges over it.
-    const [x0, y0, z0, x1, y1, z1] = tank;
-    const c = (i) => [i & 1 ? x1 : x0, i & 2 ? y1 : y0, i & 4 ? z1 : z0];
-    const edges = [];
-    for (let i = 0; i < 8; i++) {
-      for (const bit of [1, 2, 4]) if (!(i & bit)) edges.push(...c(i), ...c(i | bit));
-    }
+    // The tank's edges over it, uploaded when the tank changes.
     const lines = this.lineProgram;
     gl.useProgram(lines.program);
     gl.uniformMatrix4fv(lines.uniforms.view, false, view);
     gl.uniformMatrix4fv(lines.uniforms.projection, false, projection);
     gl.bindBuffer(gl.ARRAY_BUFFER, this.edges);
-    gl.bufferData(gl.ARRAY_BUFFER, new Float32Array(edges), gl.STREAM_DRAW);
+    if (this.edgesTank !== tank.join()) {
+      const [x0, y0, z0, x1, y1, z1] = tank;
+      const c = (i) => [i & 1 ? x1 : x0, i & 2 ? y1 : y0, i & 4 ? z1 : z0];
+      const edges = [];
+      for (let i = 0; i < 8; i++) {
+        for (const bit of [1, 2, 4]) if (!(i & bit)) edges.push(...c(i), ...c(i | bit));
+      }
+      gl.bufferData(gl.ARRAY_BUFFER, new Float32Array(edges), gl.STATIC_DRAW);
+      this.edgesTank = tank.join();
+    }
     gl.enableVertexAttribArray(lines.position);
     gl.vertexAttribPointer(lines.position, 3, gl.FLOAT, false, 0, 0);
     gl.enable(gl.BLEND);
     gl.blendFunc(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA);
-    gl.drawArrays(gl.LINES, 0, edges.length / 3);
+    gl.drawArrays(gl.LINES, 0, 24);  // 12 edges
     gl.disable(gl.BLEND);
     gl.disableVertexAttribArray(lines.position);
   }
