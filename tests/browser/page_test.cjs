@@ -193,6 +193,8 @@ async function main() {
     // offers no tilt.
     const plain = await context.newPage();
     await plain.goto(`http://phone.test:${port}/?particles=1000`);
+    // The controls are set up once the protocol has loaded: wait for the stream.
+    await waitFor(plain, () => window.fluidcast.frames >= 1, 'frames over http on a LAN address');
     const insecure = await plain.evaluate(() => ({
       secure: window.isSecureContext, tilt: document.getElementById('tilt').textContent }));
     check(!insecure.secure && insecure.tilt === 'Tilt: needs https',
