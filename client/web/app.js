@@ -28,6 +28,7 @@ const state = window.fluidcast = {
   handoffs: 0,      // times the page continued a streamed fluid by itself
   handoffGapMs: 0,  // the last one's gap: from the last frame streamed to the first drawn here
   local: null,      // local mode's figures: fps, stepMs, speed, particles, scene, solver
+  streamedCentre: null,  // the centre of mass of the newest state streamed (m), while asked for
   // Drops the connection as a lost network would (for tests, and to try the reconnect).
   drop: () => { if (socket) socket.close(); },
 };
@@ -88,14 +89,15 @@ function retryNow() {
   if (!socket) connect();
 }
 
-// While no frames come, the figures of the last ones would mislead.
+// While no frames come, the figures of the last ones would mislead (while the fluid goes on
+// here, the overlay shows its figures instead, and a failed retry must not blank them).
 function clearStats() {
   state.fps = 0;
   state.bitrateKbps = 0;
   state.latencyMs = [];
   frameTimes = [];
   bytesWindow = [];
-  page.stats.textContent = '';
+  if (state.mode === 'stream') page.stats.textContent = '';
 }
 
 // ---- protocol ------------------------------------------------------------------------------
@@ -206,6 +208,7 @@ function receive(bytes) {
     askForStates();
   } else if (message.state) {
     newestState = message.state;
+    state.streamedCentre = centreOfMass(newestState.positions);
   } else if (message.frame) {
     showFrame(message.frame);
   } else if (message.end) {
@@ -593,6 +596,7 @@ let statsTimer = 0;
 function askForStates() {
   clearInterval(stateTimer);
   newestState = null;
+  state.streamedCentre = null;
   const most = Math.min(kHandoffParticles, state.rules ? state.rules.maxStateParticles : 0);
   if (!(state.particles > 0 && state.particles <= most) || typeof WebAssembly === 'undefined') return;
   loadLocalFluid().catch(() => {});  // ready before it is needed

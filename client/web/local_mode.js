@@ -45,6 +45,14 @@ function loadLocalFluid() {
   return localFluidModule;
 }
 
+// The mean of positions given as x, y, z, x, y, z… (m): the water's centre of mass.
+function centreOfMass(positions) {
+  const count = positions.length / 3;
+  const centre = [0, 0, 0];
+  for (let i = 0; i < positions.length; i++) centre[i % 3] += positions[i] / count;
+  return centre;
+}
+
 class LocalMode {
   // Starts a fluid drawn on `canvas`; throws an Error saying what this browser lacks.
   static async start(canvas, { scene, solver, particles, iterations }) {
@@ -79,8 +87,10 @@ class LocalMode {
     // browser test follows.
     this.stats = { fps: 0, stepMs: 0, speed: 1, particles: 0, scene: '', solver: '',
                    threads: module.threads, resolution: `${canvas.width}×${canvas.height}` };
-    Object.defineProperty(this.stats, 'centre', {  // worked out when read, not every frame
-      enumerable: true, get: () => this.centre() });
+    Object.defineProperties(this.stats, {  // read from the fluid when read, not every frame
+      centre: { enumerable: true, get: () => this.centre() },
+      time: { enumerable: true, get: () => this.fluid._fluid_time() },
+    });
     this.frameTimes = [];
     this.simulated = [];  // [wall time, simulated seconds] over the last second
     this.last = 0;
@@ -291,16 +301,12 @@ class LocalMode {
     while (now - this.frameTimes[0] > 2000) this.frameTimes.shift();
     this.stats.fps = this.frameTimes.length / 2;
     this.stats.particles = count;
-    this.stats.time = this.fluid._fluid_time();
   }
 
   centre() {
     const count = this.fluid._fluid_count();
-    const positions = new Float32Array(this.fluid.HEAPF32.buffer, this.fluid._fluid_positions(),
-                                       3 * count);
-    const centre = [0, 0, 0];
-    for (let i = 0; i < 3 * count; i++) centre[i % 3] += positions[i] / count;
-    return centre;
+    return centreOfMass(new Float32Array(this.fluid.HEAPF32.buffer, this.fluid._fluid_positions(),
+                                         3 * count));
   }
 
   // As many solver steps as the wall time asks, within the frame's budget: beyond it, slow motion.
