@@ -1,15 +1,22 @@
-// Local mode's speed in headless Chromium (software WebGL on this machine's CPU): the page opened
-// from its folder as a file (no server), a phone's viewport, for each case the frames per second,
-// the solver's milliseconds a step and the simulation speed, averaged over the last of `seconds`.
-//   node bench/page_local_bench.cjs WEB_ROOT [seconds]
+// Local mode's speed in headless Chromium (software WebGL on this machine's CPU): the page served
+// from its folder over http on loopback by a static server here, with the cross-origin isolation
+// headers fluidcast-server sends (so the solver runs in its worker, as on a phone), a phone's
+// viewport; for each case the new fluid states drawn per second, the solver's milliseconds a step
+// and the simulation speed, averaged over the last of `seconds`; `file` as a third argument opens
+// the page from a file instead (no worker: the solver steps on the page's thread).
+//   node bench/page_local_bench.cjs WEB_ROOT [seconds] [file]
 //   (env: FLUIDCAST_WEB_MODULES: build/web/node_modules; CHROMIUM: /usr/bin/chromium)
 'use strict';
 
+const fs = require('fs');
+const http = require('http');
 const path = require('path');
 const { chromium } = require(path.resolve(process.env.FLUIDCAST_WEB_MODULES, 'playwright-core'));
 
-const [webRoot, secondsText] = process.argv.slice(2);
+const [webRoot, secondsText, from] = process.argv.slice(2);
 const seconds = Number(secondsText) || 10;
+const types = { '.html': 'text/html', '.js': 'text/javascript', '.css': 'text/css',
+                '.proto': 'text/plain', '.webmanifest': 'application/manifest+json' };
 const cases = [
   { particles: 5000, iterations: 2, scale: 3 },
   { particles: 5000, iterations: 2, scale: 1 },
@@ -17,7 +24,27 @@ const cases = [
 ];
 const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 
+// The page's files as fluidcast-server serves them.
+function serve(root) {
+  const server = http.createServer((request, response) => {
+    const file = path.join(root, decodeURIComponent(new URL(request.url, 'http://x').pathname));
+    if (!file.startsWith(path.resolve(root)) || !fs.existsSync(file) || fs.statSync(file).isDirectory()) {
+      response.writeHead(404).end();
+      return;
+    }
+    response.writeHead(200, { 'Content-Type': types[path.extname(file)] || 'application/octet-stream',
+                              'Cross-Origin-Opener-Policy': 'same-origin',
+                              'Cross-Origin-Embedder-Policy': 'require-corp' });
+    fs.createReadStream(file).pipe(response);
+  });
+  return new Promise((resolve) => server.listen(0, '127.0.0.1', () => resolve(server)));
+}
+
 (async () => {
+  const root = path.resolve(webRoot);
+  const server = from === 'file' ? null : await serve(root);
+  const base = server ? `http://127.0.0.1:${server.address().port}/index.html`
+                      : `file://${root}/index.html`;
   const browser = await chromium.launch({ executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
                                           headless: true, args: ['--no-sandbox'] });
   console.log('| particles | PBF iterations | viewport | fps | step ms | simulation speed |');
@@ -27,7 +54,7 @@ const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
                                                deviceScaleFactor: c.scale, isMobile: true,
                                                hasTouch: true });
     const page = await context.newPage();
-    await page.goto(`file://${path.resolve(webRoot)}/index.html?local&scene=dam_break` +
+    await page.goto(`${base}?local&scene=dam_break` +
                     `&particles=${c.particles}&iterations=${c.iterations}`);
     await sleep(3000);
     const samples = [];
@@ -45,4 +72,5 @@ const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
     await context.close();
   }
   await browser.close();
+  if (server) server.close();
 })().catch((e) => { console.error(e); process.exit(1); });

@@ -11,6 +11,7 @@
 #include <systemd/sd-daemon.h>
 
 #include <atomic>
+#include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -22,9 +23,11 @@
 #include "fluidcast/gpu/context.h"
 #include "fluidcast/program_folder.h"
 #include "fluidcast/render/frame_renderer.h"
+#include "fluidcast/sim/solver_params.h"
 #include "grpc/fluidcast_service.h"
 #include "log.h"
 #include "options.h"
+#include "session/default_size.h"
 #include "session/session_hub.h"
 #include "web/http_server.h"
 #include "web/tls_certificate.h"
@@ -69,7 +72,8 @@ std::vector<std::string> lan_addresses() {
 std::map<std::string, std::filesystem::path> page_routes(const std::filesystem::path& web) {
   std::map<std::string, std::filesystem::path> routes{{"/", web / "index.html"}};
   for (const char* file :
-       {"app.js", "local_mode.js", "local_view.js", "style.css", "manifest.webmanifest",
+       {"app.js", "local_mode.js", "local_view.js", "local_worker.js", "style.css",
+        "manifest.webmanifest",
         "fluidcast.proto", "vendor/protobuf.min.js", "wasm/local_fluid.js",
         "wasm/local_fluid_mt.js", "wasm/local_fluid_mt.worker.js"}) {
     routes[std::string("/") + file] = web / file;
@@ -87,6 +91,24 @@ bool gpu_solver_for(const ServerOptions& options, const gpu::Context& context) {
       break;
   }
   return context.info().hardware();
+}
+
+// The most particles that the sessions' solver keeps in real time within their share of this
+// device, measured by a few steps at growing counts; said in the log.
+std::uint32_t measure_default_particles(const ServerOptions& options, gpu::Context& context,
+                                        bool gpu_solver) {
+  const auto begun = std::chrono::steady_clock::now();
+  const DefaultSize size = choose_default_particles(
+      [&](std::uint32_t particles) {
+        return measure_ms_per_substep(context, gpu_solver, particles);
+      },
+      options.limits.max_particles, 1.0 / sim::SolverParams{}.time_step, options.limits.sim_share);
+  spdlog::info(
+      "measured: {} particles simulate in real time in {:.0f} % of the device ({:.3f} ms a "
+      "substep; {:.1f} s to measure; --default-particles to choose)",
+      size.particles, 100.0 * size.device_share, size.ms_per_substep,
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - begun).count());
+  return size.particles;
 }
 
 int serve(const ServerOptions& options) {
@@ -111,7 +133,10 @@ int serve(const ServerOptions& options) {
 
   Metrics metrics;
   metrics.describe_device(context.info().name, context.info().hardware());
-  const ServerLimits limits = options.limits_for(context.info().hardware());
+  const ServerLimits limits = options.limits_for(
+      context.info().hardware(), options.default_particles
+                                     ? *options.default_particles
+                                     : measure_default_particles(options, context, gpu_solver));
   SessionHub hub(context, gpu_solver, limits, read_token(options.token_file), metrics);
   FluidcastService service(hub);
 
@@ -192,7 +217,7 @@ int serve(const ServerOptions& options) {
       "new sessions: {} particles at {} frames/s{} (--default-particles, --target-fps; "
       "a page can ask: ?particles=N)",
       limits.default_particles, limits.target_fps,
-      context.info().hardware() ? "" : ", sized for a CPU device");
+      context.info().hardware() ? "" : " (the frame rate of a CPU device)");
   if (options.listen == "0.0.0.0") {
     for (const std::string& address : addresses) {
       spdlog::info(

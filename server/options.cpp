@@ -37,8 +37,8 @@ ServerOptions parse_server_options(int argc, char** argv) {
       ->envname("FLUIDCAST_MAX_PARTICLES")
       ->check(CLI::Range(1u, 16u << 20));
   app.add_option("--default-particles", o.default_particles,
-                 "Particles of a session whose client names no count (default: 20000 on a GPU, "
-                 "4000 on a CPU device)")
+                 "Particles of a session whose client names no count (default: the most that "
+                 "this device keeps in real time, measured at start)")
       ->envname("FLUIDCAST_DEFAULT_PARTICLES")
       ->check(CLI::Range(1u, 16u << 20));
   app.add_option("--max-width", l.max_width, "Widest frame a viewer may ask for, pixels")
@@ -133,14 +133,11 @@ ServerOptions parse_server_options(int argc, char** argv) {
   return o;
 }
 
-ServerLimits ServerOptions::limits_for(bool hardware) const {
+ServerLimits ServerOptions::limits_for(bool hardware, std::uint32_t fitting_particles) const {
   ServerLimits chosen = limits;
-  if (!hardware) {
-    chosen.default_particles = 4000;
-    chosen.target_fps = 30;
-  }
+  if (!hardware) chosen.target_fps = 30;
   chosen.default_particles =
-      std::min(default_particles.value_or(chosen.default_particles), chosen.max_particles);
+      std::min(default_particles.value_or(fitting_particles), chosen.max_particles);
   chosen.target_fps = std::min(target_fps.value_or(chosen.target_fps), chosen.max_fps);
   return chosen;
 }

@@ -27,15 +27,16 @@ struct ServerOptions {
   // After SIGTERM, how long /healthz says 503 and the gRPC health service NOT_SERVING while
   // streams go on, before they end: time for a load balancer to send new clients elsewhere.
   unsigned drain_seconds = 0;
-  std::string state_dir;                 // what the server makes and keeps (default_state_folder)
+  std::string state_dir;  // what the server makes and keeps (default_state_folder)
   // The phone page's folder: index.html, app.js, style.css, manifest.webmanifest, fluidcast.proto
   // and vendor/protobuf.min.js (default: share/fluidcast/web beside the binary's bin/).
   std::string web_root;
 
-  // The limits for the device: where the operator gave no default particle count or tick rate,
-  // a CPU device (lavapipe, which renders a 20 000-particle session at 1.5–4 frames/s with a
-  // second of latency) gets 4000 particles at 30 frames/s, a GPU ServerLimits' defaults.
-  ServerLimits limits_for(bool hardware) const;
+  // The limits for the device: where the operator gave no tick rate, a CPU device (lavapipe,
+  // which renders a 20 000-particle session at 1.5–4 frames/s with a second of latency) gets 30
+  // frames/s, a GPU ServerLimits' default; where the operator gave no default particle count,
+  // `fitting_particles`, what the device was measured to keep in real time (default_size.h).
+  ServerLimits limits_for(bool hardware, std::uint32_t fitting_particles) const;
 };
 
 // Exits the process with CLI11's message and status for --help or bad flags.

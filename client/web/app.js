@@ -148,11 +148,11 @@ function connect() {
   socket = new WebSocket(scheme + '//' + location.host + '/ws');
   socket.binaryType = 'arraybuffer';
   say(state.sessionId ? 'Reconnecting…' : 'Connecting…');
-  socket.onopen = () => {
+  socket.onopen = async () => {
     const hello = { token, viewport: viewport(), quality: quality() };
     if (handoff && handoff.mode) {
       // The fluid went on here: the server gets it back in a new session.
-      hello.create = { state: handoff.mode.exportState() };
+      hello.create = { state: await handoff.mode.exportState() };
     } else if (state.sessionId && state.viewerId) {
       hello.resume = { sessionId: state.sessionId, viewerId: state.viewerId };
     } else if (state.sessionId) {
@@ -491,7 +491,10 @@ function setupControls() {
   const act = (hereAction, serverAction) => () => {
     const fluid = local || (handoff && handoff.mode);
     if (!fluid) return serverAction();
-    try { hereAction(fluid); } catch (error) { say(error.message); setTimeout(() => say(''), 5000); }
+    Promise.resolve().then(() => hereAction(fluid)).catch((error) => {
+      say(error.message);
+      setTimeout(() => say(''), 5000);
+    });
   };
   scene.onchange = act((fluid) => fluid.create(scene.value, fluid.stats.solver, fluid.stats.particles),
                        () => command({ scene: scene.value }));
@@ -599,7 +602,7 @@ function askForStates() {
   state.streamedCentre = null;
   const most = Math.min(kHandoffParticles, state.rules ? state.rules.maxStateParticles : 0);
   if (!(state.particles > 0 && state.particles <= most) || typeof WebAssembly === 'undefined') return;
-  loadLocalFluid().catch(() => {});  // ready before it is needed
+  LocalFluid.prepare();  // ready before it is needed
   stateTimer = setInterval(() => send({ stateRequest: {} }, false), kStateEveryMs);
 }
 

@@ -1,5 +1,6 @@
 // Local mode: a fluid simulated in this page by the project's own solver (wasm/local_fluid.js, the
-// server's CPU solvers in WebAssembly) and drawn by LocalView. One finger drags the fluid, two
+// server's CPU solvers in WebAssembly) on its own thread (local_worker.js) and drawn by LocalView
+// on the page's. One finger drags the fluid, two
 // orbit and zoom, tilt turns gravity — as on a server's stream. No server is needed once the page
 // is loaded; it also runs from a file or any static host.
 'use strict';
@@ -7,42 +8,29 @@
 // Particles the page simulates at most, and its default: a phone's one thread at 60 frames/s.
 const kMaxLocalParticles = 8000;
 const kDefaultLocalParticles = 3000;
-// The most a frame spends stepping: beyond it the fluid runs in slow motion instead of the page
-// missing its frames.
-const kStepBudgetMs = 12;
-// The drawing adapts its size to what a frame leaves it: when a frame spends more than
-// kDrawingTooSlowMs outside the solver (drawing, the browser's compositing) it draws fewer pixels
+// The drawing adapts its size to what a frame costs: when the browser takes more than
+// kDrawingTooSlowMs to come back after a drawn frame (drawing, compositing) it draws fewer pixels
 // (down to a quarter of the screen's along each side, the browser scaling them up), under
 // kDrawingRoomMs more again. Software WebGL on a CPU pays for every pixel; a phone's GPU stays at
-// full size. (A slow solver is not helped by fewer pixels: it is not counted.)
+// full size.
 const kDrawingTooSlowMs = 16, kDrawingRoomMs = 8, kMinRenderScale = 0.25;
 
-// Threads the solver steps with: Web Workers share the module's memory only on a cross-origin
-// isolated page (the server's pages are; a file is not); the threaded build takes at most its
-// own limit (client/wasm). Two cores are left to the browser, which draws and composites on its own threads: on two cores
-// shared with them (headless Chromium, software WebGL), two solver threads took a 1000-particle
-// step from 2.5 ms to 36 ms, while under node, with the cores free, 2000 particles went from 5.8
-// to 4.1 ms.
+// Threads the solver steps with (its worker and the threaded build's pool): Web Workers share the
+// module's memory only on a cross-origin isolated page (the server's pages are; a file is not);
+// the threaded build takes at most its own limit (client/wasm). Two cores are left to the
+// browser, which draws and composites on its own threads: on two cores shared with them
+// (headless Chromium, software WebGL), two solver threads took a 1000-particle step from 2.5 ms
+// to 36 ms, while under node, with the cores free, 2000 particles went from 5.8 to 4.1 ms.
 const kSolverCores = self.crossOriginIsolated ? Math.max(1, (navigator.hardwareConcurrency || 1) - 2) : 1;
 
-// Loads the module (a classic script defining createLocalFluid) once: the threaded build where
-// the page can use threads.
-let localFluidModule = null;
-function loadLocalFluid() {
-  if (!localFluidModule) {
-    const source = kSolverCores > 1 ? 'wasm/local_fluid_mt.js' : 'wasm/local_fluid.js';
-    localFluidModule = new Promise((resolve, reject) => {
-      const script = document.createElement('script');
-      script.src = source;
-      script.onload = () => createLocalFluid().then((module) => {
-        module.threads = module._fluid_use_threads(kSolverCores);  // as many as the build has
-        resolve(module);
-      }, reject);
-      script.onerror = () => reject(new Error('the page could not load ' + source));
-      document.head.append(script);
-    });
-  }
-  return localFluidModule;
+function loadScript(source) {
+  return new Promise((resolve, reject) => {
+    const script = document.createElement('script');
+    script.src = source;
+    script.onload = resolve;
+    script.onerror = () => reject(new Error('the page could not load ' + source));
+    document.head.append(script);
+  });
 }
 
 // The mean of positions given as x, y, z, x, y, z… (m): the water's centre of mass.
@@ -53,53 +41,161 @@ function centreOfMass(positions) {
   return centre;
 }
 
+// The solver, on its own thread (local_worker.js) where the page can start a worker, else on the
+// page's; `newest` holds the newest positions it sent.
+class LocalFluid {
+  // A fluid thread made ready before it is needed (a handoff must start within a frame or two).
+  static prepare() {
+    if (!LocalFluid.spare) {
+      LocalFluid.spare = LocalFluid.open();
+      LocalFluid.spare.catch(() => { LocalFluid.spare = null; });
+    }
+  }
+
+  static take() {
+    const fluid = LocalFluid.spare || LocalFluid.open();
+    LocalFluid.spare = null;
+    return fluid;
+  }
+
+  // Throws an Error saying what this browser lacks.
+  static async open() {
+    if (typeof WebAssembly === 'undefined') throw new Error('this browser has no WebAssembly');
+    const source = kSolverCores > 1 ? 'wasm/local_fluid_mt.js' : 'wasm/local_fluid.js';
+    let worker = null;
+    try {
+      worker = new Worker('local_worker.js');
+    } catch (error) {  // a page from a file may not start workers: the solver runs here
+      return LocalFluid.onThisThread(source);
+    }
+    const ready = await new Promise((resolve, reject) => {
+      worker.onmessage = ({ data }) => (data.ready ? resolve(data.ready)
+        : reject(new Error('the page could not start its solver: ' + data.failed)));
+      worker.onerror = (event) => reject(new Error('the page could not start its solver: ' +
+                                                   (event.message || 'local_worker.js failed')));
+      worker.postMessage({ source, threads: kSolverCores });
+    });
+    worker.onerror = null;
+    return new LocalFluid(worker, () => worker.terminate(), ready);
+  }
+
+  static async onThisThread(source) {
+    if (!LocalFluid.module) {
+      LocalFluid.module = Promise.all([loadScript(source), loadScript('local_worker.js')])
+        .then(() => createLocalFluid());
+    }
+    const module = await LocalFluid.module;
+    const channel = new MessageChannel();
+    runLocalFluid(channel.port2, module);
+    const ready = { threads: module._fluid_use_threads(kSolverCores),
+                    scenes: module.UTF8ToString(module._fluid_scene_names()) };
+    const fluid = new LocalFluid(channel.port1, () => channel.port1.postMessage({ op: 'stop' }), ready);
+    return fluid;
+  }
+
+  constructor(port, close, ready) {
+    this.port = port;
+    this.close = close;
+    this.threads = ready.threads;
+    this.scenes = ready.scenes.split(',');
+    this.newest = null;  // { positions, particles, time, stepMs, speed }
+    this.calls = new Map();  // id → { resolve, reject }
+    this.nextCall = 1;
+    this.frameWaiters = [];
+    port.onmessage = ({ data }) => this.receive(data);
+    port.postMessage({ op: 'more' });
+  }
+
+  // Asks the solver's thread; resolves with its answer, rejects with its sentence.
+  call(op, fields = {}) {
+    const id = this.nextCall++;
+    return new Promise((resolve, reject) => {
+      this.calls.set(id, { resolve, reject });
+      this.port.postMessage({ op, id, ...fields });
+    });
+  }
+
+  // The same, for inputs that a gesture sends many of: a failure is said on the console.
+  tell(op, fields) {
+    this.call(op, fields).catch((error) => console.warn(`local fluid, ${op}: ${error.message}`));
+  }
+
+  nextFrame() { return new Promise((resolve) => this.frameWaiters.push(resolve)); }
+
+  receive(message) {
+    if (message.frame) {
+      this.newest = message.frame;
+      this.port.postMessage({ op: 'more' });
+      for (const resolve of this.frameWaiters.splice(0)) resolve(message.frame);
+      return;
+    }
+    const call = this.calls.get(message.reply);
+    if (!call) return;
+    this.calls.delete(message.reply);
+    if (message.error !== undefined) call.reject(new Error(message.error));
+    else call.resolve(message.value);
+  }
+}
+
 class LocalMode {
-  // Starts a fluid drawn on `canvas`; throws an Error saying what this browser lacks.
+  // Starts a fluid drawn on `canvas`; throws an Error saying what this browser lacks or what the
+  // solver refused.
   static async start(canvas, { scene, solver, particles, iterations }) {
-    const view = new LocalView(canvas);
-    const mode = new LocalMode(canvas, view, await loadLocalFluid());
-    if (iterations) mode.fluid._fluid_use_iterations(iterations);
-    mode.create(scene || 'dam_break', solver || 'pbf', particles || kDefaultLocalParticles);
-    mode.camera.fit(mode.tank(), canvas.width / canvas.height);
-    mode.listen();
-    mode.frame(performance.now());
-    return mode;
+    const mode = new LocalMode(canvas, new LocalView(canvas), await LocalFluid.take());
+    if (iterations) await mode.fluid.call('iterations', { iterations });
+    await mode.create(scene || 'dam_break', solver || 'pbf', particles || kDefaultLocalParticles);
+    return mode.begin();
   }
 
   // Continues a fluid from a state (a Snapshot as the server sent it, decoded by protobufjs).
   static async startFrom(canvas, snapshot) {
-    const mode = new LocalMode(canvas, new LocalView(canvas), await loadLocalFluid());
-    mode.load(snapshot);
-    mode.camera.fit(mode.tank(), canvas.width / canvas.height);
-    mode.listen();
-    mode.frame(performance.now());
-    return mode;
+    const mode = new LocalMode(canvas, new LocalView(canvas), await LocalFluid.take());
+    await mode.load(snapshot);
+    return mode.begin();
   }
 
-  constructor(canvas, view, module) {
+  constructor(canvas, view, fluid) {
     this.canvas = canvas;
     this.view = view;
-    this.fluid = module;
+    this.fluid = fluid;
+    this.shape = null;  // the fluid's { particles, tank, spacing }
     this.camera = new LocalCamera();
-    this.paused = false;
+    this.pausedHere = false;
     this.pointers = new Map();  // the browser's pointer id → { id, x, y, at, world }
-    // centre: the water's centre of mass (m), and time, its simulated clock (s), which the
-    // browser test follows.
+    // centre: the water's centre of mass (m), and time, its simulated clock (s), both of the
+    // newest positions the solver sent; the browser test follows them.
     this.stats = { fps: 0, stepMs: 0, speed: 1, particles: 0, scene: '', solver: '',
-                   threads: module.threads, resolution: `${canvas.width}×${canvas.height}` };
-    Object.defineProperties(this.stats, {  // read from the fluid when read, not every frame
-      centre: { enumerable: true, get: () => this.centre() },
-      time: { enumerable: true, get: () => this.fluid._fluid_time() },
+                   threads: fluid.threads, resolution: `${canvas.width}×${canvas.height}` };
+    Object.defineProperties(this.stats, {  // worked out when read, not every frame
+      centre: { enumerable: true, get: () => this.fluid.newest && centreOfMass(this.fluid.newest.positions) },
+      time: { enumerable: true, get: () => this.fluid.newest && this.fluid.newest.time },
     });
-    this.frameTimes = [];
-    this.simulated = [];  // [wall time, simulated seconds] over the last second
-    this.last = 0;
+    this.frameTimes = [];  // when each new state of the fluid was drawn, over two seconds
+    this.drawn = null;     // the positions last drawn
+    this.viewChanged = true;
     this.fullSize = { width: canvas.width, height: canvas.height };
     this.renderScale = 1;
     this.lastAdapted = 0;
-    this.steppingMs = 0;  // spent stepping since the last adaptation
-    this.framesSinceAdapted = 0;
+    this.drewAt = 0;
+    this.afterDrawingMs = [];  // from a drawn frame to the browser's next, since the last adaptation
   }
+
+  // Draws the fluid's first positions (the handoff's gap ends there), then every new state.
+  async begin() {
+    this.camera.fit(this.tank(), this.canvas.width / this.canvas.height);
+    this.listen();
+    await this.fluid.nextFrame();
+    this.frame(performance.now());
+    return this;
+  }
+
+  get paused() { return this.pausedHere; }
+  set paused(paused) {
+    this.pausedHere = paused;
+    this.fluid.tell('pause', { paused });
+  }
+
+  scenes() { return this.fluid.scenes; }
 
   // The size to draw at when the frame rate allows (device pixels, as the page fits them).
   resize(size) {
@@ -111,18 +207,16 @@ class LocalMode {
     this.canvas.width = Math.max(1, Math.round(this.fullSize.width * this.renderScale));
     this.canvas.height = Math.max(1, Math.round(this.fullSize.height * this.renderScale));
     this.stats.resolution = `${this.canvas.width}×${this.canvas.height}`;
+    this.viewChanged = true;
   }
 
   // Once a second: fewer pixels when drawing takes too long, more when there is room.
   adaptResolution(now) {
-    this.framesSinceAdapted++;
     if (!this.lastAdapted) this.lastAdapted = now;
-    if (now - this.lastAdapted < 1000) return;
-    const frames = this.framesSinceAdapted;
-    const drawingMs = (now - this.lastAdapted - this.steppingMs) / frames;
+    if (now - this.lastAdapted < 1000 || this.afterDrawingMs.length === 0) return;
+    const drawingMs = this.afterDrawingMs.reduce((sum, ms) => sum + ms, 0) / this.afterDrawingMs.length;
     this.lastAdapted = now;
-    this.framesSinceAdapted = 0;
-    this.steppingMs = 0;
+    this.afterDrawingMs = [];
     const before = this.renderScale;
     if (drawingMs > kDrawingTooSlowMs) {
       this.renderScale = Math.max(kMinRenderScale, this.renderScale * 0.75);
@@ -132,71 +226,51 @@ class LocalMode {
     if (this.renderScale !== before) this.applyScale();
   }
 
-  scenes() {
-    return this.fluid.UTF8ToString(this.fluid._fluid_scene_names()).split(',');
-  }
-
-  // Makes a fluid; throws an Error with the solver's sentence when it cannot.
-  create(scene, solver, particles) {
+  // Makes a fluid; rejects with the solver's sentence when it cannot.
+  async create(scene, solver, particles) {
     const count = Math.min(kMaxLocalParticles, Math.max(1, particles));
-    const error = this.fluid.ccall('fluid_create', 'string', ['string', 'string', 'number'],
-                                   [scene, solver, count]);
-    if (error) throw new Error(error);
+    this.shape = await this.fluid.call('create', { scene, solver, particles: count });
     Object.assign(this.stats, { particles: count, scene, solver });
   }
 
-  load(snapshot) {
+  async load(snapshot) {
     const count = snapshot.positions.length / 3;
     if (!(count >= 1 && count <= kMaxLocalParticles)) {
       throw new Error(`${count} particles are more than this page simulates (${kMaxLocalParticles})`);
     }
-    const bytes = 4 * snapshot.positions.length;
-    const positions = this.fluid._malloc(bytes), velocities = this.fluid._malloc(bytes);
-    try {
-      this.fluid.HEAPF32.set(snapshot.positions, positions / 4);
-      this.fluid.HEAPF32.set(snapshot.velocities, velocities / 4);
-      const error = this.fluid.ccall(
-        'fluid_load', 'string', ['string', 'string', 'number', 'number', 'number', 'number', 'number'],
-        [snapshot.scene, snapshot.solver, count, positions, velocities, count, snapshot.time]);
-      if (error) throw new Error(error);
-    } finally {
-      this.fluid._free(positions);
-      this.fluid._free(velocities);
-    }
-    const g = snapshot.gravity || { x: 0, y: -9.81, z: 0 };
-    this.check(this.fluid._fluid_set_gravity(g.x || 0, g.y || 0, g.z || 0));
+    const g = snapshot.gravity || {};
+    this.shape = await this.fluid.call('load', {
+      scene: snapshot.scene, solver: snapshot.solver, time: snapshot.time,
+      positions: Float32Array.from(snapshot.positions), velocities: Float32Array.from(snapshot.velocities),
+      gravity: { x: g.x || 0, y: g.y === undefined ? -9.81 : g.y || 0, z: g.z || 0 } });
     Object.assign(this.stats, { particles: count, scene: snapshot.scene, solver: snapshot.solver });
   }
 
   // The fluid as a Snapshot (fluidcast.proto's fields), to hand back to a server.
-  exportState() {
-    const count = this.fluid._fluid_count();
-    const floats = (pointer) => Array.from(new Float32Array(this.fluid.HEAPF32.buffer, pointer, 3 * count));
-    const g = new Float32Array(this.fluid.HEAPF32.buffer, this.fluid._fluid_gravity(), 3);
-    return { time: this.fluid._fluid_time(), gravity: { x: g[0], y: g[1], z: g[2] },
-             scene: this.stats.scene, solver: this.stats.solver,
-             positions: floats(this.fluid._fluid_positions()),
-             velocities: floats(this.fluid._fluid_velocities()) };
+  async exportState() {
+    return { ...await this.fluid.call('export'), scene: this.stats.scene, solver: this.stats.solver };
   }
 
   // Stops simulating and drawing (the stream is back); touches on its canvas are ignored.
-  stop() { this.stopped = true; }
-
-  reset() { this.check(this.fluid._fluid_reset()); }
-  resetView() { this.camera.fit(this.tank(), this.canvas.width / this.canvas.height); }
-
-  check(error) {
-    if (error) throw new Error(this.fluid.UTF8ToString(error));
+  stop() {
+    this.stopped = true;
+    this.fluid.close();
   }
 
-  tank() { return new Float32Array(this.fluid.HEAPF32.buffer, this.fluid._fluid_tank(), 6).slice(); }
+  reset() { return this.fluid.call('reset'); }
+  resetView() {
+    this.camera.fit(this.tank(), this.canvas.width / this.canvas.height);
+    this.viewChanged = true;
+  }
+
+  tank() { return Float32Array.from(this.shape.tank); }
 
   // Gravity measured in the screen's axes (x right, y up, z out of the screen), turned into the
   // world through the camera, as the server does.
   tilt(gravity) {
     const { right, up, back } = this.camera.axes();
     const g = [0, 1, 2].map((k) => gravity.x * right[k] + gravity.y * up[k] + gravity.z * back[k]);
-    this.check(this.fluid._fluid_set_gravity(g[0], g[1], g[2]));
+    this.fluid.tell('gravity', { x: g[0], y: g[1], z: g[2] });
   }
 
   // Where a finger at (x, y) of the frame (0 to 1) touches: on the tank's vertical mid-plane that
@@ -242,7 +316,7 @@ class LocalMode {
     const up = (event) => {
       const pointer = this.pointers.get(event.pointerId);
       if (!pointer) return;
-      this.check(this.fluid._fluid_lift_finger(pointer.id));
+      this.fluid.tell('lift', { finger: pointer.id });
       this.pointers.delete(event.pointerId);
     };
     this.canvas.addEventListener('pointerup', up);
@@ -252,7 +326,7 @@ class LocalMode {
 
   liftFingersIfTwo() {
     if (this.pointers.size < 2) return;
-    for (const pointer of this.pointers.values()) this.check(this.fluid._fluid_lift_finger(pointer.id));
+    for (const pointer of this.pointers.values()) this.fluid.tell('lift', { finger: pointer.id });
   }
 
   // One finger: a sphere that follows it through the water, with its speed in simulated time
@@ -265,8 +339,8 @@ class LocalMode {
     const velocity = pointer.world
       ? world.map((w, k) => Math.max(-10, Math.min(10, (w - pointer.world[k]) / seconds)))
       : [0, 0, 0];
-    const radius = Math.max(0.04, 4 * this.fluid._fluid_spacing());
-    this.check(this.fluid._fluid_set_finger(pointer.id, ...world, ...velocity, radius));
+    const radius = Math.max(0.04, 4 * this.shape.spacing);
+    this.fluid.tell('finger', { finger: pointer.id, at: world, velocity, radius });
     Object.assign(pointer, { at: now, world });
   }
 
@@ -281,51 +355,28 @@ class LocalMode {
     this.camera.pitch += (at.y - moved[0].y) * 90;
     if (spreadBefore > 0.01 && spreadAfter > 0.01) this.camera.distance *= spreadBefore / spreadAfter;
     this.camera.clamp(this.tank());
+    this.viewChanged = true;
   }
 
+  // Each frame of the browser's: a new state of the fluid, or a new view of it, is drawn.
   frame(now) {
     if (this.stopped) return;
     requestAnimationFrame((t) => this.frame(t));
-    const wall = this.last ? Math.min(0.1, (now - this.last) / 1000) : 1 / 60;
-    this.last = now;
-    const stepping = performance.now();
-    if (!this.paused) this.step(wall, now);
-    this.steppingMs += performance.now() - stepping;
+    if (this.drewAt) this.afterDrawingMs.push(now - this.drewAt);
+    this.drewAt = 0;
     this.adaptResolution(now);  // before drawing: a resized canvas is blank until drawn
-    const count = this.fluid._fluid_count();
-    const positions = new Float32Array(this.fluid.HEAPF32.buffer, this.fluid._fluid_positions(),
-                                       3 * count);
-    const radius = 0.5 * this.fluid._fluid_spacing();
-    this.view.draw(positions, count, radius, this.tank(), this.camera);
-    this.frameTimes.push(now);
-    while (now - this.frameTimes[0] > 2000) this.frameTimes.shift();
-    this.stats.fps = this.frameTimes.length / 2;
-    this.stats.particles = count;
-  }
-
-  centre() {
-    const count = this.fluid._fluid_count();
-    return centreOfMass(new Float32Array(this.fluid.HEAPF32.buffer, this.fluid._fluid_positions(),
-                                         3 * count));
-  }
-
-  // As many solver steps as the wall time asks, within the frame's budget: beyond it, slow motion.
-  step(wall, now) {
-    const dt = this.fluid._fluid_time_step();
-    this.owed = Math.min((this.owed || 0) + wall, 4 * dt);
-    const begun = performance.now();
-    let steps = 0, simulated = 0;
-    while (this.owed >= dt && performance.now() - begun < kStepBudgetMs) {
-      this.check(this.fluid._fluid_step(dt));
-      this.owed -= dt;
-      simulated += dt;
-      steps++;
+    const newest = this.fluid.newest;
+    if (!newest || (newest === this.drawn && !this.viewChanged)) return;
+    this.view.draw(newest.positions, newest.particles, 0.5 * this.shape.spacing, this.tank(),
+                   this.camera);
+    this.drewAt = now;
+    this.viewChanged = false;
+    if (newest !== this.drawn) {
+      this.frameTimes.push(now);
+      while (now - this.frameTimes[0] > 2000) this.frameTimes.shift();
     }
-    if (performance.now() - begun >= kStepBudgetMs) this.owed = 0;  // what is left is not caught up
-    if (steps) this.stats.stepMs = (performance.now() - begun) / steps;
-    this.simulated.push([now, simulated, wall]);
-    while (now - this.simulated[0][0] > 1000) this.simulated.shift();
-    const totals = this.simulated.reduce((s, [, sim, w]) => [s[0] + sim, s[1] + w], [0, 0]);
-    this.stats.speed = totals[1] > 0 ? totals[0] / totals[1] : 1;
+    this.drawn = newest;
+    Object.assign(this.stats, { fps: this.frameTimes.length / 2, particles: newest.particles,
+                                stepMs: newest.stepMs, speed: newest.speed });
   }
 }

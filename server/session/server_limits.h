@@ -13,7 +13,9 @@ inline constexpr float kIdleTiltDegrees = 10.0f;
 struct ServerLimits {
   std::uint32_t max_sessions = 8;
   std::uint32_t max_particles = 1 << 20;  // per session
-  std::uint32_t default_particles = 20000;  // a GPU's; see ServerOptions::limits_for
+  // A session's particles when its client names no count: the server measures what its device
+  // keeps in real time at start (default_size.h) unless the operator says.
+  std::uint32_t default_particles = 20000;
   std::uint32_t max_width = 3840;
   std::uint32_t max_height = 2160;
   std::uint32_t target_fps = 60;  // sessions step and render at this rate (a GPU's)
@@ -23,7 +25,7 @@ struct ServerLimits {
   std::uint32_t max_fps = 120;
   std::uint32_t max_viewers_per_session = 8;
   std::uint32_t max_input_events_per_second = 400;  // per stream; a flood ends the stream
-  std::chrono::seconds resume_grace{30};  // a session without viewers lives this long
+  std::chrono::seconds resume_grace{30};            // a session without viewers lives this long
   // A session whose viewers neither touch, tilt (by more than kIdleTiltDegrees) nor command it
   // for this long ends their streams (DEADLINE_EXCEEDED) and frees the GPU; 0: never. A phone
   // left on a table should not hold a GPU's share forever.
