@@ -8,6 +8,7 @@
 #include <ifaddrs.h>
 #include <netinet/in.h>
 #include <spdlog/spdlog.h>
+#include <sys/resource.h>
 #include <systemd/sd-daemon.h>
 
 #include <atomic>
@@ -17,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "fluidcast/command_line.h"
@@ -25,6 +27,7 @@
 #include "fluidcast/render/frame_renderer.h"
 #include "fluidcast/sim/solver_params.h"
 #include "grpc/fluidcast_service.h"
+#include "grpc/grpc_listener.h"
 #include "log.h"
 #include "options.h"
 #include "session/default_size.h"
@@ -73,8 +76,7 @@ std::map<std::string, std::filesystem::path> page_routes(const std::filesystem::
   std::map<std::string, std::filesystem::path> routes{{"/", web / "index.html"}};
   for (const char* file :
        {"app.js", "local_mode.js", "local_view.js", "local_worker.js", "style.css",
-        "manifest.webmanifest",
-        "fluidcast.proto", "vendor/protobuf.min.js", "wasm/local_fluid.js",
+        "manifest.webmanifest", "fluidcast.proto", "vendor/protobuf.min.js", "wasm/local_fluid.js",
         "wasm/local_fluid_mt.js", "wasm/local_fluid_mt.worker.js"}) {
     routes[std::string("/") + file] = web / file;
   }
@@ -91,6 +93,19 @@ bool gpu_solver_for(const ServerOptions& options, const gpu::Context& context) {
       break;
   }
   return context.info().hardware();
+}
+
+// Descriptors are what idle connections use up: the soft limit goes up to the hard one (often
+// 1024 against 524288). Returns the limit now.
+rlim_t raise_descriptor_limit() {
+  rlimit limit{};
+  if (getrlimit(RLIMIT_NOFILE, &limit) != 0) return 1024;
+  if (limit.rlim_cur < limit.rlim_max) {
+    rlimit raised = limit;
+    raised.rlim_cur = limit.rlim_max;
+    if (setrlimit(RLIMIT_NOFILE, &raised) == 0) return raised.rlim_cur;
+  }
+  return limit.rlim_cur;
 }
 
 // The most particles that the sessions' solver keeps in real time within their share of this
@@ -133,10 +148,19 @@ int serve(const ServerOptions& options) {
 
   Metrics metrics;
   metrics.describe_device(context.info().name, context.info().hardware());
-  const ServerLimits limits = options.limits_for(
+  ServerLimits limits = options.limits_for(
       context.info().hardware(), options.default_particles
                                      ? *options.default_particles
                                      : measure_default_particles(options, context, gpu_solver));
+  const rlim_t descriptors = raise_descriptor_limit();
+  if (limits.max_connections > descriptors / 2) {
+    limits.max_connections = static_cast<std::uint32_t>(std::max<rlim_t>(1, descriptors / 2));
+    spdlog::info(
+        "at most {} HTTP and WebSocket connections: half of the {} descriptors this "
+        "process may open (--max-connections; raise the limit with ulimit -Hn or "
+        "systemd's LimitNOFILE=)",
+        limits.max_connections, descriptors);
+  }
   SessionHub hub(context, gpu_solver, limits, read_token(options.token_file), metrics);
   FluidcastService service(hub);
 
@@ -163,14 +187,26 @@ int serve(const ServerOptions& options) {
   // HTTP first: if its port is taken, nothing else has started yet.
   std::atomic<bool> serving{true};
   const std::filesystem::path web = options.web_root;
+  // Plaintext gRPC is accepted by a listener of ours, which outlives running out of descriptors
+  // (grpc_listener.h); gRPC over TLS by gRPC itself.
+  std::optional<GrpcListener> grpc_listener;
+  // /healthz: unhealthy while stopping, or while a port cannot accept (no descriptors left).
+  const HttpServer* http_accepting = nullptr;
+  const auto healthy = [&] {
+    return serving.load() && http_accepting && http_accepting->accepting() &&
+           (!grpc_listener || grpc_listener->accepting());
+  };
   HttpServer http(options.listen, options.http_port,
-                  {[&] { return metrics.prometheus_text(); }, [&] { return serving.load(); },
+                  {[&] { return metrics.prometheus_text(); }, healthy,
                    [&hub](WebStream stream,
-                          boost::beast::http::request<boost::beast::http::string_body> request) {
-                     serve_websocket(std::move(stream), std::move(request), hub);
+                          boost::beast::http::request<boost::beast::http::string_body> request,
+                          std::shared_ptr<ConnectionLimits::Slot> slot) {
+                     serve_websocket(std::move(stream), std::move(request), std::move(slot), hub);
                    },
                    page_routes(web)},
+                  ConnectionLimits(limits.max_connections, limits.max_connections_per_address),
                   page_tls);
+  http_accepting = &http;
 
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
@@ -182,13 +218,32 @@ int serve(const ServerOptions& options) {
         {read_file(options.tls_key), read_file(options.tls_certificate)});
     credentials = grpc::SslServerCredentials(tls);
   }
-  int grpc_port = 0;
   const std::string grpc_address = options.listen + ":" + std::to_string(options.grpc_port);
-  builder.AddListeningPort(grpc_address, credentials, &grpc_port);
+  const auto in_use = [&] {
+    std::fprintf(stderr,
+                 "fluidcast-server: cannot listen for gRPC on %s: the address is in use (another "
+                 "server?) or not one of this machine's (--listen, --grpc-port)\n",
+                 grpc_address.c_str());
+    return kBadFlag;
+  };
+  int grpc_port = 0;
+  if (options.tls_certificate.empty()) {
+    try {
+      grpc_port = grpc_listener.emplace(options.listen, options.grpc_port).port();
+    } catch (const std::runtime_error&) {
+      return in_use();
+    }
+  } else {
+    builder.AddListeningPort(grpc_address, credentials, &grpc_port);
+  }
   // gRPC sets SO_REUSEPORT by default: a second server on the same port would silently take half
   // of the new clients. Exclusive, it fails to start instead.
   builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
   builder.RegisterService(&service);
+  // A connection with no call for a minute is closed: its descriptor is worth more than a
+  // client's reconnect. (A limit on streams per connection, GRPC_ARG_MAX_CONCURRENT_STREAMS,
+  // stalled streams in gRPC 1.51 here: a client's keepalive timed out with 16.)
+  builder.AddChannelArgument(GRPC_ARG_MAX_CONNECTION_IDLE_MS, 60000);
   // Dead phones are noticed in seconds, not gRPC's default two hours.
   builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIME_MS, 10000);
   builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIMEOUT_MS, 5000);
@@ -198,13 +253,8 @@ int serve(const ServerOptions& options) {
   builder.SetMaxReceiveMessageSize(static_cast<int>(
       std::min<std::uint64_t>(INT32_MAX, 24ull * limits.max_particles + (1 << 20))));
   std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
-  if (!server || grpc_port == 0) {
-    std::fprintf(stderr,
-                 "fluidcast-server: cannot listen for gRPC on %s: the address is in use (another "
-                 "server?) or not one of this machine's (--listen, --grpc-port)\n",
-                 grpc_address.c_str());
-    return kBadFlag;
-  }
+  if (!server || grpc_port == 0) return in_use();
+  if (grpc_listener) grpc_listener->start(*server);
   grpc::HealthCheckServiceInterface* health = server->GetHealthCheckService();
   health->SetServingStatus(true);
 
@@ -257,6 +307,7 @@ int serve(const ServerOptions& options) {
   }
   spdlog::info("ending every stream");
   hub.stop();  // every stream ends with UNAVAILABLE; new ones are refused
+  if (grpc_listener) grpc_listener->stop();
   server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(3));
   http.stop();
   spdlog::info("stopped");

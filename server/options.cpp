@@ -78,6 +78,20 @@ ServerOptions parse_server_options(int argc, char** argv) {
                  "streams end (0: never)")
       ->envname("FLUIDCAST_IDLE_TIMEOUT")
       ->check(CLI::Range(0u, 604800u));
+  unsigned hello = static_cast<unsigned>(l.hello_timeout.count());
+  app.add_option("--hello-timeout", hello,
+                 "Seconds a new stream may take to send its Hello before it is ended")
+      ->envname("FLUIDCAST_HELLO_TIMEOUT")
+      ->check(CLI::Range(1u, 600u));
+  app.add_option("--max-connections", l.max_connections,
+                 "HTTP and WebSocket connections open at once (at most half the descriptors the "
+                 "process may open)")
+      ->envname("FLUIDCAST_MAX_CONNECTIONS")
+      ->check(CLI::Range(1u, 1u << 20));
+  app.add_option("--max-connections-per-address", l.max_connections_per_address,
+                 "HTTP and WebSocket connections open at once from one address")
+      ->envname("FLUIDCAST_MAX_CONNECTIONS_PER_ADDRESS")
+      ->check(CLI::Range(1u, 1u << 20));
   app.add_option("--tls-cert", o.tls_certificate,
                  "TLS certificate chain (PEM) for gRPC and the page's HTTPS (without it the page "
                  "gets a self-signed one, made in --state-dir, and gRPC is plaintext)")
@@ -127,6 +141,7 @@ ServerOptions parse_server_options(int argc, char** argv) {
   o.log_format = parse_log_format(log_format);
   l.resume_grace = std::chrono::seconds(grace);
   l.idle_timeout = std::chrono::seconds(idle);
+  l.hello_timeout = std::chrono::seconds(hello);
   o.backend = backend == "gpu"   ? SolverBackend::gpu
               : backend == "cpu" ? SolverBackend::cpu
                                  : SolverBackend::automatic;

@@ -2,7 +2,9 @@
 
 #include <spdlog/spdlog.h>
 
+#include <chrono>
 #include <mutex>
+#include <string>
 
 #include "session/outgoing_messages.h"
 #include "status.h"
@@ -25,6 +27,19 @@ class GrpcViewerSink final : public ViewerSink {
   }
 
   void end(const Refusal& why) override { finish(to_status(why)); }
+
+  // Ends a stream that has sent no Hello yet; false when one came meanwhile (or it is ending).
+  bool end_unopened(const Refusal& why) {
+    std::lock_guard lock(mutex_);
+    if (!reactor_ || finishing_ || hello_came_) return false;
+    finishing_ = true;
+    reactor_->Finish(to_status(why));
+    return true;
+  }
+  void hello_came() {
+    std::lock_guard lock(mutex_);
+    hello_came_ = true;
+  }
 
   void finish(const grpc::Status& status) {
     std::lock_guard lock(mutex_);
@@ -94,6 +109,7 @@ class GrpcViewerSink final : public ViewerSink {
   Metrics* metrics_;
   bool writing_ = false;
   bool finishing_ = false;
+  bool hello_came_ = false;
   std::shared_ptr<const v1::ServerMessage> writing_message_;
   OutgoingMessages outgoing_;
   std::optional<grpc::Status> status_after_write_;
@@ -103,6 +119,18 @@ StreamReactor::StreamReactor(SessionHub& hub)
     : hub_(&hub),
       sink_(std::make_shared<GrpcViewerSink>(this, hub.metrics())),
       rates_(hub.limits()) {
+  // The alarm's reaction holds the sink, not the reactor: it may run after the stream is done.
+  hello_deadline_.Set(std::chrono::system_clock::now() + hub.limits().hello_timeout,
+                      [sink = sink_, hub = hub_](bool fired) {
+                        if (!fired) return;  // cancelled: the Hello came, or the stream ended
+                        const Refusal late(RefusalCode::deadline_exceeded,
+                                           "no Hello within " +
+                                               std::to_string(hub->limits().hello_timeout.count()) +
+                                               " s of the stream opening");
+                        if (sink->end_unopened(late)) {
+                          hub->metrics().refused(Transport::grpc, late.code());
+                        }
+                      });
   StartRead(&incoming_);
 }
 
@@ -121,6 +149,8 @@ void StreamReactor::OnReadDone(bool ok) {
   }
   try {
     if (!session_) {
+      sink_->hello_came();
+      hello_deadline_.Cancel();
       validate_hello(incoming_, hub_->limits(), hub_->token());
       // The next read starts once the session is open (on_opened).
       hub_->open(incoming_.hello(), sink_, [sink = sink_, hub = hub_](SessionHub::Opened opened) {

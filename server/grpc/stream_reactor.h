@@ -1,8 +1,10 @@
 // One gRPC Stream call: validates what the client sends, hands it to its session, and writes the
 // session's frames — the newest wins, one write in flight (gRPC's callback rules: never Finish
-// with a write outstanding, never block in a reaction).
+// with a write outstanding, never block in a reaction). A stream that sends no Hello within
+// ServerLimits::hello_timeout is ended with DEADLINE_EXCEEDED.
 #pragma once
 
+#include <grpcpp/alarm.h>
 #include <grpcpp/grpcpp.h>
 
 #include <memory>
@@ -34,6 +36,7 @@ class StreamReactor final : public grpc::ServerBidiReactor<v1::ClientMessage, v1
   std::shared_ptr<GrpcViewerSink> sink_;
   v1::ClientMessage incoming_;
   StreamRates rates_;
+  grpc::Alarm hello_deadline_;
   // Set once, on the worker's thread, before the next read starts; read by reactions after.
   std::shared_ptr<Session> session_;
   std::uint32_t viewer_ = 0;

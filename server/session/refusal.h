@@ -15,7 +15,7 @@ enum class RefusalCode {
   failed_precondition,
   unavailable,
   internal,  // the server failed (out of GPU memory, a device lost): not the client's doing
-  deadline_exceeded,  // the session idled out: no viewer's input for ServerLimits::idle_timeout
+  deadline_exceeded,  // no viewer's input for ServerLimits::idle_timeout, or no Hello in time
 };
 
 // The code's name as gRPC spells it: the WebSocket's close reason and the metrics' label.

@@ -30,6 +30,13 @@ struct ServerLimits {
   // for this long ends their streams (DEADLINE_EXCEEDED) and frees the GPU; 0: never. A phone
   // left on a table should not hold a GPU's share forever.
   std::chrono::seconds idle_timeout{600};
+  // A stream (gRPC or WebSocket) that sends no Hello this long after it opens is ended
+  // (DEADLINE_EXCEEDED): an idle connection must not hold a descriptor forever.
+  std::chrono::seconds hello_timeout{10};
+  // HTTP and WebSocket connections open at once, in all and from one address; one over either is
+  // closed as soon as it is accepted. The total is lowered to half the process's descriptors.
+  std::uint32_t max_connections = 4096;
+  std::uint32_t max_connections_per_address = 64;
 };
 
 }  // namespace fluidcast::server

@@ -35,8 +35,12 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
   using std::enable_shared_from_this<Connection<Stream>>::shared_from_this;
 
  public:
-  Connection(Stream stream, beast::flat_buffer buffer, const HttpServer::Routes& routes)
-      : stream_(std::move(stream)), routes_(&routes), buffer_(std::move(buffer)) {}
+  Connection(Stream stream, beast::flat_buffer buffer, const HttpServer::Routes& routes,
+             std::shared_ptr<ConnectionLimits::Slot> slot)
+      : stream_(std::move(stream)),
+        routes_(&routes),
+        slot_(std::move(slot)),
+        buffer_(std::move(buffer)) {}
 
   void read() {
     request_ = {};
@@ -48,7 +52,8 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
                            self->request_.target() == "/ws" && self->routes_->websocket) {
                          beast::get_lowest_layer(self->stream_).expires_never();
                          self->routes_->websocket(WebStream(std::move(self->stream_)),
-                                                  std::move(self->request_));
+                                                  std::move(self->request_),
+                                                  std::move(self->slot_));
                          return;
                        }
                        self->respond();
@@ -102,14 +107,16 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
                           self->read();
                         } else {
                           beast::error_code ignored;
-                          beast::get_lowest_layer(self->stream_).socket().shutdown(
-                              tcp::socket::shutdown_send, ignored);
+                          beast::get_lowest_layer(self->stream_)
+                              .socket()
+                              .shutdown(tcp::socket::shutdown_send, ignored);
                         }
                       });
   }
 
   Stream stream_;
   const HttpServer::Routes* routes_;
+  std::shared_ptr<ConnectionLimits::Slot> slot_;
   beast::flat_buffer buffer_;
   http::request<http::string_body> request_;
 };
@@ -119,23 +126,27 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
 class Detector : public std::enable_shared_from_this<Detector> {
  public:
   Detector(tcp::socket socket, const HttpServer::Routes& routes,
-           std::shared_ptr<boost::asio::ssl::context> tls)
-      : stream_(std::move(socket)), routes_(&routes), tls_(std::move(tls)) {}
+           std::shared_ptr<boost::asio::ssl::context> tls,
+           std::shared_ptr<ConnectionLimits::Slot> slot)
+      : stream_(std::move(socket)),
+        routes_(&routes),
+        tls_(std::move(tls)),
+        slot_(std::move(slot)) {}
 
   void run() {
     stream_.expires_after(std::chrono::seconds(30));
-    beast::async_detect_ssl(stream_, buffer_,
-                            [self = shared_from_this()](beast::error_code error, bool tls) {
-                              if (error) return;
-                              if (tls && self->tls_) {
-                                self->handshake();
-                              } else {
-                                std::make_shared<Connection<beast::tcp_stream>>(
-                                    std::move(self->stream_), std::move(self->buffer_),
-                                    *self->routes_)
-                                    ->read();
-                              }
-                            });
+    beast::async_detect_ssl(
+        stream_, buffer_, [self = shared_from_this()](beast::error_code error, bool tls) {
+          if (error) return;
+          if (tls && self->tls_) {
+            self->handshake();
+          } else {
+            std::make_shared<Connection<beast::tcp_stream>>(std::move(self->stream_),
+                                                            std::move(self->buffer_),
+                                                            *self->routes_, std::move(self->slot_))
+                ->read();
+          }
+        });
   }
 
  private:
@@ -147,7 +158,7 @@ class Detector : public std::enable_shared_from_this<Detector> {
           if (error) return;  // a browser that does not trust the certificate yet, say
           self->buffer_.consume(used);
           std::make_shared<Connection<TlsStream>>(std::move(*secure), std::move(self->buffer_),
-                                                  *self->routes_)
+                                                  *self->routes_, std::move(self->slot_))
               ->read();
         });
   }
@@ -155,26 +166,26 @@ class Detector : public std::enable_shared_from_this<Detector> {
   beast::tcp_stream stream_;
   const HttpServer::Routes* routes_;
   std::shared_ptr<boost::asio::ssl::context> tls_;
+  std::shared_ptr<ConnectionLimits::Slot> slot_;
   beast::flat_buffer buffer_;
 };
 
 }  // namespace
 
 HttpServer::HttpServer(const std::string& address, unsigned short port, Routes routes,
-                       std::shared_ptr<boost::asio::ssl::context> tls, unsigned threads)
-    : routes_(std::move(routes)), tls_(std::move(tls)), acceptor_(io_) {
-  try {
-    const tcp::endpoint endpoint(boost::asio::ip::make_address(address), port);
-    acceptor_.open(endpoint.protocol());
-    acceptor_.set_option(boost::asio::socket_base::reuse_address(true));
-    acceptor_.bind(endpoint);
-    acceptor_.listen();
-    port_ = acceptor_.local_endpoint().port();
-  } catch (const std::exception& e) {
-    throw std::runtime_error("HTTP: cannot listen on " + address + ":" + std::to_string(port) +
-                             ": " + e.what());
-  }
-  accept();
+                       ConnectionLimits limits, std::shared_ptr<boost::asio::ssl::context> tls,
+                       unsigned threads)
+    : routes_(std::move(routes)),
+      limits_(std::move(limits)),
+      tls_(std::move(tls)),
+      listener_(io_, address, port, "HTTP") {
+  listener_.start([this](tcp::socket socket) {
+    boost::system::error_code unknown;
+    const auto peer = socket.remote_endpoint(unknown);
+    if (auto slot = unknown ? nullptr : limits_.admit(peer.address())) {
+      std::make_shared<Detector>(std::move(socket), routes_, tls_, std::move(slot))->run();
+    }  // else the socket closes here: over a limit
+  });
   for (unsigned k = 0; k < threads; ++k) threads_.emplace_back([this] { io_.run(); });
 }
 
@@ -185,16 +196,6 @@ void HttpServer::stop() {
   for (auto& thread : threads_) {
     if (thread.joinable()) thread.join();
   }
-}
-
-void HttpServer::accept() {
-  acceptor_.async_accept(boost::asio::make_strand(io_),
-                         [this](beast::error_code error, tcp::socket socket) {
-                           if (!error) {
-                             std::make_shared<Detector>(std::move(socket), routes_, tls_)->run();
-                           }
-                           if (acceptor_.is_open()) accept();
-                         });
 }
 
 }  // namespace fluidcast::server

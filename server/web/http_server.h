@@ -1,16 +1,18 @@
 // The server's HTTP side (Boost.Beast): the phone page and its files, the WebSocket on /ws,
 // GET /metrics (Prometheus text) and GET /healthz, over plain HTTP and, with a TLS context, HTTPS
 // on the same port (each connection's first bytes say which). One io_context on its own threads;
-// each connection runs on its own strand and handles one request at a time.
+// each connection runs on its own strand and handles one request at a time. Connections are
+// counted against ConnectionLimits; when the process runs out of descriptors the acceptor waits
+// and tries again (the server then says it is unhealthy) instead of spinning.
 #pragma once
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
 #include <boost/asio/ssl/context.hpp>
 #include <boost/beast/core/tcp_stream.hpp>
-#include <boost/beast/ssl/ssl_stream.hpp>
 #include <boost/beast/http/message.hpp>
 #include <boost/beast/http/string_body.hpp>
+#include <boost/beast/ssl/ssl_stream.hpp>
 #include <filesystem>
 #include <functional>
 #include <map>
@@ -19,6 +21,9 @@
 #include <thread>
 #include <variant>
 #include <vector>
+
+#include "net/listener.h"
+#include "web/connection_limits.h"
 
 namespace fluidcast::server {
 
@@ -31,8 +36,9 @@ class HttpServer {
   struct Routes {
     std::function<std::string()> metrics;  // the body of /metrics
     std::function<bool()> healthy;         // /healthz: 200 when true, else 503
-    // Takes over a WebSocket upgrade of /ws.
-    std::function<void(WebStream, boost::beast::http::request<boost::beast::http::string_body>)>
+    // Takes over a WebSocket upgrade of /ws, with the connection's slot to hold while it is open.
+    std::function<void(WebStream, boost::beast::http::request<boost::beast::http::string_body>,
+                       std::shared_ptr<ConnectionLimits::Slot>)>
         websocket;
     // GET paths served from files ("/" is index.html).
     std::map<std::string, std::filesystem::path> files;
@@ -40,22 +46,23 @@ class HttpServer {
   // Listens on address:port (port 0: any free one); throws std::runtime_error naming the address
   // when it cannot. With `tls`, connections that open with a TLS handshake get HTTPS.
   HttpServer(const std::string& address, unsigned short port, Routes routes,
-             std::shared_ptr<boost::asio::ssl::context> tls = nullptr, unsigned threads = 2);
+             ConnectionLimits limits, std::shared_ptr<boost::asio::ssl::context> tls = nullptr,
+             unsigned threads = 2);
   ~HttpServer();
   HttpServer(const HttpServer&) = delete;
   HttpServer& operator=(const HttpServer&) = delete;
 
-  unsigned short port() const { return port_; }
+  unsigned short port() const { return listener_.port(); }
+  // False while new connections cannot be accepted (no descriptors left).
+  bool accepting() const { return listener_.accepting(); }
   void stop();
 
  private:
-  void accept();
-
   Routes routes_;
+  ConnectionLimits limits_;
   std::shared_ptr<boost::asio::ssl::context> tls_;
   boost::asio::io_context io_;
-  boost::asio::ip::tcp::acceptor acceptor_;
-  unsigned short port_ = 0;
+  Listener listener_;
   std::vector<std::thread> threads_;
 };
 

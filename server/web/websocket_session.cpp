@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <boost/asio/post.hpp>
+#include <boost/asio/steady_timer.hpp>
 #include <boost/beast/core/flat_buffer.hpp>
 #include <boost/beast/ssl.hpp>
 #include <boost/beast/websocket.hpp>
@@ -31,10 +32,25 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
   using std::enable_shared_from_this<WebSocketSession<Stream>>::weak_from_this;
 
  public:
-  WebSocketSession(Stream stream, SessionHub& hub)
-      : socket_(std::move(stream)), hub_(&hub), rates_(hub.limits()) {}
+  WebSocketSession(Stream stream, std::shared_ptr<ConnectionLimits::Slot> slot, SessionHub& hub)
+      : socket_(std::move(stream)),
+        slot_(std::move(slot)),
+        hub_(&hub),
+        rates_(hub.limits()),
+        hello_deadline_(socket_.get_executor()) {}
 
   void start(beast::http::request<beast::http::string_body> request) {
+    hello_deadline_.expires_after(hub_->limits().hello_timeout);
+    hello_deadline_.async_wait([self = shared_from_this()](beast::error_code error) {
+      if (error || self->session_ || self->opening_) return;  // cancelled, or the Hello came
+      const Refusal late(RefusalCode::deadline_exceeded,
+                         "no Hello within " +
+                             std::to_string(self->hub_->limits().hello_timeout.count()) +
+                             " s of the WebSocket opening");
+      self->hub_->metrics().refused(Transport::websocket, late.code());
+      self->end(late.code(), late.what());
+      self->leave();
+    });
     // Pings after 5 s of silence; a phone that does not answer within 15 s is gone, and its
     // viewer leaves (a resume finds its camera).
     socket_.set_option(
@@ -98,7 +114,9 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
     try {
       if (!parsed) throw Refusal(RefusalCode::invalid_argument, "not a fluidcast.v1.ClientMessage");
       if (!session_) {
+        hello_deadline_.cancel();
         validate_hello(message, hub_->limits(), hub_->token());
+        opening_ = true;
         open(message.hello());
         return;  // the next read starts once the session is open
       }
@@ -181,6 +199,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
 
   // The viewer leaves its session (once).
   void leave() {
+    hello_deadline_.cancel();
     ending_ = true;
     outgoing_.stop_frames();
     if (session_) hub_->close(std::move(session_), viewer_);
@@ -188,6 +207,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
   }
 
   websocket::stream<Stream> socket_;
+  std::shared_ptr<ConnectionLimits::Slot> slot_;
   SessionHub* hub_;
   beast::flat_buffer buffer_;
   StreamRates rates_;
@@ -195,17 +215,19 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
   std::uint32_t viewer_ = 0;
   std::shared_ptr<std::string> writing_;
   OutgoingMessages outgoing_;
+  boost::asio::steady_timer hello_deadline_;
+  bool opening_ = false;  // a Hello came; its session is being opened
   bool ending_ = false, closed_ = false;
 };
 
 }  // namespace
 
 void serve_websocket(WebStream stream, beast::http::request<beast::http::string_body> request,
-                     SessionHub& hub) {
+                     std::shared_ptr<ConnectionLimits::Slot> slot, SessionHub& hub) {
   std::visit(
       [&](auto& connection) {
         using Stream = std::decay_t<decltype(connection)>;
-        std::make_shared<WebSocketSession<Stream>>(std::move(connection), hub)
+        std::make_shared<WebSocketSession<Stream>>(std::move(connection), std::move(slot), hub)
             ->start(std::move(request));
       },
       stream);

@@ -13,9 +13,10 @@
 
 namespace fluidcast::server {
 
-// Takes over an upgrade request's connection; keeps itself alive while the socket is open.
+// Takes over an upgrade request's connection, and its slot; keeps itself alive while the socket
+// is open. A socket that sends no Hello within ServerLimits::hello_timeout is ended.
 void serve_websocket(WebStream stream,
                      boost::beast::http::request<boost::beast::http::string_body> request,
-                     SessionHub& hub);
+                     std::shared_ptr<ConnectionLimits::Slot> slot, SessionHub& hub);
 
 }  // namespace fluidcast::server

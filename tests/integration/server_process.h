@@ -3,6 +3,7 @@
 #pragma once
 
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -18,15 +19,16 @@ namespace fluidcast::testing {
 
 class ServerProcess {
  public:
-  explicit ServerProcess(std::vector<std::string> flags = {}) {
+  // `descriptors`: the process's limit on open files, soft and hard (0: as inherited).
+  explicit ServerProcess(std::vector<std::string> flags = {}, rlim_t descriptors = 0) {
     int out[2];
     if (pipe(out) != 0) throw std::runtime_error("pipe failed");
     // Its own state folder (the page's self-signed certificate), not the person's home.
     std::string state = (std::filesystem::temp_directory_path() / "fluidcast-test-XXXXXX").string();
     if (!mkdtemp(state.data())) throw std::runtime_error("mkdtemp failed");
     state_ = state;
-    std::vector<std::string> args = {FLUIDCAST_SERVER_PATH, "--listen", "127.0.0.1",
-                                     "--http-port", "0", "--state-dir", state};
+    std::vector<std::string> args = {
+        FLUIDCAST_SERVER_PATH, "--listen", "127.0.0.1", "--http-port", "0", "--state-dir", state};
     // Any free port, unless the flags name one (a restart on the same address).
     if (std::find(flags.begin(), flags.end(), "--grpc-port") == flags.end()) {
       args.insert(args.end(), {"--grpc-port", "0"});
@@ -34,6 +36,10 @@ class ServerProcess {
     args.insert(args.end(), flags.begin(), flags.end());
     pid_ = fork();
     if (pid_ == 0) {
+      if (descriptors) {
+        const rlimit limit{descriptors, descriptors};
+        setrlimit(RLIMIT_NOFILE, &limit);
+      }
       dup2(out[1], STDOUT_FILENO);
       close(out[0]);
       std::vector<char*> argv;
@@ -78,6 +84,17 @@ class ServerProcess {
     return kb;
   }
   int http_port() const { return http_port_; }
+  // CPU time the process has used (user and system), seconds.
+  double cpu_seconds() const {
+    std::FILE* stat = std::fopen(("/proc/" + std::to_string(pid_) + "/stat").c_str(), "r");
+    if (!stat) return -1;
+    unsigned long user = 0, system = 0;
+    // Fields 14 and 15, after the command in parentheses (which has no spaces here).
+    const int read = std::fscanf(
+        stat, "%*d %*s %*c %*d %*d %*d %*d %*d %*u %*u %*u %*u %*u %lu %lu", &user, &system);
+    std::fclose(stat);
+    return read == 2 ? static_cast<double>(user + system) / sysconf(_SC_CLK_TCK) : -1;
+  }
 
   // SIGTERM; returns the exit status (-1 when it did not exit normally).
   int stop() {

@@ -1,0 +1,84 @@
+#include "net/listener.h"
+
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <boost/asio/post.hpp>
+#include <boost/asio/strand.hpp>
+#include <cerrno>
+#include <stdexcept>
+
+namespace fluidcast::server {
+namespace {
+
+using tcp = boost::asio::ip::tcp;
+
+// Whether the process could open one more descriptor now.
+bool descriptor_free() {
+  const int probe = dup(STDIN_FILENO);
+  if (probe < 0) return errno != EMFILE && errno != ENFILE;
+  ::close(probe);
+  return true;
+}
+
+}  // namespace
+
+Listener::Listener(boost::asio::io_context& io, const std::string& address, unsigned short port,
+                   std::string what)
+    : what_(std::move(what)), io_(&io), acceptor_(io), retry_(io) {
+  try {
+    const tcp::endpoint endpoint(boost::asio::ip::make_address(address), port);
+    acceptor_.open(endpoint.protocol());
+    // Over a closed connection's TIME_WAIT, not over another listener (no SO_REUSEPORT).
+    acceptor_.set_option(boost::asio::socket_base::reuse_address(true));
+    acceptor_.bind(endpoint);
+    acceptor_.listen();
+    port_ = acceptor_.local_endpoint().port();
+  } catch (const std::exception& e) {
+    throw std::runtime_error(what_ + ": cannot listen on " + address + ":" + std::to_string(port) +
+                             ": " + e.what());
+  }
+}
+
+void Listener::start(std::function<void(tcp::socket)> take) {
+  take_ = std::move(take);
+  accept();
+}
+
+void Listener::close() {
+  boost::asio::post(acceptor_.get_executor(), [this] {
+    boost::system::error_code ignored;
+    acceptor_.close(ignored);
+    retry_.cancel();
+  });
+}
+
+void Listener::accept() {
+  acceptor_.async_accept(boost::asio::make_strand(*io_), [this](boost::system::error_code error,
+                                                                tcp::socket socket) {
+    if (!acceptor_.is_open()) return;
+    if (error == boost::asio::error::no_descriptors ||
+        error == boost::asio::error::no_buffer_space || error == boost::asio::error::no_memory) {
+      if (accepting_.exchange(false)) {
+        spdlog::warn("{}: cannot accept connections: {}; trying again every {} ms", what_,
+                     error.message(), kRetry.count());
+      }
+      retry_.expires_after(kRetry);
+      retry_.async_wait([this](boost::system::error_code cancelled) {
+        if (cancelled) return;
+        if (descriptor_free() && !accepting_.exchange(true)) {
+          spdlog::info("{}: descriptors are back: accepting connections again", what_);
+        }
+        accept();
+      });
+      return;
+    }
+    if (!error) {
+      if (!accepting_.exchange(true)) spdlog::info("{}: accepting connections again", what_);
+      take_(std::move(socket));
+    }
+    accept();
+  });
+}
+
+}  // namespace fluidcast::server

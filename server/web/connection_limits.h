@@ -1,0 +1,49 @@
+// The HTTP side's open connections, in all and from each address, against the operator's limits
+// (ServerLimits::max_connections, max_connections_per_address): a connection over either is
+// closed as soon as it is accepted, before it costs more than its descriptor.
+#pragma once
+
+#include <boost/asio/ip/address.hpp>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+
+namespace fluidcast::server {
+
+class ConnectionLimits {
+  struct Tally {
+    std::mutex mutex;
+    std::uint32_t total = 0;
+    std::map<boost::asio::ip::address, std::uint32_t> per_address;
+  };
+
+ public:
+  // One connection, counted while it lives (it goes with the connection, whichever object holds
+  // it: the request reader, then a WebSocket).
+  class Slot {
+   public:
+    Slot(std::shared_ptr<Tally> tally, boost::asio::ip::address address)
+        : tally_(std::move(tally)), address_(std::move(address)) {}
+    ~Slot();
+    Slot(const Slot&) = delete;
+    Slot& operator=(const Slot&) = delete;
+
+   private:
+    std::shared_ptr<Tally> tally_;
+    boost::asio::ip::address address_;
+  };
+
+  ConnectionLimits(std::uint32_t total, std::uint32_t per_address)
+      : most_total_(total), most_per_address_(per_address) {}
+
+  // A slot for a connection from `address`; null when it would pass a limit.
+  std::shared_ptr<Slot> admit(const boost::asio::ip::address& address);
+  std::uint32_t open() const;
+
+ private:
+  std::uint32_t most_total_, most_per_address_;
+  std::shared_ptr<Tally> tally_ = std::make_shared<Tally>();
+};
+
+}  // namespace fluidcast::server

@@ -1,0 +1,179 @@
+// What an idle or greedy client can hold of the real server on loopback: streams that send no
+// Hello end at their deadline on both transports, HTTP and WebSocket connections over the limits
+// are closed while the others are served, and when the process runs out of descriptors it neither
+// spins nor stays deaf once they come back.
+#include <arpa/inet.h>
+#include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <boost/asio/connect.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/beast/core/flat_buffer.hpp>
+#include <boost/beast/websocket.hpp>
+#include <chrono>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "fluidcast/v1/fluidcast.grpc.pb.h"
+#include "server_process.h"
+#include "stream_client.h"
+
+namespace fluidcast {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using std::chrono::milliseconds;
+using std::chrono::seconds;
+
+// A TCP connection to loopback that sends nothing; reads give up after `timeout`.
+class RawConnection {
+ public:
+  RawConnection(int port, milliseconds timeout = milliseconds(2000)) {
+    fd_ = socket(AF_INET, SOCK_STREAM, 0);
+    const timeval wait{static_cast<time_t>(timeout.count() / 1000),
+                       static_cast<suseconds_t>(timeout.count() % 1000 * 1000)};
+    setsockopt(fd_, SOL_SOCKET, SO_RCVTIMEO, &wait, sizeof wait);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_port = htons(static_cast<std::uint16_t>(port));
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    connected_ = connect(fd_, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0;
+  }
+  ~RawConnection() {
+    if (fd_ >= 0) close(fd_);
+  }
+  RawConnection(const RawConnection&) = delete;
+  RawConnection& operator=(const RawConnection&) = delete;
+
+  bool connected() const { return connected_; }
+  // True when the server closed it (a read sees the end) within the timeout.
+  bool closed_by_server() {
+    char byte;
+    return recv(fd_, &byte, 1, 0) == 0;
+  }
+  // The status line of GET `path`, or "" when no answer came within the timeout.
+  std::string get(const std::string& path) {
+    const std::string request = "GET " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n";
+    if (send(fd_, request.data(), request.size(), MSG_NOSIGNAL) < 0) return "";
+    char reply[256];
+    const ssize_t got = recv(fd_, reply, sizeof reply - 1, 0);
+    if (got <= 0) return "";
+    const std::string text(reply, static_cast<std::size_t>(got));
+    return text.substr(0, text.find("\r\n"));
+  }
+
+ private:
+  int fd_ = -1;
+  bool connected_ = false;
+};
+
+TEST(ConnectionLimitsTest, AgRpcStreamThatSendsNoHelloEndsAtItsDeadline) {
+  testing::ServerProcess server({"--hello-timeout", "1"});
+  auto stub = v1::Fluidcast::NewStub(client::connect(server.grpc_address()));
+  grpc::ClientContext context;
+  context.set_deadline(std::chrono::system_clock::now() + seconds(30));
+  const auto opened = Clock::now();
+  auto stream = stub->Stream(&context);
+  v1::ServerMessage message;
+  while (stream->Read(&message)) {
+  }
+  const grpc::Status status = stream->Finish();
+  const double waited = std::chrono::duration<double>(Clock::now() - opened).count();
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::DEADLINE_EXCEEDED) << status.error_message();
+  EXPECT_NE(status.error_message().find("no Hello within 1 s"), std::string::npos)
+      << status.error_message();
+  EXPECT_GE(waited, 0.9);
+  EXPECT_LT(waited, 10.0);
+}
+
+TEST(ConnectionLimitsTest, AWebSocketThatSendsNoHelloEndsAtItsDeadline) {
+  testing::ServerProcess server({"--hello-timeout", "1"});
+  namespace websocket = boost::beast::websocket;
+  boost::asio::io_context io;
+  websocket::stream<boost::asio::ip::tcp::socket> socket(io);
+  socket.next_layer().connect({boost::asio::ip::make_address("127.0.0.1"),
+                               static_cast<unsigned short>(server.http_port())});
+  const timeval wait{20, 0};  // a server that never ends it fails the test instead of hanging it
+  setsockopt(socket.next_layer().native_handle(), SOL_SOCKET, SO_RCVTIMEO, &wait, sizeof wait);
+  socket.handshake("127.0.0.1", "/ws");
+  const auto opened = Clock::now();
+  boost::beast::flat_buffer buffer;
+  boost::beast::error_code error;
+  socket.read(buffer, error);
+  ASSERT_FALSE(error) << error.message();
+  v1::ServerMessage message;
+  ASSERT_TRUE(message.ParseFromArray(buffer.data().data(), static_cast<int>(buffer.size())));
+  ASSERT_TRUE(message.has_end());
+  EXPECT_EQ(message.end().code(), "DEADLINE_EXCEEDED");
+  EXPECT_NE(message.end().message().find("no Hello within 1 s"), std::string::npos)
+      << message.end().message();
+  EXPECT_GE(std::chrono::duration<double>(Clock::now() - opened).count(), 0.9);
+  buffer.clear();
+  socket.read(buffer, error);  // then the server closes it
+  EXPECT_EQ(error, websocket::error::closed) << error.message();
+}
+
+TEST(ConnectionLimitsTest, ConnectionsOverTheLimitFromOneAddressAreClosedOthersServed) {
+  testing::ServerProcess server({"--max-connections-per-address", "4"});
+  std::vector<std::unique_ptr<RawConnection>> held;
+  for (int k = 0; k < 4; ++k) held.push_back(std::make_unique<RawConnection>(server.http_port()));
+  // The fifth is closed as soon as it is accepted; the four are still served.
+  RawConnection fifth(server.http_port());
+  ASSERT_TRUE(fifth.connected());
+  EXPECT_TRUE(fifth.closed_by_server());
+  EXPECT_EQ(held[0]->get("/healthz"), "HTTP/1.1 200 OK");
+  // One leaves: a new one takes its place.
+  held.pop_back();
+  std::this_thread::sleep_for(milliseconds(200));
+  RawConnection next(server.http_port());
+  EXPECT_EQ(next.get("/healthz"), "HTTP/1.1 200 OK");
+}
+
+TEST(ConnectionLimitsTest, WhenDescriptorsRunOutItWaitsAndServesAgainOnceTheyAreBack) {
+  // 96 descriptors in all: connections to the gRPC port (which has no limit of its own) take
+  // the rest, and neither port can accept. (gRPC's own acceptor would stop for good here.)
+  testing::ServerProcess server({}, 96);
+  RawConnection monitor(server.http_port());  // a load balancer's, open before
+  ASSERT_EQ(monitor.get("/healthz"), "HTTP/1.1 200 OK");
+  std::vector<std::unique_ptr<RawConnection>> flood;
+  const std::string address = server.grpc_address();
+  const int grpc_port = std::stoi(address.substr(address.rfind(':') + 1));
+  for (int k = 0; k < 120; ++k) flood.push_back(std::make_unique<RawConnection>(grpc_port));
+  std::this_thread::sleep_for(milliseconds(500));
+  {
+    RawConnection starved(server.http_port(), milliseconds(1000));
+    EXPECT_EQ(starved.get("/healthz"), "") << "answered with no descriptors left?";
+  }
+  EXPECT_EQ(monitor.get("/healthz"), "HTTP/1.1 503 Service Unavailable")
+      << "healthy while it cannot accept?";
+  // While starved, the acceptor waits between attempts instead of spinning on the error.
+  const double cpu_before = server.cpu_seconds();
+  std::this_thread::sleep_for(seconds(2));
+  const double cpu_spent = server.cpu_seconds() - cpu_before;
+  EXPECT_LT(cpu_spent, 0.5) << "the server spun while out of descriptors";
+  flood.clear();
+  // Once they are back, new clients are served again within seconds, and it says it is healthy.
+  std::string answer;
+  const auto freed = Clock::now();
+  while (answer != "HTTP/1.1 200 OK" && Clock::now() - freed < seconds(10)) {
+    RawConnection client(server.http_port(), milliseconds(500));
+    answer = client.get("/healthz");
+  }
+  EXPECT_EQ(answer, "HTTP/1.1 200 OK");
+  std::printf("HTTP served again %.1f s after the descriptors came back\n",
+              std::chrono::duration<double>(Clock::now() - freed).count());
+  auto stub = v1::Fluidcast::NewStub(client::connect(server.grpc_address()));
+  grpc::ClientContext context;
+  context.set_deadline(std::chrono::system_clock::now() + seconds(20));
+  v1::ServerInfo info;
+  const grpc::Status status = stub->GetServerInfo(&context, {}, &info);
+  EXPECT_TRUE(status.ok()) << "gRPC: " << status.error_message();
+  std::printf("gRPC served again %.1f s after\n",
+              std::chrono::duration<double>(Clock::now() - freed).count());
+}
+
+}  // namespace
+}  // namespace fluidcast
