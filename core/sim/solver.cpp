@@ -1,15 +1,15 @@
 #include "fluidcast/sim/solver.h"
 
-#include "fluidcast/sim/neighbour_grid.h"
-
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <string>
+#include <unordered_map>
+
+#include "fluidcast/sim/neighbour_grid.h"
 
 namespace fluidcast::sim {
 namespace {
-
 
 std::string str(glm::vec3 v) {
   std::ostringstream out;
@@ -46,7 +46,8 @@ Solver::Solver(Scene scene, const SolverParams& params)
     throw ParamError("scene: positions, velocities and ids differ in count");
   }
   for (std::size_t i = 0; i < p.size(); ++i) {
-    if (!is_finite(p.position[i]) || !is_finite(p.velocity[i]) || !scene_.tank.contains(p.position[i])) {
+    if (!is_finite(p.position[i]) || !is_finite(p.velocity[i]) ||
+        !scene_.tank.contains(p.position[i])) {
       throw ParamError("scene: particle " + std::to_string(i) + " at " + str(p.position[i]) +
                        " is not finite or not inside the tank");
     }
@@ -61,11 +62,12 @@ Solver::Solver(Scene scene, const SolverParams& params)
   const glm::vec3 cells = glm::ceil(size * (NeighbourGrid::kCellsPerRadius / fluid_.kernel_radius));
   const double cell_count = double(cells.x) * cells.y * cells.z;
   if (cell_count > double(NeighbourGrid::kMaxCells)) {
-    throw ParamError("--particles, --tank-length, --tank-height, --depth: the neighbour grid would "
-                     "need " + std::to_string(static_cast<long long>(cell_count)) +
-                     " cells of half the kernel radius " + std::to_string(fluid_.kernel_radius) +
-                     " m, over the limit of " + std::to_string(NeighbourGrid::kMaxCells) +
-                     "; use fewer particles or a smaller tank");
+    throw ParamError(
+        "--particles, --tank-length, --tank-height, --depth: the neighbour grid would "
+        "need " +
+        std::to_string(static_cast<long long>(cell_count)) + " cells of half the kernel radius " +
+        std::to_string(fluid_.kernel_radius) + " m, over the limit of " +
+        std::to_string(NeighbourGrid::kMaxCells) + "; use fewer particles or a smaller tank");
   }
   if (scene_.particles.size() > static_cast<std::size_t>(params_.max_particles)) {
     throw ParamError("--particles: the scene has " + std::to_string(scene_.particles.size()) +
@@ -108,8 +110,8 @@ void Solver::set_colliders(std::span<const Collider> colliders) {
             name + ": radius must be in (0, " + std::to_string(kMaxColliderRadius) + "] m, got " +
                 std::to_string(c.radius));
     require(is_finite(c.velocity) && within_limit(c.velocity, kMaxSpeed),
-            name + ": velocity must be finite with magnitude at most " +
-                std::to_string(kMaxSpeed) + " m/s, got " + str(c.velocity));
+            name + ": velocity must be finite with magnitude at most " + std::to_string(kMaxSpeed) +
+                " m/s, got " + str(c.velocity));
   }
   colliders_.assign(colliders.begin(), colliders.end());
 }
@@ -138,10 +140,31 @@ void Solver::add_particles(std::span<const glm::vec3> positions,
 
 std::size_t Solver::remove_particles_in_sphere(glm::vec3 centre, float radius) {
   require(is_finite(centre), "remove_particles: centre must be finite, got " + str(centre));
-  require(std::isfinite(radius) && radius >= 0.0f,
-          "remove_particles: radius must be finite and not negative, got " +
-              std::to_string(radius));
+  require(
+      std::isfinite(radius) && radius >= 0.0f,
+      "remove_particles: radius must be finite and not negative, got " + std::to_string(radius));
   return erase_particles_in_sphere(centre, radius);
+}
+
+void check_density(std::span<const glm::vec3> positions, const FluidConstants& fluid) {
+  const float side = 2.0f * fluid.kernel_radius;
+  const float at_rest = std::pow(side / fluid.spacing, 3.0f);
+  const auto most = static_cast<std::uint32_t>(kMaxDensityRatio * at_rest);
+  std::unordered_map<std::uint64_t, std::uint32_t> per_cube;
+  per_cube.reserve(positions.size());
+  for (const glm::vec3& p : positions) {
+    const glm::ivec3 cube = glm::ivec3(glm::floor(p / side)) + (1 << 20);  // ≥ 0 in any tank
+    const std::uint64_t key =
+        (std::uint64_t(cube.x) << 42) | (std::uint64_t(cube.y) << 21) | std::uint64_t(cube.z);
+    if (++per_cube[key] > most) {
+      const glm::vec3 corner = glm::vec3(glm::floor(p / side)) * side;
+      throw std::invalid_argument(
+          "more than " + std::to_string(most) + " particles in the " + std::to_string(side) +
+          " m cube at " + str(corner) + ": over " + std::to_string(int(kMaxDensityRatio)) +
+          " times the fluid's rest density (" + std::to_string(int(at_rest)) +
+          " there), a state no fluid reaches");
+    }
+  }
 }
 
 void Solver::set_time(double seconds) {

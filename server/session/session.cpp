@@ -250,6 +250,11 @@ std::uint32_t Session::load(const v1::Snapshot& snapshot) {
                         std::to_string(int(sim::kMaxSpeed)) + " m/s");
     }
   }
+  try {
+    sim::check_density(positions, solver_->fluid());
+  } catch (const std::invalid_argument& e) {
+    throw Refusal(RefusalCode::invalid_argument, std::string("Snapshot: ") + e.what());
+  }
   if (snapshot.has_gravity()) {
     const glm::vec3 g(snapshot.gravity().x(), snapshot.gravity().y(), snapshot.gravity().z());
     if (!std::isfinite(g.x + g.y + g.z) || !sim::within_limit(g, sim::kMaxGravity)) {

@@ -433,6 +433,21 @@ TEST(ServerTest, SnapshotsMoveAFluidBetweenSessionsAndBadOnesChangeNothing) {
               grpc::StatusCode::INVALID_ARGUMENT);
   }
   EXPECT_EQ(snapshot_of(address, into.welcome().session_id()).positions_size(), 3 * 800);
+
+  // Every particle at the tank's centre, at rest: inside the tank and slow, but no fluid; it
+  // would cost N² a step and never separate.
+  *put.mutable_snapshot() = moved;
+  for (int k = 0; k < put.snapshot().positions_size(); ++k) {
+    put.mutable_snapshot()->set_positions(k, k % 3 == 1 ? 0.3f : k % 3 == 0 ? 0.8f : 0.15f);
+  }
+  {
+    grpc::ClientContext context;
+    const grpc::Status status = stub->PutSnapshot(&context, put, &reply);
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+    EXPECT_NE(status.error_message().find("rest density"), std::string::npos)
+        << status.error_message();
+  }
+  EXPECT_EQ(snapshot_of(address, into.welcome().session_id()).positions_size(), 3 * 800);
 }
 
 // A client that never reads: frames wait in the server at most one behind the one being written,

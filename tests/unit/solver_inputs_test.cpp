@@ -176,8 +176,7 @@ TEST_P(SolverInputs, FingerDraggedFastLeavesNoParticleInsideIt) {
       0.5 * static_cast<double>(n_) * small()->fluid().particle_mass * 4.0 * 25.0;
   for (int k = 0; k < 60; ++k) {
     const float speed = (k / 10) % 2 == 0 ? 5.0f : -5.0f;
-    const glm::vec3 centre =
-        k == 0 ? glm::vec3(0.12f, 0.2f, 0.15f) : s->colliders()[0].centre;
+    const glm::vec3 centre = k == 0 ? glm::vec3(0.12f, 0.2f, 0.15f) : s->colliders()[0].centre;
     const Collider finger{centre, radius, {speed, 0.0f, 0.0f}};
     s->set_colliders(std::span(&finger, 1));
     s->step();
@@ -198,8 +197,8 @@ TEST_P(SolverInputs, FingerDraggedFastLeavesNoParticleInsideIt) {
 TEST_P(SolverInputs, FullTiltsKeepTheFluidSoundAndItsEnergyBounded) {
   auto s = small();
   const float g = 9.81f;
-  for (const glm::vec3 gravity : {glm::vec3(g, 0, 0), glm::vec3(0, g, 0), glm::vec3(-g, 0, 0),
-                                  glm::vec3(0, -g, 0)}) {
+  for (const glm::vec3 gravity :
+       {glm::vec3(g, 0, 0), glm::vec3(0, g, 0), glm::vec3(-g, 0, 0), glm::vec3(0, -g, 0)}) {
     s->set_gravity(gravity);
     run_for(*s, 0.25);
     testing::expect_sound(*s, n_);
@@ -235,6 +234,29 @@ TEST(CpuSolverInputs, DeterministicForAThreadCount) {
     // thread count does not change the result either.
     EXPECT_EQ(run(1).position, a.position);
   }
+}
+
+// Every scene as built, and fluids in motion (a dam break's front hitting the wall, a drop
+// splashing), are plausible states; particles clumped at a point are not, and the refusal names
+// where.
+TEST(CheckDensity, FluidStatesPassAndClumpsAreRefused) {
+  for (const SceneKind scene :
+       {SceneKind::dam_break, SceneKind::double_dam_break, SceneKind::drop, SceneKind::pool}) {
+    for (const SolverKind kind : {SolverKind::pbf, SolverKind::sph}) {
+      SCOPED_TRACE(std::string(to_string(scene)) + ", " + std::string(to_string(kind)));
+      auto s = make_solver(kind, scene, 1000);
+      EXPECT_NO_THROW(check_density(s->snapshot().position, s->fluid()));
+      for (int k = 0; k < 6; ++k) {
+        run_for(*s, 0.1);
+        EXPECT_NO_THROW(check_density(s->snapshot().position, s->fluid())) << s->time() << " s";
+      }
+    }
+  }
+  auto s = make_solver(SolverKind::pbf, SceneKind::dam_break, 2000);
+  std::vector<glm::vec3> clump = s->snapshot().position;
+  for (std::size_t k = 0; k < 400; ++k) clump[k] = {0.8f, 0.3f, 0.15f};
+  const std::string error = error_of([&] { check_density(clump, s->fluid()); });
+  EXPECT_NE(error.find("times the fluid's rest density"), std::string::npos) << error;
 }
 
 INSTANTIATE_TEST_SUITE_P(BothSolversBothBackends, SolverInputs,

@@ -143,6 +143,15 @@ class Solver {
   std::uint32_t next_id_ = 0;
 };
 
+// A state this much denser than the fluid at rest, anywhere, is no state a fluid reaches: its
+// particles would not separate, and every step would pay for all their pairs (N particles at one
+// point cost N² a step).
+inline constexpr float kMaxDensityRatio = 2.0f;
+// Throws std::invalid_argument, naming where, when more particles lie in some cube of side two
+// kernel radii than kMaxDensityRatio times the fluid at rest holds there. O(N): for a state from
+// outside (a snapshot), before it is loaded.
+void check_density(std::span<const glm::vec3> positions, const FluidConstants& fluid);
+
 std::unique_ptr<Solver> make_cpu_solver(SolverKind kind, Scene scene, const SolverParams& params);
 class GpuStepBatch;
 // The same solver in Vulkan compute on the context's device. Throws ParamError also when the
@@ -150,7 +159,6 @@ class GpuStepBatch;
 // where its steps wait to be submitted together with other solvers' (gpu_step_batch.h); without
 // one, each step is submitted as it is taken.
 std::unique_ptr<Solver> make_gpu_solver(SolverKind kind, gpu::Context& context, Scene scene,
-                                        const SolverParams& params,
-                                        GpuStepBatch* batch = nullptr);
+                                        const SolverParams& params, GpuStepBatch* batch = nullptr);
 
 }  // namespace fluidcast::sim
