@@ -27,7 +27,6 @@
 #include "fluidcast/render/frame_renderer.h"
 #include "fluidcast/sim/solver_params.h"
 #include "grpc/fluidcast_service.h"
-#include "grpc/grpc_listener.h"
 #include "log.h"
 #include "options.h"
 #include "session/default_size.h"
@@ -187,14 +186,10 @@ int serve(const ServerOptions& options) {
   // HTTP first: if its port is taken, nothing else has started yet.
   std::atomic<bool> serving{true};
   const std::filesystem::path web = options.web_root;
-  // Plaintext gRPC is accepted by a listener of ours, which outlives running out of descriptors
-  // (grpc_listener.h); gRPC over TLS by gRPC itself.
-  std::optional<GrpcListener> grpc_listener;
-  // /healthz: unhealthy while stopping, or while a port cannot accept (no descriptors left).
+  // /healthz: unhealthy while stopping, or while the HTTP port cannot accept (no descriptors).
   const HttpServer* http_accepting = nullptr;
   const auto healthy = [&] {
-    return serving.load() && http_accepting && http_accepting->accepting() &&
-           (!grpc_listener || grpc_listener->accepting());
+    return serving.load() && http_accepting && http_accepting->accepting();
   };
   HttpServer http(options.listen, options.http_port,
                   {[&] { return metrics.prometheus_text(); }, healthy,
@@ -218,31 +213,21 @@ int serve(const ServerOptions& options) {
         {read_file(options.tls_key), read_file(options.tls_certificate)});
     credentials = grpc::SslServerCredentials(tls);
   }
-  const std::string grpc_address = options.listen + ":" + std::to_string(options.grpc_port);
-  const auto in_use = [&] {
-    std::fprintf(stderr,
-                 "fluidcast-server: cannot listen for gRPC on %s: the address is in use (another "
-                 "server?) or not one of this machine's (--listen, --grpc-port)\n",
-                 grpc_address.c_str());
-    return kBadFlag;
-  };
   int grpc_port = 0;
-  if (options.tls_certificate.empty()) {
-    try {
-      grpc_port = grpc_listener.emplace(options.listen, options.grpc_port).port();
-    } catch (const std::runtime_error&) {
-      return in_use();
-    }
-  } else {
-    builder.AddListeningPort(grpc_address, credentials, &grpc_port);
-  }
+  const std::string grpc_address = options.listen + ":" + std::to_string(options.grpc_port);
+  // gRPC accepts its connections itself. (gRPC 1.51 stops accepting for good after one failed
+  // accept, when descriptors run out: the HTTP side keeps to half of them, and idle gRPC
+  // connections are closed, for that. Accepting here and handing each connection over with
+  // grpc::AddInsecureChannelFromFd avoided it, but such connections stalled: clients' keepalive
+  // pings went unanswered for seconds.)
+  builder.AddListeningPort(grpc_address, credentials, &grpc_port);
   // gRPC sets SO_REUSEPORT by default: a second server on the same port would silently take half
   // of the new clients. Exclusive, it fails to start instead.
   builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
   builder.RegisterService(&service);
-  // A connection with no call for a minute is closed: its descriptor is worth more than a
-  // client's reconnect. (A limit on streams per connection, GRPC_ARG_MAX_CONCURRENT_STREAMS,
-  // stalled streams in gRPC 1.51 here: a client's keepalive timed out with 16.)
+  // A connection carries a stream and a few snapshot calls at a time, not thousands; one with no
+  // call for a minute is closed (its descriptor is worth more than a client's reconnect).
+  builder.AddChannelArgument(GRPC_ARG_MAX_CONCURRENT_STREAMS, 16);
   builder.AddChannelArgument(GRPC_ARG_MAX_CONNECTION_IDLE_MS, 60000);
   // Dead phones are noticed in seconds, not gRPC's default two hours.
   builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIME_MS, 10000);
@@ -253,8 +238,13 @@ int serve(const ServerOptions& options) {
   builder.SetMaxReceiveMessageSize(static_cast<int>(
       std::min<std::uint64_t>(INT32_MAX, 24ull * limits.max_particles + (1 << 20))));
   std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
-  if (!server || grpc_port == 0) return in_use();
-  if (grpc_listener) grpc_listener->start(*server);
+  if (!server || grpc_port == 0) {
+    std::fprintf(stderr,
+                 "fluidcast-server: cannot listen for gRPC on %s: the address is in use (another "
+                 "server?) or not one of this machine's (--listen, --grpc-port)\n",
+                 grpc_address.c_str());
+    return kBadFlag;
+  }
   grpc::HealthCheckServiceInterface* health = server->GetHealthCheckService();
   health->SetServingStatus(true);
 
@@ -307,7 +297,6 @@ int serve(const ServerOptions& options) {
   }
   spdlog::info("ending every stream");
   hub.stop();  // every stream ends with UNAVAILABLE; new ones are refused
-  if (grpc_listener) grpc_listener->stop();
   server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(3));
   http.stop();
   spdlog::info("stopped");

@@ -22,8 +22,8 @@
 #include <variant>
 #include <vector>
 
-#include "net/listener.h"
 #include "web/connection_limits.h"
+#include "web/listener.h"
 
 namespace fluidcast::server {
 

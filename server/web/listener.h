@@ -1,6 +1,6 @@
 // A listening TCP socket and its accept loop. When the process has no descriptors left, accepting
 // fails at once and would fail again at once: the loop waits (kRetry) and tries again instead of
-// spinning, says so once, and reports itself not accepting until a connection comes in again.
+// spinning, says so once, and reports itself not accepting until descriptors are free again.
 #pragma once
 
 #include <atomic>

@@ -1,4 +1,4 @@
-#include "net/listener.h"
+#include "web/listener.h"
 
 #include <spdlog/spdlog.h>
 #include <unistd.h>
