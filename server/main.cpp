@@ -50,6 +50,8 @@ std::optional<std::string> read_token(const std::string& path) {
   std::ifstream in(path);
   std::string token;
   std::getline(in, token);
+  // A file written on Windows ends its line in \r\n; a trailing space is no one's token either.
+  token.erase(token.find_last_not_of(" \t\r") + 1);
   if (token.empty()) throw std::runtime_error("--token-file " + path + ": the first line is empty");
   return token;
 }
@@ -198,7 +200,7 @@ int serve(const ServerOptions& options) {
                           std::shared_ptr<ConnectionLimits::Slot> slot) {
                      serve_websocket(std::move(stream), std::move(request), std::move(slot), hub);
                    },
-                   page_routes(web)},
+                   page_routes(web), options.allowed_origins},
                   ConnectionLimits(limits.max_connections, limits.max_connections_per_address),
                   page_tls);
   http_accepting = &http;

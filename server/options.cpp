@@ -115,6 +115,19 @@ ServerOptions parse_server_options(int argc, char** argv) {
                  "(default: $STATE_DIRECTORY, else $XDG_STATE_HOME/fluidcast, else "
                  "~/.local/state/fluidcast)")
       ->envname("FLUIDCAST_STATE_DIR");
+  app.add_option("--allow-origin", o.allowed_origins,
+                 "A page from another site that may open the WebSocket, as scheme://host[:port] "
+                 "(repeat it, or separate by commas); the server's own page always may")
+      ->envname("FLUIDCAST_ALLOW_ORIGIN")
+      ->delimiter(',')
+      ->check(CLI::Validator(
+          [](std::string& origin) -> std::string {
+            const bool web = origin.rfind("http://", 0) == 0 || origin.rfind("https://", 0) == 0;
+            return web && origin.find('/', origin.find("://") + 3) == std::string::npos
+                       ? ""
+                       : "an origin is scheme://host[:port], as http://example.org:8080";
+          },
+          "ORIGIN"));
   app.add_option("--token-file", o.token_file,
                  "File whose first line is the token every client must send in Hello.token")
       ->envname("FLUIDCAST_TOKEN_FILE")

@@ -4,6 +4,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "log.h"
 #include "session/server_limits.h"
@@ -23,6 +24,8 @@ struct ServerOptions {
   std::optional<std::uint32_t> default_particles, target_fps;
   std::string tls_certificate, tls_key;  // PEM files; both or neither
   std::string token_file;                // a file whose first line is the token clients must send
+  // Other sites' pages that may open /ws (scheme://host[:port]); the server's own always may.
+  std::vector<std::string> allowed_origins;
   LogFormat log_format = LogFormat::text;
   // After SIGTERM, how long /healthz says 503 and the gRPC health service NOT_SERVING while
   // streams go on, before they end: time for a load balancer to send new clients elsewhere.

@@ -8,10 +8,12 @@ namespace fluidcast::server {
 namespace {
 
 // Finishes the call with UNAUTHENTICATED when the token is wrong; true when it did.
-bool refused_token(grpc::ServerUnaryReactor* reactor, const std::string& given,
-                   const std::optional<std::string>& token) {
+// The token and the session id a snapshot call names; a refusal finishes the call.
+bool refused(grpc::ServerUnaryReactor* reactor, const std::string& given,
+             const std::optional<std::string>& token, const std::string& session_id) {
   try {
     validate_token(given, token);
+    validate_session_id(session_id, "session_id");
     return false;
   } catch (const Refusal& refusal) {
     reactor->Finish(to_status(refusal));
@@ -39,17 +41,16 @@ grpc::ServerUnaryReactor* FluidcastService::GetSnapshot(grpc::CallbackServerCont
                                                         const v1::SnapshotRequest* request,
                                                         v1::Snapshot* reply) {
   auto* reactor = context->DefaultReactor();
-  if (refused_token(reactor, request->token(), hub_->token())) return reactor;
-  hub_->snapshot(request->session_id(),
-                 [reactor, reply](std::optional<v1::Snapshot> snapshot,
-                                  std::optional<Refusal> refusal) {
-                   if (refusal) {
-                     reactor->Finish(to_status(*refusal));
-                     return;
-                   }
-                   *reply = std::move(*snapshot);
-                   reactor->Finish(grpc::Status::OK);
-                 });
+  if (refused(reactor, request->token(), hub_->token(), request->session_id())) return reactor;
+  hub_->snapshot(request->session_id(), [reactor, reply](std::optional<v1::Snapshot> snapshot,
+                                                         std::optional<Refusal> refusal) {
+    if (refusal) {
+      reactor->Finish(to_status(*refusal));
+      return;
+    }
+    *reply = std::move(*snapshot);
+    reactor->Finish(grpc::Status::OK);
+  });
   return reactor;
 }
 
@@ -57,7 +58,7 @@ grpc::ServerUnaryReactor* FluidcastService::PutSnapshot(grpc::CallbackServerCont
                                                         const v1::PutSnapshotRequest* request,
                                                         v1::PutSnapshotReply* reply) {
   auto* reactor = context->DefaultReactor();
-  if (refused_token(reactor, request->token(), hub_->token())) return reactor;
+  if (refused(reactor, request->token(), hub_->token(), request->session_id())) return reactor;
   hub_->load(request->session_id(), request->snapshot(),
              [reactor, reply](std::uint32_t particles, std::optional<Refusal> refusal) {
                if (refusal) {

@@ -171,6 +171,11 @@ void validate_command(const v1::Command& command, const ServerLimits& limits) {
 
 }  // namespace
 
+void validate_session_id(const std::string& id, const char* field) {
+  check_length(id, field);
+  if (id.empty()) refuse(RefusalCode::invalid_argument, std::string(field) + " is empty");
+}
+
 void validate_token(const std::string& given, const std::optional<std::string>& token) {
   check_length(given, "the token");
   if (token && given != *token) {
@@ -229,14 +234,10 @@ void validate_hello(const v1::ClientMessage& message, const ServerLimits& limits
       if (hello.create().has_state()) validate_state(hello.create().state(), limits);
       break;
     case v1::Hello::kJoin:
-      check_length(hello.join(), "Hello.join");
-      if (hello.join().empty()) refuse(RefusalCode::invalid_argument, "Hello.join is empty");
+      validate_session_id(hello.join(), "Hello.join");
       break;
     case v1::Hello::kResume:
-      check_length(hello.resume().session_id(), "Hello.resume.session_id");
-      if (hello.resume().session_id().empty()) {
-        refuse(RefusalCode::invalid_argument, "Hello.resume.session_id is empty");
-      }
+      validate_session_id(hello.resume().session_id(), "Hello.resume.session_id");
       break;
     case v1::Hello::SESSION_NOT_SET:
       break;

@@ -23,6 +23,9 @@ void validate_event(const v1::ClientMessage& message, const ServerLimits& limits
 // Parts shared with the other requests.
 void validate_viewport(const v1::Viewport& viewport, const ServerLimits& limits);
 void validate_quality(const v1::Quality& quality, const ServerLimits& limits);
+// A session id as a client names it (join, resume, snapshots): not empty, not overlong (a
+// refusal that echoes it stays short).
+void validate_session_id(const std::string& id, const char* field);
 void validate_token(const std::string& given, const std::optional<std::string>& token);
 
 // Input events allowed per second, with a burst of one second's worth: a token bucket.

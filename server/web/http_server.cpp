@@ -1,10 +1,12 @@
 #include "http_server.h"
 
+#include <algorithm>
 #include <boost/asio/strand.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/ssl.hpp>
 #include <boost/beast/websocket/rfc6455.hpp>
+#include <cctype>
 #include <chrono>
 #include <fstream>
 #include <memory>
@@ -28,6 +30,28 @@ std::string content_type(const std::filesystem::path& path) {
   return "text/plain; charset=utf-8";
 }
 
+bool same_text(std::string_view a, std::string_view b) {
+  return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
+           return std::tolower(static_cast<unsigned char>(x)) ==
+                  std::tolower(static_cast<unsigned char>(y));
+         });
+}
+
+bool origin_allowed(const http::request<http::string_body>& request,
+                    const std::vector<std::string>& allowed) {
+  const auto origin = request.find(http::field::origin);
+  if (origin == request.end()) return true;  // not a browser
+  const beast::string_view given = origin->value();
+  const std::string_view value(given.data(), given.size());
+  const auto scheme_end = value.find("://");
+  const std::string_view authority =
+      scheme_end == std::string_view::npos ? value : value.substr(scheme_end + 3);
+  const beast::string_view host = request[http::field::host];
+  if (same_text(authority, std::string_view(host.data(), host.size()))) return true;
+  return std::any_of(allowed.begin(), allowed.end(),
+                     [&](const std::string& other) { return same_text(other, value); });
+}
+
 // One connection's requests over Stream (beast::tcp_stream or TlsStream); `buffer` holds what
 // was read while telling TLS from plain HTTP.
 template <class Stream>
@@ -45,22 +69,39 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
   void read() {
     request_ = {};
     beast::get_lowest_layer(stream_).expires_after(std::chrono::seconds(30));
-    http::async_read(stream_, buffer_, request_,
-                     [self = shared_from_this()](beast::error_code error, std::size_t) {
-                       if (error) return;
-                       if (beast::websocket::is_upgrade(self->request_) &&
-                           self->request_.target() == "/ws" && self->routes_->websocket) {
-                         beast::get_lowest_layer(self->stream_).expires_never();
-                         self->routes_->websocket(WebStream(std::move(self->stream_)),
-                                                  std::move(self->request_),
-                                                  std::move(self->slot_));
-                         return;
-                       }
-                       self->respond();
-                     });
+    http::async_read(
+        stream_, buffer_, request_,
+        [self = shared_from_this()](beast::error_code error, std::size_t) {
+          if (error) return;
+          const bool websocket = beast::websocket::is_upgrade(self->request_) &&
+                                 self->request_.target() == "/ws" && self->routes_->websocket;
+          if (websocket && !origin_allowed(self->request_, self->routes_->allowed_origins)) {
+            self->refuse_origin();
+            return;
+          }
+          if (websocket) {
+            beast::get_lowest_layer(self->stream_).expires_never();
+            self->routes_->websocket(WebStream(std::move(self->stream_)), std::move(self->request_),
+                                     std::move(self->slot_));
+            return;
+          }
+          self->respond();
+        });
   }
 
  private:
+  void refuse_origin() {
+    auto response = std::make_shared<http::response<http::string_body>>(http::status::forbidden,
+                                                                        request_.version());
+    response->set(http::field::server, "fluidcast");
+    response->set(http::field::content_type, "text/plain; charset=utf-8");
+    response->body() = "a page from " + std::string(request_[http::field::origin]) +
+                       " may not open this server's WebSocket (--allow-origin)\n";
+    response->keep_alive(false);
+    response->prepare_payload();
+    send(std::move(response));
+  }
+
   void respond() {
     auto response = std::make_shared<http::response<http::string_body>>();
     response->version(request_.version());
@@ -100,6 +141,10 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
     }
     if (request_.method() == http::verb::head) response->body().clear();
     response->prepare_payload();
+    send(std::move(response));
+  }
+
+  void send(std::shared_ptr<http::response<http::string_body>> response) {
     http::async_write(stream_, *response,
                       [self = shared_from_this(), response](beast::error_code error, std::size_t) {
                         if (error) return;

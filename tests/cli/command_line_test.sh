@@ -18,6 +18,10 @@ server=$1
 err=$("$server" --max-sessions 0 2>&1 >/dev/null)
 status=$?
 [[ $status -eq 2 && "$err" == *--max-sessions* ]] || fail "--max-sessions 0: exit $status, '$err'"
+err=$("$server" --allow-origin evil.example 2>&1 >/dev/null)
+status=$?
+[[ $status -eq 2 && "$err" == *--allow-origin* && "$err" == *scheme://host* ]] ||
+  fail "--allow-origin evil.example: exit $status, '$err'"
 # A bad value in a flag's environment variable names the variable.
 err=$(FLUIDCAST_GRPC_PORT=abc "$server" 2>&1 >/dev/null)
 status=$?

@@ -31,7 +31,7 @@ using std::chrono::seconds;
 // A TCP connection to loopback that sends nothing; reads give up after `timeout`.
 class RawConnection {
  public:
-  RawConnection(int port, milliseconds timeout = milliseconds(2000)) {
+  RawConnection(int port, milliseconds timeout = milliseconds(2000)) : port_(port) {
     fd_ = socket(AF_INET, SOCK_STREAM, 0);
     const timeval wait{static_cast<time_t>(timeout.count() / 1000),
                        static_cast<suseconds_t>(timeout.count() % 1000 * 1000)};
@@ -54,9 +54,12 @@ class RawConnection {
     char byte;
     return recv(fd_, &byte, 1, 0) == 0;
   }
-  // The status line of GET `path`, or "" when no answer came within the timeout.
-  std::string get(const std::string& path) {
-    const std::string request = "GET " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n";
+  // The status line of GET `path` (with `headers`, each ending in \r\n), or "" when no answer
+  // came within the timeout.
+  std::string get(const std::string& path, const std::string& headers = "") {
+    const std::string request = "GET " + path +
+                                " HTTP/1.1\r\nHost: 127.0.0.1:" + std::to_string(port_) + "\r\n" +
+                                headers + "\r\n";
     if (send(fd_, request.data(), request.size(), MSG_NOSIGNAL) < 0) return "";
     char reply[256];
     const ssize_t got = recv(fd_, reply, sizeof reply - 1, 0);
@@ -66,6 +69,7 @@ class RawConnection {
   }
 
  private:
+  int port_;
   int fd_ = -1;
   bool connected_ = false;
 };
@@ -114,6 +118,26 @@ TEST(ConnectionLimitsTest, AWebSocketThatSendsNoHelloEndsAtItsDeadline) {
   buffer.clear();
   socket.read(buffer, error);  // then the server closes it
   EXPECT_EQ(error, websocket::error::closed) << error.message();
+}
+
+// A page on another site, opened by someone on the LAN, must not drive the server through their
+// browser: its Origin is refused unless the operator allows it; the server's own page and
+// clients that are not browsers (no Origin) are served.
+TEST(ConnectionLimitsTest, OnlyTheServersOwnPagesAndAllowedOnesOpenTheWebSocket) {
+  testing::ServerProcess server({"--allow-origin", "https://friend.example"});
+  const std::string upgrade =
+      "Upgrade: websocket\r\nConnection: Upgrade\r\nSec-WebSocket-Version: 13\r\n"
+      "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n";
+  const std::string own = "Origin: http://127.0.0.1:" + std::to_string(server.http_port()) + "\r\n";
+  const std::string switching = "HTTP/1.1 101 Switching Protocols";
+  EXPECT_EQ(RawConnection(server.http_port()).get("/ws", upgrade + own), switching);
+  EXPECT_EQ(RawConnection(server.http_port()).get("/ws", upgrade), switching);
+  EXPECT_EQ(
+      RawConnection(server.http_port()).get("/ws", upgrade + "Origin: https://friend.example\r\n"),
+      switching);
+  EXPECT_EQ(
+      RawConnection(server.http_port()).get("/ws", upgrade + "Origin: http://evil.example\r\n"),
+      "HTTP/1.1 403 Forbidden");
 }
 
 TEST(ConnectionLimitsTest, ConnectionsOverTheLimitFromOneAddressAreClosedOthersServed) {

@@ -273,7 +273,7 @@ TEST(ServerTest, EveryBadInputEndsOnlyItsOwnStreamWithItsStatus) {
 
 TEST(ServerTest, LimitsAndTokensAreEnforcedWithTheirStatus) {
   const auto token_file = std::filesystem::temp_directory_path() / "fluidcast_test_token";
-  std::ofstream(token_file) << "open sesame\n";
+  std::ofstream(token_file) << "open sesame\r\n";  // written on Windows: the \r is no part of it
   testing::ServerProcess server(
       {"--max-sessions", "1", "--token-file", token_file.string(), "--max-input-rate", "50"});
   const std::string& address = server.grpc_address();
@@ -433,6 +433,17 @@ TEST(ServerTest, SnapshotsMoveAFluidBetweenSessionsAndBadOnesChangeNothing) {
               grpc::StatusCode::INVALID_ARGUMENT);
   }
   EXPECT_EQ(snapshot_of(address, into.welcome().session_id()).positions_size(), 3 * 800);
+
+  // A session id too long to be one is refused without being echoed back.
+  {
+    grpc::ClientContext context;
+    v1::SnapshotRequest request;
+    request.set_session_id(std::string(100000, 'x'));
+    v1::Snapshot ignored;
+    const grpc::Status status = stub->GetSnapshot(&context, request, &ignored);
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+    EXPECT_LT(status.error_message().size(), 200u) << status.error_message().substr(0, 200);
+  }
 
   // Every particle at the tank's centre, at rest: inside the tank and slow, but no fluid; it
   // would cost N² a step and never separate.
