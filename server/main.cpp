@@ -188,13 +188,8 @@ int serve(const ServerOptions& options) {
   // HTTP first: if its port is taken, nothing else has started yet.
   std::atomic<bool> serving{true};
   const std::filesystem::path web = options.web_root;
-  // /healthz: unhealthy while stopping, or while the HTTP port cannot accept (no descriptors).
-  const HttpServer* http_accepting = nullptr;
-  const auto healthy = [&] {
-    return serving.load() && http_accepting && http_accepting->accepting();
-  };
   HttpServer http(options.listen, options.http_port,
-                  {[&] { return metrics.prometheus_text(); }, healthy,
+                  {[&] { return metrics.prometheus_text(); }, [&] { return serving.load(); },
                    [&hub](WebStream stream,
                           boost::beast::http::request<boost::beast::http::string_body> request,
                           std::shared_ptr<ConnectionLimits::Slot> slot) {
@@ -203,7 +198,6 @@ int serve(const ServerOptions& options) {
                    page_routes(web), options.allowed_origins},
                   ConnectionLimits(limits.max_connections, limits.max_connections_per_address),
                   page_tls);
-  http_accepting = &http;
 
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();

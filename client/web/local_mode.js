@@ -184,7 +184,8 @@ class LocalMode {
   async begin() {
     this.camera.fit(this.tank(), this.canvas.width / this.canvas.height);
     this.listen();
-    await this.fluid.nextFrame();
+    // The worker sends a new fluid's first positions before it answers `create` or `load`.
+    if (!this.fluid.newest) await this.fluid.nextFrame();
     this.frame(performance.now());
     return this;
   }

@@ -224,6 +224,9 @@ HttpServer::HttpServer(const std::string& address, unsigned short port, Routes r
       limits_(std::move(limits)),
       tls_(std::move(tls)),
       listener_(io_, address, port, "HTTP") {
+  routes_.healthy = [serving = std::move(routes_.healthy), this] {
+    return serving() && listener_.accepting();
+  };
   listener_.start([this](tcp::socket socket) {
     boost::system::error_code unknown;
     const auto peer = socket.remote_endpoint(unknown);

@@ -35,7 +35,8 @@ class HttpServer {
  public:
   struct Routes {
     std::function<std::string()> metrics;  // the body of /metrics
-    std::function<bool()> healthy;         // /healthz: 200 when true, else 503
+    // /healthz: 200 when true and the port can accept connections (descriptors left), else 503.
+    std::function<bool()> healthy;
     // Takes over a WebSocket upgrade of /ws, with the connection's slot to hold while it is open.
     std::function<void(WebStream, boost::beast::http::request<boost::beast::http::string_body>,
                        std::shared_ptr<ConnectionLimits::Slot>)>
@@ -58,8 +59,6 @@ class HttpServer {
   HttpServer& operator=(const HttpServer&) = delete;
 
   unsigned short port() const { return listener_.port(); }
-  // False while new connections cannot be accepted (no descriptors left).
-  bool accepting() const { return listener_.accepting(); }
   void stop();
 
  private:

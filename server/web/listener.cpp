@@ -3,7 +3,6 @@
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
-#include <boost/asio/post.hpp>
 #include <boost/asio/strand.hpp>
 #include <cerrno>
 #include <stdexcept>
@@ -43,14 +42,6 @@ Listener::Listener(boost::asio::io_context& io, const std::string& address, unsi
 void Listener::start(std::function<void(tcp::socket)> take) {
   take_ = std::move(take);
   accept();
-}
-
-void Listener::close() {
-  boost::asio::post(acceptor_.get_executor(), [this] {
-    boost::system::error_code ignored;
-    acceptor_.close(ignored);
-    retry_.cancel();
-  });
 }
 
 void Listener::accept() {

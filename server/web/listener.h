@@ -24,9 +24,8 @@ class Listener {
   Listener(const Listener&) = delete;
   Listener& operator=(const Listener&) = delete;
 
-  // Hands each accepted connection to `take`, on the io_context's threads, until close().
+  // Hands each accepted connection to `take`, on the io_context's threads, while it runs.
   void start(std::function<void(boost::asio::ip::tcp::socket)> take);
-  void close();
 
   unsigned short port() const { return port_; }
   bool accepting() const { return accepting_.load(); }
