@@ -10,8 +10,8 @@
 int main(int argc, char** argv) {
   namespace client = fluidcast::client;
   bool headless = false, local = false, adaptive = false, json = false, no_handoff = false;
-  std::string server = "127.0.0.1:50051", scene, solver, renderer, token, join, script,
-              save_frames, screenshot;
+  std::string server = "127.0.0.1:50051", scene, solver, renderer, token, join, script, save_frames,
+              screenshot;
   std::uint32_t width = 0, height = 0, particles = 0, quality = 0, fps = 0;
   std::uint32_t max_local = client::WindowOptions{}.max_local_particles;
   double seconds = 0.0;
@@ -31,7 +31,9 @@ int main(int argc, char** argv) {
   app.add_option("--fps", fps, "Highest frame rate wanted (0: server's rate)");
   app.add_flag("--adaptive", adaptive, "Let the server lower quality and size to keep up");
   app.add_option("--token", token, "Token, when the server wants one")->envname("FLUIDCAST_TOKEN");
-  app.add_option("--join", join, "Join this session instead of creating one");
+  app.add_option("--join", join,
+                 "Join a session instead of creating one: its view key (to watch) or control key "
+                 "(to play); a client prints both at start");
   app.add_option("--max-local-particles", max_local,
                  "Most particles simulated here (local mode and handoff)")
       ->check(CLI::Range(1u, 1u << 20));
@@ -69,7 +71,8 @@ int main(int argc, char** argv) {
       return 2;
     }
     try {
-      return client::run_headless({server, hello, script, save_frames, seconds > 0 ? seconds : 5.0, json});
+      return client::run_headless(
+          {server, hello, script, save_frames, seconds > 0 ? seconds : 5.0, json});
     } catch (const client::StreamError& e) {
       // A refusal carries the server's reason; no answer at all is not a refusal.
       if (e.code() == grpc::StatusCode::UNAVAILABLE) {

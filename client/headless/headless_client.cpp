@@ -45,10 +45,11 @@ struct FrameFigures {
   }
 
   nlohmann::json stages_p50() const {
-    return {{"input_wait", percentile(input_wait, 0.5)}, {"sim", percentile(sim, 0.5)},
-            {"queue", percentile(queue, 0.5)},           {"render", percentile(render, 0.5)},
-            {"readback", percentile(readback, 0.5)},     {"encode_wait", percentile(encode_wait, 0.5)},
-            {"encode", percentile(encode, 0.5)},         {"server", percentile(server, 0.5)}};
+    return {
+        {"input_wait", percentile(input_wait, 0.5)}, {"sim", percentile(sim, 0.5)},
+        {"queue", percentile(queue, 0.5)},           {"render", percentile(render, 0.5)},
+        {"readback", percentile(readback, 0.5)},     {"encode_wait", percentile(encode_wait, 0.5)},
+        {"encode", percentile(encode, 0.5)},         {"server", percentile(server, 0.5)}};
   }
 };
 
@@ -61,12 +62,10 @@ int run_headless(const HeadlessOptions& o) {
   if (!o.save_frames.empty()) std::filesystem::create_directories(o.save_frames);
 
   StreamClient stream(connect(o.server), hello);
-  std::fprintf(stderr, "fluidcast-client: session %s, viewer %u, %u particles\n",
-               stream.welcome().session_id().c_str(), stream.welcome().viewer_id(),
-               stream.welcome().state().particles());
+  std::fprintf(stderr, "fluidcast-client: %s\n", describe_welcome(stream.welcome()).c_str());
   const auto start = Clock::now();
-  const auto end = start + std::chrono::duration_cast<Clock::duration>(
-                               std::chrono::duration<double>(o.seconds));
+  const auto end =
+      start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(o.seconds));
   std::size_t next_event = 0, frames = 0, bytes = 0, bad_frames = 0;
   FrameFigures figures;
   while (Clock::now() < end && !stream.ended()) {
@@ -89,8 +88,8 @@ int run_headless(const HeadlessOptions& o) {
     figures.add(*frame);
     const auto& jpeg = frame->jpeg();
     try {
-      const codec::ImageRgba image = codec::decode_jpeg(
-          {reinterpret_cast<const std::uint8_t*>(jpeg.data()), jpeg.size()});
+      const codec::ImageRgba image =
+          codec::decode_jpeg({reinterpret_cast<const std::uint8_t*>(jpeg.data()), jpeg.size()});
       if (std::uint32_t(image.width) != frame->width() ||
           std::uint32_t(image.height) != frame->height()) {
         ++bad_frames;
@@ -119,7 +118,8 @@ int run_headless(const HeadlessOptions& o) {
       {"latency_samples", latencies.size()},
       {"latency_p50_ms", percentile(latencies, 0.50)},
       {"latency_p95_ms", percentile(latencies, 0.95)},
-      {"latency_max_ms", latencies.empty() ? 0.0 : *std::max_element(latencies.begin(), latencies.end())},
+      {"latency_max_ms",
+       latencies.empty() ? 0.0 : *std::max_element(latencies.begin(), latencies.end())},
       {"sim_speed_p50", percentile(figures.sim_speed, 0.5)},
       {"stages_p50_ms", figures.stages_p50()},
       // What the latency spent outside the server: the network both ways and this client.
@@ -130,20 +130,21 @@ int run_headless(const HeadlessOptions& o) {
   if (o.json) {
     std::printf("%s\n", report.dump().c_str());
   } else {
-    std::printf("%zu frames in %.1f s: %.1f fps, %.0f kbit/s; touch-to-photon p50 %.1f ms, p95 "
-                "%.1f ms, max %.1f ms (%zu samples); simulation speed %.2f\n",
-                frames, seconds, double(frames) / seconds, report["bitrate_kbps"].get<double>(),
-                report["latency_p50_ms"].get<double>(), report["latency_p95_ms"].get<double>(),
-                report["latency_max_ms"].get<double>(), latencies.size(),
-                report["sim_speed_p50"].get<double>());
+    std::printf(
+        "%zu frames in %.1f s: %.1f fps, %.0f kbit/s; touch-to-photon p50 %.1f ms, p95 "
+        "%.1f ms, max %.1f ms (%zu samples); simulation speed %.2f\n",
+        frames, seconds, double(frames) / seconds, report["bitrate_kbps"].get<double>(),
+        report["latency_p50_ms"].get<double>(), report["latency_p95_ms"].get<double>(),
+        report["latency_max_ms"].get<double>(), latencies.size(),
+        report["sim_speed_p50"].get<double>());
     std::printf("where the time went (p50 ms): %s\n", report["stages_p50_ms"].dump().c_str());
   }
   if (!status.ok()) {
-    std::fprintf(stderr, "fluidcast-client: the stream ended: %s\n", status.error_message().c_str());
+    std::fprintf(stderr, "fluidcast-client: the stream ended: %s\n",
+                 status.error_message().c_str());
     return 1;
   }
   return bad_frames == 0 ? 0 : 1;
 }
 
 }  // namespace fluidcast::client
-

@@ -210,13 +210,13 @@ void StreamClient::drop() {
   if (reader_.joinable()) reader_.join();
 }
 
-v1::Snapshot get_snapshot(const std::shared_ptr<grpc::Channel>& channel,
-                          const std::string& session_id, const std::string& token) {
+v1::Snapshot get_snapshot(const std::shared_ptr<grpc::Channel>& channel, const std::string& key,
+                          const std::string& token) {
   grpc::ClientContext context;
   context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(5));
   v1::SnapshotRequest request;
   request.set_token(token);
-  request.set_session_id(session_id);
+  request.set_key(key);
   v1::Snapshot snapshot;
   const grpc::Status status =
       v1::Fluidcast::NewStub(channel)->GetSnapshot(&context, request, &snapshot);
@@ -224,12 +224,23 @@ v1::Snapshot get_snapshot(const std::shared_ptr<grpc::Channel>& channel,
   return snapshot;
 }
 
+std::string describe_welcome(const v1::Welcome& welcome) {
+  const v1::Access& access = welcome.access();
+  std::string line = "session " + welcome.session_id() + ", viewer " +
+                     std::to_string(welcome.viewer_id()) + ", " +
+                     std::to_string(welcome.state().particles()) + " particles; ";
+  line += access.control() ? "you control it; to play along: --join " + access.control_key() +
+                                 ", to watch: --join " + access.view_key()
+                           : "you watch it; to watch along: --join " + access.view_key();
+  return line;
+}
+
 void StreamClient::put_snapshot(const std::string& token, const v1::Snapshot& snapshot) {
   grpc::ClientContext context;
   context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(10));
   v1::PutSnapshotRequest request;
   request.set_token(token);
-  request.set_session_id(welcome_.session_id());
+  request.set_key(welcome_.access().control_key());
   *request.mutable_snapshot() = snapshot;
   v1::PutSnapshotReply reply;
   const grpc::Status status = stub_->PutSnapshot(&context, request, &reply);

@@ -36,9 +36,13 @@ class StreamError : public std::runtime_error {
 
 std::shared_ptr<grpc::Channel> connect(const std::string& server);
 
-// A session's state now, for a local continuation (GetSnapshot). Throws StreamError.
-v1::Snapshot get_snapshot(const std::shared_ptr<grpc::Channel>& channel,
-                          const std::string& session_id, const std::string& token);
+// A session's state now, for a local continuation (GetSnapshot with either of its keys). Throws
+// StreamError.
+v1::Snapshot get_snapshot(const std::shared_ptr<grpc::Channel>& channel, const std::string& key,
+                          const std::string& token);
+
+// The session joined and how others can join it, in a line for the terminal.
+std::string describe_welcome(const v1::Welcome& welcome);
 
 class StreamClient final : public FluidStream {
  public:
@@ -74,7 +78,8 @@ class StreamClient final : public FluidStream {
   // The newest state the server sent (after a StateRequest) that was not taken yet, waiting up to
   // `timeout` for one.
   std::optional<v1::Snapshot> take_state(std::chrono::milliseconds timeout);
-  // Puts a fluid simulated elsewhere into this stream's session (after a local continuation).
+  // Puts a fluid simulated elsewhere into this stream's session (after a local continuation); needs
+  // control (Welcome.access).
   void put_snapshot(const std::string& token, const v1::Snapshot& snapshot);
 
  private:

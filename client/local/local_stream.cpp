@@ -78,9 +78,8 @@ LocalStream::LocalStream(v1::Hello hello, std::uint32_t max_particles)
   hub_ = std::make_unique<server::SessionHub>(context_, context_.info().hardware(), limits,
                                               std::nullopt, metrics_);
   std::promise<server::SessionHub::Opened> opened;
-  hub_->open(hello, sink_, [&opened](server::SessionHub::Opened result) {
-    opened.set_value(std::move(result));
-  });
+  hub_->open(hello, sink_,
+             [&opened](server::SessionHub::Opened result) { opened.set_value(std::move(result)); });
   server::SessionHub::Opened result = opened.get_future().get();
   if (result.refusal) throw *result.refusal;
   session_ = std::move(result.session);
@@ -98,7 +97,8 @@ LocalStream::~LocalStream() {
 
 std::uint64_t LocalStream::send(v1::ClientMessage message) {
   if (ended()) return 0;
-  server::validate_event(message, hub_->limits());
+  server::validate_event(message, hub_->limits(),
+                         server::Access::control);  // it created the session
   const std::uint64_t id = latency_.sent();
   message.set_event_id(id);
   session_->post(viewer_, std::move(message));
@@ -122,20 +122,21 @@ std::string LocalStream::end_reason() const { return sink_->ended().value_or("")
 
 v1::Snapshot LocalStream::snapshot() {
   std::promise<v1::Snapshot> result;
-  hub_->snapshot(welcome_.session_id(), [&result](std::optional<v1::Snapshot> snapshot,
-                                                  std::optional<server::Refusal> refusal) {
-    if (refusal) {
-      result.set_exception(std::make_exception_ptr(*refusal));
-    } else {
-      result.set_value(std::move(*snapshot));
-    }
-  });
+  hub_->snapshot(
+      welcome_.access().control_key(),
+      [&result](std::optional<v1::Snapshot> snapshot, std::optional<server::Refusal> refusal) {
+        if (refusal) {
+          result.set_exception(std::make_exception_ptr(*refusal));
+        } else {
+          result.set_value(std::move(*snapshot));
+        }
+      });
   return result.get_future().get();
 }
 
 void LocalStream::load(const v1::Snapshot& snapshot) {
   std::promise<void> result;
-  hub_->load(welcome_.session_id(), snapshot,
+  hub_->load(welcome_.access().control_key(), snapshot,
              [&result](std::uint32_t, std::optional<server::Refusal> refusal) {
                if (refusal) {
                  result.set_exception(std::make_exception_ptr(*refusal));

@@ -164,6 +164,7 @@ void Client::open_first() {
   remote_ = true;
   last_remote_frame_ = Clock::now();
   status_ = "streaming from " + options_.server;
+  std::fprintf(stderr, "fluidcast-client: %s\n", describe_welcome(stream_->welcome()).c_str());
 }
 
 void Client::pointer(std::uint32_t id, v1::PointerEvent::Phase phase, float window_x,
@@ -329,9 +330,9 @@ void Client::keep_snapshot() {
   last_snapshot_ = now;
   auto* remote = static_cast<StreamClient*>(stream_.get());
   snapshot_request_ = std::async(
-      std::launch::async, [channel = remote->channel(), session = remote->welcome().session_id(),
+      std::launch::async, [channel = remote->channel(), key = remote->welcome().access().view_key(),
                            token = options_.hello.token(), standby = standby_] {
-        v1::Snapshot snapshot = get_snapshot(channel, session, token);
+        v1::Snapshot snapshot = get_snapshot(channel, key, token);
         if (standby) {
           const std::lock_guard lock(standby->mutex);
           standby->holds_state = false;

@@ -7,13 +7,12 @@
 namespace fluidcast::server {
 namespace {
 
-// Finishes the call with UNAUTHENTICATED when the token is wrong; true when it did.
-// The token and the session id a snapshot call names; a refusal finishes the call.
+// The token and the key a snapshot call gives; a refusal finishes the call (true).
 bool refused(grpc::ServerUnaryReactor* reactor, const std::string& given,
-             const std::optional<std::string>& token, const std::string& session_id) {
+             const std::optional<std::string>& token, const std::string& key, const char* field) {
   try {
     validate_token(given, token);
-    validate_session_id(session_id, "session_id");
+    validate_key(key, field);
     return false;
   } catch (const Refusal& refusal) {
     reactor->Finish(to_status(refusal));
@@ -41,9 +40,11 @@ grpc::ServerUnaryReactor* FluidcastService::GetSnapshot(grpc::CallbackServerCont
                                                         const v1::SnapshotRequest* request,
                                                         v1::Snapshot* reply) {
   auto* reactor = context->DefaultReactor();
-  if (refused(reactor, request->token(), hub_->token(), request->session_id())) return reactor;
-  hub_->snapshot(request->session_id(), [reactor, reply](std::optional<v1::Snapshot> snapshot,
-                                                         std::optional<Refusal> refusal) {
+  if (refused(reactor, request->token(), hub_->token(), request->key(), "SnapshotRequest.key")) {
+    return reactor;
+  }
+  hub_->snapshot(request->key(), [reactor, reply](std::optional<v1::Snapshot> snapshot,
+                                                  std::optional<Refusal> refusal) {
     if (refusal) {
       reactor->Finish(to_status(*refusal));
       return;
@@ -58,8 +59,10 @@ grpc::ServerUnaryReactor* FluidcastService::PutSnapshot(grpc::CallbackServerCont
                                                         const v1::PutSnapshotRequest* request,
                                                         v1::PutSnapshotReply* reply) {
   auto* reactor = context->DefaultReactor();
-  if (refused(reactor, request->token(), hub_->token(), request->session_id())) return reactor;
-  hub_->load(request->session_id(), request->snapshot(),
+  if (refused(reactor, request->token(), hub_->token(), request->key(), "PutSnapshotRequest.key")) {
+    return reactor;
+  }
+  hub_->load(request->key(), request->snapshot(),
              [reactor, reply](std::uint32_t particles, std::optional<Refusal> refusal) {
                if (refusal) {
                  reactor->Finish(to_status(*refusal));

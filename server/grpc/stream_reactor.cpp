@@ -92,7 +92,7 @@ class GrpcViewerSink final : public ViewerSink {
       reactor_->Finish(to_status(*opened.refusal));
       return true;
     }
-    reactor_->on_opened(std::move(opened.session), opened.viewer);
+    reactor_->on_opened(std::move(opened));
     return true;
   }
 
@@ -161,7 +161,7 @@ void StreamReactor::OnReadDone(bool ok) {
       });
       return;
     }
-    validate_event(incoming_, hub_->limits());
+    validate_event(incoming_, hub_->limits(), access_);
     check_rate(incoming_, rates_, hub_->limits());
     session_->post(viewer_, std::move(incoming_));
     incoming_.Clear();
@@ -171,9 +171,10 @@ void StreamReactor::OnReadDone(bool ok) {
   }
 }
 
-void StreamReactor::on_opened(std::shared_ptr<Session> session, std::uint32_t viewer) {
-  session_ = std::move(session);
-  viewer_ = viewer;
+void StreamReactor::on_opened(SessionHub::Opened opened) {
+  session_ = std::move(opened.session);
+  viewer_ = opened.viewer;
+  access_ = opened.access;
   incoming_.Clear();
   StartRead(&incoming_);
 }

@@ -29,7 +29,7 @@ class StreamReactor final : public grpc::ServerBidiReactor<v1::ClientMessage, v1
  private:
   friend class GrpcViewerSink;
   // Under the sink's lock, while the stream lives.
-  void on_opened(std::shared_ptr<Session> session, std::uint32_t viewer);
+  void on_opened(SessionHub::Opened opened);
   void refuse(const Refusal& refusal);
 
   SessionHub* hub_;
@@ -40,6 +40,7 @@ class StreamReactor final : public grpc::ServerBidiReactor<v1::ClientMessage, v1
   // Set once, on the worker's thread, before the next read starts; read by reactions after.
   std::shared_ptr<Session> session_;
   std::uint32_t viewer_ = 0;
+  Access access_ = Access::view;
 };
 
 }  // namespace fluidcast::server

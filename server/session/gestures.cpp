@@ -25,7 +25,7 @@ GestureChange Gestures::apply(const v1::PointerEvent& event) {
     case v1::PointerEvent::DOWN:
       pointers_[id] = at;
       if (pointers_.size() > 1) multi_touch_ = true;
-      change.drag_started = pointers_.size() == 1;
+      change.drag_started = touches_fluid_ && pointers_.size() == 1;
       break;
     case v1::PointerEvent::MOVE: {
       const auto found = pointers_.find(id);
@@ -40,6 +40,10 @@ GestureChange Gestures::apply(const v1::PointerEvent& event) {
           change.zoom = std::clamp(before.spread / after.spread, 0.5f, 2.0f);
         }
       } else {
+        if (!touches_fluid_ && pointers_.size() == 1) {
+          change.yaw_degrees = -(at.x - found->second.x) * kOrbitDegreesPerFrame;
+          change.pitch_degrees = (at.y - found->second.y) * kOrbitDegreesPerFrame;
+        }
         found->second = at;
       }
       break;
@@ -56,7 +60,7 @@ GestureChange Gestures::apply(const v1::PointerEvent& event) {
 }
 
 std::optional<glm::vec2> Gestures::drag() const {
-  if (pointers_.size() != 1 || multi_touch_) return std::nullopt;
+  if (!touches_fluid_ || pointers_.size() != 1 || multi_touch_) return std::nullopt;
   return pointers_.begin()->second;
 }
 

@@ -1,5 +1,6 @@
-// Raw pointer events become gestures: one finger drags the fluid, two fingers orbit
-// (moving together) and zoom (pinching) the camera. Positions are normalised to the frame.
+// Raw pointer events become gestures: one finger drags the fluid (or, for a viewer that may not
+// touch it, orbits the camera), two fingers orbit (moving together) and zoom (pinching) the
+// camera. Positions are normalised to the frame.
 #pragma once
 
 #include <cstdint>
@@ -24,11 +25,14 @@ class Gestures {
   // Degrees of orbit for two fingers moving across the whole frame.
   static constexpr float kOrbitDegreesPerFrame = 180.0f;
 
+  explicit Gestures(bool touches_fluid) : touches_fluid_(touches_fluid) {}
+
   GestureChange apply(const v1::PointerEvent& event);
   // Where the dragging finger is; nothing when no single finger drags.
   std::optional<glm::vec2> drag() const;
 
  private:
+  bool touches_fluid_;
   std::map<std::uint32_t, glm::vec2> pointers_;
   // Set once a second finger joined; the finger left behind does not drag until all are up.
   bool multi_touch_ = false;

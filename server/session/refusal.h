@@ -10,6 +10,7 @@ namespace fluidcast::server {
 enum class RefusalCode {
   invalid_argument,
   unauthenticated,
+  permission_denied,  // the viewer's key only views, and the request would change the fluid
   not_found,
   resource_exhausted,
   failed_precondition,
@@ -25,6 +26,8 @@ inline const char* refusal_code_name(RefusalCode code) {
       return "INVALID_ARGUMENT";
     case RefusalCode::unauthenticated:
       return "UNAUTHENTICATED";
+    case RefusalCode::permission_denied:
+      return "PERMISSION_DENIED";
     case RefusalCode::not_found:
       return "NOT_FOUND";
     case RefusalCode::resource_exhausted:

@@ -12,7 +12,7 @@
 namespace fluidcast::server {
 namespace {
 
-// Cameras kept for viewers that may resume.
+// Viewers kept for a resume.
 constexpr std::size_t kMaxDepartedViewers = 64;
 // Scene, solver and count changes rebuild the simulation: at most one per this interval, the
 // newest wish winning, so no client can keep the worker busy rebuilding.
@@ -112,44 +112,77 @@ void Session::post(std::uint32_t viewer, v1::ClientMessage message) {
   inbox_.push_back({viewer, std::move(message), received});
 }
 
-std::uint32_t Session::add_viewer(const v1::Hello& hello, std::shared_ptr<ViewerSink> sink) {
-  if (hello.has_resume()) {
-    // The old connection may not be known dead yet (a phone that changed networks): the resume
-    // replaces it.
-    const auto old = viewers_.find(hello.resume().viewer_id());
-    if (old != viewers_.end()) {
-      old->second->sink().end(
-          Refusal(RefusalCode::unavailable, "another connection resumed this viewer"));
-      remove_viewer(old->first);
-    }
+std::uint32_t Session::add_viewer(const v1::Hello& hello, std::shared_ptr<ViewerSink> sink,
+                                  Access access) {
+  return admit(hello, std::move(sink), Seat{access});
+}
+
+std::optional<std::uint32_t> Session::viewer_resumed_by(const std::string& key) const {
+  std::optional<std::uint32_t> found;
+  // Every key compared, the right one or not: how long it takes tells nothing.
+  for (const auto& [id, viewer] : viewers_) {
+    if (same_key(key, viewer->seat().resume_key)) found = id;
   }
+  for (const auto& [id, departed] : departed_) {
+    if (same_key(key, departed.seat.resume_key)) found = id;
+  }
+  return found;
+}
+
+std::uint32_t Session::resume_viewer(const v1::Hello& hello, std::shared_ptr<ViewerSink> sink,
+                                     std::uint32_t resumed) {
+  // The old connection may not be known dead yet (a phone that changed networks): the resume
+  // replaces it.
+  const auto old = viewers_.find(resumed);
+  if (old != viewers_.end()) {
+    old->second->sink().end(
+        Refusal(RefusalCode::unavailable, "another connection resumed this viewer"));
+    remove_viewer(old->first);
+  }
+  const auto kept = departed_.find(resumed);
+  if (kept == departed_.end()) {
+    throw Refusal(RefusalCode::not_found, "Hello.resume.key: that viewer has been forgotten");
+  }
+  const Departed departed = kept->second;
+  // A new resume key each time: one that leaked brings back no one after its viewer's next
+  // connection.
+  const std::uint32_t id = admit(hello, std::move(sink), Seat{departed.seat.access});
+  viewers_.at(id)->camera() = departed.camera;
+  departed_.erase(resumed);
+  return id;
+}
+
+std::uint32_t Session::admit(const v1::Hello& hello, std::shared_ptr<ViewerSink> sink, Seat seat) {
   if (viewers_.size() >= services_.limits->max_viewers_per_session) {
     throw Refusal(RefusalCode::resource_exhausted,
                   "session " + id_ + " has its limit of " +
                       std::to_string(services_.limits->max_viewers_per_session) + " viewers");
   }
   const std::uint32_t id = next_viewer_++;
-  auto viewer = std::make_unique<Viewer>(*services_.context, id, hello.viewport(), hello.quality(),
-                                         *services_.limits, std::move(sink));
+  auto viewer = std::make_unique<Viewer>(*services_.context, id, std::move(seat), hello.viewport(),
+                                         hello.quality(), *services_.limits, std::move(sink));
   viewer->look_at(solver_->tank());
-  if (hello.has_resume()) {
-    const auto kept = departed_.find(hello.resume().viewer_id());
-    if (kept != departed_.end()) {
-      viewer->camera() = kept->second;
-      departed_.erase(kept);
-    }
-  }
   viewers_.emplace(id, std::move(viewer));
   services_.metrics->viewers++;
   last_input_ = Clock::now();
   return id;
 }
 
+v1::Access Session::access(std::uint32_t viewer) const {
+  const Seat& seat = viewers_.at(viewer)->seat();
+  v1::Access access;
+  access.set_control(seat.access == Access::control);
+  access.set_view_key(keys_.view);
+  if (seat.access == Access::control) access.set_control_key(keys_.control);
+  access.set_resume_key(seat.resume_key);
+  return access;
+}
+
 void Session::remove_viewer(std::uint32_t id) {
   const auto found = viewers_.find(id);
   if (found == viewers_.end()) return;
-  departed_[id] = found->second->camera();
-  // Only the most recent leavers can still resume; older cameras are forgotten.
+  departed_[id] = {found->second->camera(), found->second->seat()};
+  // Only the most recent leavers can still resume; older ones are forgotten.
   while (departed_.size() > kMaxDepartedViewers) departed_.erase(departed_.begin());
   viewers_.erase(found);
   services_.metrics->viewers--;
@@ -157,10 +190,11 @@ void Session::remove_viewer(std::uint32_t id) {
 }
 
 void Session::end_all(const Refusal& why) {
-  for (auto& [id, viewer] : viewers_) viewer->sink().end(why);
-  services_.metrics->viewers -= viewers_.size();
-  viewers_.clear();
-  empty_since_ = Clock::now();
+  while (!viewers_.empty()) {
+    const auto first = viewers_.begin();
+    first->second->sink().end(why);
+    remove_viewer(first->first);  // kept for a resume (after an idle timeout, say)
+  }
 }
 
 float Session::collider_radius() const { return std::max(0.04f, 4.0f * solver_->scene().spacing); }

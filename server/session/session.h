@@ -46,14 +46,23 @@ class Session {
   ~Session();
 
   const std::string& id() const { return id_; }
+  const SessionKeys& keys() const { return keys_; }
 
   // From any thread: a validated message of a viewer's stream, applied at the next tick.
   void post(std::uint32_t viewer, v1::ClientMessage message);
 
   // The rest on the worker's thread.
-  // Adds a viewer (resuming `resume`'s camera when that viewer left recently); returns its id.
-  std::uint32_t add_viewer(const v1::Hello& hello, std::shared_ptr<ViewerSink> sink);
-  // The viewer's stream ended; its camera is kept for a resume.
+  // Adds a viewer that may do what `access` allows; returns its id.
+  std::uint32_t add_viewer(const v1::Hello& hello, std::shared_ptr<ViewerSink> sink, Access access);
+  // The viewer, connected or recently departed, whose resume key `key` is.
+  std::optional<std::uint32_t> viewer_resumed_by(const std::string& key) const;
+  // A new connection for viewer `resumed` (viewer_resumed_by): its camera and access, a new
+  // resume key; a connection it still has is ended. Returns the new viewer's id.
+  std::uint32_t resume_viewer(const v1::Hello& hello, std::shared_ptr<ViewerSink> sink,
+                              std::uint32_t resumed);
+  // What Welcome.access tells the viewer.
+  v1::Access access(std::uint32_t viewer) const;
+  // The viewer's stream ended; its camera and seat are kept for a resume.
   void remove_viewer(std::uint32_t viewer);
   std::size_t viewer_count() const { return viewers_.size(); }
   Clock::time_point empty_since() const { return empty_since_; }
@@ -79,10 +88,11 @@ class Session {
   v1::Snapshot snapshot() const;
   // Replaces the fluid; throws Refusal for a snapshot that does not fit.
   std::uint32_t load(const v1::Snapshot& snapshot);
-  // Ends every viewer's stream (server shutdown).
+  // Ends every viewer's stream (shutdown, idle timeout); each may resume while the session lives.
   void end_all(const Refusal& why);
 
  private:
+  std::uint32_t admit(const v1::Hello& hello, std::shared_ptr<ViewerSink> sink, Seat seat);
   void rebuild(SessionSetup setup);
   // Applies the newest scene, solver or count wish, or a reset, at most once per interval and
   // not while the time of the last one is still being repaid.
@@ -105,12 +115,18 @@ class Session {
   void move_colliders(double seconds, double elapsed);
 
   std::string id_;
+  SessionKeys keys_;
   SessionServices services_;
   SessionSetup setup_;
   std::unique_ptr<sim::Solver> solver_;
   render::ParticleSource source_;
   std::map<std::uint32_t, std::unique_ptr<Viewer>> viewers_;
-  std::map<std::uint32_t, render::OrbitCamera> departed_;  // cameras kept for a resume
+  // Kept for a resume.
+  struct Departed {
+    render::OrbitCamera camera;
+    Seat seat;
+  };
+  std::map<std::uint32_t, Departed> departed_;
   std::uint32_t next_viewer_ = 1;
   bool paused_ = false;
   std::optional<SessionSetup> setup_wanted_;

@@ -4,8 +4,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
-#include <random>
 
 #include "fluidcast/gpu/vk_check.h"
 #include "fluidcast/render/frame_renderer.h"
@@ -14,6 +12,14 @@
 #include "input_rules.h"
 
 namespace fluidcast::server {
+namespace {
+
+std::string no_session(const char* field, const ServerLimits& limits) {
+  return std::string(field) + " opens no live session (it may have ended: sessions without " +
+         "viewers end after " + std::to_string(limits.resume_grace.count()) + " s)";
+}
+
+}  // namespace
 
 SessionHub::SessionHub(gpu::Context& context, bool gpu_solver, ServerLimits limits,
                        std::optional<std::string> token, Metrics& metrics)
@@ -23,7 +29,6 @@ SessionHub::SessionHub(gpu::Context& context, bool gpu_solver, ServerLimits limi
       token_(std::move(token)),
       metrics_(&metrics),
       steps_(context),
-      session_seed_(std::random_device{}()),
       worker_([this] { run(); }) {}
 
 SessionHub::~SessionHub() { stop(); }
@@ -52,19 +57,24 @@ void SessionHub::post(std::function<void()> job) {
   job();  // the worker has stopped: the job finds no session and says so
 }
 
-std::string SessionHub::new_session_id() {
-  // Unguessable enough that one client cannot join another's session by trying ids.
-  std::mt19937_64 random(session_seed_++ ^
-                         static_cast<std::uint64_t>(Clock::now().time_since_epoch().count()));
-  char text[33];
-  std::snprintf(text, sizeof text, "%016llx%016llx", static_cast<unsigned long long>(random()),
-                static_cast<unsigned long long>(random()));
-  return text;
+SessionHub::Opening SessionHub::find(const std::string& key, const char* field) const {
+  Opening found;
+  // Every session's keys compared: how long it takes tells nothing of which came close.
+  for (const auto& [id, session] : sessions_) {
+    if (const auto access = session->keys().opens(key)) found = {session, *access};
+  }
+  if (!found.session) throw Refusal(RefusalCode::not_found, no_session(field, limits_));
+  return found;
 }
 
-std::shared_ptr<Session> SessionHub::find(const std::string& id) const {
-  const auto found = sessions_.find(id);
-  return found == sessions_.end() ? nullptr : found->second;
+std::pair<std::shared_ptr<Session>, std::uint32_t> SessionHub::find_resumed(
+    const std::string& key) const {
+  std::pair<std::shared_ptr<Session>, std::uint32_t> found;
+  for (const auto& [id, session] : sessions_) {
+    if (const auto viewer = session->viewer_resumed_by(key)) found = {session, *viewer};
+  }
+  if (!found.first) throw Refusal(RefusalCode::not_found, no_session("Hello.resume.key", limits_));
+  return found;
 }
 
 void SessionHub::open(v1::Hello hello, std::shared_ptr<ViewerSink> sink,
@@ -73,15 +83,14 @@ void SessionHub::open(v1::Hello hello, std::shared_ptr<ViewerSink> sink,
     Opened opened;
     try {
       if (closed_) throw Refusal(RefusalCode::unavailable, "the server is shutting down");
-      if (hello.has_join() || hello.has_resume()) {
-        const std::string& id = hello.has_join() ? hello.join() : hello.resume().session_id();
-        opened.session = find(id);
-        if (!opened.session) {
-          throw Refusal(RefusalCode::not_found,
-                        "there is no session " + id +
-                            " (it may have ended: sessions without viewers end after " +
-                            std::to_string(limits_.resume_grace.count()) + " s)");
-        }
+      if (hello.has_join()) {
+        const Opening joined = find(hello.join(), "Hello.join");
+        opened.session = joined.session;
+        opened.viewer = opened.session->add_viewer(hello, sink, joined.access);
+      } else if (hello.has_resume()) {
+        const auto [session, resumed] = find_resumed(hello.resume().key());
+        opened.session = session;
+        opened.viewer = opened.session->resume_viewer(hello, sink, resumed);
       } else {
         if (sessions_.size() >= limits_.max_sessions) {
           throw Refusal(RefusalCode::resource_exhausted, "this server runs its limit of " +
@@ -99,7 +108,7 @@ void SessionHub::open(v1::Hello hello, std::shared_ptr<ViewerSink> sink,
         setup.particles = create.has_state()
                               ? static_cast<std::uint32_t>(create.state().positions_size() / 3)
                               : create.particles();
-        const std::string id = new_session_id();
+        const std::string id = new_key();
         opened.session = std::make_shared<Session>(
             id, setup,
             SessionServices{context_, gpu_solver_, &steps_, &limits_, metrics_, encoders_.get()});
@@ -107,8 +116,10 @@ void SessionHub::open(v1::Hello hello, std::shared_ptr<ViewerSink> sink,
         sessions_.emplace(id, opened.session);
         session_count_ = static_cast<std::uint32_t>(sessions_.size());
         metrics_->sessions = sessions_.size();
+        opened.viewer = opened.session->add_viewer(hello, sink, Access::control);
       }
-      opened.viewer = opened.session->add_viewer(hello, sink);
+      opened.access =
+          opened.session->access(opened.viewer).control() ? Access::control : Access::view;
       spdlog::info("session {}: viewer {} {} ({} particles, {} sessions)", opened.session->id(),
                    opened.viewer,
                    hello.has_resume() ? "resumed"
@@ -134,6 +145,7 @@ void SessionHub::open(v1::Hello hello, std::shared_ptr<ViewerSink> sink,
     const v1::ServerInfo server = info();
     *welcome->mutable_welcome()->mutable_limits() = server.limits();
     *welcome->mutable_welcome()->mutable_rules() = server.rules();
+    *welcome->mutable_welcome()->mutable_access() = opened.session->access(opened.viewer);
     done(opened);
     sink->deliver(welcome);
   });
@@ -147,21 +159,19 @@ void SessionHub::close(std::shared_ptr<Session> session, std::uint32_t viewer) {
 }
 
 void SessionHub::snapshot(
-    std::string session_id,
+    std::string key,
     std::function<void(std::optional<v1::Snapshot>, std::optional<Refusal>)> done) {
-  post([this, session_id = std::move(session_id), done = std::move(done)] {
+  post([this, key = std::move(key), done = std::move(done)] {
     if (closed_) {
       done(std::nullopt, Refusal(RefusalCode::unavailable, "the server is shutting down"));
       return;
     }
-    const auto session = find(session_id);
-    if (!session) {
-      done(std::nullopt, Refusal(RefusalCode::not_found, "there is no session " + session_id));
-      return;
-    }
     std::optional<v1::Snapshot> snapshot;
     try {
-      snapshot = session->snapshot();
+      snapshot = find(key, "SnapshotRequest.key").session->snapshot();
+    } catch (const Refusal& refusal) {
+      done(std::nullopt, refusal);
+      return;
     } catch (const std::exception& e) {
       done(std::nullopt, Refusal(RefusalCode::internal, std::string("snapshot: ") + e.what()));
       return;
@@ -170,22 +180,22 @@ void SessionHub::snapshot(
   });
 }
 
-void SessionHub::load(std::string session_id, v1::Snapshot snapshot,
+void SessionHub::load(std::string key, v1::Snapshot snapshot,
                       std::function<void(std::uint32_t, std::optional<Refusal>)> done) {
-  post([this, session_id = std::move(session_id), snapshot = std::move(snapshot),
-        done = std::move(done)] {
+  post([this, key = std::move(key), snapshot = std::move(snapshot), done = std::move(done)] {
     if (closed_) {
       done(0, Refusal(RefusalCode::unavailable, "the server is shutting down"));
       return;
     }
-    const auto session = find(session_id);
-    if (!session) {
-      done(0, Refusal(RefusalCode::not_found, "there is no session " + session_id));
-      return;
-    }
     std::uint32_t particles = 0;
     try {
-      particles = session->load(snapshot);
+      const Opening opening = find(key, "PutSnapshotRequest.key");
+      if (opening.access != Access::control) {
+        throw Refusal(RefusalCode::permission_denied,
+                      "PutSnapshotRequest.key is the session's view key: replacing its fluid "
+                      "needs the control key");
+      }
+      particles = opening.session->load(snapshot);
     } catch (const Refusal& refusal) {
       done(0, refusal);
       return;

@@ -1,5 +1,6 @@
-// The server's sessions and the one GPU worker thread that runs them (docs/frame-loop.md): transports
-// call in from their own threads and never touch Vulkan; the worker never blocks on the network.
+// The server's sessions and the one GPU worker thread that runs them (docs/frame-loop.md):
+// transports call in from their own threads and never touch Vulkan; the worker never blocks on the
+// network.
 #pragma once
 
 #include <atomic>
@@ -35,6 +36,7 @@ class SessionHub {
   struct Opened {
     std::shared_ptr<Session> session;  // null when refused
     std::uint32_t viewer = 0;
+    Access access = Access::view;  // what the viewer's messages may do
     std::optional<Refusal> refusal;
   };
   // For a validated Hello: creates, joins or resumes a session on the worker, sends the Welcome
@@ -43,10 +45,11 @@ class SessionHub {
   // The viewer's stream ended (its session outlives it for the grace period).
   void close(std::shared_ptr<Session> session, std::uint32_t viewer);
 
-  // Snapshots, for GetSnapshot / PutSnapshot; `done` runs on the worker's thread.
-  void snapshot(std::string session_id,
+  // Snapshots, for GetSnapshot (either of the session's keys) and PutSnapshot (its control key);
+  // `done` runs on the worker's thread.
+  void snapshot(std::string key,
                 std::function<void(std::optional<v1::Snapshot>, std::optional<Refusal>)> done);
-  void load(std::string session_id, v1::Snapshot snapshot,
+  void load(std::string key, v1::Snapshot snapshot,
             std::function<void(std::uint32_t particles, std::optional<Refusal>)> done);
 
   v1::ServerInfo info() const;
@@ -67,8 +70,15 @@ class SessionHub {
   // Between ticks: waits until the GPU has drawn this tick's frames or `deadline` comes, and
   // sends what is finished.
   void collect_frames(Clock::time_point deadline);
-  std::shared_ptr<Session> find(const std::string& id) const;  // worker thread
-  std::string new_session_id();
+  // On the worker's thread: the session `key` (a view or control key) opens, and how far; a
+  // Refusal (NOT_FOUND) naming `field` when none.
+  struct Opening {
+    std::shared_ptr<Session> session;
+    Access access;
+  };
+  Opening find(const std::string& key, const char* field) const;
+  // The session and viewer a resume key names; a Refusal (NOT_FOUND) when none.
+  std::pair<std::shared_ptr<Session>, std::uint32_t> find_resumed(const std::string& key) const;
 
   gpu::Context* context_;
   bool gpu_solver_;
@@ -84,7 +94,6 @@ class SessionHub {
   // solvers queue in it, so that it outlives them).
   sim::GpuStepBatch steps_;
   std::map<std::string, std::shared_ptr<Session>> sessions_;
-  std::uint64_t session_seed_;
   // The newest submission of each of the last ticks: a tick starts once the one two before it has
   // finished on the GPU, so no more than one tick's work waits behind the one executing.
   std::deque<std::uint64_t> tick_serials_;

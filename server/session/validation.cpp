@@ -39,6 +39,27 @@ void check_length(const std::string& value, const char* field) {
 
 bool finite(float value) { return std::isfinite(value); }
 
+// The field of a message that changes the fluid every viewer shares (what only control may send),
+// or null. Pointers are not among them: a view-only viewer's pointers move only its camera.
+const char* fluid_change(const v1::ClientMessage& message) {
+  if (message.has_tilt()) return "Tilt";
+  if (!message.has_command()) return nullptr;
+  switch (message.command().kind_case()) {
+    case v1::Command::kReset:
+      return "Command.reset";
+    case v1::Command::kScene:
+      return "Command.scene";
+    case v1::Command::kSolver:
+      return "Command.solver";
+    case v1::Command::kParticles:
+      return "Command.particles";
+    case v1::Command::kPause:
+      return "Command.pause";
+    default:
+      return nullptr;
+  }
+}
+
 void validate_scene(const std::string& scene) {
   check_length(scene, "the scene");
   if (scene.empty()) return;
@@ -171,9 +192,12 @@ void validate_command(const v1::Command& command, const ServerLimits& limits) {
 
 }  // namespace
 
-void validate_session_id(const std::string& id, const char* field) {
-  check_length(id, field);
-  if (id.empty()) refuse(RefusalCode::invalid_argument, std::string(field) + " is empty");
+void validate_key(const std::string& key, const char* field) {
+  check_length(key, field);
+  if (key.empty()) {
+    refuse(RefusalCode::invalid_argument,
+           std::string(field) + " is empty: give a key from Welcome.access");
+  }
 }
 
 void validate_token(const std::string& given, const std::optional<std::string>& token) {
@@ -234,17 +258,23 @@ void validate_hello(const v1::ClientMessage& message, const ServerLimits& limits
       if (hello.create().has_state()) validate_state(hello.create().state(), limits);
       break;
     case v1::Hello::kJoin:
-      validate_session_id(hello.join(), "Hello.join");
+      validate_key(hello.join(), "Hello.join");
       break;
     case v1::Hello::kResume:
-      validate_session_id(hello.resume().session_id(), "Hello.resume.session_id");
+      validate_key(hello.resume().key(), "Hello.resume.key");
       break;
     case v1::Hello::SESSION_NOT_SET:
       break;
   }
 }
 
-void validate_event(const v1::ClientMessage& message, const ServerLimits& limits) {
+void validate_event(const v1::ClientMessage& message, const ServerLimits& limits, Access access) {
+  if (const char* change = fluid_change(message); change && access != Access::control) {
+    refuse(RefusalCode::permission_denied,
+           std::string(change) +
+               ": this viewer joined with the session's view key; tilting and commanding the "
+               "fluid need its control key");
+  }
   switch (message.kind_case()) {
     case v1::ClientMessage::kHello:
       refuse(RefusalCode::failed_precondition, "a stream takes one Hello, as its first message");

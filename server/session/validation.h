@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "access.h"
 #include "fluidcast/v1/fluidcast.pb.h"
 #include "server_limits.h"
 
@@ -17,15 +18,15 @@ namespace fluidcast::server {
 void validate_hello(const v1::ClientMessage& message, const ServerLimits& limits,
                     const std::optional<std::string>& token);
 
-// Every later message: input within its ranges, never a second Hello.
-void validate_event(const v1::ClientMessage& message, const ServerLimits& limits);
+// Every later message: input within its ranges, never a second Hello, and nothing that changes
+// the fluid from a viewer without control (PERMISSION_DENIED).
+void validate_event(const v1::ClientMessage& message, const ServerLimits& limits, Access access);
 
 // Parts shared with the other requests.
 void validate_viewport(const v1::Viewport& viewport, const ServerLimits& limits);
 void validate_quality(const v1::Quality& quality, const ServerLimits& limits);
-// A session id as a client names it (join, resume, snapshots): not empty, not overlong (a
-// refusal that echoes it stays short).
-void validate_session_id(const std::string& id, const char* field);
+// A key as a client gives it (join, resume, snapshots): not empty, not overlong.
+void validate_key(const std::string& key, const char* field);
 void validate_token(const std::string& given, const std::optional<std::string>& token);
 
 // Input events allowed per second, with a burst of one second's worth: a token bucket.

@@ -19,10 +19,14 @@ int quality_or_default(std::uint32_t quality) {
 
 }  // namespace
 
-Viewer::Viewer(gpu::Context& context, std::uint32_t id, const v1::Viewport& viewport,
+Viewer::Viewer(gpu::Context& context, std::uint32_t id, Seat seat, const v1::Viewport& viewport,
                const v1::Quality& quality, const ServerLimits& limits,
                std::shared_ptr<ViewerSink> sink)
-    : context_(&context), id_(id), limits_(&limits), sink_(std::move(sink)) {
+    : context_(&context),
+      id_(id),
+      seat_(std::move(seat)),
+      limits_(&limits),
+      sink_(std::move(sink)) {
   apply_quality(quality);
   apply_viewport(viewport);
 }

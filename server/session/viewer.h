@@ -13,6 +13,7 @@
 #include <optional>
 #include <string>
 
+#include "access.h"
 #include "fluidcast/render/camera.h"
 #include "fluidcast/render/frame_renderer.h"
 #include "fluidcast/sim/solver.h"
@@ -25,6 +26,12 @@ namespace fluidcast::server {
 
 using Clock = std::chrono::steady_clock;
 
+// What a viewer may do, and the key that brings it back after a dropped connection.
+struct Seat {
+  Access access = Access::view;
+  std::string resume_key = new_key();
+};
+
 class Viewer {
  public:
   // Frames sent and not yet acknowledged, beyond which a viewer that acknowledges gets no new
@@ -34,7 +41,7 @@ class Viewer {
   // a client that never acknowledges cannot make the encoder queue grow.
   static constexpr int kMaxFramesEncoding = 2;
 
-  Viewer(gpu::Context& context, std::uint32_t id, const v1::Viewport& viewport,
+  Viewer(gpu::Context& context, std::uint32_t id, Seat seat, const v1::Viewport& viewport,
          const v1::Quality& quality, const ServerLimits& limits, std::shared_ptr<ViewerSink> sink);
   // Its renderer is retired: its frames in flight finish without anyone waiting for them.
   ~Viewer();
@@ -42,6 +49,7 @@ class Viewer {
   Viewer& operator=(const Viewer&) = delete;
 
   std::uint32_t id() const { return id_; }
+  const Seat& seat() const { return seat_; }
   ViewerSink& sink() const { return *sink_; }
   const std::shared_ptr<ViewerSink>& shared_sink() const { return sink_; }
 
@@ -119,6 +127,7 @@ class Viewer {
 
   gpu::Context* context_;
   std::uint32_t id_;
+  Seat seat_;
   const ServerLimits* limits_;
   std::shared_ptr<ViewerSink> sink_;
   std::unique_ptr<render::FrameRenderer> renderer_;
@@ -126,13 +135,13 @@ class Viewer {
   std::uint32_t render_width_ = 0, render_height_ = 0;  // as rendered (adaptive may lower it)
   render::OrbitCamera camera_;
   render::RendererKind renderer_kind_ = render::RendererKind::automatic;
-  sim::Box tank_;                     // what the camera looks at
+  sim::Box tank_;  // what the camera looks at
   render::OrbitLimits orbit_{0.05f, 1000.0f};
   int requested_quality_ = 80, jpeg_quality_ = 80;
   bool adaptive_ = false;
   Clock::duration frame_interval_;
   Clock::time_point next_frame_{};
-  Gestures gestures_;
+  Gestures gestures_{seat_.access == Access::control};
   // The drag: the view depth it holds the fluid at once the probe found the surface (or gave up).
   std::optional<float> grab_depth_;
   int probe_frames_ = 0;

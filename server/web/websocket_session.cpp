@@ -120,7 +120,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
         open(message.hello());
         return;  // the next read starts once the session is open
       }
-      validate_event(message, hub_->limits());
+      validate_event(message, hub_->limits(), access_);
       check_rate(message, rates_, hub_->limits());
       session_->post(viewer_, std::move(message));
       read();
@@ -148,6 +148,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
         }
         self->session_ = std::move(opened.session);
         self->viewer_ = opened.viewer;
+        self->access_ = opened.access;
         self->read();
       });
     });
@@ -213,6 +214,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
   StreamRates rates_;
   std::shared_ptr<Session> session_;
   std::uint32_t viewer_ = 0;
+  Access access_ = Access::view;
   std::shared_ptr<std::string> writing_;
   OutgoingMessages outgoing_;
   boost::asio::steady_timer hello_deadline_;

@@ -210,8 +210,7 @@ TEST(ServerTest, AnUntouchedSessionIdlesOutAndATouchedOneStreamsOn) {
   frame_from(busy);
 
   v1::Hello resume = small_hello();
-  resume.mutable_resume()->set_session_id(idle.welcome().session_id());
-  resume.mutable_resume()->set_viewer_id(idle.welcome().viewer_id());
+  resume.mutable_resume()->set_key(idle.welcome().access().resume_key());
   StreamClient resumed(client::connect(address), resume);
   EXPECT_EQ(resumed.welcome().session_id(), idle.welcome().session_id());
   frame_from(resumed);
@@ -301,24 +300,116 @@ TEST(ServerTest, TwoViewersShareASessionAndResumeFindsTheFluidAsItWas) {
   auto first = std::make_unique<StreamClient>(client::connect(address), small_hello());
   const std::string session = first->welcome().session_id();
   v1::Hello join = small_hello();
-  join.set_join(session);
+  join.set_join(first->welcome().access().view_key());
   StreamClient second(client::connect(address), join);
   EXPECT_EQ(second.welcome().session_id(), session);
   EXPECT_NE(second.welcome().viewer_id(), first->welcome().viewer_id());
   frame_from(second);
   double time_before = 0.0;
   for (int k = 0; k < 3; ++k) time_before = frame_from(*first).sim_time();
-  const std::uint32_t viewer = first->welcome().viewer_id();
+  const v1::Access access = first->welcome().access();
   first->drop();  // the network goes away
   first.reset();
 
   v1::Hello resume = small_hello();
-  resume.mutable_resume()->set_session_id(session);
-  resume.mutable_resume()->set_viewer_id(viewer);
+  resume.mutable_resume()->set_key(access.resume_key());
   StreamClient back(client::connect(address), resume);
   EXPECT_EQ(back.welcome().session_id(), session);
+  EXPECT_TRUE(back.welcome().access().control()) << "the creator came back as a viewer";
+  EXPECT_NE(back.welcome().access().resume_key(), access.resume_key());
   // Not a new fluid: time went on from where it was.
   EXPECT_GE(frame_from(back).sim_time(), time_before);
+}
+
+v1::Snapshot snapshot_of(const std::string& address, const v1::Welcome& welcome) {
+  auto stub = v1::Fluidcast::NewStub(client::connect(address));
+  grpc::ClientContext context;
+  v1::SnapshotRequest request;
+  request.set_key(welcome.access().view_key());
+  v1::Snapshot snapshot;
+  const grpc::Status status = stub->GetSnapshot(&context, request, &snapshot);
+  if (!status.ok()) throw StreamError(status);
+  return snapshot;
+}
+
+// The session's keys open what they say: the view key watches, the control key plays, a resume
+// key brings back its own viewer once; the session id and viewer ids open nothing.
+TEST(ServerTest, KeysOpenWhatTheySayAndIdsOpenNothing) {
+  testing::ServerProcess server;
+  const std::string& address = server.grpc_address();
+  StreamClient creator(client::connect(address), small_hello());
+  const v1::Access& keys = creator.welcome().access();
+  EXPECT_TRUE(keys.control());
+  for (const std::string& key : {keys.view_key(), keys.control_key(), keys.resume_key()}) {
+    EXPECT_EQ(key.size(), 32u);
+    EXPECT_NE(key, creator.welcome().session_id());
+  }
+  EXPECT_NE(keys.view_key(), keys.control_key());
+
+  v1::Hello by_id = small_hello();
+  by_id.set_join(creator.welcome().session_id());
+  EXPECT_EQ(refusal_of(address, by_id), grpc::StatusCode::NOT_FOUND);
+  v1::Hello resume_by_view_key = small_hello();
+  resume_by_view_key.mutable_resume()->set_key(keys.view_key());
+  EXPECT_EQ(refusal_of(address, resume_by_view_key), grpc::StatusCode::NOT_FOUND);
+
+  v1::Hello watch = small_hello();
+  watch.set_join(keys.view_key());
+  StreamClient watcher(client::connect(address), watch);
+  EXPECT_FALSE(watcher.welcome().access().control());
+  EXPECT_TRUE(watcher.welcome().access().control_key().empty());
+  EXPECT_EQ(watcher.welcome().access().view_key(), keys.view_key());
+  // Its pointers orbit its own camera: the stream goes on.
+  watcher.pointer(0, v1::PointerEvent::DOWN, 0.5f, 0.7f);
+  watcher.pointer(0, v1::PointerEvent::MOVE, 0.6f, 0.7f);
+  watcher.pointer(0, v1::PointerEvent::UP, 0.6f, 0.7f);
+  frame_from(watcher);
+  EXPECT_FALSE(watcher.ended()) << watcher.status().error_message();
+
+  auto stub = v1::Fluidcast::NewStub(client::connect(address));
+  v1::PutSnapshotRequest put;
+  put.set_key(keys.view_key());
+  *put.mutable_snapshot() = snapshot_of(address, watcher.welcome());
+  v1::PutSnapshotReply reply;
+  {
+    grpc::ClientContext context;
+    const grpc::Status status = stub->PutSnapshot(&context, put, &reply);
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::PERMISSION_DENIED) << status.error_message();
+  }
+  put.set_key(keys.control_key());
+  {
+    grpc::ClientContext context;
+    EXPECT_TRUE(stub->PutSnapshot(&context, put, &reply).ok());
+  }
+
+  v1::Hello play = small_hello();
+  play.set_join(keys.control_key());
+  StreamClient player(client::connect(address), play);
+  EXPECT_TRUE(player.welcome().access().control());
+  EXPECT_EQ(player.welcome().access().control_key(), keys.control_key());
+
+  // A view-only viewer that tilts ends alone, told why; the others stream on.
+  watcher.send_raw([] {
+    v1::ClientMessage tilt;
+    tilt.mutable_tilt()->set_y(-9.81f);
+    return tilt;
+  }());
+  for (int k = 0; k < 300 && !watcher.ended(); ++k) watcher.next_frame(milliseconds(100));
+  EXPECT_EQ(watcher.status().error_code(), grpc::StatusCode::PERMISSION_DENIED);
+  EXPECT_NE(watcher.status().error_message().find("control key"), std::string::npos)
+      << watcher.status().error_message();
+  frame_from(creator);
+  frame_from(player);
+
+  // A resume key works once: the viewer that comes back gets a new one.
+  const std::string resume_key = player.welcome().access().resume_key();
+  player.drop();
+  v1::Hello resume = small_hello();
+  resume.mutable_resume()->set_key(resume_key);
+  StreamClient back(client::connect(address), resume);
+  EXPECT_TRUE(back.welcome().access().control());
+  EXPECT_EQ(refusal_of(address, resume), grpc::StatusCode::NOT_FOUND);
+  frame_from(back);
 }
 
 TEST(ServerTest, TiltTurnsGravity) {
@@ -334,24 +425,13 @@ TEST(ServerTest, TiltTurnsGravity) {
   auto stub = v1::Fluidcast::NewStub(client::connect(server.grpc_address()));
   grpc::ClientContext context;
   v1::SnapshotRequest request;
-  request.set_session_id(stream.welcome().session_id());
+  request.set_key(stream.welcome().access().view_key());
   v1::Snapshot snapshot;
   ASSERT_TRUE(stub->GetSnapshot(&context, request, &snapshot).ok());
   const v1::Vec3& g = snapshot.gravity();
   EXPECT_NEAR(std::sqrt(g.x() * g.x() + g.y() * g.y() + g.z() * g.z()), 9.81f, 1e-3f);
   EXPECT_NEAR(g.y(), 0.0f, 1e-3f);  // the camera's right is horizontal
   EXPECT_EQ(snapshot.positions_size(), 3 * 1000);
-}
-
-v1::Snapshot snapshot_of(const std::string& address, const std::string& session) {
-  auto stub = v1::Fluidcast::NewStub(client::connect(address));
-  grpc::ClientContext context;
-  v1::SnapshotRequest request;
-  request.set_session_id(session);
-  v1::Snapshot snapshot;
-  const grpc::Status status = stub->GetSnapshot(&context, request, &snapshot);
-  if (!status.ok()) throw StreamError(status);
-  return snapshot;
 }
 
 // Mean speed of the particles within `radius` of `centre` (x and z only: a column), m/s.
@@ -387,8 +467,8 @@ TEST(ServerTest, ADragStirsTheFluidWhereItTouches) {
     frame_from(calm);
     touched.pointer(0, v1::PointerEvent::MOVE, 0.45f + 0.01f * float(k % 10), 0.7f);
   }
-  const v1::Snapshot stirred = snapshot_of(address, touched.welcome().session_id());
-  const v1::Snapshot still = snapshot_of(address, calm.welcome().session_id());
+  const v1::Snapshot stirred = snapshot_of(address, touched.welcome());
+  const v1::Snapshot still = snapshot_of(address, calm.welcome());
   const float centre_x = 0.5f * (touched.welcome().state().tank().min().x() +
                                  touched.welcome().state().tank().max().x());
   const double stirred_speed = mean_speed_near(stirred, centre_x, 0.3f);
@@ -408,12 +488,12 @@ TEST(ServerTest, SnapshotsMoveAFluidBetweenSessionsAndBadOnesChangeNothing) {
   for (int k = 0; k < 5; ++k) frame_from(from);
   from.tilt(3.0f, -9.0f, 0.0f);
   for (int k = 0; k < 5; ++k) frame_from(from);
-  const v1::Snapshot moved = snapshot_of(address, from.welcome().session_id());
+  const v1::Snapshot moved = snapshot_of(address, from.welcome());
   EXPECT_GT(moved.time(), 0.0);
 
   auto stub = v1::Fluidcast::NewStub(client::connect(address));
   v1::PutSnapshotRequest put;
-  put.set_session_id(into.welcome().session_id());
+  put.set_key(into.welcome().access().control_key());
   *put.mutable_snapshot() = moved;
   v1::PutSnapshotReply reply;
   {
@@ -421,7 +501,7 @@ TEST(ServerTest, SnapshotsMoveAFluidBetweenSessionsAndBadOnesChangeNothing) {
     ASSERT_TRUE(stub->PutSnapshot(&context, put, &reply).ok());
   }
   EXPECT_EQ(reply.particles(), 800u);
-  const v1::Snapshot landed = snapshot_of(address, into.welcome().session_id());
+  const v1::Snapshot landed = snapshot_of(address, into.welcome());
   EXPECT_EQ(landed.positions_size(), 3 * 800);
   EXPECT_GE(landed.time(), moved.time());
   EXPECT_NEAR(landed.gravity().x(), moved.gravity().x(), 1e-4f);
@@ -432,13 +512,13 @@ TEST(ServerTest, SnapshotsMoveAFluidBetweenSessionsAndBadOnesChangeNothing) {
     EXPECT_EQ(stub->PutSnapshot(&context, put, &reply).error_code(),
               grpc::StatusCode::INVALID_ARGUMENT);
   }
-  EXPECT_EQ(snapshot_of(address, into.welcome().session_id()).positions_size(), 3 * 800);
+  EXPECT_EQ(snapshot_of(address, into.welcome()).positions_size(), 3 * 800);
 
-  // A session id too long to be one is refused without being echoed back.
+  // A key too long to be one is refused without being echoed back.
   {
     grpc::ClientContext context;
     v1::SnapshotRequest request;
-    request.set_session_id(std::string(100000, 'x'));
+    request.set_key(std::string(100000, 'x'));
     v1::Snapshot ignored;
     const grpc::Status status = stub->GetSnapshot(&context, request, &ignored);
     EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
@@ -458,7 +538,7 @@ TEST(ServerTest, SnapshotsMoveAFluidBetweenSessionsAndBadOnesChangeNothing) {
     EXPECT_NE(status.error_message().find("rest density"), std::string::npos)
         << status.error_message();
   }
-  EXPECT_EQ(snapshot_of(address, into.welcome().session_id()).positions_size(), 3 * 800);
+  EXPECT_EQ(snapshot_of(address, into.welcome()).positions_size(), 3 * 800);
 }
 
 // A client that never reads: frames wait in the server at most one behind the one being written,

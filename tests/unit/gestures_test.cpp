@@ -1,5 +1,5 @@
 // Pointer events to gestures: one finger drags, two orbit and zoom, and a finger left behind
-// after two does not drag.
+// after two does not drag; a view-only viewer's one finger orbits.
 #include <gtest/gtest.h>
 
 #include "session/gestures.h"
@@ -17,7 +17,7 @@ v1::PointerEvent pointer(std::uint32_t id, v1::PointerEvent::Phase phase, float 
 }
 
 TEST(GesturesTest, OneFingerDragsWhereItIs) {
-  Gestures gestures;
+  Gestures gestures(true);
   EXPECT_FALSE(gestures.drag());
   EXPECT_TRUE(gestures.apply(pointer(3, v1::PointerEvent::DOWN, 0.2f, 0.4f)).drag_started);
   gestures.apply(pointer(3, v1::PointerEvent::MOVE, 0.3f, 0.5f));
@@ -29,7 +29,7 @@ TEST(GesturesTest, OneFingerDragsWhereItIs) {
 }
 
 TEST(GesturesTest, TwoFingersOrbitAndZoomAndTheOneLeftDoesNotDrag) {
-  Gestures gestures;
+  Gestures gestures(true);
   gestures.apply(pointer(0, v1::PointerEvent::DOWN, 0.4f, 0.5f));
   EXPECT_FALSE(gestures.apply(pointer(1, v1::PointerEvent::DOWN, 0.6f, 0.5f)).drag_started);
   EXPECT_FALSE(gestures.drag());
@@ -47,9 +47,18 @@ TEST(GesturesTest, TwoFingersOrbitAndZoomAndTheOneLeftDoesNotDrag) {
 }
 
 TEST(GesturesTest, MovesOfUnknownPointersAreIgnored) {
-  Gestures gestures;
+  Gestures gestures(true);
   const GestureChange change = gestures.apply(pointer(5, v1::PointerEvent::MOVE, 0.5f, 0.5f));
   EXPECT_FALSE(change.drag_started);
+  EXPECT_FALSE(gestures.drag());
+}
+
+TEST(GesturesTest, AViewerThatMayNotTouchTheFluidOrbitsWithOneFinger) {
+  Gestures gestures(false);
+  EXPECT_FALSE(gestures.apply(pointer(0, v1::PointerEvent::DOWN, 0.4f, 0.5f)).drag_started);
+  const GestureChange orbit = gestures.apply(pointer(0, v1::PointerEvent::MOVE, 0.5f, 0.4f));
+  EXPECT_NEAR(orbit.yaw_degrees, -0.1f * Gestures::kOrbitDegreesPerFrame, 1e-4f);
+  EXPECT_NEAR(orbit.pitch_degrees, -0.1f * Gestures::kOrbitDegreesPerFrame, 1e-4f);
   EXPECT_FALSE(gestures.drag());
 }
 

@@ -76,52 +76,129 @@ TEST(ValidationTest, AGoodHelloPassesAndEachBadOneGetsItsCode) {
             RefusalCode::invalid_argument);
 }
 
+TEST(ValidationTest, AViewOnlyViewerChangesNothingButItsOwnView) {
+  const ServerLimits limits;
+  auto command = [](auto set) {
+    v1::ClientMessage message;
+    set(*message.mutable_command());
+    return message;
+  };
+  const std::vector<v1::ClientMessage> changes = {
+      command([](v1::Command& c) { c.set_reset(true); }),
+      command([](v1::Command& c) { c.set_pause(true); }),
+      command([](v1::Command& c) { c.set_scene("pool"); }),
+      command([](v1::Command& c) { c.set_solver("sph"); }),
+      command([](v1::Command& c) { c.set_particles(1000); }),
+      [] {
+        v1::ClientMessage message;
+        message.mutable_tilt()->set_y(-9.81f);
+        return message;
+      }()};
+  for (const auto& change : changes) {
+    EXPECT_NO_THROW(validate_event(change, limits, Access::control)) << change.DebugString();
+    try {
+      validate_event(change, limits, Access::view);
+      ADD_FAILURE() << "a view-only viewer sent " << change.DebugString();
+    } catch (const Refusal& refusal) {
+      EXPECT_EQ(refusal.code(), RefusalCode::permission_denied);
+      EXPECT_NE(std::string(refusal.what()).find("control key"), std::string::npos);
+    }
+  }
+  const std::vector<v1::ClientMessage> own = {
+      command([](v1::Command& c) {
+        c.mutable_viewport()->set_width(100);
+        c.mutable_viewport()->set_height(100);
+      }),
+      command([](v1::Command& c) { c.set_reset_view(true); }),
+      command([](v1::Command& c) { c.mutable_quality()->set_jpeg_quality(50); }),
+      [] {
+        v1::ClientMessage message;
+        message.mutable_pointer()->set_phase(v1::PointerEvent::DOWN);
+        return message;
+      }(),
+      [] {
+        v1::ClientMessage message;
+        message.mutable_state_request();
+        return message;
+      }()};
+  for (const auto& message : own) {
+    EXPECT_NO_THROW(validate_event(message, limits, Access::view)) << message.DebugString();
+  }
+}
+
+TEST(AccessTest, KeysAreRandomAndOpenOnlyTheirSession) {
+  const SessionKeys one, two;
+  EXPECT_EQ(one.view.size(), 32u);
+  EXPECT_NE(one.view, one.control);
+  EXPECT_NE(one.view, two.view);
+  EXPECT_EQ(one.opens(one.view), Access::view);
+  EXPECT_EQ(one.opens(one.control), Access::control);
+  EXPECT_EQ(one.opens(two.control), std::nullopt);
+  EXPECT_EQ(one.opens(""), std::nullopt);
+  EXPECT_EQ(one.opens(one.control.substr(0, 31)), std::nullopt);
+  std::string near = one.control;
+  near.back() = near.back() == '0' ? '1' : '0';
+  EXPECT_EQ(one.opens(near), std::nullopt);
+}
+
 TEST(ValidationTest, InputOutOfItsRangeIsRefused) {
   const ServerLimits limits;
   const float nan = std::numeric_limits<float>::quiet_NaN();
   v1::ClientMessage message;
-  EXPECT_EQ(code_of([&] { validate_event(message, limits); }), RefusalCode::invalid_argument);
-  EXPECT_EQ(code_of([&] { validate_event(hello(), limits); }), RefusalCode::failed_precondition);
+  EXPECT_EQ(code_of([&] { validate_event(message, limits, Access::control); }),
+            RefusalCode::invalid_argument);
+  EXPECT_EQ(code_of([&] { validate_event(hello(), limits, Access::control); }),
+            RefusalCode::failed_precondition);
 
   auto& pointer = *message.mutable_pointer();
   pointer.set_phase(v1::PointerEvent::DOWN);
   pointer.set_x(0.5f);
   pointer.set_y(1.0f);
-  EXPECT_NO_THROW(validate_event(message, limits));
+  EXPECT_NO_THROW(validate_event(message, limits, Access::control));
   for (float bad : {nan, -0.01f, 1.01f, std::numeric_limits<float>::infinity()}) {
     pointer.set_x(bad);
-    EXPECT_EQ(code_of([&] { validate_event(message, limits); }), RefusalCode::invalid_argument)
+    EXPECT_EQ(code_of([&] { validate_event(message, limits, Access::control); }),
+              RefusalCode::invalid_argument)
         << bad;
   }
   pointer.set_x(0.5f);
   pointer.set_pointer_id(16);
-  EXPECT_EQ(code_of([&] { validate_event(message, limits); }), RefusalCode::invalid_argument);
+  EXPECT_EQ(code_of([&] { validate_event(message, limits, Access::control); }),
+            RefusalCode::invalid_argument);
   pointer.set_pointer_id(0);
   pointer.set_phase(v1::PointerEvent::PHASE_UNSPECIFIED);
-  EXPECT_EQ(code_of([&] { validate_event(message, limits); }), RefusalCode::invalid_argument);
+  EXPECT_EQ(code_of([&] { validate_event(message, limits, Access::control); }),
+            RefusalCode::invalid_argument);
 
   auto& tilt = *message.mutable_tilt();
   tilt.set_y(-9.81f);
-  EXPECT_NO_THROW(validate_event(message, limits));
+  EXPECT_NO_THROW(validate_event(message, limits, Access::control));
   tilt.set_y(nan);
-  EXPECT_EQ(code_of([&] { validate_event(message, limits); }), RefusalCode::invalid_argument);
+  EXPECT_EQ(code_of([&] { validate_event(message, limits, Access::control); }),
+            RefusalCode::invalid_argument);
   tilt.set_y(1e6f);
-  EXPECT_EQ(code_of([&] { validate_event(message, limits); }), RefusalCode::invalid_argument);
+  EXPECT_EQ(code_of([&] { validate_event(message, limits, Access::control); }),
+            RefusalCode::invalid_argument);
   tilt.set_y(0.0f);
-  EXPECT_EQ(code_of([&] { validate_event(message, limits); }), RefusalCode::invalid_argument);
+  EXPECT_EQ(code_of([&] { validate_event(message, limits, Access::control); }),
+            RefusalCode::invalid_argument);
 
   auto& camera = *message.mutable_command()->mutable_camera();
   camera.set_distance(2.0f);
-  EXPECT_NO_THROW(validate_event(message, limits));
+  EXPECT_NO_THROW(validate_event(message, limits, Access::control));
   camera.set_pitch_degrees(95.0f);
-  EXPECT_EQ(code_of([&] { validate_event(message, limits); }), RefusalCode::invalid_argument);
+  EXPECT_EQ(code_of([&] { validate_event(message, limits, Access::control); }),
+            RefusalCode::invalid_argument);
   camera.set_pitch_degrees(0.0f);
   camera.set_distance(nan);
-  EXPECT_EQ(code_of([&] { validate_event(message, limits); }), RefusalCode::invalid_argument);
+  EXPECT_EQ(code_of([&] { validate_event(message, limits, Access::control); }),
+            RefusalCode::invalid_argument);
   message.mutable_command()->set_particles(limits.max_particles + 1);
-  EXPECT_EQ(code_of([&] { validate_event(message, limits); }), RefusalCode::resource_exhausted);
+  EXPECT_EQ(code_of([&] { validate_event(message, limits, Access::control); }),
+            RefusalCode::resource_exhausted);
   message.mutable_command()->set_particles(0);
-  EXPECT_EQ(code_of([&] { validate_event(message, limits); }), RefusalCode::invalid_argument);
+  EXPECT_EQ(code_of([&] { validate_event(message, limits, Access::control); }),
+            RefusalCode::invalid_argument);
 }
 
 // What InputRules tells clients is exactly what validation enforces: each bound accepted, the
@@ -135,19 +212,23 @@ TEST(ValidationTest, TheAdvertisedRulesAreTheEnforcedOnes) {
     message.mutable_pointer()->set_phase(v1::PointerEvent::DOWN);
     return message;
   };
-  EXPECT_NO_THROW(validate_event(pointer(rules.pointer_ids() - 1), limits));
-  EXPECT_EQ(code_of([&] { validate_event(pointer(rules.pointer_ids()), limits); }),
+  EXPECT_NO_THROW(validate_event(pointer(rules.pointer_ids() - 1), limits, Access::control));
+  EXPECT_EQ(code_of([&] { validate_event(pointer(rules.pointer_ids()), limits, Access::control); }),
             RefusalCode::invalid_argument);
   const auto tilt = [](double magnitude) {
     v1::ClientMessage message;
     message.mutable_tilt()->set_y(static_cast<float>(-magnitude));
     return message;
   };
-  EXPECT_NO_THROW(validate_event(tilt(rules.tilt_gravity().min()), limits));
-  EXPECT_NO_THROW(validate_event(tilt(rules.tilt_gravity().max()), limits));
-  EXPECT_EQ(code_of([&] { validate_event(tilt(rules.tilt_gravity().max() * 1.01), limits); }),
+  EXPECT_NO_THROW(validate_event(tilt(rules.tilt_gravity().min()), limits, Access::control));
+  EXPECT_NO_THROW(validate_event(tilt(rules.tilt_gravity().max()), limits, Access::control));
+  EXPECT_EQ(code_of([&] {
+              validate_event(tilt(rules.tilt_gravity().max() * 1.01), limits, Access::control);
+            }),
             RefusalCode::invalid_argument);
-  EXPECT_EQ(code_of([&] { validate_event(tilt(rules.tilt_gravity().min() * 0.5), limits); }),
+  EXPECT_EQ(code_of([&] {
+              validate_event(tilt(rules.tilt_gravity().min() * 0.5), limits, Access::control);
+            }),
             RefusalCode::invalid_argument);
   const auto camera = [](double pitch, double distance, double fov) {
     v1::ClientMessage message;
@@ -160,35 +241,42 @@ TEST(ValidationTest, TheAdvertisedRulesAreTheEnforcedOnes) {
   const v1::Range& pitch = rules.camera_pitch_degrees();
   const v1::Range& distance = rules.camera_distance();
   const v1::Range& fov = rules.camera_field_of_view_degrees();
-  EXPECT_NO_THROW(validate_event(camera(pitch.min(), distance.max(), fov.min()), limits));
-  EXPECT_NO_THROW(validate_event(camera(pitch.max(), distance.max(), fov.max()), limits));
-  EXPECT_EQ(code_of([&] { validate_event(camera(pitch.max() + 1, 1, 45), limits); }),
+  EXPECT_NO_THROW(
+      validate_event(camera(pitch.min(), distance.max(), fov.min()), limits, Access::control));
+  EXPECT_NO_THROW(
+      validate_event(camera(pitch.max(), distance.max(), fov.max()), limits, Access::control));
+  EXPECT_EQ(
+      code_of([&] { validate_event(camera(pitch.max() + 1, 1, 45), limits, Access::control); }),
+      RefusalCode::invalid_argument);
+  EXPECT_EQ(code_of([&] {
+              validate_event(camera(0, distance.max() * 1.01, 45), limits, Access::control);
+            }),
             RefusalCode::invalid_argument);
-  EXPECT_EQ(code_of([&] { validate_event(camera(0, distance.max() * 1.01, 45), limits); }),
-            RefusalCode::invalid_argument);
-  EXPECT_EQ(code_of([&] { validate_event(camera(0, distance.min(), 45), limits); }),
-            RefusalCode::invalid_argument);
-  EXPECT_EQ(code_of([&] { validate_event(camera(0, 1, fov.max() + 1), limits); }),
+  EXPECT_EQ(
+      code_of([&] { validate_event(camera(0, distance.min(), 45), limits, Access::control); }),
+      RefusalCode::invalid_argument);
+  EXPECT_EQ(code_of([&] { validate_event(camera(0, 1, fov.max() + 1), limits, Access::control); }),
             RefusalCode::invalid_argument);
   v1::ClientMessage quality;
   quality.mutable_command()->mutable_quality()->set_jpeg_quality(rules.max_jpeg_quality());
-  EXPECT_NO_THROW(validate_event(quality, limits));
+  EXPECT_NO_THROW(validate_event(quality, limits, Access::control));
   quality.mutable_command()->mutable_quality()->set_jpeg_quality(rules.max_jpeg_quality() + 1);
-  EXPECT_EQ(code_of([&] { validate_event(quality, limits); }), RefusalCode::invalid_argument);
+  EXPECT_EQ(code_of([&] { validate_event(quality, limits, Access::control); }),
+            RefusalCode::invalid_argument);
   for (const std::string& name : rules.scenes()) {
     v1::ClientMessage message;
     message.mutable_command()->set_scene(name);
-    EXPECT_NO_THROW(validate_event(message, limits)) << name;
+    EXPECT_NO_THROW(validate_event(message, limits, Access::control)) << name;
   }
   for (const std::string& name : rules.solvers()) {
     v1::ClientMessage message;
     message.mutable_command()->set_solver(name);
-    EXPECT_NO_THROW(validate_event(message, limits)) << name;
+    EXPECT_NO_THROW(validate_event(message, limits, Access::control)) << name;
   }
   for (const std::string& name : rules.renderers()) {
     v1::ClientMessage message;
     message.mutable_command()->mutable_quality()->set_renderer(name);
-    EXPECT_NO_THROW(validate_event(message, limits)) << name;
+    EXPECT_NO_THROW(validate_event(message, limits, Access::control)) << name;
   }
   EXPECT_EQ(input_rules(false).renderers_size(), 2);  // points and auto
 }
