@@ -18,8 +18,9 @@ const state = window.fluidcast = {
   fps: 0,
   latencyMs: [],  // touch-to-photon, the last 100
   bitrateKbps: 0,
-  sessionId: '',
+  sessionId: '',  // names the session (logs); opens nothing
   viewerId: 0,
+  access: null,   // Welcome.access: whether this viewer controls the fluid, and its keys
   lastFrame: null,  // sequence, sim time, size, renderer, timings
   reconnects: 0,
   tilt: null,       // the last gravity sent
@@ -54,6 +55,9 @@ let giveUp = false;
 // what the close that follows shows, instead of a bare "dropped".
 let endReason = '';
 let sessionLost = false;  // the server no longer had our session: the next one is new
+// A shared link's key (#view=… or #control=…, in the fragment so that it never reaches a server's
+// logs): the session this page joins, and whether it may play or only watch.
+let joinKey = (/^#(?:view|control)=([0-9a-f]{32})$/.exec(location.hash) || [])[1] || '';
 const kServerDefaultQuality = 80;  // Quality.jpeg_quality 0 (fluidcast.proto)
 
 // The server's status codes in plain words; its own sentence, written for protocol developers,
@@ -62,7 +66,7 @@ const plainWords = {
   RESOURCE_EXHAUSTED: 'The server is at one of its limits',
   INVALID_ARGUMENT: 'The server could not use what this page asked for',
   FAILED_PRECONDITION: 'The server could not use what this page asked for',
-  PERMISSION_DENIED: 'The server refused this page',
+  PERMISSION_DENIED: 'This link lets you watch, not play',
   UNAVAILABLE: 'The server is shutting down or restarting',
   INTERNAL: 'The server ran into a problem',
   DEADLINE_EXCEEDED: 'Paused: nobody touched the fluid for a while',
@@ -147,16 +151,16 @@ function connect() {
   const scheme = location.protocol === 'https:' ? 'wss:' : 'ws:';
   socket = new WebSocket(scheme + '//' + location.host + '/ws');
   socket.binaryType = 'arraybuffer';
-  say(state.sessionId ? 'Reconnecting…' : 'Connecting…');
+  say(state.access || joinKey ? 'Reconnecting…' : 'Connecting…');
   socket.onopen = async () => {
     const hello = { token, viewport: viewport(), quality: quality() };
     if (handoff && handoff.mode) {
       // The fluid went on here: the server gets it back in a new session.
       hello.create = { state: await handoff.mode.exportState() };
-    } else if (state.sessionId && state.viewerId) {
-      hello.resume = { sessionId: state.sessionId, viewerId: state.viewerId };
-    } else if (state.sessionId) {
-      hello.join = state.sessionId;  // a shared link
+    } else if (state.access) {
+      hello.resume = { key: state.access.resumeKey };
+    } else if (joinKey) {
+      hello.join = joinKey;  // a shared link
     } else {
       hello.create = { scene: wanted.scene, particles: wanted.particles };
     }
@@ -190,11 +194,15 @@ function receive(bytes) {
     state.connected = true;
     state.sessionId = message.welcome.sessionId;
     state.viewerId = message.welcome.viewerId;
+    state.access = message.welcome.access;
     state.rules = message.welcome.rules;
     fillMenus(state.rules);
+    showAccess(state.access);
     retryDelayMs = 500;
     keepAwake();
-    history.replaceState(null, '', '#' + state.sessionId);
+    // The address bar opens what this page may do: a reload comes back to the same fluid.
+    joinKey = state.access.control ? state.access.controlKey : state.access.viewKey;
+    history.replaceState(null, '', (state.access.control ? '#control=' : '#view=') + joinKey);
     if (sessionLost) {
       sessionLost = false;
       say('The server no longer had the fluid you were watching (it may have restarted): this ' +
@@ -232,6 +240,8 @@ function ended(code, text) {
     // The session ended while we were away (or the server restarted): start a new one, and say so.
     state.sessionId = '';
     state.viewerId = 0;
+    state.access = null;
+    joinKey = '';
     sessionLost = true;
     retryDelayMs = 100;
   } else {
@@ -423,6 +433,7 @@ function onMotion(event) {
     return;
   }
   const range = state.rules && state.rules.tiltGravity;
+  if (!state.access || !state.access.control) return;  // tilting is playing, not watching
   if (!range || magnitude < range.min || magnitude > range.max) return;  // free fall, a first zero
   lastTiltSent = now;
   state.tilt = gravity;
@@ -482,6 +493,34 @@ function fillScenes(names) {
     ...names.map((name) => new Option(name.replace(/_/g, ' '), name)));
 }
 
+// A viewer that only watches sees no control that would change the fluid (its one finger orbits);
+// one that plays may also share the link to play.
+function showAccess(access) {
+  document.body.classList.toggle('view-only', !access.control);
+}
+
+// The link that opens this session with `key`: shared through the system's sheet where there is
+// one, else copied, else shown to copy by hand.
+async function shareLink(kind, key) {
+  const url = location.origin + location.pathname + location.search + '#' + kind + '=' + key;
+  const what = kind === 'control' ? 'play with this fluid' : 'watch this fluid';
+  try {
+    if (navigator.share) {
+      await navigator.share({ title: 'fluidcast', text: 'Come and ' + what, url });
+      return;
+    }
+    if (navigator.clipboard && window.isSecureContext) {
+      await navigator.clipboard.writeText(url);
+      say('Link copied: whoever opens it can ' + what + '.');
+      setTimeout(() => say(''), 4000);
+      return;
+    }
+  } catch (error) {
+    if (error.name === 'AbortError') return;  // the person closed the share sheet
+  }
+  window.prompt('Whoever opens this link can ' + what + ':', url);
+}
+
 function setupControls() {
   const scene = page.panel.querySelector('#scene');
   const renderer = page.panel.querySelector('#renderer');
@@ -521,6 +560,9 @@ function setupControls() {
     else next.set('local', '');
     location.search = next.toString();
   };
+  page.panel.querySelector('#share-view').onclick = () => shareLink('view', state.access.viewKey);
+  page.panel.querySelector('#share-control').onclick =
+    () => shareLink('control', state.access.controlKey);
   const tilt = page.panel.querySelector('#tilt');
   tilt.onclick = enableTilt;
   if (tiltUnavailable()) {
@@ -600,7 +642,9 @@ function askForStates() {
   clearInterval(stateTimer);
   newestState = null;
   state.streamedCentre = null;
-  const most = Math.min(kHandoffParticles, state.rules ? state.rules.maxStateParticles : 0);
+  // A watcher does not hand the fluid back: that would start a copy of someone else's session.
+  const mine = state.access && state.access.control;
+  const most = mine ? Math.min(kHandoffParticles, state.rules ? state.rules.maxStateParticles : 0) : 0;
   if (!(state.particles > 0 && state.particles <= most) || typeof WebAssembly === 'undefined') return;
   LocalFluid.prepare();  // ready before it is needed
   stateTimer = setInterval(() => send({ stateRequest: {} }, false), kStateEveryMs);
@@ -699,7 +743,6 @@ function showLocalStats() {
     fitCanvas();
     types = await loadProtocol();
     setupControls();
-    if (location.hash.length > 1) state.sessionId = location.hash.slice(1);  // a shared link joins
     connect();
   } catch (error) {
     say('The page cannot start: ' + error.message);

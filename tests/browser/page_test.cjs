@@ -201,6 +201,43 @@ async function main() {
     check(after === before.id, 'the same session after the reconnect');
     await page.screenshot({ path: path.join(out, 'browser_reconnected.png') });
 
+    // "Share to watch": its link opens the session to watch only. The watcher sees no control
+    // that would change the fluid, its one-finger drag turns its own view and its stream goes
+    // on; the address bar of the page that made the session opens it to play.
+    check(/^#control=[0-9a-f]{32}$/.test(await page.evaluate(() => location.hash)),
+          "the creator's address opens the session to play");
+    await page.evaluate(() => { navigator.clipboard.writeText = async (text) => { window.copiedLink = text; }; });
+    await page.click('#menu');
+    await page.click('#share-view');
+    await page.click('#menu');
+    await waitFor(page, () => window.copiedLink, 'the shared link');
+    const creator = await page.evaluate(() => ({ link: window.copiedLink, session: window.fluidcast.sessionId,
+                                                 viewKey: window.fluidcast.access.viewKey }));
+    check(creator.link.endsWith('#view=' + creator.viewKey), 'Share to watch gives the view key\'s link');
+    const watcher = await context.newPage();
+    watcher.on('pageerror', (e) => { console.log('watcher error: ' + e.message); failures++; });
+    await watcher.goto(creator.link);
+    await waitFor(watcher, () => window.fluidcast.frames >= 3, 'frames for the watcher');
+    const watching = await watcher.evaluate(() => ({ control: window.fluidcast.access.control,
+                                                     session: window.fluidcast.sessionId }));
+    check(!watching.control && watching.session === creator.session,
+          'the link watches the same session, without control');
+    await watcher.click('#menu');
+    const visible = await watcher.evaluate(() => Object.fromEntries(
+      ['scene', 'reset', 'pause', 'tilt', 'share-control', 'share-view', 'reset-view']
+        .map((id) => [id, document.getElementById(id).offsetParent !== null])));
+    await watcher.screenshot({ path: path.join(out, 'browser_watcher.png') });
+    check(!visible.scene && !visible.reset && !visible.pause && !visible.tilt && !visible['share-control'] &&
+          visible['share-view'] && visible['reset-view'],
+          'a watcher is offered only what changes its own view (' + JSON.stringify(visible) + ')');
+    await watcher.click('#menu');
+    const watcherFrames = await watcher.evaluate(() => window.fluidcast.frames);
+    await touchDrag(watcher, await context.newCDPSession(watcher), { x: 60, y: 250 }, { x: 240, y: 250 }, 20);
+    await waitFor(watcher, `window.fluidcast.frames > ${watcherFrames + 3}`, 'frames after the watcher\'s drag');
+    check(await watcher.evaluate(() => window.fluidcast.connected && window.fluidcast.reconnects === 0),
+          "a watcher's drag turns its view, and its stream goes on");
+    await watcher.close();
+
     // The same page at a phone's size over HTTPS on an address that is not this machine's own
     // (phone.test, mapped to loopback: an origin that only https makes secure), with the server's
     // self-signed certificate accepted as a person would, and the phone's motion sensors emulated
