@@ -47,7 +47,9 @@ int run(int argc, char** argv) {
     return exit_for(app, e);
   }
 
-  server_flags.insert(server_flags.end(), {"--max-sessions", std::to_string(clients)});
+  // Every client comes from loopback: one address.
+  server_flags.insert(server_flags.end(), {"--max-sessions", std::to_string(clients),
+                                           "--max-sessions-per-address", std::to_string(clients)});
   testing::ServerProcess server(server_flags);
   v1::Hello hello;
   hello.mutable_viewport()->set_width(width);

@@ -33,6 +33,12 @@ ServerOptions parse_server_options(int argc, char** argv) {
   app.add_option("--max-sessions", l.max_sessions, "Most sessions at once")
       ->envname("FLUIDCAST_MAX_SESSIONS")
       ->check(CLI::Range(1u, 1024u));
+  std::optional<std::uint32_t> sessions_per_address;
+  app.add_option("--max-sessions-per-address", sessions_per_address,
+                 "Most sessions the clients of one address may hold at once, those waiting for a "
+                 "resume included (default: half of --max-sessions, rounded up)")
+      ->envname("FLUIDCAST_MAX_SESSIONS_PER_ADDRESS")
+      ->check(CLI::Range(1u, 1024u));
   app.add_option("--max-particles", l.max_particles, "Most particles per session")
       ->envname("FLUIDCAST_MAX_PARTICLES")
       ->check(CLI::Range(1u, 16u << 20));
@@ -152,6 +158,7 @@ ServerOptions parse_server_options(int argc, char** argv) {
     std::exit(exit_for(app, e));
   }
   o.log_format = parse_log_format(log_format);
+  l.max_sessions_per_address = sessions_per_address.value_or((l.max_sessions + 1) / 2);
   l.resume_grace = std::chrono::seconds(grace);
   l.idle_timeout = std::chrono::seconds(idle);
   l.hello_timeout = std::chrono::seconds(hello);

@@ -78,7 +78,7 @@ LocalStream::LocalStream(v1::Hello hello, std::uint32_t max_particles)
   hub_ = std::make_unique<server::SessionHub>(context_, context_.info().hardware(), limits,
                                               std::nullopt, metrics_);
   std::promise<server::SessionHub::Opened> opened;
-  hub_->open(hello, sink_,
+  hub_->open(hello, "this process", sink_,
              [&opened](server::SessionHub::Opened result) { opened.set_value(std::move(result)); });
   server::SessionHub::Opened result = opened.get_future().get();
   if (result.refusal) throw *result.refusal;
@@ -90,7 +90,7 @@ LocalStream::LocalStream(v1::Hello hello, std::uint32_t max_particles)
 }
 
 LocalStream::~LocalStream() {
-  if (session_) hub_->close(session_, viewer_);
+  if (session_) hub_->close(session_, viewer_, server::Departure::left);
   session_.reset();
   hub_.reset();  // stops the worker: the session's GPU objects go before the context
 }

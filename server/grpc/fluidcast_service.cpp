@@ -1,5 +1,6 @@
 #include "fluidcast_service.h"
 
+#include "peer_address.h"
 #include "session/validation.h"
 #include "status.h"
 #include "stream_reactor.h"
@@ -23,8 +24,8 @@ bool refused(grpc::ServerUnaryReactor* reactor, const std::string& given,
 }  // namespace
 
 grpc::ServerBidiReactor<v1::ClientMessage, v1::ServerMessage>* FluidcastService::Stream(
-    grpc::CallbackServerContext*) {
-  return new StreamReactor(*hub_);  // deletes itself in OnDone
+    grpc::CallbackServerContext* context) {
+  return new StreamReactor(*hub_, peer_address(context->peer()));  // deletes itself in OnDone
 }
 
 grpc::ServerUnaryReactor* FluidcastService::GetServerInfo(grpc::CallbackServerContext* context,

@@ -115,10 +115,11 @@ class GrpcViewerSink final : public ViewerSink {
   std::optional<grpc::Status> status_after_write_;
 };
 
-StreamReactor::StreamReactor(SessionHub& hub)
+StreamReactor::StreamReactor(SessionHub& hub, std::string address)
     : hub_(&hub),
       sink_(std::make_shared<GrpcViewerSink>(this, hub.metrics())),
-      rates_(hub.limits()) {
+      rates_(hub.limits()),
+      address_(std::move(address)) {
   // The alarm's reaction holds the sink, not the reactor: it may run after the stream is done.
   hello_deadline_.Set(std::chrono::system_clock::now() + hub.limits().hello_timeout,
                       [sink = sink_, hub = hub_](bool fired) {
@@ -153,12 +154,13 @@ void StreamReactor::OnReadDone(bool ok) {
       hello_deadline_.Cancel();
       validate_hello(incoming_, hub_->limits(), hub_->token());
       // The next read starts once the session is open (on_opened).
-      hub_->open(incoming_.hello(), sink_, [sink = sink_, hub = hub_](SessionHub::Opened opened) {
-        const auto session = opened.session;
-        if (!sink->opened(opened, hub->metrics()) && session) {
-          hub->close(session, opened.viewer);
-        }
-      });
+      hub_->open(incoming_.hello(), address_, sink_,
+                 [sink = sink_, hub = hub_](SessionHub::Opened opened) {
+                   const auto session = opened.session;
+                   if (!sink->opened(opened, hub->metrics()) && session) {
+                     hub->close(session, opened.viewer);
+                   }
+                 });
       return;
     }
     validate_event(incoming_, hub_->limits(), access_);
@@ -181,11 +183,14 @@ void StreamReactor::on_opened(SessionHub::Opened opened) {
 
 void StreamReactor::OnWriteDone(bool ok) { sink_->on_write_done(ok); }
 
-void StreamReactor::OnCancel() { sink_->finish(grpc::Status::CANCELLED); }
+void StreamReactor::OnCancel() {
+  cancelled_ = true;
+  sink_->finish(grpc::Status::CANCELLED);
+}
 
 void StreamReactor::OnDone() {
   sink_->detach();
-  if (session_) hub_->close(session_, viewer_);
+  if (session_) hub_->close(session_, viewer_, cancelled_ ? Departure::dropped : Departure::left);
   delete this;
 }
 

@@ -19,7 +19,8 @@ class GrpcViewerSink;
 
 class StreamReactor final : public grpc::ServerBidiReactor<v1::ClientMessage, v1::ServerMessage> {
  public:
-  explicit StreamReactor(SessionHub& hub);
+  // `address`: the client's, for per-address limits.
+  StreamReactor(SessionHub& hub, std::string address);
 
   void OnReadDone(bool ok) override;
   void OnWriteDone(bool ok) override;
@@ -41,6 +42,10 @@ class StreamReactor final : public grpc::ServerBidiReactor<v1::ClientMessage, v1
   std::shared_ptr<Session> session_;
   std::uint32_t viewer_ = 0;
   Access access_ = Access::view;
+  std::string address_;
+  // OnCancel came: the stream broke or the client cancelled (a viewer that may resume), rather
+  // than the client closing its side and reading the status (one that left).
+  bool cancelled_ = false;
 };
 
 }  // namespace fluidcast::server

@@ -4,10 +4,9 @@
 #pragma once
 
 #include <cstdint>
+#include <glm/glm.hpp>
 #include <map>
 #include <optional>
-
-#include <glm/glm.hpp>
 
 #include "fluidcast/v1/fluidcast.pb.h"
 

@@ -47,9 +47,9 @@ struct GpuGrant {
 };
 
 // The rule, for all sessions at once: simulation shares sim_share·period, rendering the rest of
-// the period (what simulation on the GPU leaves included). A tick that comes late grants no more: when the
-// device cannot keep the tick rate, frame rates and fluids slow down alike, and an item that
-// overran its tick does not pay for itself.
+// the period (what simulation on the GPU leaves included). A tick that comes late grants no more:
+// when the device cannot keep the tick rate, frame rates and fluids slow down alike, and an item
+// that overran its tick does not pay for itself.
 std::vector<GpuGrant> grant_gpu_time(double period_ms, double sim_share,
                                      std::span<const GpuDemand> demands);
 
@@ -73,8 +73,8 @@ class GpuAccount {
 
 // A cost that is measured now and then and drifts (a substep's, a frame's): an exponential
 // average that follows a fall within a few samples and a tenfold rise within a dozen; a sample
-// above the estimate counts as at most twice it, so one stall does not dominate. Samples that are not a positive, finite duration
-// are ignored: until a real one arrives the cost stays unknown.
+// above the estimate counts as at most twice it, so one stall does not dominate. Samples that are
+// not a positive, finite duration are ignored: until a real one arrives the cost stays unknown.
 class CostEstimate {
  public:
   void add(double ms);

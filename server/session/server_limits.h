@@ -12,6 +12,9 @@ inline constexpr float kIdleTiltDegrees = 10.0f;
 
 struct ServerLimits {
   std::uint32_t max_sessions = 8;
+  // Sessions the clients of one address may hold at once (those waiting for a resume included),
+  // so that no one client takes every slot. Default: half of max_sessions, rounded up.
+  std::uint32_t max_sessions_per_address = 4;
   std::uint32_t max_particles = 1 << 20;  // per session
   // A session's particles when its client names no count: the server measures what its device
   // keeps in real time at start (default_size.h) unless the operator says.

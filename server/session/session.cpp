@@ -41,11 +41,11 @@ v1::Vec3 vec3(glm::vec3 v) {
 
 }  // namespace
 
-Session::Session(std::string id, SessionSetup setup, SessionServices services)
+Session::Session(std::string id, std::string creator, SessionSetup setup, SessionServices services)
     : id_(std::move(id)),
+      creator_(std::move(creator)),
       services_(services),
-      source_(*services.context),
-      empty_since_(Clock::now()) {
+      source_(*services.context) {
   rebuild(setup);
 }
 
@@ -123,8 +123,10 @@ std::optional<std::uint32_t> Session::viewer_resumed_by(const std::string& key) 
   for (const auto& [id, viewer] : viewers_) {
     if (same_key(key, viewer->seat().resume_key)) found = id;
   }
+  const auto now = Clock::now();
   for (const auto& [id, departed] : departed_) {
-    if (same_key(key, departed.seat.resume_key)) found = id;
+    const bool in_grace = now - departed.left <= services_.limits->resume_grace;
+    if (same_key(key, departed.seat.resume_key) && in_grace) found = id;
   }
   return found;
 }
@@ -178,15 +180,23 @@ v1::Access Session::access(std::uint32_t viewer) const {
   return access;
 }
 
-void Session::remove_viewer(std::uint32_t id) {
+void Session::remove_viewer(std::uint32_t id, Departure departure) {
   const auto found = viewers_.find(id);
   if (found == viewers_.end()) return;
-  departed_[id] = {found->second->camera(), found->second->seat()};
-  // Only the most recent leavers can still resume; older ones are forgotten.
-  while (departed_.size() > kMaxDepartedViewers) departed_.erase(departed_.begin());
+  if (departure == Departure::dropped) {
+    departed_[id] = {found->second->camera(), found->second->seat(), Clock::now()};
+    // Only the most recent leavers can still resume; older ones are forgotten.
+    while (departed_.size() > kMaxDepartedViewers) departed_.erase(departed_.begin());
+  }
   viewers_.erase(found);
   services_.metrics->viewers--;
-  if (viewers_.empty()) empty_since_ = Clock::now();
+}
+
+bool Session::expired(Clock::time_point now) const {
+  if (!viewers_.empty()) return false;
+  const auto grace = services_.limits->resume_grace;
+  return std::none_of(departed_.begin(), departed_.end(),
+                      [&](const auto& departed) { return now - departed.second.left <= grace; });
 }
 
 void Session::end_all(const Refusal& why) {

@@ -41,11 +41,13 @@ struct SessionServices {
 
 class Session {
  public:
-  // Throws Refusal (RESOURCE_EXHAUSTED) when the solver does not fit the device.
-  Session(std::string id, SessionSetup setup, SessionServices services);
+  // Throws Refusal (RESOURCE_EXHAUSTED) when the solver does not fit the device. `creator`: the
+  // address of the client that created it (its sessions count against the per-address limit).
+  Session(std::string id, std::string creator, SessionSetup setup, SessionServices services);
   ~Session();
 
   const std::string& id() const { return id_; }
+  const std::string& creator() const { return creator_; }
   const SessionKeys& keys() const { return keys_; }
 
   // From any thread: a validated message of a viewer's stream, applied at the next tick.
@@ -62,10 +64,12 @@ class Session {
                               std::uint32_t resumed);
   // What Welcome.access tells the viewer.
   v1::Access access(std::uint32_t viewer) const;
-  // The viewer's stream ended; its camera and seat are kept for a resume.
-  void remove_viewer(std::uint32_t viewer);
+  // The viewer's stream ended. One that dropped (or was ended by the server) is kept for a resume
+  // within the grace period; one that said goodbye cannot come back.
+  void remove_viewer(std::uint32_t viewer, Departure departure = Departure::dropped);
   std::size_t viewer_count() const { return viewers_.size(); }
-  Clock::time_point empty_since() const { return empty_since_; }
+  // Nobody watches and nobody who dropped may still resume: the session can end.
+  bool expired(Clock::time_point now) const;
   // When a viewer last joined, touched, commanded, or tilted by more than kIdleTiltDegrees.
   Clock::time_point last_input() const { return last_input_; }
   // A tick in three parts: the inputs and rebuilds that arrived, and what the tick would cost
@@ -115,6 +119,7 @@ class Session {
   void move_colliders(double seconds, double elapsed);
 
   std::string id_;
+  std::string creator_;
   SessionKeys keys_;
   SessionServices services_;
   SessionSetup setup_;
@@ -125,6 +130,7 @@ class Session {
   struct Departed {
     render::OrbitCamera camera;
     Seat seat;
+    Clock::time_point left;
   };
   std::map<std::uint32_t, Departed> departed_;
   std::uint32_t next_viewer_ = 1;
@@ -147,7 +153,6 @@ class Session {
     std::uint64_t drag;
   };
   std::map<std::uint32_t, HeldCollider> colliders_;
-  Clock::time_point empty_since_;
   Clock::time_point last_input_ = Clock::now();
   glm::vec3 last_active_tilt_{0.0f, -1.0f, 0.0f};  // the last tilt that counted as input
 

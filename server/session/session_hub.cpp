@@ -77,9 +77,10 @@ std::pair<std::shared_ptr<Session>, std::uint32_t> SessionHub::find_resumed(
   return found;
 }
 
-void SessionHub::open(v1::Hello hello, std::shared_ptr<ViewerSink> sink,
+void SessionHub::open(v1::Hello hello, std::string address, std::shared_ptr<ViewerSink> sink,
                       std::function<void(Opened)> done) {
-  post([this, hello = std::move(hello), sink = std::move(sink), done = std::move(done)] {
+  post([this, hello = std::move(hello), address = std::move(address), sink = std::move(sink),
+        done = std::move(done)] {
     Opened opened;
     try {
       if (closed_) throw Refusal(RefusalCode::unavailable, "the server is shutting down");
@@ -97,6 +98,18 @@ void SessionHub::open(v1::Hello hello, std::shared_ptr<ViewerSink> sink,
                                                              std::to_string(limits_.max_sessions) +
                                                              " sessions; join one or try later");
         }
+        const auto held = std::count_if(sessions_.begin(), sessions_.end(), [&](const auto& entry) {
+          return entry.second->creator() == address;
+        });
+        if (held >= static_cast<std::ptrdiff_t>(limits_.max_sessions_per_address)) {
+          throw Refusal(RefusalCode::resource_exhausted,
+                        "this address already holds " + std::to_string(held) +
+                            " sessions, this server's limit per address "
+                            "(--max-sessions-per-address); end one (a session ends when its "
+                            "viewers leave, or " +
+                            std::to_string(limits_.resume_grace.count()) +
+                            " s after they drop) or join one");
+        }
         // A state handed back (NewSession.state) names its scene and solver and counts its
         // particles; the session starts from the scene and then takes the state.
         const v1::NewSession& create = hello.create();
@@ -110,7 +123,7 @@ void SessionHub::open(v1::Hello hello, std::shared_ptr<ViewerSink> sink,
                               : create.particles();
         const std::string id = new_key();
         opened.session = std::make_shared<Session>(
-            id, setup,
+            id, address, setup,
             SessionServices{context_, gpu_solver_, &steps_, &limits_, metrics_, encoders_.get()});
         if (create.has_state()) opened.session->load(create.state());
         sessions_.emplace(id, opened.session);
@@ -151,10 +164,12 @@ void SessionHub::open(v1::Hello hello, std::shared_ptr<ViewerSink> sink,
   });
 }
 
-void SessionHub::close(std::shared_ptr<Session> session, std::uint32_t viewer) {
-  post([session = std::move(session), viewer] {
-    session->remove_viewer(viewer);
-    spdlog::info("session {}: viewer {} left", session->id(), viewer);
+void SessionHub::close(std::shared_ptr<Session> session, std::uint32_t viewer,
+                       Departure departure) {
+  post([session = std::move(session), viewer, departure] {
+    session->remove_viewer(viewer, departure);
+    spdlog::info("session {}: viewer {} {}", session->id(), viewer,
+                 departure == Departure::left ? "left" : "dropped");
   });
 }
 
@@ -213,6 +228,7 @@ v1::ServerInfo SessionHub::info() const {
   info.set_device(context_->info().name);
   v1::ServerLimits& limits = *info.mutable_limits();
   limits.set_max_sessions(limits_.max_sessions);
+  limits.set_max_sessions_per_address(limits_.max_sessions_per_address);
   limits.set_max_particles(limits_.max_particles);
   limits.set_max_width(limits_.max_width);
   limits.set_max_height(limits_.max_height);
@@ -301,11 +317,9 @@ void SessionHub::tick_all(Clock::time_point now) {
                                   std::to_string(idle.count()) +
                                   " s (the server's --idle-timeout); resume to go on"));
     }
-    const bool expired =
-        session.viewer_count() == 0 && now - session.empty_since() > limits_.resume_grace;
-    if (expired) {
-      spdlog::info("session {} ended: no viewers for {} s", session.id(),
-                   limits_.resume_grace.count());
+    if (session.expired(now)) {
+      spdlog::info("session {} ended: its viewers left, or dropped more than {} s ago",
+                   session.id(), limits_.resume_grace.count());
       metrics_->forget_session(session.id());
       it = sessions_.erase(it);
     } else {

@@ -39,11 +39,15 @@ class SessionHub {
     Access access = Access::view;  // what the viewer's messages may do
     std::optional<Refusal> refusal;
   };
-  // For a validated Hello: creates, joins or resumes a session on the worker, sends the Welcome
-  // to `sink`, then calls `done` (on the worker's thread).
-  void open(v1::Hello hello, std::shared_ptr<ViewerSink> sink, std::function<void(Opened)> done);
-  // The viewer's stream ended (its session outlives it for the grace period).
-  void close(std::shared_ptr<Session> session, std::uint32_t viewer);
+  // For a validated Hello from a client at `address` (an IP address, as text): creates, joins or
+  // resumes a session on the worker, sends the Welcome to `sink`, then calls `done` (on the
+  // worker's thread).
+  void open(v1::Hello hello, std::string address, std::shared_ptr<ViewerSink> sink,
+            std::function<void(Opened)> done);
+  // The viewer's stream ended. A session outlives a viewer that dropped for the grace period, and
+  // ends at the next tick once nobody watches and nobody may resume.
+  void close(std::shared_ptr<Session> session, std::uint32_t viewer,
+             Departure departure = Departure::dropped);
 
   // Snapshots, for GetSnapshot (either of the session's keys) and PutSnapshot (its control key);
   // `done` runs on the worker's thread.

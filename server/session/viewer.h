@@ -26,6 +26,10 @@ namespace fluidcast::server {
 
 using Clock = std::chrono::steady_clock;
 
+// How a viewer's stream ended: dropped (a lost network, or ended by the server: it may resume) or
+// left (the client closed it on purpose: it will not).
+enum class Departure { dropped, left };
+
 // What a viewer may do, and the key that brings it back after a dropped connection.
 struct Seat {
   Access access = Access::view;

@@ -28,6 +28,7 @@ class ConnectionLimits {
     ~Slot();
     Slot(const Slot&) = delete;
     Slot& operator=(const Slot&) = delete;
+    const boost::asio::ip::address& address() const { return address_; }
 
    private:
     std::shared_ptr<Tally> tally_;

@@ -104,7 +104,11 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
         end(RefusalCode::resource_exhausted,
             "a WebSocket message over " + std::to_string(kMaxMessageBytes / 1024) + " KiB");
       }
-      leave();
+      // A close frame with "normal closure" is a goodbye; anything else (going away, no code, a
+      // broken connection) may come back.
+      const bool goodbye = error == websocket::error::closed &&
+                           socket_.reason().code == websocket::close_code::normal;
+      leave(goodbye ? Departure::left : Departure::dropped);
       return;
     }
     v1::ClientMessage message;
@@ -134,24 +138,27 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
 
   void open(const v1::Hello& hello) {
     auto sink = std::make_shared<Sink>(weak_from_this());
-    hub_->open(hello, sink, [self = shared_from_this()](SessionHub::Opened opened) {
-      boost::asio::post(self->socket_.get_executor(), [self, opened = std::move(opened)]() mutable {
-        if (opened.refusal) {
-          self->hub_->metrics().refused(Transport::websocket, opened.refusal->code());
-          spdlog::warn("refused a WebSocket stream: {}", opened.refusal->what());
-          self->end(opened.refusal->code(), opened.refusal->what());
-          return;
-        }
-        if (self->ending_) {  // the socket went away while the session opened
-          self->hub_->close(std::move(opened.session), opened.viewer);
-          return;
-        }
-        self->session_ = std::move(opened.session);
-        self->viewer_ = opened.viewer;
-        self->access_ = opened.access;
-        self->read();
-      });
-    });
+    hub_->open(hello, slot_->address().to_string(), sink,
+               [self = shared_from_this()](SessionHub::Opened opened) {
+                 boost::asio::post(
+                     self->socket_.get_executor(), [self, opened = std::move(opened)]() mutable {
+                       if (opened.refusal) {
+                         self->hub_->metrics().refused(Transport::websocket,
+                                                       opened.refusal->code());
+                         spdlog::warn("refused a WebSocket stream: {}", opened.refusal->what());
+                         self->end(opened.refusal->code(), opened.refusal->what());
+                         return;
+                       }
+                       if (self->ending_) {  // the socket went away while the session opened
+                         self->hub_->close(std::move(opened.session), opened.viewer);
+                         return;
+                       }
+                       self->session_ = std::move(opened.session);
+                       self->viewer_ = opened.viewer;
+                       self->access_ = opened.access;
+                       self->read();
+                     });
+               });
   }
 
   void send(std::shared_ptr<const v1::ServerMessage> message) {
@@ -199,11 +206,11 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
   }
 
   // The viewer leaves its session (once).
-  void leave() {
+  void leave(Departure departure = Departure::dropped) {
     hello_deadline_.cancel();
     ending_ = true;
     outgoing_.stop_frames();
-    if (session_) hub_->close(std::move(session_), viewer_);
+    if (session_) hub_->close(std::move(session_), viewer_, departure);
     session_.reset();
   }
 

@@ -217,7 +217,9 @@ TEST(ServerTest, AnUntouchedSessionIdlesOutAndATouchedOneStreamsOn) {
 }
 
 TEST(ServerTest, EveryBadInputEndsOnlyItsOwnStreamWithItsStatus) {
-  testing::ServerProcess server({"--max-width", "640", "--max-height", "480"});
+  // Each bad input's session waits out the resume grace: more than the per-address default.
+  testing::ServerProcess server(
+      {"--max-width", "640", "--max-height", "480", "--max-sessions-per-address", "8"});
   const std::string& address = server.grpc_address();
   StreamClient bystander(client::connect(address), small_hello());
   frame_from(bystander);
@@ -410,6 +412,46 @@ TEST(ServerTest, KeysOpenWhatTheySayAndIdsOpenNothing) {
   EXPECT_TRUE(back.welcome().access().control());
   EXPECT_EQ(refusal_of(address, resume), grpc::StatusCode::NOT_FOUND);
   frame_from(back);
+}
+
+// One address holds at most its share of the sessions (half by default), those waiting for a
+// resume included; a client that says goodbye frees its slot at once and cannot resume.
+TEST(ServerTest, OneAddressHoldsItsShareOfSessionsAndAGoodbyeFreesASlot) {
+  testing::ServerProcess server({"--max-sessions", "4"});
+  const std::string& address = server.grpc_address();
+  auto first = std::make_unique<StreamClient>(client::connect(address), small_hello());
+  auto second = std::make_unique<StreamClient>(client::connect(address), small_hello());
+  EXPECT_EQ(first->welcome().limits().max_sessions_per_address(), 2u);
+  try {
+    StreamClient third(client::connect(address), small_hello());
+    ADD_FAILURE() << "a third session from one address";
+  } catch (const StreamError& e) {
+    EXPECT_EQ(e.code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+    EXPECT_NE(std::string(e.what()).find("--max-sessions-per-address"), std::string::npos)
+        << e.what();
+  }
+
+  v1::Hello resume = small_hello();
+  resume.mutable_resume()->set_key(first->welcome().access().resume_key());
+  EXPECT_TRUE(first->finish().ok());  // goodbye
+  first.reset();
+  std::unique_ptr<StreamClient> third;
+  for (int k = 0; k < 50 && !third; ++k) {  // the slot is freed at the next tick
+    try {
+      third = std::make_unique<StreamClient>(client::connect(address), small_hello());
+    } catch (const StreamError& e) {
+      ASSERT_EQ(e.code(), grpc::StatusCode::RESOURCE_EXHAUSTED) << e.what();
+      std::this_thread::sleep_for(milliseconds(100));
+    }
+  }
+  ASSERT_TRUE(third) << "the slot of a client that said goodbye was not freed within 5 s";
+  EXPECT_EQ(refusal_of(address, resume), grpc::StatusCode::NOT_FOUND);
+
+  // A dropped connection keeps its session for a resume, and its slot with it.
+  second->drop();
+  second.reset();
+  std::this_thread::sleep_for(milliseconds(500));
+  EXPECT_EQ(refusal_of(address, small_hello()), grpc::StatusCode::RESOURCE_EXHAUSTED);
 }
 
 TEST(ServerTest, TiltTurnsGravity) {
