@@ -1,5 +1,6 @@
 #include "session_hub.h"
 
+#include <malloc.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -322,10 +323,17 @@ void SessionHub::tick_all(Clock::time_point now) {
                    session.id(), limits_.resume_grace.count());
       metrics_->forget_session(session.id());
       it = sessions_.erase(it);
+      trim_after_ = now + kTrimDelay;
     } else {
       metrics_->set_session(session.id(), session.figures());
       ++it;
     }
+  }
+  if (trim_after_ && now >= *trim_after_) {
+    // glibc keeps what a large session freed for reuse, GBs of it after a million particles:
+    // handed back to the system once its GPU objects have been retired too.
+    trim_after_.reset();
+    malloc_trim(0);
   }
   session_count_ = static_cast<std::uint32_t>(sessions_.size());
   metrics_->sessions = sessions_.size();

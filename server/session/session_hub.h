@@ -101,6 +101,10 @@ class SessionHub {
   // The newest submission of each of the last ticks: a tick starts once the one two before it has
   // finished on the GPU, so no more than one tick's work waits behind the one executing.
   std::deque<std::uint64_t> tick_serials_;
+  // When to return freed memory to the system, after a session ended (its GPU objects retire
+  // a few ticks later).
+  static constexpr std::chrono::seconds kTrimDelay{2};
+  std::optional<Clock::time_point> trim_after_;
 
   mutable std::mutex mutex_;
   std::condition_variable wake_;

@@ -132,12 +132,11 @@ std::optional<Viewer::DragPoint> Viewer::drag_point() {
   return DragPoint{glm::vec3(glm::inverse(camera_.view()) * in_view), drags_};
 }
 
-bool Viewer::throttled() const {
-  return acknowledges_ && sequence_ - acknowledged_ >= kMaxFramesInFlight;
-}
+bool Viewer::throttled() const { return sequence_ - acknowledged_ >= kMaxFramesInFlight; }
 
 bool Viewer::due(Clock::time_point now) const {
-  return now >= next_frame_ && !throttled() && *encoding_ < kMaxFramesEncoding;
+  if (*encoding_ >= kMaxFramesEncoding) return false;
+  return throttled() ? overdue(now) >= kThrottledFrameEvery : now >= next_frame_;
 }
 
 void Viewer::note_input(std::uint64_t event_id, Clock::time_point received) {
@@ -192,7 +191,6 @@ std::optional<Viewer::Finished> Viewer::take_finished(Clock::time_point now) {
 
 void Viewer::acknowledge(std::uint64_t sequence, Clock::time_point now) {
   if (sequence == 0 || sequence > sequence_ || sequence <= acknowledged_) return;
-  acknowledges_ = true;
   acknowledged_ = sequence;
   if (sequence_ - sequence < produced_at_.size()) {
     const std::chrono::duration<double, std::milli> rtt =

@@ -38,9 +38,13 @@ struct Seat {
 
 class Viewer {
  public:
-  // Frames sent and not yet acknowledged, beyond which a viewer that acknowledges gets no new
-  // frame rendered: the newest frame wins, and a slow viewer gets fewer.
+  // Frames sent and not yet acknowledged, beyond which a viewer is throttled: the newest frame
+  // wins, and a slow viewer gets fewer. One that never acknowledges is throttled from its fourth
+  // frame on.
   static constexpr std::uint64_t kMaxFramesInFlight = 3;
+  // A throttled viewer still gets a frame this often: one that does not acknowledge (a client
+  // written without FrameAck) sees the fluid slowly rather than not at all.
+  static constexpr auto kThrottledFrameEvery = std::chrono::seconds(1);
   // Frames of this viewer waiting for or in the JPEG encoders, beyond which none is rendered:
   // a client that never acknowledges cannot make the encoder queue grow.
   static constexpr int kMaxFramesEncoding = 2;
@@ -79,7 +83,8 @@ class Viewer {
   };
   std::optional<DragPoint> drag_point();
 
-  // Whether to render a frame now: its rate is due and it does not have too many in flight.
+  // Whether to render a frame now: its rate is due and it does not have too many in flight (or,
+  // throttled, it has waited kThrottledFrameEvery).
   bool due(Clock::time_point now) const;
   bool throttled() const;
   // How long ago its next frame fell due (negative before).
@@ -160,7 +165,6 @@ class Viewer {
   // Flow control.
   std::uint64_t sequence_ = 0;
   std::uint64_t acknowledged_ = 0;
-  bool acknowledges_ = false;
   std::array<Clock::time_point, 64> produced_at_{};
   std::optional<double> round_trip_ms_;
   Clock::time_point last_adapted_{};

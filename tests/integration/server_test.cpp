@@ -607,6 +607,32 @@ TEST(ServerTest, AClientThatStopsReadingDoesNotGrowTheServersMemory) {
   context.TryCancel();
 }
 
+// A viewer that never acknowledges is throttled like one that falls behind: three frames, then
+// one a second; it still sees the fluid.
+TEST(ServerTest, AViewerThatNeverAcknowledgesIsThrottled) {
+  testing::ServerProcess server;
+  auto stub = v1::Fluidcast::NewStub(client::connect(server.grpc_address()));
+  grpc::ClientContext context;
+  auto stream = stub->Stream(&context);
+  v1::ClientMessage message;
+  *message.mutable_hello() = small_hello();
+  message.mutable_hello()->mutable_quality()->set_max_fps(60);
+  ASSERT_TRUE(stream->Write(message));
+  v1::ServerMessage received;
+  ASSERT_TRUE(stream->Read(&received));
+  ASSERT_TRUE(received.has_welcome());
+  int frames = 0;
+  std::thread stop([&] {
+    std::this_thread::sleep_for(seconds(4));
+    context.TryCancel();
+  });
+  while (stream->Read(&received)) frames += received.has_frame();
+  stop.join();
+  std::printf("frames in 4 s without acknowledgements: %d\n", frames);
+  EXPECT_GE(frames, 4);   // three, then one a second
+  EXPECT_LE(frames, 10);  // not the 30 or 60 a second of a viewer that acknowledges
+}
+
 // An adaptive viewer whose acknowledgements come late (a slow network): the server lowers JPEG
 // quality first, then the frame size; a viewer that keeps up keeps what it asked for.
 TEST(ServerTest, AdaptiveQualityFallsForAViewerThatFallsBehind) {
