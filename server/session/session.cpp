@@ -569,6 +569,12 @@ void Session::render(const GpuGrant& grant, Clock::time_point now) {
   const render::ParticleView particles = source_.view_of(*solver_);
   std::vector<std::uint32_t> failed;
   for (auto [id, viewer] : due) {
+    // A new renderer's time is the session's: while others are watched it is repaid before this
+    // session's next frames, so resizing slows only its own viewers.
+    const auto resizing = Clock::now();
+    if (viewer->settle_size(now) && grant.contended()) {
+      render_account_.spend(milliseconds_between(resizing, Clock::now()));
+    }
     Viewer::Shows shows;
     shows.input_event_id = viewer->newest_input();
     shows.sim_time = solver_->time();

@@ -35,8 +35,21 @@ Viewer::~Viewer() {
   if (renderer_) context_->retire(std::move(renderer_));
 }
 
-void Viewer::resize(std::uint32_t width, std::uint32_t height) {
-  if (renderer_ && width == render_width_ && height == render_height_) return;
+void Viewer::aim_size(std::uint32_t width, std::uint32_t height) {
+  aimed_width_ = width;
+  aimed_height_ = height;
+  if (!renderer_) make_renderer(width, height);
+}
+
+bool Viewer::settle_size(Clock::time_point now) {
+  if (aimed_width_ == render_width_ && aimed_height_ == render_height_) return false;
+  if (now - last_resize_ < kResizeEvery) return false;
+  last_resize_ = now;
+  make_renderer(aimed_width_, aimed_height_);
+  return true;
+}
+
+void Viewer::make_renderer(std::uint32_t width, std::uint32_t height) {
   auto renderer = std::make_unique<render::FrameRenderer>(*context_, width, height);
   // Frames go to the JPEG encoder only: converted and subsampled on the GPU.
   renderer->format = render::FrameRenderer::FrameFormat::yuv420;
@@ -55,7 +68,7 @@ void Viewer::apply_viewport(const v1::Viewport& viewport) {
   const bool turned = width_ != 0 && (viewport.width() > viewport.height()) != (width_ > height_);
   width_ = viewport.width();
   height_ = viewport.height();
-  resize(width_, height_);
+  aim_size(width_, height_);
   // A phone turned between portrait and landscape: the tank in view again.
   if (turned) camera_.fit(tank_, float(width_) / float(height_));
 }
@@ -69,7 +82,7 @@ void Viewer::apply_quality(const v1::Quality& quality) {
   next_frame_ = {};  // a new rate starts now, not after the old interval
   renderer_kind_ = quality.renderer().empty() ? render::RendererKind::automatic
                                               : render::parse_renderer(quality.renderer());
-  if (renderer_ && (render_width_ != width_ || render_height_ != height_)) resize(width_, height_);
+  if (renderer_) aim_size(width_, height_);
 }
 
 void Viewer::apply_camera(const v1::Camera& camera) {
@@ -212,12 +225,12 @@ void Viewer::adapt(Clock::time_point now) {
     if (jpeg_quality_ > kLowestAdaptiveQuality) {
       jpeg_quality_ = std::max(kLowestAdaptiveQuality, jpeg_quality_ - 10);
     } else if (render_height_ > kSmallestAdaptiveHeight) {
-      resize(std::max(1u, render_width_ * 3 / 4), std::max(1u, render_height_ * 3 / 4));
+      aim_size(std::max(1u, render_width_ * 3 / 4), std::max(1u, render_height_ * 3 / 4));
     }
   } else if (keeping_up) {
     if (render_width_ < width_) {
-      resize(std::min(width_, render_width_ * 4 / 3 + 1),
-             std::min(height_, render_height_ * 4 / 3 + 1));
+      aim_size(std::min(width_, render_width_ * 4 / 3 + 1),
+               std::min(height_, render_height_ * 4 / 3 + 1));
     } else if (jpeg_quality_ < requested_quality_) {
       jpeg_quality_ = std::min(requested_quality_, jpeg_quality_ + 5);
     }

@@ -83,6 +83,12 @@ class Viewer {
   };
   std::optional<DragPoint> drag_point();
 
+  // A new frame size (asked for, or chosen by adaptation) takes a new renderer, made here at most
+  // once per kResizeEvery, the newest size winning: a client that keeps resizing cannot keep the
+  // worker making renderers. True when it made one (the session charges its time).
+  bool settle_size(Clock::time_point now);
+  static constexpr auto kResizeEvery = std::chrono::milliseconds(250);
+
   // Whether to render a frame now: its rate is due and it does not have too many in flight (or,
   // throttled, it has waited kThrottledFrameEvery).
   bool due(Clock::time_point now) const;
@@ -132,7 +138,10 @@ class Viewer {
 
  private:
   void adapt(Clock::time_point now);
-  void resize(std::uint32_t width, std::uint32_t height);
+  // The size frames are to be rendered at; the first renderer is made at once, later ones by
+  // settle_size().
+  void aim_size(std::uint32_t width, std::uint32_t height);
+  void make_renderer(std::uint32_t width, std::uint32_t height);
 
   gpu::Context* context_;
   std::uint32_t id_;
@@ -142,6 +151,8 @@ class Viewer {
   std::unique_ptr<render::FrameRenderer> renderer_;
   std::uint32_t width_ = 0, height_ = 0;                // as asked
   std::uint32_t render_width_ = 0, render_height_ = 0;  // as rendered (adaptive may lower it)
+  std::uint32_t aimed_width_ = 0, aimed_height_ = 0;    // as it will be, at settle_size()
+  Clock::time_point last_resize_{};
   render::OrbitCamera camera_;
   render::RendererKind renderer_kind_ = render::RendererKind::automatic;
   sim::Box tank_;  // what the camera looks at

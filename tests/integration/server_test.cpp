@@ -633,6 +633,32 @@ TEST(ServerTest, AViewerThatNeverAcknowledgesIsThrottled) {
   EXPECT_LE(frames, 10);  // not the 30 or 60 a second of a viewer that acknowledges
 }
 
+// A client that keeps resizing its viewport gets a new frame size at most four times a second
+// (the newest size winning): each one is a new renderer on the shared worker.
+TEST(ServerTest, ResizesAreCoalescedToAFewASecond) {
+  testing::ServerProcess server;
+  StreamClient stream(client::connect(server.grpc_address()), small_hello());
+  frame_from(stream);
+  int changes = 0;
+  std::uint32_t width = 0;
+  const auto start = std::chrono::steady_clock::now();
+  for (int k = 0; std::chrono::steady_clock::now() - start < seconds(3); ++k) {
+    v1::Command resize;
+    resize.mutable_viewport()->set_width(k % 2 ? 320 : 160);
+    resize.mutable_viewport()->set_height(k % 2 ? 240 : 120);
+    stream.command(resize);
+    while (const auto frame = stream.next_frame(milliseconds(0))) {
+      changes += width != 0 && frame->width() != width;
+      width = frame->width();
+    }
+    std::this_thread::sleep_for(milliseconds(20));  // 50 resizes a second
+  }
+  std::printf("frame size changes in 3 s of 50 resizes a second: %d\n", changes);
+  EXPECT_GE(changes, 2);
+  EXPECT_LE(changes, 3 * 4 + 1);
+  EXPECT_FALSE(stream.ended()) << stream.status().error_message();
+}
+
 // An adaptive viewer whose acknowledgements come late (a slow network): the server lowers JPEG
 // quality first, then the frame size; a viewer that keeps up keeps what it asked for.
 TEST(ServerTest, AdaptiveQualityFallsForAViewerThatFallsBehind) {
