@@ -34,6 +34,9 @@ void fill_block(const Box& block, float d, int count, ParticleSet& out) {
   }
 }
 
+// A particle spacing is at most this share of the tank's thinnest side.
+constexpr float kWidestSpacingOfThinnestSide = 0.5f;
+
 void fill_blocks(const std::vector<Box>& blocks, float d, int total, ParticleSet& out) {
   float total_volume = 0.0f;
   for (const Box& b : blocks) total_volume += volume(b);
@@ -75,8 +78,7 @@ const std::vector<ParamSpec<SceneParams>>& scene_param_specs() {
        100},
       {"pool-height", "m", "Pool and drop: height of the resting water", &S::pool_height, 0.01,
        100},
-      {"drop-radius", "m", "Drop: radius of the falling ball of water", &S::drop_radius, 0.01,
-       100},
+      {"drop-radius", "m", "Drop: radius of the falling ball of water", &S::drop_radius, 0.01, 100},
       {"drop-height", "m", "Drop: height of the ball's centre above the floor", &S::drop_height,
        0.01, 100},
   };
@@ -117,7 +119,8 @@ Scene build_scene(const SceneParams& params) {
   validate(params);
   Scene scene;
   scene.params = params;
-  scene.tank = Box{glm::vec3(0.0f), glm::vec3(params.tank_length, params.tank_height, params.depth)};
+  scene.tank =
+      Box{glm::vec3(0.0f), glm::vec3(params.tank_length, params.tank_height, params.depth)};
   const float L = params.tank_length, D = params.depth;
   const int n = params.particles;
 
@@ -139,9 +142,17 @@ Scene build_scene(const SceneParams& params) {
       break;
   }
   for (const Box& b : blocks) water_volume += volume(b);
+  // The spacing that fills the water's volume with n particles; a handful of particles would
+  // space wider than the tank is deep, so theirs is capped and they make a smaller puddle.
+  const glm::vec3 tank_size = scene.tank.size();
+  const float widest_spacing =
+      kWidestSpacingOfThinnestSide * std::min({tank_size.x, tank_size.y, tank_size.z});
+  auto spacing_for = [&](float filled_volume) {
+    return std::min(std::cbrt(filled_volume / static_cast<float>(n)), widest_spacing);
+  };
 
   if (params.kind != SceneKind::drop) {
-    scene.spacing = std::cbrt(water_volume / static_cast<float>(n));
+    scene.spacing = spacing_for(water_volume);
     fill_blocks(blocks, scene.spacing, n, scene.particles);
     return scene;
   }
@@ -149,7 +160,7 @@ Scene build_scene(const SceneParams& params) {
   // Drop: a pool plus a ball above it; the ball gets its share by volume, cut from the lattice.
   const float r = params.drop_radius;
   const float ball_volume = 4.0f / 3.0f * kPi * r * r * r;
-  scene.spacing = std::cbrt((water_volume + ball_volume) / static_cast<float>(n));
+  scene.spacing = spacing_for(water_volume + ball_volume);
   const glm::vec3 centre{0.5f * L, params.drop_height, 0.5f * D};
   std::vector<glm::vec3> ball = ball_of_particles(centre, r, scene.spacing, scene.tank);
   const int ball_count = std::min(static_cast<int>(ball.size()), n - 1);

@@ -607,6 +607,17 @@ TEST(ServerTest, AClientThatStopsReadingDoesNotGrowTheServersMemory) {
   context.TryCancel();
 }
 
+// The protocol allows a session of one particle: the few that fill no tank make a droplet.
+TEST(ServerTest, ASessionOfOneToAFewParticlesStreams) {
+  testing::ServerProcess server;
+  for (std::uint32_t particles : {1u, 2u, 3u, 7u}) {
+    StreamClient stream(client::connect(server.grpc_address()), small_hello(particles));
+    EXPECT_EQ(stream.welcome().state().particles(), particles);
+    frame_from(stream);
+    EXPECT_TRUE(stream.finish().ok());
+  }
+}
+
 // A viewer that never acknowledges is throttled like one that falls behind: three frames, then
 // one a second; it still sees the fluid.
 TEST(ServerTest, AViewerThatNeverAcknowledgesIsThrottled) {
