@@ -24,6 +24,7 @@ namespace websocket = beast::websocket;
 // a particle; everything else is well under 1 KiB); a bigger frame ends the socket before it is
 // buffered.
 constexpr std::size_t kMaxMessageBytes = 24 * kMaxStateParticles + 64 * 1024;
+constexpr std::size_t kReadPiece = 64 * 1024;
 
 // Over a plain connection or a TLS one (Stream: beast::tcp_stream or TlsStream).
 template <class Stream>
@@ -55,7 +56,8 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
     // viewer leaves (a resume finds its camera).
     socket_.set_option(
         websocket::stream_base::timeout{std::chrono::seconds(10), std::chrono::seconds(15), true});
-    socket_.read_message_max(kMaxMessageBytes);
+    // A backstop: read() ends a larger message itself, with a StreamEnd, one piece past the limit.
+    socket_.read_message_max(kMaxMessageBytes + 2 * kReadPiece);
     socket_.binary(true);
     socket_.async_accept(request, [self = shared_from_this()](beast::error_code error) {
       if (!error) self->read();
@@ -90,25 +92,38 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
     std::weak_ptr<WebSocketSession> owner_;
   };
 
+  // A message a piece at a time: one that grows past kMaxMessageBytes is refused with a StreamEnd
+  // before more of it is buffered (Beast's own limit would close the socket without one).
   void read() {
     if (ending_) return;
-    socket_.async_read(buffer_, [self = shared_from_this()](beast::error_code error, std::size_t) {
-      self->on_read(error);
-    });
+    socket_.async_read_some(buffer_, kReadPiece,
+                            [self = shared_from_this()](beast::error_code error, std::size_t) {
+                              self->on_read(error);
+                            });
   }
 
   void on_read(beast::error_code error) {
-    if (error) {  // closed, broken, or a frame over the limit
-      if (error == websocket::error::message_too_big) {
-        hub_->metrics().refused(Transport::websocket, RefusalCode::resource_exhausted);
-        end(RefusalCode::resource_exhausted,
-            "a WebSocket message over " + std::to_string(kMaxMessageBytes / 1024) + " KiB");
-      }
+    if (error) {  // closed or broken
       // A close frame with "normal closure" is a goodbye; anything else (going away, no code, a
       // broken connection) may come back.
       const bool goodbye = error == websocket::error::closed &&
                            socket_.reason().code == websocket::close_code::normal;
       leave(goodbye ? Departure::left : Departure::dropped);
+      return;
+    }
+    if (buffer_.size() > kMaxMessageBytes) {
+      buffer_.consume(buffer_.size());
+      const Refusal too_big(RefusalCode::resource_exhausted,
+                            "a WebSocket message over " + std::to_string(kMaxMessageBytes / 1024) +
+                                " KiB (the largest a ClientMessage can be)");
+      hub_->metrics().refused(Transport::websocket, too_big.code());
+      spdlog::warn("ended a WebSocket stream: {}", too_big.what());
+      end(too_big.code(), too_big.what());
+      leave();
+      return;
+    }
+    if (!socket_.is_message_done()) {
+      read();
       return;
     }
     v1::ClientMessage message;

@@ -120,6 +120,41 @@ TEST(ConnectionLimitsTest, AWebSocketThatSendsNoHelloEndsAtItsDeadline) {
   EXPECT_EQ(error, websocket::error::closed) << error.message();
 }
 
+// A WebSocket message larger than any ClientMessage ends its stream with a StreamEnd saying so,
+// before the server buffers the rest of it; another stream goes on.
+TEST(ConnectionLimitsTest, AnOversizedWebSocketMessageEndsWithAStreamEnd) {
+  testing::ServerProcess server;
+  client::StreamClient bystander(client::connect(server.grpc_address()), [] {
+    v1::Hello hello;
+    hello.mutable_viewport()->set_width(64);
+    hello.mutable_viewport()->set_height(48);
+    hello.mutable_create()->set_particles(500);
+    return hello;
+  }());
+  namespace websocket = boost::beast::websocket;
+  boost::asio::io_context io;
+  websocket::stream<boost::asio::ip::tcp::socket> socket(io);
+  socket.next_layer().connect({boost::asio::ip::make_address("127.0.0.1"),
+                               static_cast<unsigned short>(server.http_port())});
+  const timeval wait{20, 0};
+  setsockopt(socket.next_layer().native_handle(), SOL_SOCKET, SO_RCVTIMEO, &wait, sizeof wait);
+  socket.handshake("127.0.0.1", "/ws");
+  socket.binary(true);
+  socket.write_buffer_bytes(64 * 1024);
+  const std::string huge(8u << 20, 'x');  // 8 MiB: over the 448 KiB a ClientMessage may be
+  boost::beast::error_code error;
+  socket.write(boost::asio::buffer(huge), error);  // the server may stop reading midway
+  boost::beast::flat_buffer buffer;
+  socket.read(buffer, error);
+  ASSERT_FALSE(error) << error.message();
+  v1::ServerMessage message;
+  ASSERT_TRUE(message.ParseFromArray(buffer.data().data(), static_cast<int>(buffer.size())));
+  ASSERT_TRUE(message.has_end());
+  EXPECT_EQ(message.end().code(), "RESOURCE_EXHAUSTED");
+  EXPECT_NE(message.end().message().find("KiB"), std::string::npos) << message.end().message();
+  EXPECT_FALSE(bystander.next_frame(milliseconds(5000)) == std::nullopt);
+}
+
 // A page on another site, opened by someone on the LAN, must not drive the server through their
 // browser: its Origin is refused unless the operator allows it; the server's own page and
 // clients that are not browsers (no Origin) are served.
