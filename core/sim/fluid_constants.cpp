@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "fluidcast/sim/kernels.h"
+#include "fluidcast/sim/neighbour_grid.h"
 
 namespace fluidcast::sim {
 
@@ -23,6 +24,11 @@ FluidConstants derive_fluid_constants(float spacing, const SolverParams& params)
     }
   }
   c.particle_mass = static_cast<float>(params.rest_density / lattice_sum);
+  // The candidate window is 2·reach + 1 cells of h / reach on a side.
+  constexpr double cells = NeighbourGrid::kCellsPerRadius;
+  const double window = (2.0 * cells + 1.0) / cells * params.kernel_ratio;  // in spacings
+  c.max_candidates = static_cast<std::uint32_t>(
+      std::ceil(FluidConstants::kCandidatesOverRest * window * window * window));
   return c;
 }
 

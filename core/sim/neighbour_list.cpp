@@ -1,11 +1,13 @@
 #include "fluidcast/sim/neighbour_list.h"
 
+#include <algorithm>
 #include <utility>
 
 namespace fluidcast::sim {
 
 void NeighbourList::build(ForkJoinPool& pool, const NeighbourGrid& grid,
-                          std::span<const glm::vec3> positions, float radius) {
+                          std::span<const glm::vec3> positions, float radius,
+                          std::uint32_t max_candidates) {
   const std::size_t n = positions.size();
   const float r2 = radius * radius;
   begin_.resize(n);
@@ -32,7 +34,11 @@ void NeighbourList::build(ForkJoinPool& pool, const NeighbourGrid& grid,
     for (std::size_t i = first; i < last; ++i) {
       const glm::vec3 p = positions[i];
       offset_[i] = used;
+      std::uint32_t examined = 0;
       grid.for_each_candidate_range(p, [&](std::uint32_t begin, std::uint32_t end) {
+        if (examined >= max_candidates) return;
+        end = begin + std::min(end - begin, max_candidates - examined);
+        examined += end - begin;
         // Room for every candidate, so the loop below can write without a branch.
         if (out.size() < used + (end - begin)) out.resize(2 * (used + (end - begin)));
         const std::uint32_t length = end - begin;

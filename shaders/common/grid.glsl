@@ -15,11 +15,15 @@ uint grid_cell_index(ivec3 c, ivec3 dims) { return uint(c.x + dims.x * (c.y + di
 #define SCAN_ITEMS_PER_INVOCATION 4
 
 // For every sorted slot j in the 5×5 rows of 5 cells around `cell` (cells are half the search
-// radius; a row's slots are contiguous): cell_start (Uints) and dims (ivec3) are the grid's.
-#define FOR_EACH_CANDIDATE_IN(cell_start, dims, cell, j)                                          \
-  for (int z_ = max(cell.z - 2, 0); z_ <= min(cell.z + 2, dims.z - 1); ++z_)                      \
-    for (int y_ = max(cell.y - 2, 0); y_ <= min(cell.y + 2, dims.y - 1); ++y_)                    \
-      for (uint j = cell_start.v[grid_cell_index(ivec3(max(cell.x - 2, 0), y_, z_), dims)],       \
-                end_ = cell_start.v[grid_cell_index(ivec3(min(cell.x + 2, dims.x - 1), y_, z_),   \
-                                                    dims) + 1];                                   \
-           j < end_; ++j)
+// radius; a row's slots are contiguous), the first `most` of them (a clump's cost stays bounded,
+// as NeighbourList's on the CPU): cell_start (Uints) and dims (ivec3) are the grid's.
+#define FOR_EACH_CANDIDATE_IN(cell_start, dims, cell, j, most)                                    \
+  for (uint examined_ = 0u, once_ = 1u; once_ != 0u; once_ = 0u)                                  \
+    for (int z_ = max(cell.z - 2, 0); z_ <= min(cell.z + 2, dims.z - 1) && examined_ < (most);    \
+         ++z_)                                                                                    \
+      for (int y_ = max(cell.y - 2, 0); y_ <= min(cell.y + 2, dims.y - 1) && examined_ < (most);  \
+           ++y_)                                                                                  \
+        for (uint j = cell_start.v[grid_cell_index(ivec3(max(cell.x - 2, 0), y_, z_), dims)],     \
+                  end_ = cell_start.v[grid_cell_index(ivec3(min(cell.x + 2, dims.x - 1), y_, z_), \
+                                                      dims) + 1];                                 \
+             j < end_ && examined_ < (most); ++j, ++examined_)

@@ -8,6 +8,7 @@
 // main), so that the loops do not reload it through the parameter block's reference.
 float K_h, K_h2, K_poly6, K_spiky, K_viscosity_laplacian;
 ivec3 K_grid_dims;
+uint K_max_candidates;
 Uints K_cell_start;
 Uints K_sorted_cell;
 
@@ -19,6 +20,7 @@ void load_constants() {
   K_viscosity_laplacian = P.viscosity_laplacian;
   const ivec4 dims = P.grid_dims;
   K_grid_dims = dims.xyz;
+  K_max_candidates = P.max_candidates;
   K_cell_start = P.cell_start;
   K_sorted_cell = P.sorted_cell;
 }
@@ -116,7 +118,8 @@ ivec3 sorted_cell(uint k) {
 // for every sorted slot j in the 5×5 rows of 5 cells around `cell` (grid.glsl):
 //   const ivec3 cell = sorted_cell(k);
 //   FOR_EACH_CANDIDATE(cell, j) { ... }
-#define FOR_EACH_CANDIDATE(cell, j) FOR_EACH_CANDIDATE_IN(K_cell_start, K_grid_dims, cell, j)
+#define FOR_EACH_CANDIDATE(cell, j) \
+  FOR_EACH_CANDIDATE_IN(K_cell_start, K_grid_dims, cell, j, K_max_candidates)
 
 // The largest value over the dispatch, into P.stats.v[slot]: one global atomic per workgroup.
 // Every invocation must call it (no early return before).

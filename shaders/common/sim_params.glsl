@@ -60,6 +60,7 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Si
   float artificial_viscosity;  // 2 α h c, as the CPU solver's prefactor
   float softening;
   float substep_travel;  // PBF: most a particle moves in a substep, m (pbf_travel · h)
+  uint max_candidates;   // neighbour candidates examined per particle (FluidConstants)
 
   vec4 collider_sphere[MAX_COLLIDERS];    // centre at the step's start, radius in w
   vec4 collider_velocity[MAX_COLLIDERS];

@@ -1,13 +1,17 @@
 // The counting-sort grid and the neighbour lists built from it, against brute force.
+#include "fluidcast/sim/neighbour_grid.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
 #include <numeric>
 #include <random>
 #include <set>
 
-#include "fluidcast/sim/neighbour_grid.h"
+#include "fluidcast/sim/fluid_constants.h"
 #include "fluidcast/sim/neighbour_list.h"
+#include "fluidcast/sim/solver_params.h"
 
 namespace fluidcast::sim {
 namespace {
@@ -36,7 +40,7 @@ Pairs through_grid(const std::vector<glm::vec3>& original, float radius, unsigne
   apply_order(grid.order(), sorted, scratch);
   ForkJoinPool pool(threads);
   NeighbourList list;
-  list.build(pool, grid, sorted, radius);
+  list.build(pool, grid, sorted, radius, std::numeric_limits<std::uint32_t>::max());
   Pairs pairs;
   const auto order = grid.order();
   for (std::size_t k = 0; k < sorted.size(); ++k) {
@@ -62,6 +66,30 @@ void expect_matches_brute_force(const std::vector<glm::vec3>& p) {
   }
 }
 
+// Every particle at one point: without a cap each would examine all n; with it, at most the cap,
+// and the lists take memory linear in n.
+TEST(NeighbourList, AClumpExaminesAtMostTheCapPerParticle) {
+  const std::vector<glm::vec3> clump(3000, glm::vec3(0.5f, 0.3f, 0.2f));
+  NeighbourGrid grid(kDomain, kRadius);
+  grid.build(clump);
+  std::vector<glm::vec3> sorted = clump, scratch;
+  apply_order(grid.order(), sorted, scratch);
+  ForkJoinPool pool(2);
+  NeighbourList list;
+  constexpr std::uint32_t cap = 200;
+  list.build(pool, grid, sorted, kRadius, cap);
+  for (std::size_t k = 0; k < sorted.size(); ++k) ASSERT_LE(list.of(k).size(), cap);
+  EXPECT_LE(list.pair_count(), clump.size() * cap);
+  EXPECT_GE(list.pair_count(), clump.size() * (cap - 1));  // the cap, not fewer
+}
+
+TEST(FluidConstants, TheCandidateCapIsFourTimesAFluidAtRest) {
+  SolverParams params;
+  params.kernel_ratio = 2.0f;
+  // 5 cells of h/2 a side: 2.5 h = 5 spacings, 125 lattice sites.
+  EXPECT_EQ(derive_fluid_constants(0.01f, params).max_candidates, 500u);
+}
+
 TEST(NeighbourGrid, EmptySet) {
   expect_matches_brute_force({});
   NeighbourGrid grid(kDomain, kRadius);
@@ -79,7 +107,8 @@ TEST(NeighbourGrid, RandomSetsMatchBruteForce) {
 }
 
 TEST(NeighbourGrid, AllParticlesInOneCell) {
-  expect_matches_brute_force(random_points(700, Box{{0.31f, 0.31f, 0.11f}, {0.39f, 0.39f, 0.19f}}, 7));
+  expect_matches_brute_force(
+      random_points(700, Box{{0.31f, 0.31f, 0.11f}, {0.39f, 0.39f, 0.19f}}, 7));
 }
 
 TEST(NeighbourGrid, ParticlesExactlyOnCellBorders) {

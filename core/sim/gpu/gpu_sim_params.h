@@ -32,6 +32,7 @@ struct SimParams {
   float relaxation_epsilon, scorr_scale, inv_w_dq, scorr_exponent, vorticity_epsilon, xsph;
   float tait_stiffness, tait_exponent, sph_viscosity, artificial_viscosity, softening;
   float substep_travel;
+  std::uint32_t max_candidates;
 
   alignas(16) glm::vec4 collider_sphere[kMaxColliders];
   glm::vec4 collider_velocity[kMaxColliders];
@@ -45,6 +46,7 @@ static_assert(offsetof(SimParams, h) == 144 + 6 * 16 + 12);
 static_assert(offsetof(SimParams, relaxation_epsilon) == 144 + 6 * 16 + 13 * 4);
 static_assert(offsetof(SimParams, softening) == 144 + 6 * 16 + 23 * 4);
 static_assert(offsetof(SimParams, substep_travel) == 144 + 6 * 16 + 24 * 4);
+static_assert(offsetof(SimParams, max_candidates) == 144 + 6 * 16 + 25 * 4);
 static_assert(offsetof(SimParams, collider_sphere) == 144 + 6 * 16 + 28 * 4);
 static_assert(offsetof(SimParams, collider_velocity) ==
               offsetof(SimParams, collider_sphere) + kMaxColliders * 16);
@@ -63,10 +65,10 @@ static_assert(offsetof(SimPass, dt) == 8 && offsetof(SimPass, parity) == 16 &&
 
 // The statistics a step leaves in P.stats, read back by the host.
 enum StatsSlot : std::uint32_t {
-  kLargestSpeed2 = 0,         // bits of the largest |v|²
-  kLargestAcceleration = 1,   // bits of the largest |a| (SPH)
-  kCompressionSum = 2,        // PBF: Σ max(ρ/ρ0 − 1, 0), low word, in units of kCompressionUnit
-  kCompressionSumHigh = 3,    // and its high word
+  kLargestSpeed2 = 0,        // bits of the largest |v|²
+  kLargestAcceleration = 1,  // bits of the largest |a| (SPH)
+  kCompressionSum = 2,       // PBF: Σ max(ρ/ρ0 − 1, 0), low word, in units of kCompressionUnit
+  kCompressionSumHigh = 3,   // and its high word
   kStatsSlots = 4,
 };
 inline constexpr double kCompressionUnit = 1.0 / (1 << 20);

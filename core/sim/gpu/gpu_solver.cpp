@@ -338,6 +338,7 @@ SimParams GpuSolver::step_params() const {
       2.0f * params().artificial_viscosity * kernels.radius() * params().sound_speed;
   p.softening = 0.01f * kernels.radius_squared();
   p.substep_travel = params().pbf_travel * kernels.radius();
+  p.max_candidates = fluid().max_candidates;
   for (std::size_t c = 0; c < colliders().size(); ++c) {
     p.collider_sphere[c] = glm::vec4(colliders()[c].centre, colliders()[c].radius);
     p.collider_velocity[c] = glm::vec4(colliders()[c].velocity, 0.0f);

@@ -10,6 +10,12 @@ struct FluidConstants {
   float kernel_radius = 0.0f;  // h = kernel_ratio · d, m
   float particle_mass = 0.0f;  // kg
   float rest_density = 0.0f;   // ρ0, kg/m³
+  // Candidate neighbours examined per particle, at most: kCandidatesOverRest times what a
+  // particle inside a fluid at rest density has in its 5×5×5 cells. A clump (a pour, a finger
+  // pushing water into a corner) then costs each particle a bounded amount, not the clump's size;
+  // a fluid near rest never reaches it.
+  std::uint32_t max_candidates = 0;
+  static constexpr double kCandidatesOverRest = 4.0;
 
   float particle_radius() const { return 0.5f * spacing; }
   float rest_volume() const { return particle_mass / rest_density; }

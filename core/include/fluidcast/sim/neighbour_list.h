@@ -15,9 +15,11 @@ namespace fluidcast::sim {
 class NeighbourList {
  public:
   // `positions` must be in the grid's sorted order (after apply_order). A particle is not its
-  // own neighbour. Each list is in increasing index order.
+  // own neighbour. Each list is in increasing index order. At most `max_candidates` slots are
+  // examined per particle (FluidConstants::max_candidates): in a clump its list is cut short,
+  // and the work and memory stay linear in the count.
   void build(ForkJoinPool& pool, const NeighbourGrid& grid, std::span<const glm::vec3> positions,
-             float radius);
+             float radius, std::uint32_t max_candidates);
 
   std::span<const std::uint32_t> of(std::size_t i) const { return {begin_[i], count_[i]}; }
   std::size_t size() const { return count_.size(); }
@@ -30,7 +32,8 @@ class NeighbourList {
  private:
   // One buffer per chunk of the pool, so threads never share a growing vector.
   std::vector<std::vector<std::uint32_t>> chunk_indices_;
-  std::vector<std::vector<std::uint32_t>> chunk_hits_;  // not uint8_t: a char store may alias the coordinates and blocks vectorisation
+  std::vector<std::vector<std::uint32_t>>
+      chunk_hits_;  // not uint8_t: a char store may alias the coordinates and blocks vectorisation
   std::vector<float> xs_, ys_, zs_;
   std::vector<const std::uint32_t*> begin_;
   std::vector<std::uint32_t> count_;

@@ -1,4 +1,5 @@
-// The tunables of both solvers, in SI units. Each is declared with its range in solver_param_specs().
+// The tunables of both solvers, in SI units. Each is declared with its range in
+// solver_param_specs().
 #pragma once
 
 #include <vector>
@@ -20,18 +21,18 @@ struct SolverParams {
   int iterations = 4;
   float pbf_travel = 1.0f;  // most a particle or collider moves in one substep, as a fraction of h
   float pbf_density_tolerance = 0.01f;  // average ρ/ρ0 − 1 a step may leave, walls included
-  float relaxation = 0.01f;      // ε as a fraction of the rest-state Σ|∇C|²
-  float scorr_strength = 0.1f;   // k of the artificial pressure
-  float scorr_exponent = 4.0f;   // n
-  float scorr_distance = 0.2f;   // Δq / h
-  float vorticity = 0.02f;       // ε of vorticity confinement, m/s
-  float xsph_viscosity = 0.05f;  // c of XSPH
+  float relaxation = 0.01f;             // ε as a fraction of the rest-state Σ|∇C|²
+  float scorr_strength = 0.1f;          // k of the artificial pressure
+  float scorr_exponent = 4.0f;          // n
+  float scorr_distance = 0.2f;          // Δq / h
+  float vorticity = 0.02f;              // ε of vorticity confinement, m/s
+  float xsph_viscosity = 0.05f;         // c of XSPH
 
   // SPH (weakly compressible; Müller et al. 2003 kernels, Tait equation of state).
-  float cfl_number = 0.4f;        // substeps keep (c+|v|max)·Δt ≤ cfl·h
-  float sound_speed = 20.0f;      // m/s, sets the stiffness B = ρ0 c² / γ
-  float tait_exponent = 7.0f;     // γ
-  float sph_viscosity = 0.05f;    // dynamic viscosity μ, Pa·s
+  float cfl_number = 0.4f;             // substeps keep (c+|v|max)·Δt ≤ cfl·h
+  float sound_speed = 20.0f;           // m/s, sets the stiffness B = ρ0 c² / γ
+  float tait_exponent = 7.0f;          // γ
+  float sph_viscosity = 0.05f;         // dynamic viscosity μ, Pa·s
   float artificial_viscosity = 0.25f;  // α of Monaghan's artificial viscosity
 };
 

@@ -13,10 +13,10 @@ namespace fluidcast::sim {
 
 struct FluidStatistics {
   std::size_t particles = 0;
-  double kinetic_energy = 0;     // J, Σ ½ m |v|²
-  double max_density_error = 0;  // max over particles of max(0, ρ/ρ0 − 1)
-  double avg_density_error = 0;  // mean over particles of max(0, ρ/ρ0 − 1)
-  double front_x = 0;  // m from the tank's left wall: surge_front()
+  double kinetic_energy = 0;       // J, Σ ½ m |v|²
+  double max_density_error = 0;    // max over particles of max(0, ρ/ρ0 − 1)
+  double avg_density_error = 0;    // mean over particles of max(0, ρ/ρ0 − 1)
+  double front_x = 0;              // m from the tank's left wall: surge_front()
   glm::dvec3 centre_of_mass{0.0};  // m
   double max_speed = 0;            // m/s
   std::size_t outside_tank = 0;    // particles whose centre is outside the tank
