@@ -4,7 +4,7 @@ JOBS ?= $(shell nproc)
 BUILD_DIR := $(if $(filter release,$(PRESET)),build,build/$(PRESET))
 BIN := build/bin
 
-.PHONY: deps build run test bench validate clean
+.PHONY: deps build run test test-sanitized bench validate clean
 
 deps:
 	deploy/install-deps.sh
@@ -23,6 +23,14 @@ run: build
 
 test: build
 	ctest --preset $(PRESET) -j $(JOBS)
+
+# The unit and integration tests built with AddressSanitizer and UndefinedBehaviorSanitizer
+# (build/asan; CI runs it after `make test`). Frame-rate comparisons are left out: the sanitizers
+# slow the server several times, which is what they would measure.
+test-sanitized: deps
+	cmake --preset asan
+	cmake --build --preset asan -j $(JOBS)
+	ctest --preset asan -j $(JOBS) -L 'unit|integration' -E 'FrameLoopTest'
 
 bench: build
 	$(BIN)/fluidcast-bench-cpu
