@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
@@ -31,15 +32,23 @@ ScriptedEvent pointer_at(double time, v1::PointerEvent::Phase phase, float x, fl
 std::vector<ScriptedEvent> read_gesture_script(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error("--script " + path + ": cannot open it");
+  const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  return parse_gesture_script(text, "--script " + path);
+}
+
+std::vector<ScriptedEvent> parse_gesture_script(const std::string& text, const std::string& name) {
   nlohmann::json script;
   try {
-    script = nlohmann::json::parse(in);
+    script = nlohmann::json::parse(text);
   } catch (const std::exception& e) {
-    throw std::runtime_error("--script " + path + ": not JSON: " + e.what());
+    throw std::runtime_error(name + ": not JSON: " + e.what());
+  }
+  if (!script.is_object() || !script.contains("events") || !script["events"].is_array()) {
+    throw std::runtime_error(name + ": needs an object with an array \"events\"");
   }
   std::vector<ScriptedEvent> events;
   int index = 0;
-  for (const auto& entry : script.at("events")) {
+  for (const auto& entry : script["events"]) {
     try {
       ScriptedEvent event{entry.at("t").get<double>(), {}};
       if (entry.contains("pointer")) {
@@ -68,8 +77,7 @@ std::vector<ScriptedEvent> read_gesture_script(const std::string& path) {
       }
       events.push_back(std::move(event));
     } catch (const std::exception& e) {
-      throw std::runtime_error("--script " + path + ": event " + std::to_string(index) + ": " +
-                               e.what());
+      throw std::runtime_error(name + ": event " + std::to_string(index) + ": " + e.what());
     }
     ++index;
   }

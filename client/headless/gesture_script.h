@@ -22,6 +22,8 @@ struct ScriptedEvent {
 
 // Throws std::runtime_error naming the event and what is wrong with it.
 std::vector<ScriptedEvent> read_gesture_script(const std::string& path);
+// The same from the script's text; `name` says where it came from in errors.
+std::vector<ScriptedEvent> parse_gesture_script(const std::string& text, const std::string& name);
 // A finger dragged to and fro across the middle for `seconds`, 30 moves a second.
 std::vector<ScriptedEvent> default_gesture(double seconds);
 
