@@ -13,6 +13,7 @@
 #include <regex>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace fluidcast::testing {
@@ -57,6 +58,12 @@ class ServerProcess {
       if (std::regex_search(line, match, listening)) {
         grpc_address_ = match[1].str() + ":" + match[2].str();
         http_port_ = std::stoi(match[3].str());
+        // Its log goes on being read, so that a long run never blocks it on a full pipe.
+        drain_ = std::thread([output = output_] {
+          char discarded[4096];
+          while (std::fgets(discarded, sizeof discarded, output)) {
+          }
+        });
         return;
       }
     }
@@ -65,6 +72,7 @@ class ServerProcess {
 
   ~ServerProcess() {
     if (pid_ > 0) stop();
+    if (drain_.joinable()) drain_.join();  // the pipe ends with the process
     if (output_) fclose(output_);
     std::error_code ignored;
     std::filesystem::remove_all(state_, ignored);
@@ -84,6 +92,29 @@ class ServerProcess {
     return kb;
   }
   int http_port() const { return http_port_; }
+  // Descriptors the process has open now, from /proc.
+  long open_descriptors() const {
+    std::error_code error;
+    long count = 0;
+    for (std::filesystem::directory_iterator it("/proc/" + std::to_string(pid_) + "/fd", error),
+         end;
+         !error && it != end; it.increment(error)) {
+      ++count;
+    }
+    return error ? -1 : count;
+  }
+  // Its threads now, from /proc.
+  long threads() const {
+    std::FILE* status = std::fopen(("/proc/" + std::to_string(pid_) + "/status").c_str(), "r");
+    if (!status) return -1;
+    char line[256];
+    long count = -1;
+    while (std::fgets(line, sizeof line, status)) {
+      if (std::sscanf(line, "Threads: %ld", &count) == 1) break;
+    }
+    std::fclose(status);
+    return count;
+  }
   // CPU time the process has used (user and system), seconds.
   double cpu_seconds() const {
     std::FILE* stat = std::fopen(("/proc/" + std::to_string(pid_) + "/stat").c_str(), "r");
@@ -111,6 +142,7 @@ class ServerProcess {
   std::filesystem::path state_;
   pid_t pid_ = -1;
   FILE* output_ = nullptr;
+  std::thread drain_;
   std::string grpc_address_;
   int http_port_ = 0;
   int exit_status_ = -1;

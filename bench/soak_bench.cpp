@@ -1,0 +1,351 @@
+// The soak test: one server on loopback, a bystander streaming its own session throughout, and
+// --clients workers doing a random mix of what clients do and what they must not — create,
+// join by key, leave, drop and resume, resize in bursts, send bad input, flood, put a clumped
+// snapshot, open a stream and say nothing, stream without acknowledging — for --seconds. Then
+// the server is left alone until every session has ended, and its memory, descriptors and
+// threads are compared with where they were before the mix. Prints a Markdown table; exits 1 when
+// the bystander's frame rate fell below half its rate alone in some 5-second window, when a
+// worker's refusal came with a status other than the one its case documents, or when the server
+// did not come back to its baseline (descriptors and threads exactly, memory within
+// --max-growth-mb).
+//   fluidcast-bench-soak [--seconds 600] [--clients 4] [--seed N] [--max-growth-mb 64]
+#include <grpcpp/grpcpp.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <mutex>
+#include <random>
+#include <thread>
+
+#include "fluidcast/command_line.h"
+#include "fluidcast/v1/fluidcast.grpc.pb.h"
+#include "server_process.h"
+#include "stream_client.h"
+
+namespace fluidcast {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using client::StreamClient;
+using client::StreamError;
+using std::chrono::milliseconds;
+
+constexpr int kResumeGraceSeconds = 5;
+
+v1::Hello hello_for(std::uint32_t particles, std::uint32_t width, std::uint32_t height) {
+  v1::Hello hello;
+  hello.mutable_viewport()->set_width(width);
+  hello.mutable_viewport()->set_height(height);
+  hello.mutable_create()->set_particles(particles);
+  return hello;
+}
+
+// What each case did, and refusals that were not the one documented for it.
+struct Tally {
+  std::mutex mutex;
+  std::map<std::string, int> cases;
+  std::vector<std::string> wrong;
+  void count(const std::string& name) {
+    std::lock_guard lock(mutex);
+    ++cases[name];
+  }
+  void unexpected(const std::string& what) {
+    std::lock_guard lock(mutex);
+    if (wrong.size() < 20) wrong.push_back(what);
+  }
+};
+
+void drain(StreamClient& stream, double seconds) {
+  const auto end = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                      std::chrono::duration<double>(seconds));
+  while (Clock::now() < end && !stream.ended()) stream.next_frame(milliseconds(20));
+}
+
+// A stream that must end with `code` after `message`.
+void expect_end(const std::string& address, const v1::ClientMessage& message, grpc::StatusCode code,
+                const std::string& name, Tally& tally) {
+  try {
+    StreamClient stream(client::connect(address), hello_for(300, 96, 64));
+    stream.send_raw(message);
+    for (int k = 0; k < 100 && !stream.ended(); ++k) stream.next_frame(milliseconds(50));
+    if (stream.status().error_code() != code) {
+      tally.unexpected(name + ": " + std::to_string(stream.status().error_code()) + " " +
+                       stream.status().error_message());
+    }
+  } catch (const StreamError& e) {
+    if (e.code() != grpc::StatusCode::RESOURCE_EXHAUSTED) tally.unexpected(name + ": " + e.what());
+  }
+}
+
+void worker(const std::string& address, std::uint64_t seed, Clock::time_point end, Tally& tally) {
+  std::mt19937_64 random(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  while (Clock::now() < end) {
+    const int action = static_cast<int>(random() % 9);
+    try {
+      switch (action) {
+        case 0: {  // create, drag a little, say goodbye
+          tally.count("create, drag, goodbye");
+          StreamClient stream(client::connect(address), hello_for(200 + random() % 1500, 160, 120));
+          stream.pointer(0, v1::PointerEvent::DOWN, 0.5f, 0.7f);
+          for (int k = 0; k < 10; ++k) {
+            stream.pointer(0, v1::PointerEvent::MOVE, float(unit(random)), 0.7f);
+            drain(stream, 0.05);
+          }
+          stream.finish();
+          break;
+        }
+        case 1: {  // create, drop, resume, watch with the view key, goodbye
+          tally.count("drop, resume, join by key");
+          auto stream =
+              std::make_unique<StreamClient>(client::connect(address), hello_for(500, 128, 96));
+          const v1::Access access = stream->welcome().access();
+          drain(*stream, 0.3);
+          stream->drop();
+          stream.reset();
+          v1::Hello resume = hello_for(0, 128, 96);
+          resume.mutable_resume()->set_key(access.resume_key());
+          StreamClient back(client::connect(address), resume);
+          v1::Hello watch = hello_for(0, 96, 64);
+          watch.set_join(access.view_key());
+          StreamClient watcher(client::connect(address), watch);
+          drain(watcher, 0.3);
+          watcher.finish();
+          back.finish();
+          break;
+        }
+        case 2: {  // resize in a burst
+          tally.count("resize burst");
+          StreamClient stream(client::connect(address), hello_for(400, 160, 120));
+          for (int k = 0; k < 40; ++k) {
+            v1::Command resize;
+            resize.mutable_viewport()->set_width(k % 2 ? 1280 : 16);
+            resize.mutable_viewport()->set_height(k % 2 ? 720 : 16);
+            stream.command(resize);
+            drain(stream, 0.02);
+          }
+          stream.finish();
+          break;
+        }
+        case 3: {  // a NaN
+          tally.count("NaN pointer");
+          v1::ClientMessage nan;
+          nan.mutable_pointer()->set_phase(v1::PointerEvent::DOWN);
+          nan.mutable_pointer()->set_x(std::nanf(""));
+          expect_end(address, nan, grpc::StatusCode::INVALID_ARGUMENT, "NaN pointer", tally);
+          break;
+        }
+        case 4: {  // a flood of input
+          tally.count("input flood");
+          StreamClient stream(client::connect(address), hello_for(300, 96, 64));
+          for (int k = 0; k < 1000 && !stream.ended(); ++k) {  // within the client's own queue
+            stream.pointer(0, v1::PointerEvent::MOVE, 0.5f, 0.5f);
+          }
+          for (int k = 0; k < 100 && !stream.ended(); ++k) stream.next_frame(milliseconds(50));
+          if (stream.status().error_code() != grpc::StatusCode::RESOURCE_EXHAUSTED) {
+            tally.unexpected("input flood: " + stream.status().error_message());
+          }
+          break;
+        }
+        case 5: {  // a clumped snapshot into its own session
+          tally.count("clumped snapshot");
+          StreamClient stream(client::connect(address), hello_for(2000, 96, 64));
+          v1::PutSnapshotRequest put;
+          put.set_key(stream.welcome().access().control_key());
+          v1::Snapshot& clump = *put.mutable_snapshot();
+          const v1::Box& tank = stream.welcome().state().tank();
+          for (int k = 0; k < 2000; ++k) {
+            clump.add_positions(0.5f * (tank.min().x() + tank.max().x()));
+            clump.add_positions(0.5f * (tank.min().y() + tank.max().y()));
+            clump.add_positions(0.5f * (tank.min().z() + tank.max().z()));
+            for (int axis = 0; axis < 3; ++axis) clump.add_velocities(0.0f);
+          }
+          grpc::ClientContext context;
+          v1::PutSnapshotReply reply;
+          const grpc::Status status =
+              v1::Fluidcast::NewStub(client::connect(address))->PutSnapshot(&context, put, &reply);
+          if (status.error_code() != grpc::StatusCode::INVALID_ARGUMENT) {
+            tally.unexpected("clumped snapshot: " + status.error_message());
+          }
+          stream.finish();
+          break;
+        }
+        case 6: {  // a stream that never says Hello (the server's --hello-timeout is 2 s)
+          tally.count("no Hello");
+          auto stub = v1::Fluidcast::NewStub(client::connect(address));
+          grpc::ClientContext context;
+          auto stream = stub->Stream(&context);
+          v1::ServerMessage ignored;
+          while (stream->Read(&ignored)) {
+          }
+          if (stream->Finish().error_code() != grpc::StatusCode::DEADLINE_EXCEEDED) {
+            tally.unexpected("no Hello: not DEADLINE_EXCEEDED");
+          }
+          break;
+        }
+        case 7: {  // streams without acknowledging, then cancels
+          tally.count("no acknowledgements");
+          auto stub = v1::Fluidcast::NewStub(client::connect(address));
+          grpc::ClientContext context;
+          auto stream = stub->Stream(&context);
+          v1::ClientMessage hello;
+          *hello.mutable_hello() = hello_for(500, 640, 480);
+          stream->Write(hello);
+          v1::ServerMessage ignored;
+          const auto until = Clock::now() + std::chrono::seconds(1);
+          while (Clock::now() < until && stream->Read(&ignored)) {
+          }
+          context.TryCancel();
+          break;
+        }
+        case 8: {  // a watcher that tries to control
+          tally.count("watcher tilts");
+          StreamClient owner(client::connect(address), hello_for(300, 96, 64));
+          v1::Hello watch = hello_for(0, 96, 64);
+          watch.set_join(owner.welcome().access().view_key());
+          StreamClient watcher(client::connect(address), watch);
+          v1::ClientMessage tilt;
+          tilt.mutable_tilt()->set_y(-9.81f);
+          watcher.send_raw(tilt);
+          for (int k = 0; k < 100 && !watcher.ended(); ++k) watcher.next_frame(milliseconds(50));
+          if (watcher.status().error_code() != grpc::StatusCode::PERMISSION_DENIED) {
+            tally.unexpected("watcher tilts: " + watcher.status().error_message());
+          }
+          owner.finish();
+          break;
+        }
+      }
+    } catch (const StreamError& e) {
+      // The server at its session limit refuses a new one: documented, not a failure.
+      if (e.code() != grpc::StatusCode::RESOURCE_EXHAUSTED) {
+        tally.unexpected("case " + std::to_string(action) + ": " + e.what());
+      }
+    }
+  }
+}
+
+// Frames per 5-second window of a viewer that drags through its fluid until `stop`.
+std::vector<double> bystander_windows(const std::string& address, const std::atomic<bool>& stop,
+                                      std::string& error) {
+  std::vector<double> windows;
+  try {
+    StreamClient stream(client::connect(address), hello_for(1000, 320, 240));
+    drain(stream, 2.0);  // pipelines compiled, costs measured
+    auto window_start = Clock::now();
+    int frames = 0;
+    double t = 0.0;
+    stream.pointer(0, v1::PointerEvent::DOWN, 0.5f, 0.6f);
+    while (!stop && !stream.ended()) {
+      t += 0.05;
+      stream.pointer(0, v1::PointerEvent::MOVE, 0.5f + 0.3f * float(std::sin(t)), 0.6f);
+      const auto next = Clock::now() + milliseconds(50);
+      while (Clock::now() < next) frames += stream.next_frame(milliseconds(10)).has_value();
+      if (Clock::now() - window_start >= std::chrono::seconds(5)) {
+        windows.push_back(frames /
+                          std::chrono::duration<double>(Clock::now() - window_start).count());
+        frames = 0;
+        window_start = Clock::now();
+      }
+    }
+    if (stream.ended()) error = stream.status().error_message();
+    stream.finish();
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  return windows;
+}
+
+int run(int argc, char** argv) {
+  unsigned clients = 4;
+  double seconds = 600.0, max_growth_mb = 64.0;
+  std::uint64_t seed = std::random_device{}();
+  CLI::App app{"fluidcast-bench-soak: a random mix of clients, good and bad, beside a bystander"};
+  app.add_option("--seconds", seconds, "Seconds of the mix")->check(CLI::Range(10.0, 86400.0));
+  app.add_option("--clients", clients, "Workers at once")->check(CLI::Range(1u, 32u));
+  app.add_option("--seed", seed, "For the workers' choices (printed)");
+  app.add_option("--max-growth-mb", max_growth_mb, "Server memory growth allowed at the end");
+  add_version_flag(app, "fluidcast-bench-soak");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return exit_for(app, e);
+  }
+  testing::ServerProcess server({"--max-sessions", "16", "--max-sessions-per-address", "16",
+                                 "--resume-grace", std::to_string(kResumeGraceSeconds),
+                                 "--hello-timeout", "2"});
+  const std::string& address = server.grpc_address();
+
+  // The bystander alone first; then the baseline, once its session has ended.
+  std::atomic<bool> stop{false};
+  std::string alone_error;
+  std::thread alone_timer([&] {
+    std::this_thread::sleep_for(std::chrono::seconds(17));
+    stop = true;
+  });
+  const std::vector<double> alone = bystander_windows(address, stop, alone_error);
+  alone_timer.join();
+  std::this_thread::sleep_for(std::chrono::seconds(3));
+  const long rss_before = server.resident_kb(), fds_before = server.open_descriptors(),
+             threads_before = server.threads();
+  double alone_fps = 0.0;
+  for (double fps : alone) alone_fps += fps / double(alone.size());
+
+  stop = false;
+  std::string bystander_error;
+  std::vector<double> windows;
+  std::thread bystander([&] { windows = bystander_windows(address, stop, bystander_error); });
+  Tally tally;
+  const auto end = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                      std::chrono::duration<double>(seconds));
+  std::vector<std::thread> workers;
+  for (unsigned k = 0; k < clients; ++k) {
+    workers.emplace_back([&, k] { worker(address, seed + k, end, tally); });
+  }
+  long rss_peak = 0;
+  while (Clock::now() < end) {
+    rss_peak = std::max(rss_peak, server.resident_kb());
+    std::this_thread::sleep_for(std::chrono::seconds(1));
+  }
+  for (auto& w : workers) w.join();
+  stop = true;
+  bystander.join();
+  // Every session ends (a goodbye at once, a drop after the grace); freed memory is returned.
+  std::this_thread::sleep_for(std::chrono::seconds(kResumeGraceSeconds + 5));
+  const long rss_after = server.resident_kb(), fds_after = server.open_descriptors(),
+             threads_after = server.threads();
+
+  const double worst = windows.empty() ? 0.0 : *std::min_element(windows.begin(), windows.end());
+  std::printf("## fluidcast-bench-soak: %u workers, %.0f s, seed %llu\n\n", clients, seconds,
+              static_cast<unsigned long long>(seed));
+  std::printf("| case | times |\n| --- | --- |\n");
+  for (const auto& [name, count] : tally.cases) std::printf("| %s | %d |\n", name.c_str(), count);
+  std::printf("\n| figure | before | during | after |\n| --- | --- | --- | --- |\n");
+  std::printf("| bystander fps (5 s windows) | %.1f alone | worst %.1f of %zu windows | |\n",
+              alone_fps, worst, windows.size());
+  std::printf("| server memory (MB) | %.1f | peak %.1f | %.1f |\n", rss_before / 1024.0,
+              rss_peak / 1024.0, rss_after / 1024.0);
+  std::printf("| descriptors | %ld | | %ld |\n", fds_before, fds_after);
+  std::printf("| threads | %ld | | %ld |\n", threads_before, threads_after);
+  bool failed = false;
+  auto fail = [&](const std::string& why) {
+    std::printf("FAIL: %s\n", why.c_str());
+    failed = true;
+  };
+  if (!alone_error.empty() || !bystander_error.empty()) {
+    fail("the bystander's stream ended: " + alone_error + bystander_error);
+  }
+  if (worst < 0.5 * alone_fps) fail("the bystander fell below half its frame rate alone");
+  for (const auto& wrong : tally.wrong) fail("unexpected: " + wrong);
+  if (fds_after != fds_before) fail("descriptors not back to their baseline");
+  if (threads_after != threads_before) fail("threads not back to their baseline");
+  if ((rss_after - rss_before) / 1024.0 > max_growth_mb) fail("memory grew past --max-growth-mb");
+  return failed ? 1 : 0;
+}
+
+}  // namespace
+}  // namespace fluidcast
+
+int main(int argc, char** argv) { return fluidcast::run(argc, argv); }
