@@ -106,6 +106,7 @@ TEST(GpuParamsLayout, SimParamsMatchesTheGlslBlock) {
                                                   FIELD(SimParams, artificial_viscosity),
                                                   FIELD(SimParams, softening),
                                                   FIELD(SimParams, substep_travel),
+                                                  FIELD(SimParams, max_candidates),
                                                   FIELD(SimParams, collider_sphere),
                                                   FIELD(SimParams, collider_velocity)};
   const auto glsl = member_offsets(shaders::sim_pbf_lambda_comp, "SimParams");
