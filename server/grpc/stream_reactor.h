@@ -7,6 +7,7 @@
 #include <grpcpp/alarm.h>
 #include <grpcpp/grpcpp.h>
 
+#include <atomic>
 #include <memory>
 
 #include "fluidcast/v1/fluidcast.grpc.pb.h"
@@ -45,7 +46,7 @@ class StreamReactor final : public grpc::ServerBidiReactor<v1::ClientMessage, v1
   std::string address_;
   // OnCancel came: the stream broke or the client cancelled (a viewer that may resume), rather
   // than the client closing its side and reading the status (one that left).
-  bool cancelled_ = false;
+  std::atomic<bool> cancelled_{false};
 };
 
 }  // namespace fluidcast::server

@@ -13,6 +13,7 @@
 #include <boost/beast/core/flat_buffer.hpp>
 #include <boost/beast/websocket.hpp>
 #include <chrono>
+#include <memory>
 #include <string>
 #include <thread>
 #include <vector>
@@ -74,6 +75,19 @@ class RawConnection {
   bool connected_ = false;
 };
 
+// A WebSocket to the server's /ws; reads give up after 20 s, so that a server that never answers
+// fails the test instead of hanging it.
+using WebSocket = boost::beast::websocket::stream<boost::asio::ip::tcp::socket>;
+std::unique_ptr<WebSocket> open_websocket(boost::asio::io_context& io, int port) {
+  auto socket = std::make_unique<WebSocket>(io);
+  socket->next_layer().connect(
+      {boost::asio::ip::make_address("127.0.0.1"), static_cast<unsigned short>(port)});
+  const timeval wait{20, 0};
+  setsockopt(socket->next_layer().native_handle(), SOL_SOCKET, SO_RCVTIMEO, &wait, sizeof wait);
+  socket->handshake("127.0.0.1", "/ws");
+  return socket;
+}
+
 TEST(ConnectionLimitsTest, AgRpcStreamThatSendsNoHelloEndsAtItsDeadline) {
   testing::ServerProcess server({"--hello-timeout", "1"});
   auto stub = v1::Fluidcast::NewStub(client::connect(server.grpc_address()));
@@ -97,12 +111,8 @@ TEST(ConnectionLimitsTest, AWebSocketThatSendsNoHelloEndsAtItsDeadline) {
   testing::ServerProcess server({"--hello-timeout", "1"});
   namespace websocket = boost::beast::websocket;
   boost::asio::io_context io;
-  websocket::stream<boost::asio::ip::tcp::socket> socket(io);
-  socket.next_layer().connect({boost::asio::ip::make_address("127.0.0.1"),
-                               static_cast<unsigned short>(server.http_port())});
-  const timeval wait{20, 0};  // a server that never ends it fails the test instead of hanging it
-  setsockopt(socket.next_layer().native_handle(), SOL_SOCKET, SO_RCVTIMEO, &wait, sizeof wait);
-  socket.handshake("127.0.0.1", "/ws");
+  const auto connection = open_websocket(io, server.http_port());
+  WebSocket& socket = *connection;
   const auto opened = Clock::now();
   boost::beast::flat_buffer buffer;
   boost::beast::error_code error;
@@ -131,14 +141,9 @@ TEST(ConnectionLimitsTest, AnOversizedWebSocketMessageEndsWithAStreamEnd) {
     hello.mutable_create()->set_particles(500);
     return hello;
   }());
-  namespace websocket = boost::beast::websocket;
   boost::asio::io_context io;
-  websocket::stream<boost::asio::ip::tcp::socket> socket(io);
-  socket.next_layer().connect({boost::asio::ip::make_address("127.0.0.1"),
-                               static_cast<unsigned short>(server.http_port())});
-  const timeval wait{20, 0};
-  setsockopt(socket.next_layer().native_handle(), SOL_SOCKET, SO_RCVTIMEO, &wait, sizeof wait);
-  socket.handshake("127.0.0.1", "/ws");
+  const auto connection = open_websocket(io, server.http_port());
+  WebSocket& socket = *connection;
   socket.binary(true);
   socket.write_buffer_bytes(64 * 1024);
   const std::string huge(8u << 20, 'x');  // 8 MiB: over the 448 KiB a ClientMessage may be

@@ -80,17 +80,7 @@ class ServerProcess {
 
   const std::string& grpc_address() const { return grpc_address_; }
   // Resident memory now, from /proc (kB).
-  long resident_kb() const {
-    std::FILE* status = std::fopen(("/proc/" + std::to_string(pid_) + "/status").c_str(), "r");
-    if (!status) return -1;
-    char line[256];
-    long kb = -1;
-    while (std::fgets(line, sizeof line, status)) {
-      if (std::sscanf(line, "VmRSS: %ld kB", &kb) == 1) break;
-    }
-    std::fclose(status);
-    return kb;
-  }
+  long resident_kb() const { return status_value("VmRSS: %ld kB"); }
   int http_port() const { return http_port_; }
   // Descriptors the process has open now, from /proc.
   long open_descriptors() const {
@@ -104,17 +94,7 @@ class ServerProcess {
     return error ? -1 : count;
   }
   // Its threads now, from /proc.
-  long threads() const {
-    std::FILE* status = std::fopen(("/proc/" + std::to_string(pid_) + "/status").c_str(), "r");
-    if (!status) return -1;
-    char line[256];
-    long count = -1;
-    while (std::fgets(line, sizeof line, status)) {
-      if (std::sscanf(line, "Threads: %ld", &count) == 1) break;
-    }
-    std::fclose(status);
-    return count;
-  }
+  long threads() const { return status_value("Threads: %ld"); }
   // CPU time the process has used (user and system), seconds.
   double cpu_seconds() const {
     std::FILE* stat = std::fopen(("/proc/" + std::to_string(pid_) + "/stat").c_str(), "r");
@@ -139,6 +119,19 @@ class ServerProcess {
   }
 
  private:
+  // The number in the line of /proc/PID/status that `format` (a scanf format) reads; -1 if none.
+  long status_value(const char* format) const {
+    std::FILE* status = std::fopen(("/proc/" + std::to_string(pid_) + "/status").c_str(), "r");
+    if (!status) return -1;
+    char line[256];
+    long value = -1;
+    while (std::fgets(line, sizeof line, status)) {
+      if (std::sscanf(line, format, &value) == 1) break;
+    }
+    std::fclose(status);
+    return value;
+  }
+
   std::filesystem::path state_;
   pid_t pid_ = -1;
   FILE* output_ = nullptr;
