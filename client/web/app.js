@@ -342,8 +342,9 @@ function updateStats() {
                                                 : '—';
   const lowered = wanted.adaptive && f.quality < (wanted.quality || kServerDefaultQuality)
     ? ' (lowered to keep up)' : '';
+  const watching = state.access && !state.access.control ? '  watching (a view-only link)' : '';
   page.stats.textContent =
-    `${state.fps.toFixed(1)} fps  ${state.bitrateKbps.toFixed(0)} kbit/s\n` +
+    `${state.fps.toFixed(1)} fps  ${state.bitrateKbps.toFixed(0)} kbit/s${watching}\n` +
     `touch→photon p50 ${latency(0.5)}, p95 ${latency(0.95)}\n` +
     `${f.width}×${f.height} ${f.renderer} q${f.quality}${lowered}  ` +
     `t=${(f.simTime || 0).toFixed(2)} s\n` +

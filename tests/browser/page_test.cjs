@@ -223,6 +223,8 @@ async function main() {
                                                      session: window.fluidcast.sessionId }));
     check(!watching.control && watching.session === creator.session,
           'the link watches the same session, without control');
+    await waitFor(watcher, () => document.getElementById('stats').textContent.includes('watching'),
+                  'the stats to say it watches');
     await watcher.click('#menu');
     const visible = await watcher.evaluate(() => Object.fromEntries(
       ['scene', 'reset', 'pause', 'tilt', 'share-control', 'share-view', 'reset-view']
