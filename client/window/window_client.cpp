@@ -79,6 +79,8 @@ class Client {
   void handle(const SDL_Event& event);
   void pointer(std::uint32_t id, v1::PointerEvent::Phase phase, float window_x, float window_y);
   // The mouse takes the last pointer id the server allows (Welcome.rules), fingers those below.
+  // Whether this viewer may change the fluid (it joined with a view key: no).
+  bool controls() const { return stream_ && stream_->welcome().access().control(); }
   std::uint32_t mouse_pointer() const {
     return stream_ ? std::max(1u, stream_->welcome().rules().pointer_ids()) - 1 : 0;
   }
@@ -228,7 +230,7 @@ void Client::handle(const SDL_Event& event) {
     }
     case SDL_SENSORUPDATE: {
       const auto now = Clock::now();
-      if (!stream_ || now - last_tilt_ < std::chrono::milliseconds(50)) break;
+      if (!controls() || now - last_tilt_ < std::chrono::milliseconds(50)) break;
       last_tilt_ = now;
       // The accelerometer reads the reaction to gravity: gravity is its opposite.
       const float* a = event.sensor.data;
@@ -247,15 +249,16 @@ void Client::handle(const SDL_Event& event) {
       const v1::InputRules& rules = stream_->welcome().rules();
       if (key == SDLK_ESCAPE || key == SDLK_q) {
         quit_ = true;
-      } else if (key == SDLK_r) {
+      } else if (key == SDLK_r && controls()) {
         command.set_reset(true);
-      } else if (key >= SDLK_1 && key <= SDLK_9 && key - SDLK_1 < rules.scenes_size()) {
+      } else if (key >= SDLK_1 && key <= SDLK_9 && key - SDLK_1 < rules.scenes_size() &&
+                 controls()) {
         command.set_scene(rules.scenes(key - SDLK_1));
       } else if (key == SDLK_m && rules.renderers_size() > 0) {
         renderer_choice_ = (renderer_choice_ + 1) % rules.renderers_size();
         *command.mutable_quality() = options_.hello.quality();
         command.mutable_quality()->set_renderer(rules.renderers(renderer_choice_));
-      } else if (key == SDLK_p) {
+      } else if (key == SDLK_p && controls()) {
         paused_ = !paused_;
         command.set_pause(paused_);
       } else if (key == SDLK_F12) {
@@ -316,7 +319,8 @@ void Client::keep_snapshot() {
   std::erase_if(abandoned_, [](const std::future<v1::Snapshot>& request) {
     return request.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
   });
-  if (!remote_ || !options_.handoff) return;
+  // A watcher does not continue the fluid: handed back, it would be a copy of someone's session.
+  if (!remote_ || !options_.handoff || !controls()) return;
   if (snapshot_request_.valid() &&
       snapshot_request_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
     try {
@@ -349,7 +353,7 @@ void Client::keep_snapshot() {
 }
 
 void Client::keep_standby() {
-  if (!remote_ || !options_.handoff || standby_) return;
+  if (!remote_ || !options_.handoff || standby_ || !controls()) return;
   const v1::SessionState state = stream_->welcome().state();
   if (state.particles() > options_.max_local_particles) return;
   v1::Hello hello = hello_for_window();
