@@ -23,7 +23,7 @@ bool refused(grpc::ServerUnaryReactor* reactor, const std::string& given,
 
 }  // namespace
 
-grpc::ServerBidiReactor<v1::ClientMessage, v1::ServerMessage>* FluidcastService::Stream(
+grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::ByteBuffer>* FluidcastService::Stream(
     grpc::CallbackServerContext* context) {
   return new StreamReactor(*hub_, peer_address(context->peer()));  // deletes itself in OnDone
 }

@@ -7,11 +7,16 @@
 
 namespace fluidcast::server {
 
-class FluidcastService final : public v1::Fluidcast::CallbackService {
+// The Stream call is raw (bytes both ways): StreamReactor parses what it reads.
+class FluidcastService final
+    : public v1::Fluidcast::WithRawCallbackMethod_Stream<
+          v1::Fluidcast::WithCallbackMethod_GetServerInfo<
+              v1::Fluidcast::WithCallbackMethod_GetSnapshot<
+                  v1::Fluidcast::WithCallbackMethod_PutSnapshot<v1::Fluidcast::Service>>>> {
  public:
   explicit FluidcastService(SessionHub& hub) : hub_(&hub) {}
 
-  grpc::ServerBidiReactor<v1::ClientMessage, v1::ServerMessage>* Stream(
+  grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::ByteBuffer>* Stream(
       grpc::CallbackServerContext* context) override;
   grpc::ServerUnaryReactor* GetServerInfo(grpc::CallbackServerContext* context,
                                           const v1::GetServerInfoRequest* request,

@@ -54,7 +54,7 @@ class GrpcViewerSink final : public ViewerSink {
   }
 
   // The next read, unless the stream is finishing (no operation may follow Finish).
-  void read_next(v1::ClientMessage* into) {
+  void read_next(grpc::ByteBuffer* into) {
     std::lock_guard lock(mutex_);
     if (reactor_ && !finishing_) reactor_->StartRead(into);
   }
@@ -64,7 +64,7 @@ class GrpcViewerSink final : public ViewerSink {
     if (const auto send_ms = outgoing_.written(); send_ms && ok)
       metrics_->sent(Transport::grpc, *send_ms);
     writing_ = false;
-    writing_message_.reset();
+    writing_bytes_.Clear();
     if (!reactor_) return;
     if (status_after_write_) {
       reactor_->Finish(*status_after_write_);
@@ -98,10 +98,14 @@ class GrpcViewerSink final : public ViewerSink {
 
  private:
   void write_next() {
-    writing_message_ = outgoing_.next();  // kept alive until the write is done
-    if (!writing_message_) return;
+    const auto message = outgoing_.next();
+    if (!message) return;
+    bool own_buffer = false;
+    // Serialising cannot fail for a message this server built; gRPC would do the same copy.
+    (void)grpc::SerializationTraits<v1::ServerMessage>::Serialize(*message, &writing_bytes_,
+                                                                  &own_buffer);
     writing_ = true;
-    reactor_->StartWrite(writing_message_.get());
+    reactor_->StartWrite(&writing_bytes_);
   }
 
   std::mutex mutex_;
@@ -110,7 +114,7 @@ class GrpcViewerSink final : public ViewerSink {
   bool writing_ = false;
   bool finishing_ = false;
   bool hello_came_ = false;
-  std::shared_ptr<const v1::ServerMessage> writing_message_;
+  grpc::ByteBuffer writing_bytes_;  // kept until its write is done
   OutgoingMessages outgoing_;
   std::optional<grpc::Status> status_after_write_;
 };
@@ -132,7 +136,19 @@ StreamReactor::StreamReactor(SessionHub& hub, std::string address)
                           hub->metrics().refused(Transport::grpc, late.code());
                         }
                       });
-  StartRead(&incoming_);
+  StartRead(&incoming_bytes_);
+}
+
+const v1::ClientMessage& StreamReactor::parse_incoming() {
+  incoming_.Clear();
+  const std::size_t size = incoming_bytes_.Length();
+  if (!grpc::SerializationTraits<v1::ClientMessage>::Deserialize(&incoming_bytes_, &incoming_)
+           .ok()) {
+    throw Refusal(RefusalCode::invalid_argument,
+                  "a Stream message of " + std::to_string(size) +
+                      " bytes that is not a fluidcast.v1.ClientMessage");
+  }
+  return incoming_;
 }
 
 void StreamReactor::refuse(const Refusal& refusal) {
@@ -152,6 +168,7 @@ void StreamReactor::OnReadDone(bool ok) {
     if (!session_) {
       sink_->hello_came();
       hello_deadline_.Cancel();
+      parse_incoming();
       validate_hello(incoming_, hub_->limits(), hub_->token());
       // The next read starts once the session is open (on_opened).
       hub_->open(incoming_.hello(), address_, sink_,
@@ -163,11 +180,11 @@ void StreamReactor::OnReadDone(bool ok) {
                  });
       return;
     }
+    parse_incoming();
     validate_event(incoming_, hub_->limits(), access_);
     check_rate(incoming_, rates_, hub_->limits());
     session_->post(viewer_, std::move(incoming_));
-    incoming_.Clear();
-    sink_->read_next(&incoming_);
+    sink_->read_next(&incoming_bytes_);
   } catch (const Refusal& refusal) {
     refuse(refusal);
   }
@@ -177,8 +194,7 @@ void StreamReactor::on_opened(SessionHub::Opened opened) {
   session_ = std::move(opened.session);
   viewer_ = opened.viewer;
   access_ = opened.access;
-  incoming_.Clear();
-  StartRead(&incoming_);
+  StartRead(&incoming_bytes_);
 }
 
 void StreamReactor::OnWriteDone(bool ok) { sink_->on_write_done(ok); }

@@ -1,11 +1,14 @@
 // One gRPC Stream call: validates what the client sends, hands it to its session, and writes the
 // session's frames — the newest wins, one write in flight (gRPC's callback rules: never Finish
 // with a write outstanding, never block in a reaction). A stream that sends no Hello within
-// ServerLimits::hello_timeout is ended with DEADLINE_EXCEEDED.
+// ServerLimits::hello_timeout is ended with DEADLINE_EXCEEDED. Messages arrive as bytes and are
+// parsed here, so that one that is not a ClientMessage ends the stream with INVALID_ARGUMENT
+// (gRPC's own parsing would report it like the client closing its side).
 #pragma once
 
 #include <grpcpp/alarm.h>
 #include <grpcpp/grpcpp.h>
+#include <grpcpp/support/byte_buffer.h>
 
 #include <atomic>
 #include <memory>
@@ -18,7 +21,7 @@ namespace fluidcast::server {
 
 class GrpcViewerSink;
 
-class StreamReactor final : public grpc::ServerBidiReactor<v1::ClientMessage, v1::ServerMessage> {
+class StreamReactor final : public grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::ByteBuffer> {
  public:
   // `address`: the client's, for per-address limits.
   StreamReactor(SessionHub& hub, std::string address);
@@ -33,9 +36,12 @@ class StreamReactor final : public grpc::ServerBidiReactor<v1::ClientMessage, v1
   // Under the sink's lock, while the stream lives.
   void on_opened(SessionHub::Opened opened);
   void refuse(const Refusal& refusal);
+  // The message just read; throws a Refusal when its bytes are not a ClientMessage.
+  const v1::ClientMessage& parse_incoming();
 
   SessionHub* hub_;
   std::shared_ptr<GrpcViewerSink> sink_;
+  grpc::ByteBuffer incoming_bytes_;
   v1::ClientMessage incoming_;
   StreamRates rates_;
   grpc::Alarm hello_deadline_;

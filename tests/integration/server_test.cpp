@@ -1,5 +1,6 @@
 // The real server on loopback (lavapipe), driven by the real client library: handshake, frames,
 // sessions, interaction, and every bad input with its documented status while others stream on.
+#include <grpcpp/generic/generic_stub.h>
 #include <gtest/gtest.h>
 #include <sys/socket.h>
 #include <sys/un.h>
@@ -264,6 +265,33 @@ TEST(ServerTest, EveryBadInputEndsOnlyItsOwnStreamWithItsStatus) {
     v1::ServerMessage reply;
     EXPECT_FALSE(stream->Read(&reply));
     EXPECT_EQ(stream->Finish().error_code(), grpc::StatusCode::FAILED_PRECONDITION);
+  }
+
+  {  // Bytes that are not a ClientMessage at all.
+    grpc::GenericStub generic(client::connect(address));
+    grpc::CompletionQueue queue;
+    grpc::ClientContext context;
+    const auto done = [&queue] {
+      void* tag = nullptr;
+      bool ok = false;
+      queue.Next(&tag, &ok);
+      return ok;
+    };
+    auto call = generic.PrepareCall(&context, "/fluidcast.v1.Fluidcast/Stream", &queue);
+    call->StartCall(nullptr);
+    ASSERT_TRUE(done());
+    grpc::Slice garbage(std::string("\xff\xff\xff"));
+    call->Write(grpc::ByteBuffer(&garbage, 1), nullptr);
+    done();
+    grpc::ByteBuffer reply;
+    call->Read(&reply, nullptr);
+    EXPECT_FALSE(done());
+    grpc::Status status;
+    call->Finish(&status, nullptr);
+    done();
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+    EXPECT_NE(status.error_message().find("not a fluidcast.v1.ClientMessage"), std::string::npos)
+        << status.error_message();
   }
 
   // The bystander streamed through all of it.
