@@ -170,7 +170,9 @@ std::uint32_t Session::admit(const v1::Hello& hello, std::shared_ptr<ViewerSink>
   return id;
 }
 
-v1::Access Session::access(std::uint32_t viewer) const {
+Access Session::access(std::uint32_t viewer) const { return viewers_.at(viewer)->seat().access; }
+
+v1::Access Session::access_message(std::uint32_t viewer) const {
   const Seat& seat = viewers_.at(viewer)->seat();
   v1::Access access;
   access.set_control(seat.access == Access::control);

@@ -62,8 +62,10 @@ class Session {
   // resume key; a connection it still has is ended. Returns the new viewer's id.
   std::uint32_t resume_viewer(const v1::Hello& hello, std::shared_ptr<ViewerSink> sink,
                               std::uint32_t resumed);
-  // What Welcome.access tells the viewer.
-  v1::Access access(std::uint32_t viewer) const;
+  // What the viewer may do.
+  Access access(std::uint32_t viewer) const;
+  // What Welcome.access tells the viewer: its access and the keys it may share or resume with.
+  v1::Access access_message(std::uint32_t viewer) const;
   // The viewer's stream ended. One that dropped (or was ended by the server) is kept for a resume
   // within the grace period; one that said goodbye cannot come back.
   void remove_viewer(std::uint32_t viewer, Departure departure = Departure::dropped);

@@ -132,8 +132,7 @@ void SessionHub::open(v1::Hello hello, std::string address, std::shared_ptr<View
         metrics_->sessions = sessions_.size();
         opened.viewer = opened.session->add_viewer(hello, sink, Access::control);
       }
-      opened.access =
-          opened.session->access(opened.viewer).control() ? Access::control : Access::view;
+      opened.access = opened.session->access(opened.viewer);
       spdlog::info("session {}: viewer {} {} ({} particles, {} sessions)", opened.session->id(),
                    opened.viewer,
                    hello.has_resume() ? "resumed"
@@ -159,7 +158,7 @@ void SessionHub::open(v1::Hello hello, std::string address, std::shared_ptr<View
     const v1::ServerInfo server = info();
     *welcome->mutable_welcome()->mutable_limits() = server.limits();
     *welcome->mutable_welcome()->mutable_rules() = server.rules();
-    *welcome->mutable_welcome()->mutable_access() = opened.session->access(opened.viewer);
+    *welcome->mutable_welcome()->mutable_access() = opened.session->access_message(opened.viewer);
     done(opened);
     sink->deliver(welcome);
   });
