@@ -75,6 +75,7 @@ void Anisotropy::record(VkCommandBuffer commands, const ParticleView& particles,
   constants.max_stretch = style.max_stretch;
   constants.centre_smoothing = style.centre_smoothing;
   constants.spray_below = static_cast<std::uint32_t>(style.spray_neighbours);
+  constants.max_candidates = kMaxCandidates;
   gather_.dispatch(commands, constants, particles.count);
   compute_to_compute(commands);
   pass_.dispatch(commands, constants, particles.count);

@@ -3,7 +3,8 @@
 // the weighted covariance of its neighbours within two particle spacings, its principal axes, and
 // an ellipsoid of the particle's volume stretched along them (at most SsfrStyle::max_stretch),
 // around a centre drawn towards its neighbours (SsfrStyle::centre_smoothing). Particles with
-// fewer than SsfrStyle::spray_neighbours neighbours are marked as spray.
+// fewer than SsfrStyle::spray_neighbours neighbours are marked as spray. Like the solver's search,
+// each particle examines at most kMaxCandidates candidates: a clump costs a bounded amount each.
 // The grid is the renderer's own, not the solver's: that one was built at positions predicted
 // before the step's last move and indexes the solver's own order; this one serves any particles
 // (a CPU solver's upload too).
@@ -15,6 +16,7 @@
 #include "fluidcast/gpu/buffer.h"
 #include "fluidcast/gpu/compute_pipeline.h"
 #include "fluidcast/render/frame_renderer.h"
+#include "fluidcast/sim/fluid_constants.h"
 #include "fluidcast/sim/gpu_neighbour_grid.h"
 
 namespace fluidcast::render {
@@ -23,6 +25,10 @@ class Anisotropy {
  public:
   // The neighbourhood's radius: two particle spacings, about 33 neighbours inside the fluid.
   static constexpr float kSearchRadii = 4.0f;
+  // Candidates examined per particle, at most: the solver's rule (FluidConstants::max_candidates)
+  // for this window — 5×5×5 cells of half the search radius, 2.5 × 2 spacings a side.
+  static constexpr std::uint32_t kMaxCandidates =
+      static_cast<std::uint32_t>(sim::FluidConstants::kCandidatesOverRest * 5 * 5 * 5);
 
   explicit Anisotropy(gpu::Context& context);
 

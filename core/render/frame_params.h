@@ -58,10 +58,11 @@ struct AnisotropyConstants {
   std::uint32_t particle_count;
   float radius, search_radius, max_stretch, centre_smoothing;
   std::uint32_t spray_below;
+  std::uint32_t max_candidates;
 };
 static_assert(offsetof(AnisotropyConstants, position) == 32 &&
               offsetof(AnisotropyConstants, particle_count) == 88 &&
-              sizeof(AnisotropyConstants) == 112);
+              offsetof(AnisotropyConstants, max_candidates) == 112);
 
 // shaders/render/yuv420.comp
 struct YuvConstants {

@@ -17,4 +17,5 @@ layout(push_constant, std430) uniform Anisotropy {
   float max_stretch;   // the largest ratio of the longest to the shortest axis
   float centre_smoothing;  // λ: how far each centre moves to its neighbours' weighted mean
   uint spray_below;    // fewer neighbours than this: spray
+  uint max_candidates; // candidates examined per particle, at most (a clump's cost stays bounded)
 } a;

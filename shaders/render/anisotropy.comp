@@ -73,23 +73,26 @@ void main() {
   float total = 0.0;
   vec3 mean = vec3(0.0);
   vec3 spread_diagonal = vec3(0.0), spread_off = vec3(0.0);  // Σ w d dᵀ: xx yy zz, xy xz yz
-  uint found = 0u;
+  uint found = 0u, examined = 0u;
   // The rows of cells (along x) within reach of p: one range of sorted slots each, those wholly
-  // farther than the search radius across y and z left out.
+  // farther than the search radius across y and z left out; at most max_candidates slots in all.
   const float cell_size = 0.5 * a.search_radius, search2 = a.search_radius * a.search_radius;
   const vec3 in_cell = p - (a.origin.xyz + vec3(cell) * cell_size);  // 0 to cell_size inside
   const int x0 = max(cell.x - 2, 0), x1 = min(cell.x + 2, dims.x - 1);
-  for (int dz = -2; dz <= 2; ++dz) {
+  for (int dz = -2; dz <= 2 && examined < a.max_candidates; ++dz) {
     const int z = cell.z + dz;
     if (z < 0 || z >= dims.z) continue;
     const float gap_z = gap(in_cell.z, dz, cell_size);
-    for (int dy = -2; dy <= 2; ++dy) {
+    for (int dy = -2; dy <= 2 && examined < a.max_candidates; ++dy) {
       const int y = cell.y + dy;
       if (y < 0 || y >= dims.y) continue;
       const float gap_y = gap(in_cell.y, dy, cell_size);
       if (gap_y * gap_y + gap_z * gap_z >= search2) continue;
-      const uint end = a.cell_start.v[grid_cell_index(ivec3(x1, y, z), dims) + 1u];
-      for (uint j = a.cell_start.v[grid_cell_index(ivec3(x0, y, z), dims)]; j < end; ++j) {
+      const uint begin = a.cell_start.v[grid_cell_index(ivec3(x0, y, z), dims)];
+      const uint end = min(a.cell_start.v[grid_cell_index(ivec3(x1, y, z), dims) + 1u],
+                           begin + (a.max_candidates - examined));
+      examined += end - begin;
+      for (uint j = begin; j < end; ++j) {
         const vec3 d = a.sorted_position.v[j].xyz - p;
         const float x2 = dot(d, d) * inv_search2;
         if (!(x2 < 1.0)) continue;
@@ -103,9 +106,10 @@ void main() {
       }
     }
   }
-  const uint neighbours = found - 1u;  // the particle itself is among them
+  // The particle itself is among them, unless a clump filled the cap before its own cell.
+  const uint neighbours = max(found, 1u) - 1u;
   const bool spray = neighbours < a.spray_below;
-  mean /= total;
+  if (total > 0.0) mean /= total;
 
   vec3 axes = vec3(1.0);  // in particle radii
   mat3 V = mat3(1.0);

@@ -44,6 +44,10 @@ class AnisotropyTest : public testing::GpuTest {
       for (int y = 0; y < kSide; ++y)
         for (int x = 0; x < kSide; ++x) set.append(lattice(x, y, z), {0, 0, 0}, 0);
     set.append({0.35f, 0.35f, 0.35f}, {0, 0, 0}, 0);
+    return ellipsoids_of(set, style);
+  }
+
+  std::vector<Ellipsoid> ellipsoids_of(const sim::ParticleSet& set, const SsfrStyle& style) {
     ParticleSource source(context());
     const ParticleView view = source.upload(set, kRadius);
     Anisotropy anisotropy(context());
@@ -129,6 +133,28 @@ TEST_F(AnisotropyTest, NoStretchNoSmoothingNoSprayIsTheParticlesAsSpheres) {
     }
   }
   EXPECT_EQ(all[index_of(0, 0, 0)].centre, lattice(0, 0, 0));
+}
+
+// A particle between two clumps, each larger than the cap: the cells below it are examined first
+// and fill the cap, so it sees only the lower clump and its centre is drawn down. Without the cap
+// the two would balance and the centre stay put; with it, each particle's work stays bounded
+// however many particles crowd its cells.
+TEST_F(AnisotropyTest, AParticleBesideAClumpExaminesAtMostTheCap) {
+  const glm::vec3 middle(0.21f, 0.21f, 0.21f);  // the centre of a cell of 2 radii
+  const float apart = 1.5f * kRadius;           // one cell below, one above; within the search
+  sim::ParticleSet set;
+  set.append(middle, {0, 0, 0}, 0);
+  for (std::uint32_t k = 0; k < Anisotropy::kMaxCandidates + 100; ++k) {
+    set.append(middle - glm::vec3(0, 0, apart), {0, 0, 0}, 0);
+    set.append(middle + glm::vec3(0, 0, apart), {0, 0, 0}, 0);
+  }
+  SsfrStyle style;
+  style.centre_smoothing = 0.5f;
+  const Ellipsoid e = ellipsoids_of(set, style)[0];
+  EXPECT_NEAR(e.centre.x, middle.x, 1e-5f);
+  // Every neighbour examined lies `apart` below: the centre moves by λ·apart (less the weight's
+  // share of the particle itself, which is not reached).
+  EXPECT_NEAR(e.centre.z, middle.z - style.centre_smoothing * apart, 0.05f * apart);
 }
 
 }  // namespace
