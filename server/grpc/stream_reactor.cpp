@@ -1,5 +1,6 @@
 #include "stream_reactor.h"
 
+#include <grpcpp/support/proto_buffer_reader.h>
 #include <spdlog/spdlog.h>
 
 #include <chrono>
@@ -82,12 +83,11 @@ class GrpcViewerSink final : public ViewerSink {
 
   // The session opened (or was refused) on the worker; false when the stream is gone meanwhile,
   // and then the viewer must be closed again.
-  bool opened(SessionHub::Opened& opened, Metrics& metrics) {
+  bool opened(SessionHub::Opened& opened) {
     std::lock_guard lock(mutex_);
     if (!reactor_ || finishing_) return false;
     if (opened.refusal) {
-      metrics.refused(Transport::grpc, opened.refusal->code());
-      spdlog::warn("refused a gRPC stream: {}", opened.refusal->what());
+      reactor_->protocol_.refused(*opened.refusal);
       finishing_ = true;
       reactor_->Finish(to_status(*opened.refusal));
       return true;
@@ -122,38 +122,21 @@ class GrpcViewerSink final : public ViewerSink {
 StreamReactor::StreamReactor(SessionHub& hub, std::string address)
     : hub_(&hub),
       sink_(std::make_shared<GrpcViewerSink>(this, hub.metrics())),
-      rates_(hub.limits()),
+      protocol_(Transport::grpc, hub.limits(), hub.token(), hub.metrics()),
       address_(std::move(address)) {
-  // The alarm's reaction holds the sink, not the reactor: it may run after the stream is done.
-  hello_deadline_.Set(std::chrono::system_clock::now() + hub.limits().hello_timeout,
-                      [sink = sink_, hub = hub_](bool fired) {
-                        if (!fired) return;  // cancelled: the Hello came, or the stream ended
-                        const Refusal late(RefusalCode::deadline_exceeded,
-                                           "no Hello within " +
-                                               std::to_string(hub->limits().hello_timeout.count()) +
-                                               " s of the stream opening");
-                        if (sink->end_unopened(late)) {
-                          hub->metrics().refused(Transport::grpc, late.code());
-                        }
-                      });
-  StartRead(&incoming_bytes_);
-}
-
-const v1::ClientMessage& StreamReactor::parse_incoming() {
-  incoming_.Clear();
-  const std::size_t size = incoming_bytes_.Length();
-  if (!grpc::SerializationTraits<v1::ClientMessage>::Deserialize(&incoming_bytes_, &incoming_)
-           .ok()) {
-    throw Refusal(RefusalCode::invalid_argument,
-                  "a Stream message of " + std::to_string(size) +
-                      " bytes that is not a fluidcast.v1.ClientMessage");
-  }
-  return incoming_;
+  // The alarm's reaction holds the sink and the refusal, not the reactor: it may run after the
+  // stream is done.
+  hello_deadline_.Set(
+      std::chrono::system_clock::now() + hub.limits().hello_timeout,
+      [sink = sink_, late = protocol_.no_hello(), &metrics = hub.metrics()](bool fired) {
+        if (!fired) return;  // cancelled: the Hello came, or the stream ended
+        if (sink->end_unopened(late)) metrics.refused(Transport::grpc, late.code());
+      });
+  StartRead(&incoming_);
 }
 
 void StreamReactor::refuse(const Refusal& refusal) {
-  hub_->metrics().refused(Transport::grpc, refusal.code());
-  spdlog::warn("ended a gRPC stream: {}", refusal.what());
+  protocol_.refused(refusal);
   sink_->end(refusal);
   // The viewer leaves now, even if a client that stopped reading holds the last write open.
   if (session_) hub_->close(session_, viewer_);
@@ -164,27 +147,27 @@ void StreamReactor::OnReadDone(bool ok) {
     sink_->finish(grpc::Status::OK);
     return;
   }
+  if (!session_) {  // the first message: whatever it is, the deadline has been met
+    sink_->hello_came();
+    hello_deadline_.Cancel();
+  }
   try {
-    if (!session_) {
-      sink_->hello_came();
-      hello_deadline_.Cancel();
-      parse_incoming();
-      validate_hello(incoming_, hub_->limits(), hub_->token());
+    auto next = [this] {
+      grpc::ProtoBufferReader bytes(&incoming_);  // reads the buffer: ends before it is cleared
+      return protocol_.receive(bytes);
+    }();
+    incoming_.Clear();
+    if (auto* hello = std::get_if<StreamProtocol::Open>(&next)) {
       // The next read starts once the session is open (on_opened).
-      hub_->open(incoming_.hello(), address_, sink_,
+      hub_->open(std::move(hello->hello), address_, sink_,
                  [sink = sink_, hub = hub_](SessionHub::Opened opened) {
                    const auto session = opened.session;
-                   if (!sink->opened(opened, hub->metrics()) && session) {
-                     hub->close(session, opened.viewer);
-                   }
+                   if (!sink->opened(opened) && session) hub->close(session, opened.viewer);
                  });
       return;
     }
-    parse_incoming();
-    validate_event(incoming_, hub_->limits(), access_);
-    check_rate(incoming_, rates_, hub_->limits());
-    session_->post(viewer_, std::move(incoming_));
-    sink_->read_next(&incoming_bytes_);
+    session_->post(viewer_, std::move(std::get<StreamProtocol::Post>(next).message));
+    sink_->read_next(&incoming_);
   } catch (const Refusal& refusal) {
     refuse(refusal);
   }
@@ -193,8 +176,8 @@ void StreamReactor::OnReadDone(bool ok) {
 void StreamReactor::on_opened(SessionHub::Opened opened) {
   session_ = std::move(opened.session);
   viewer_ = opened.viewer;
-  access_ = opened.access;
-  StartRead(&incoming_bytes_);
+  protocol_.opened(opened.access);
+  StartRead(&incoming_);
 }
 
 void StreamReactor::OnWriteDone(bool ok) { sink_->on_write_done(ok); }

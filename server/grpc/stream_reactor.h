@@ -1,9 +1,9 @@
 // One gRPC Stream call: validates what the client sends, hands it to its session, and writes the
 // session's frames — the newest wins, one write in flight (gRPC's callback rules: never Finish
 // with a write outstanding, never block in a reaction). A stream that sends no Hello within
-// ServerLimits::hello_timeout is ended with DEADLINE_EXCEEDED. Messages arrive as bytes and are
-// parsed here, so that one that is not a ClientMessage ends the stream with INVALID_ARGUMENT
-// (gRPC's own parsing would report it like the client closing its side).
+// ServerLimits::hello_timeout is ended with DEADLINE_EXCEEDED. Messages arrive as bytes for the
+// StreamProtocol to parse, so that one that is not a ClientMessage ends the stream with
+// INVALID_ARGUMENT (gRPC's own parsing would report it like the client closing its side).
 #pragma once
 
 #include <grpcpp/alarm.h>
@@ -15,7 +15,7 @@
 
 #include "fluidcast/v1/fluidcast.grpc.pb.h"
 #include "session/session_hub.h"
-#include "session/validation.h"
+#include "session/stream_protocol.h"
 
 namespace fluidcast::server {
 
@@ -36,19 +36,15 @@ class StreamReactor final : public grpc::ServerBidiReactor<grpc::ByteBuffer, grp
   // Under the sink's lock, while the stream lives.
   void on_opened(SessionHub::Opened opened);
   void refuse(const Refusal& refusal);
-  // The message just read; throws a Refusal when its bytes are not a ClientMessage.
-  const v1::ClientMessage& parse_incoming();
 
   SessionHub* hub_;
   std::shared_ptr<GrpcViewerSink> sink_;
-  grpc::ByteBuffer incoming_bytes_;
-  v1::ClientMessage incoming_;
-  StreamRates rates_;
+  grpc::ByteBuffer incoming_;
+  StreamProtocol protocol_;
   grpc::Alarm hello_deadline_;
   // Set once, on the worker's thread, before the next read starts; read by reactions after.
   std::shared_ptr<Session> session_;
   std::uint32_t viewer_ = 0;
-  Access access_ = Access::view;
   std::string address_;
   // OnCancel came: the stream broke or the client cancelled (a viewer that may resume), rather
   // than the client closing its side and reading the status (one that left).

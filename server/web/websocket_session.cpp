@@ -1,5 +1,6 @@
 #include "websocket_session.h"
 
+#include <google/protobuf/io/zero_copy_stream_impl_lite.h>
 #include <spdlog/spdlog.h>
 
 #include <boost/asio/post.hpp>
@@ -12,7 +13,7 @@
 
 #include "session/input_rules.h"
 #include "session/outgoing_messages.h"
-#include "session/validation.h"
+#include "session/stream_protocol.h"
 
 namespace fluidcast::server {
 namespace {
@@ -37,20 +38,14 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
       : socket_(std::move(stream)),
         slot_(std::move(slot)),
         hub_(&hub),
-        rates_(hub.limits()),
+        protocol_(Transport::websocket, hub.limits(), hub.token(), hub.metrics()),
         hello_deadline_(socket_.get_executor()) {}
 
   void start(beast::http::request<beast::http::string_body> request) {
     hello_deadline_.expires_after(hub_->limits().hello_timeout);
     hello_deadline_.async_wait([self = shared_from_this()](beast::error_code error) {
       if (error || self->session_ || self->opening_) return;  // cancelled, or the Hello came
-      const Refusal late(RefusalCode::deadline_exceeded,
-                         "no Hello within " +
-                             std::to_string(self->hub_->limits().hello_timeout.count()) +
-                             " s of the WebSocket opening");
-      self->hub_->metrics().refused(Transport::websocket, late.code());
-      self->end(late.code(), late.what());
-      self->leave();
+      self->refuse(self->protocol_.no_hello());
     });
     // Pings after 5 s of silence; a phone that does not answer within 15 s is gone, and its
     // viewer leaves (a resume finds its camera).
@@ -113,42 +108,41 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
     }
     if (buffer_.size() > kMaxMessageBytes) {
       buffer_.consume(buffer_.size());
-      const Refusal too_big(RefusalCode::resource_exhausted,
-                            "a WebSocket message over " + std::to_string(kMaxMessageBytes / 1024) +
-                                " KiB (the largest a ClientMessage can be)");
-      hub_->metrics().refused(Transport::websocket, too_big.code());
-      spdlog::warn("ended a WebSocket stream: {}", too_big.what());
-      end(too_big.code(), too_big.what());
-      leave();
+      refuse(Refusal(RefusalCode::resource_exhausted,
+                     "a WebSocket message over " + std::to_string(kMaxMessageBytes / 1024) +
+                         " KiB (the largest a ClientMessage can be)"));
       return;
     }
     if (!socket_.is_message_done()) {
       read();
       return;
     }
-    v1::ClientMessage message;
-    const bool parsed =
-        message.ParseFromArray(buffer_.data().data(), static_cast<int>(buffer_.size()));
-    buffer_.consume(buffer_.size());
     try {
-      if (!parsed) throw Refusal(RefusalCode::invalid_argument, "not a fluidcast.v1.ClientMessage");
-      if (!session_) {
+      auto next = [this] {
+        google::protobuf::io::ArrayInputStream bytes(buffer_.data().data(),
+                                                     static_cast<int>(buffer_.size()));
+        return protocol_.receive(bytes);
+      }();
+      buffer_.consume(buffer_.size());
+      if (auto* hello = std::get_if<StreamProtocol::Open>(&next)) {
         hello_deadline_.cancel();
-        validate_hello(message, hub_->limits(), hub_->token());
         opening_ = true;
-        open(message.hello());
+        open(hello->hello);
         return;  // the next read starts once the session is open
       }
-      validate_event(message, hub_->limits(), access_);
-      check_rate(message, rates_, hub_->limits());
-      session_->post(viewer_, std::move(message));
+      session_->post(viewer_, std::move(std::get<StreamProtocol::Post>(next).message));
       read();
     } catch (const Refusal& refusal) {
-      hub_->metrics().refused(Transport::websocket, refusal.code());
-      spdlog::warn("ended a WebSocket stream: {}", refusal.what());
-      end(refusal.code(), refusal.what());
-      leave();  // the viewer leaves now; the socket closes once StreamEnd is written
+      refuse(refusal);
     }
+  }
+
+  // Ends the stream with a StreamEnd saying why; the viewer leaves now, and the socket closes once
+  // the StreamEnd is written.
+  void refuse(const Refusal& refusal) {
+    protocol_.refused(refusal);
+    end(refusal.code(), refusal.what());
+    leave();
   }
 
   void open(const v1::Hello& hello) {
@@ -158,9 +152,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
                  boost::asio::post(
                      self->socket_.get_executor(), [self, opened = std::move(opened)]() mutable {
                        if (opened.refusal) {
-                         self->hub_->metrics().refused(Transport::websocket,
-                                                       opened.refusal->code());
-                         spdlog::warn("refused a WebSocket stream: {}", opened.refusal->what());
+                         self->protocol_.refused(*opened.refusal);
                          self->end(opened.refusal->code(), opened.refusal->what());
                          return;
                        }
@@ -170,7 +162,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
                        }
                        self->session_ = std::move(opened.session);
                        self->viewer_ = opened.viewer;
-                       self->access_ = opened.access;
+                       self->protocol_.opened(opened.access);
                        self->read();
                      });
                });
@@ -233,10 +225,9 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
   std::shared_ptr<ConnectionLimits::Slot> slot_;
   SessionHub* hub_;
   beast::flat_buffer buffer_;
-  StreamRates rates_;
+  StreamProtocol protocol_;
   std::shared_ptr<Session> session_;
   std::uint32_t viewer_ = 0;
-  Access access_ = Access::view;
   std::shared_ptr<std::string> writing_;
   OutgoingMessages outgoing_;
   boost::asio::steady_timer hello_deadline_;

@@ -1,0 +1,48 @@
+#include "stream_protocol.h"
+
+#include <spdlog/spdlog.h>
+
+#include <stdexcept>
+
+namespace fluidcast::server {
+
+StreamProtocol::StreamProtocol(Transport transport, const ServerLimits& limits,
+                               const std::optional<std::string>& token, Metrics& metrics)
+    : transport_(transport), limits_(&limits), token_(&token), metrics_(&metrics), rates_(limits) {}
+
+std::variant<StreamProtocol::Open, StreamProtocol::Post> StreamProtocol::receive(
+    google::protobuf::io::ZeroCopyInputStream& bytes) {
+  if (stage_ == Stage::opening) throw std::logic_error("a message read while its session opens");
+  v1::ClientMessage message;
+  if (!message.ParseFromZeroCopyStream(&bytes)) {
+    throw Refusal(RefusalCode::invalid_argument,
+                  "a message of " + std::to_string(bytes.ByteCount()) +
+                      " bytes that is not a fluidcast.v1.ClientMessage");
+  }
+  if (stage_ == Stage::awaiting_hello) {
+    validate_hello(message, *limits_, *token_);
+    stage_ = Stage::opening;
+    return Open{std::move(*message.mutable_hello())};
+  }
+  validate_event(message, *limits_, access_);
+  check_rate(message, rates_, *limits_);
+  return Post{std::move(message)};
+}
+
+void StreamProtocol::opened(Access access) {
+  access_ = access;
+  stage_ = Stage::open;
+}
+
+Refusal StreamProtocol::no_hello() const {
+  return Refusal(RefusalCode::deadline_exceeded,
+                 "no Hello within " + std::to_string(limits_->hello_timeout.count()) +
+                     " s of the stream opening");
+}
+
+void StreamProtocol::refused(const Refusal& refusal) const {
+  metrics_->refused(transport_, refusal.code());
+  spdlog::warn("ended a {} stream: {}", transport_name(transport_), refusal.what());
+}
+
+}  // namespace fluidcast::server
