@@ -7,31 +7,19 @@
 
 namespace fluidcast::server {
 
+// RefusalCode's values are gRPC's own.
+static_assert(int(RefusalCode::invalid_argument) == grpc::StatusCode::INVALID_ARGUMENT &&
+              int(RefusalCode::deadline_exceeded) == grpc::StatusCode::DEADLINE_EXCEEDED &&
+              int(RefusalCode::not_found) == grpc::StatusCode::NOT_FOUND &&
+              int(RefusalCode::permission_denied) == grpc::StatusCode::PERMISSION_DENIED &&
+              int(RefusalCode::resource_exhausted) == grpc::StatusCode::RESOURCE_EXHAUSTED &&
+              int(RefusalCode::failed_precondition) == grpc::StatusCode::FAILED_PRECONDITION &&
+              int(RefusalCode::internal) == grpc::StatusCode::INTERNAL &&
+              int(RefusalCode::unavailable) == grpc::StatusCode::UNAVAILABLE &&
+              int(RefusalCode::unauthenticated) == grpc::StatusCode::UNAUTHENTICATED);
+
 inline grpc::Status to_status(const Refusal& refusal) {
-  const grpc::StatusCode code = [&] {
-    switch (refusal.code()) {
-      case RefusalCode::invalid_argument:
-        return grpc::StatusCode::INVALID_ARGUMENT;
-      case RefusalCode::unauthenticated:
-        return grpc::StatusCode::UNAUTHENTICATED;
-      case RefusalCode::permission_denied:
-        return grpc::StatusCode::PERMISSION_DENIED;
-      case RefusalCode::not_found:
-        return grpc::StatusCode::NOT_FOUND;
-      case RefusalCode::resource_exhausted:
-        return grpc::StatusCode::RESOURCE_EXHAUSTED;
-      case RefusalCode::failed_precondition:
-        return grpc::StatusCode::FAILED_PRECONDITION;
-      case RefusalCode::unavailable:
-        return grpc::StatusCode::UNAVAILABLE;
-      case RefusalCode::internal:
-        return grpc::StatusCode::INTERNAL;
-      case RefusalCode::deadline_exceeded:
-        return grpc::StatusCode::DEADLINE_EXCEEDED;
-    }
-    return grpc::StatusCode::INTERNAL;
-  }();
-  return grpc::Status(code, refusal.what());
+  return grpc::Status(static_cast<grpc::StatusCode>(refusal.code()), refusal.what());
 }
 
 }  // namespace fluidcast::server

@@ -1,5 +1,5 @@
 // Why the server refuses a client's request, in words a client developer can act on. Transports
-// map the code to their own (gRPC status codes; the WebSocket close reason carries the same).
+// carry the code as it is (a gRPC status) or by its name (the WebSocket's StreamEnd).
 #pragma once
 
 #include <stdexcept>
@@ -7,16 +7,17 @@
 
 namespace fluidcast::server {
 
+// The values are the canonical status codes (google.rpc.Code), which gRPC's StatusCode shares.
 enum class RefusalCode {
-  invalid_argument,
-  unauthenticated,
-  permission_denied,  // the viewer's key only views, and the request would change the fluid
-  not_found,
-  resource_exhausted,
-  failed_precondition,
-  unavailable,
-  internal,  // the server failed (out of GPU memory, a device lost): not the client's doing
-  deadline_exceeded,  // no viewer's input for ServerLimits::idle_timeout, or no Hello in time
+  invalid_argument = 3,
+  deadline_exceeded = 4,  // no viewer's input for ServerLimits::idle_timeout, or no Hello in time
+  not_found = 5,
+  permission_denied = 7,  // the viewer's key only views, and the request would change the fluid
+  resource_exhausted = 8,
+  failed_precondition = 9,
+  internal = 13,  // the server failed (out of GPU memory, a device lost): not the client's doing
+  unavailable = 14,
+  unauthenticated = 16,
 };
 
 // The code's name as gRPC spells it: the WebSocket's close reason and the metrics' label.
