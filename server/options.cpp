@@ -8,11 +8,19 @@
 namespace fluidcast::server {
 
 ServerOptions parse_server_options(int argc, char** argv) {
-  ServerOptions o;
-  ServerLimits& l = o.limits;
   CLI::App app{
       "fluidcast-server: simulates and renders fluids on a GPU, headless, and streams "
       "them as JPEG frames over gRPC (and the page's WebSocket)"};
+  try {
+    return read_server_options(app, argc, argv);
+  } catch (const CLI::ParseError& e) {
+    std::exit(exit_for(app, e));
+  }
+}
+
+ServerOptions read_server_options(CLI::App& app, int argc, const char* const* argv) {
+  ServerOptions o;
+  ServerLimits& l = o.limits;
   add_version_flag(app, "fluidcast-server");
   app.option_defaults()->always_capture_default();
   app.add_option("--listen", o.listen, "Address to listen on (0.0.0.0: every interface)")
@@ -143,19 +151,15 @@ ServerOptions parse_server_options(int argc, char** argv) {
                  "Folder of the phone page: index.html, app.js, fluidcast.proto, vendor/")
       ->envname("FLUIDCAST_WEB_ROOT")
       ->check(CLI::ExistingDirectory);
-  try {
-    app.parse(argc, argv);
-    if (o.tls_certificate.empty() != o.tls_key.empty()) {
-      throw CLI::ValidationError("--tls-cert and --tls-key", "give both, or neither");
-    }
-    if (o.default_particles && *o.default_particles > l.max_particles) {
-      throw CLI::ValidationError("--default-particles", "more than --max-particles");
-    }
-    if (o.target_fps && *o.target_fps > l.max_fps) {
-      throw CLI::ValidationError("--target-fps", "more than --max-fps");
-    }
-  } catch (const CLI::ParseError& e) {
-    std::exit(exit_for(app, e));
+  app.parse(argc, argv);
+  if (o.tls_certificate.empty() != o.tls_key.empty()) {
+    throw CLI::ValidationError("--tls-cert and --tls-key", "give both, or neither");
+  }
+  if (o.default_particles && *o.default_particles > l.max_particles) {
+    throw CLI::ValidationError("--default-particles", "more than --max-particles");
+  }
+  if (o.target_fps && *o.target_fps > l.max_fps) {
+    throw CLI::ValidationError("--target-fps", "more than --max-fps");
   }
   o.log_format = parse_log_format(log_format);
   l.max_sessions_per_address = sessions_per_address.value_or((l.max_sessions + 1) / 2);

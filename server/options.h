@@ -2,6 +2,7 @@
 // or a systemd unit can set them.
 #pragma once
 
+#include <CLI/CLI.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -44,5 +45,8 @@ struct ServerOptions {
 
 // Exits the process with CLI11's message and status for --help or bad flags.
 ServerOptions parse_server_options(int argc, char** argv);
+// The same on `app`, without exiting: throws CLI::ParseError (CLI::CallForHelp and
+// CLI::CallForVersion too) for the caller to report with exit_for(app, error).
+ServerOptions read_server_options(CLI::App& app, int argc, const char* const* argv);
 
 }  // namespace fluidcast::server
