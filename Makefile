@@ -4,7 +4,7 @@ JOBS ?= $(shell nproc)
 BUILD_DIR := $(if $(filter release,$(PRESET)),build,build/$(PRESET))
 BIN := build/bin
 
-.PHONY: deps build run test test-sanitized bench validate clean
+.PHONY: deps build run test test-sanitized fuzz bench validate clean
 
 deps:
 	deploy/install-deps.sh
@@ -35,6 +35,23 @@ test-sanitized: deps
 	cmake --build --preset asan -j $(JOBS)
 	ctest --preset asan -j $(JOBS) -L 'unit|integration' \
 	  -E 'FrameLoopTest|load_8_clients|DoesNotGrowTheServersMemory|WhenDescriptorsRunOut'
+
+# Coverage-guided fuzzing: each target in tests/fuzz as a libFuzzer program (clang, ASan+UBSan,
+# build/fuzz) for FUZZ_SECONDS, from its corpus in tests/fuzz/corpus. New inputs it finds go to
+# build/fuzz/corpus, a crashing one to build/fuzz/findings (fix it, then keep the input in the
+# target's corpus folder: `make test` replays it from then on).
+FUZZ_SECONDS ?= 60
+fuzz:
+	deploy/install-deps.sh fuzz
+	cmake --preset fuzz
+	cmake --build --preset fuzz -j $(JOBS)
+	mkdir -p build/fuzz/findings
+	for seeds in tests/fuzz/corpus/*/; do \
+	  target=$$(basename $$seeds); mkdir -p build/fuzz/corpus/$$target; \
+	  build/fuzz/bin/$$target -max_total_time=$(FUZZ_SECONDS) \
+	    -artifact_prefix=build/fuzz/findings/$$target- build/fuzz/corpus/$$target $$seeds \
+	    || exit 1; \
+	done
 
 bench: build
 	$(BIN)/fluidcast-bench-cpu

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs every Debian 12 package that fluidcast's build, tests and run need.
+# Installs every Debian 12 package that fluidcast's build, tests and run need; with the argument
+# `fuzz`, also clang's libFuzzer for `make fuzz`.
 # Idempotent: when everything is present it only checks and returns at once.
 set -euo pipefail
 
@@ -34,6 +35,9 @@ packages=(
   # Debian's Chromium headless)
   nodejs chromium
 )
+if [[ "${1:-}" == fuzz ]]; then
+  packages+=(clang libclang-rt-14-dev)
+fi
 
 missing=()
 for package in "${packages[@]}"; do

@@ -361,8 +361,8 @@ void Session::apply(Viewer& viewer, const v1::ClientMessage& message, Clock::tim
     }
     case v1::ClientMessage::kAck:
       viewer.acknowledge(message.ack().sequence(), received);
-      if (viewer.round_trip_ms())
-        services_.metrics->round_trip_time.observe_ms(*viewer.round_trip_ms());
+      if (const auto round_trip = viewer.flow().round_trip_ms())
+        services_.metrics->round_trip_time.observe_ms(*round_trip);
       break;
     case v1::ClientMessage::kCommand: {
       last_input_ = received;
@@ -557,10 +557,10 @@ void Session::render(const GpuGrant& grant, Clock::time_point now) {
   std::vector<std::pair<std::uint32_t, Viewer*>> due;
   for (auto& [id, viewer] : viewers_) {
     if (!viewer->due(now)) {
-      if (viewer->throttled()) services_.metrics->frames_skipped++;
+      if (viewer->flow().throttled()) services_.metrics->frames_skipped++;
     } else if (!grant.contended() || !viewer->frame_cost().known()) {
       due.emplace_back(id, viewer.get());  // nobody waits behind it; or drawn to be measured
-    } else if (render_account_.can_spend() || viewer->overdue(now) >= kLongestFrameWait) {
+    } else if (render_account_.can_spend() || viewer->flow().overdue(now) >= kLongestFrameWait) {
       render_account_.spend(grant.charge(viewer->frame_cost().ms()));
       due.emplace_back(id, viewer.get());
     } else {

@@ -6,16 +6,9 @@
 namespace fluidcast::server {
 namespace {
 
-constexpr int kDefaultQuality = 80;
-constexpr int kLowestAdaptiveQuality = 35;
-constexpr std::uint32_t kSmallestAdaptiveHeight = 120;
 // Frames to wait for the probe to find the surface under a new finger before holding the fluid
 // at the depth of the camera's target instead.
 constexpr int kProbeFrames = 3;
-
-int quality_or_default(std::uint32_t quality) {
-  return quality == 0 ? kDefaultQuality : static_cast<int>(quality);
-}
 
 }  // namespace
 
@@ -68,18 +61,15 @@ void Viewer::apply_viewport(const v1::Viewport& viewport) {
   const bool turned = width_ != 0 && (viewport.width() > viewport.height()) != (width_ > height_);
   width_ = viewport.width();
   height_ = viewport.height();
+  flow_.ask_size({width_, height_});
   aim_size(width_, height_);
   // A phone turned between portrait and landscape: the tank in view again.
   if (turned) camera_.fit(tank_, float(width_) / float(height_));
 }
 
 void Viewer::apply_quality(const v1::Quality& quality) {
-  requested_quality_ = jpeg_quality_ = quality_or_default(quality.jpeg_quality());
-  adaptive_ = quality.adaptive();
-  const std::uint32_t fps = quality.max_fps() == 0 ? limits_->target_fps : quality.max_fps();
-  frame_interval_ =
-      std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / fps));
-  next_frame_ = {};  // a new rate starts now, not after the old interval
+  flow_.ask(quality.max_fps() == 0 ? limits_->target_fps : quality.max_fps(),
+            quality.jpeg_quality(), quality.adaptive());
   renderer_kind_ = quality.renderer().empty() ? render::RendererKind::automatic
                                               : render::parse_renderer(quality.renderer());
   if (renderer_) aim_size(width_, height_);
@@ -145,11 +135,8 @@ std::optional<Viewer::DragPoint> Viewer::drag_point() {
   return DragPoint{glm::vec3(glm::inverse(camera_.view()) * in_view), drags_};
 }
 
-bool Viewer::throttled() const { return sequence_ - acknowledged_ >= kMaxFramesInFlight; }
-
 bool Viewer::due(Clock::time_point now) const {
-  if (*encoding_ >= kMaxFramesEncoding) return false;
-  return throttled() ? overdue(now) >= kThrottledFrameEvery : now >= next_frame_;
+  return *encoding_ < kMaxFramesEncoding && flow_.due(now);
 }
 
 void Viewer::note_input(std::uint64_t event_id, Clock::time_point received) {
@@ -167,7 +154,7 @@ double Viewer::input_wait_ms(Clock::time_point tick_start) {
 
 void Viewer::submit(const render::ParticleView& particles, const sim::Box& tank, Shows shows,
                     Clock::time_point now) {
-  next_frame_ = std::max(next_frame_ + frame_interval_, now);
+  flow_.rendered(now);
   // A renderer the device cannot draw falls back to points, and the frame says so.
   const render::RendererKind kind = renderer_->drawable(renderer_kind_, particles.count);
   renderer_->submit(kind, particles, tank, camera_);
@@ -185,8 +172,9 @@ std::optional<Viewer::Finished> Viewer::take_finished(Clock::time_point now) {
   const auto taken = Clock::now();
   const double queue_ms =
       std::chrono::duration<double, std::milli>(taken - in_flight_.front().submitted).count();
-  Finished finished{std::move(image),        ++sequence_, std::move(in_flight_.front()),
-                    renderer_->last_times(), queue_ms,    jpeg_quality_};
+  Finished finished{
+      std::move(image), flow_.produced(now), std::move(in_flight_.front()), renderer_->last_times(),
+      queue_ms,         flow_.jpeg_quality()};
   in_flight_.pop_front();
   // A renderer's first frame builds its pipelines and draws the whole scene: not what its frames
   // cost.
@@ -198,43 +186,13 @@ std::optional<Viewer::Finished> Viewer::take_finished(Clock::time_point now) {
       grab_depth_ = -(camera_.view() * glm::vec4(*hit, 1.0f)).z;
     }
   }
-  produced_at_[finished.sequence % produced_at_.size()] = now;
   return finished;
 }
 
 void Viewer::acknowledge(std::uint64_t sequence, Clock::time_point now) {
-  if (sequence == 0 || sequence > sequence_ || sequence <= acknowledged_) return;
-  acknowledged_ = sequence;
-  if (sequence_ - sequence < produced_at_.size()) {
-    const std::chrono::duration<double, std::milli> rtt =
-        now - produced_at_[sequence % produced_at_.size()];
-    round_trip_ms_ = rtt.count();
-  }
-  adapt(now);
-}
-
-// Lower JPEG quality, then resolution, while frames queue up behind the client or the round
-// trip is long; raise them again, resolution first, when it keeps up. At most once per 250 ms.
-void Viewer::adapt(Clock::time_point now) {
-  if (!adaptive_ || now - last_adapted_ < std::chrono::milliseconds(250)) return;
-  last_adapted_ = now;
-  const double round_trip = round_trip_ms_.value_or(0.0);
-  const bool behind = round_trip > 120.0 || throttled();
-  const bool keeping_up = round_trip < 50.0 && !throttled();
-  if (behind) {
-    if (jpeg_quality_ > kLowestAdaptiveQuality) {
-      jpeg_quality_ = std::max(kLowestAdaptiveQuality, jpeg_quality_ - 10);
-    } else if (render_height_ > kSmallestAdaptiveHeight) {
-      aim_size(std::max(1u, render_width_ * 3 / 4), std::max(1u, render_height_ * 3 / 4));
-    }
-  } else if (keeping_up) {
-    if (render_width_ < width_) {
-      aim_size(std::min(width_, render_width_ * 4 / 3 + 1),
-               std::min(height_, render_height_ * 4 / 3 + 1));
-    } else if (jpeg_quality_ < requested_quality_) {
-      jpeg_quality_ = std::min(requested_quality_, jpeg_quality_ + 5);
-    }
-  }
+  flow_.acknowledge(sequence, now);
+  const FlowControl::Size size = flow_.render_size();
+  aim_size(size.width, size.height);
 }
 
 }  // namespace fluidcast::server

@@ -1,6 +1,6 @@
 // One client watching a session: its own camera, frame size, renderer and JPEG quality, its
-// gestures, and the flow control that keeps its latency low. Lives on the GPU
-// worker's thread; only its sink is reached from elsewhere.
+// gestures, and the renderer that FlowControl's decisions (rate, quality, size) are applied to.
+// Lives on the GPU worker's thread; only its sink is reached from elsewhere.
 #pragma once
 
 #include <algorithm>
@@ -14,6 +14,7 @@
 #include <string>
 
 #include "access.h"
+#include "flow_control.h"
 #include "fluidcast/render/camera.h"
 #include "fluidcast/render/frame_renderer.h"
 #include "fluidcast/sim/solver.h"
@@ -23,8 +24,6 @@
 #include "viewer_sink.h"
 
 namespace fluidcast::server {
-
-using Clock = std::chrono::steady_clock;
 
 // How a viewer's stream ended: dropped (a lost network, or ended by the server: it may resume) or
 // left (the client closed it on purpose: it will not).
@@ -38,13 +37,6 @@ struct Seat {
 
 class Viewer {
  public:
-  // Frames sent and not yet acknowledged, beyond which a viewer is throttled: the newest frame
-  // wins, and a slow viewer gets fewer. One that never acknowledges is throttled from its fourth
-  // frame on.
-  static constexpr std::uint64_t kMaxFramesInFlight = 3;
-  // A throttled viewer still gets a frame this often: one that does not acknowledge (a client
-  // written without FrameAck) sees the fluid slowly rather than not at all.
-  static constexpr auto kThrottledFrameEvery = std::chrono::seconds(1);
   // Frames of this viewer waiting for or in the JPEG encoders, beyond which none is rendered:
   // a client that never acknowledges cannot make the encoder queue grow.
   static constexpr int kMaxFramesEncoding = 2;
@@ -89,12 +81,10 @@ class Viewer {
   bool settle_size(Clock::time_point now);
   static constexpr auto kResizeEvery = std::chrono::milliseconds(250);
 
-  // Whether to render a frame now: its rate is due and it does not have too many in flight (or,
-  // throttled, it has waited kThrottledFrameEvery).
+  // Whether to render a frame now: FlowControl says one is due, and the encoders do not hold too
+  // many of its frames.
   bool due(Clock::time_point now) const;
-  bool throttled() const;
-  // How long ago its next frame fell due (negative before).
-  Clock::duration overdue(Clock::time_point now) const { return now - next_frame_; }
+  const FlowControl& flow() const { return flow_; }
   // What a frame shows, besides its pixels, and when its tick began.
   struct Shows {
     std::uint64_t input_event_id = 0;  // the newest of this viewer's inputs applied
@@ -134,10 +124,8 @@ class Viewer {
   render::OrbitCamera& camera() { return camera_; }
   // Counts frames in the encoders; the encoder's callback decrements it.
   const std::shared_ptr<std::atomic<int>>& encoding() const { return encoding_; }
-  std::optional<double> round_trip_ms() const { return round_trip_ms_; }
 
  private:
-  void adapt(Clock::time_point now);
   // The size frames are to be rendered at; the first renderer is made at once, later ones by
   // settle_size().
   void aim_size(std::uint32_t width, std::uint32_t height);
@@ -150,17 +138,14 @@ class Viewer {
   std::shared_ptr<ViewerSink> sink_;
   std::unique_ptr<render::FrameRenderer> renderer_;
   std::uint32_t width_ = 0, height_ = 0;                // as asked
-  std::uint32_t render_width_ = 0, render_height_ = 0;  // as rendered (adaptive may lower it)
+  std::uint32_t render_width_ = 0, render_height_ = 0;  // as rendered (adaptation may lower it)
   std::uint32_t aimed_width_ = 0, aimed_height_ = 0;    // as it will be, at settle_size()
   Clock::time_point last_resize_{};
   render::OrbitCamera camera_;
   render::RendererKind renderer_kind_ = render::RendererKind::automatic;
   sim::Box tank_;  // what the camera looks at
   render::OrbitLimits orbit_{0.05f, 1000.0f};
-  int requested_quality_ = 80, jpeg_quality_ = 80;
-  bool adaptive_ = false;
-  Clock::duration frame_interval_;
-  Clock::time_point next_frame_{};
+  FlowControl flow_;
   Gestures gestures_{seat_.access == Access::control};
   // The drag: the view depth it holds the fluid at once the probe found the surface (or gave up).
   std::optional<float> grab_depth_;
@@ -173,12 +158,6 @@ class Viewer {
   Clock::time_point newest_input_received_{};
   std::uint64_t input_shown_ = 0;  // the newest input a submitted frame shows
   std::shared_ptr<std::atomic<int>> encoding_ = std::make_shared<std::atomic<int>>(0);
-  // Flow control.
-  std::uint64_t sequence_ = 0;
-  std::uint64_t acknowledged_ = 0;
-  std::array<Clock::time_point, 64> produced_at_{};
-  std::optional<double> round_trip_ms_;
-  Clock::time_point last_adapted_{};
 };
 
 }  // namespace fluidcast::server

@@ -1,0 +1,99 @@
+// A viewer's flow control on a clock the test sets: the rate it asked for, throttling when frames
+// go unacknowledged, the round trip, and adaptive quality and size, each step of it.
+#include "session/flow_control.h"
+
+#include <gtest/gtest.h>
+
+namespace fluidcast::server {
+namespace {
+
+using std::chrono::milliseconds;
+
+class FlowControlTest : public testing::Test {
+ protected:
+  FlowControlTest() {
+    flow.ask_size({640, 480});
+    flow.ask(30, 80, true);
+  }
+  // Renders and hands over a frame now; returns its sequence.
+  std::uint64_t frame() {
+    flow.rendered(now);
+    return flow.produced(now);
+  }
+  // One frame acknowledged after `round_trip`, then the clock past the adaptation interval.
+  void round_trip(milliseconds round_trip) {
+    const std::uint64_t sequence = frame();
+    now += round_trip;
+    flow.acknowledge(sequence, now);
+    now += FlowControl::kAdaptEvery;
+  }
+
+  FlowControl flow;
+  Clock::time_point now = Clock::now();
+};
+
+TEST_F(FlowControlTest, FramesFollowTheRateAskedFor) {
+  EXPECT_TRUE(flow.due(now));
+  flow.acknowledge(frame(), now);  // a new rate starts with this frame
+  EXPECT_TRUE(flow.due(now));
+  flow.acknowledge(frame(), now);
+  EXPECT_FALSE(flow.due(now + milliseconds(30)));
+  EXPECT_TRUE(flow.due(now + milliseconds(34)));  // 1/30 s
+}
+
+TEST_F(FlowControlTest, AViewerThatDoesNotAcknowledgeGetsAFrameASecondAfterItsThird) {
+  for (std::uint64_t k = 0; k < FlowControl::kMaxFramesInFlight; ++k) {
+    ASSERT_TRUE(flow.due(now)) << k;
+    frame();
+    now += milliseconds(34);
+  }
+  EXPECT_TRUE(flow.throttled());
+  EXPECT_FALSE(flow.due(now + milliseconds(500)));
+  EXPECT_TRUE(flow.due(now + FlowControl::kThrottledFrameEvery));
+  flow.acknowledge(3, now);
+  EXPECT_FALSE(flow.throttled());
+  EXPECT_TRUE(flow.due(now));
+}
+
+TEST_F(FlowControlTest, AcknowledgementsOfFramesNotSentOrAlreadyAcknowledgedAreIgnored) {
+  const std::uint64_t sequence = frame();
+  flow.acknowledge(sequence + 5, now + milliseconds(10));
+  EXPECT_FALSE(flow.round_trip_ms());
+  flow.acknowledge(sequence, now + milliseconds(40));
+  EXPECT_DOUBLE_EQ(*flow.round_trip_ms(), 40.0);
+  flow.acknowledge(sequence, now + milliseconds(90));
+  EXPECT_DOUBLE_EQ(*flow.round_trip_ms(), 40.0);
+}
+
+TEST_F(FlowControlTest, FallingBehindLowersQualityThenSizeAndKeepingUpRaisesThemBack) {
+  round_trip(milliseconds(200));
+  EXPECT_EQ(flow.jpeg_quality(), 70);
+  for (int k = 0; k < 10; ++k) round_trip(milliseconds(200));
+  EXPECT_EQ(flow.jpeg_quality(), FlowControl::kLowestAdaptiveQuality);
+  EXPECT_LT(flow.render_size().height, 480u);
+  EXPECT_GE(flow.render_size().height, FlowControl::kSmallestAdaptiveHeight * 3 / 4);
+  for (int k = 0; k < 40; ++k) round_trip(milliseconds(10));
+  EXPECT_EQ(flow.render_size(), (FlowControl::Size{640, 480}));  // the size first
+  EXPECT_EQ(flow.jpeg_quality(), 80);                            // then quality
+}
+
+TEST_F(FlowControlTest, InBetweenNothingChangesAndWithoutAdaptationNeither) {
+  round_trip(milliseconds(80));
+  EXPECT_EQ(flow.jpeg_quality(), 80);
+  flow.ask(30, 90, false);
+  round_trip(milliseconds(500));
+  EXPECT_EQ(flow.jpeg_quality(), 90);
+  EXPECT_EQ(flow.render_size(), (FlowControl::Size{640, 480}));
+}
+
+TEST_F(FlowControlTest, AskingAgainStartsFromWhatWasAsked) {
+  for (int k = 0; k < 12; ++k) round_trip(milliseconds(200));
+  ASSERT_LT(flow.render_size().width, 640u);
+  flow.ask_size({320, 240});
+  EXPECT_EQ(flow.render_size(), (FlowControl::Size{320, 240}));
+  flow.ask(30, 0, true);
+  EXPECT_EQ(flow.jpeg_quality(), FlowControl::kDefaultQuality);
+}
+
+}  // namespace
+}  // namespace fluidcast::server
