@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <unordered_map>
@@ -150,14 +151,29 @@ void check_density(std::span<const glm::vec3> positions, const FluidConstants& f
   const float side = 2.0f * fluid.kernel_radius;
   const float at_rest = std::pow(side / fluid.spacing, 3.0f);
   const auto most = static_cast<std::uint32_t>(kMaxDensityRatio * at_rest);
+  // Cubes counted from the positions' lowest corner, 21 bits an axis in one key.
+  constexpr double kCubesPerAxis = double(1u << 21);
+  glm::vec3 lowest(std::numeric_limits<float>::max()), highest(-std::numeric_limits<float>::max());
+  for (const glm::vec3& p : positions) {
+    if (!is_finite(p)) throw std::invalid_argument("a position is not finite: " + str(p));
+    lowest = glm::min(lowest, p);
+    highest = glm::max(highest, p);
+  }
+  if (!positions.empty() &&
+      glm::any(glm::greaterThanEqual(glm::dvec3(highest - lowest) / double(side),
+                                     glm::dvec3(kCubesPerAxis)))) {
+    throw std::invalid_argument("positions spread over more than " +
+                                std::to_string(kCubesPerAxis * side) + " m: " + str(lowest) +
+                                " to " + str(highest));
+  }
   std::unordered_map<std::uint64_t, std::uint32_t> per_cube;
   per_cube.reserve(positions.size());
   for (const glm::vec3& p : positions) {
-    const glm::ivec3 cube = glm::ivec3(glm::floor(p / side)) + (1 << 20);  // ≥ 0 in any tank
+    const glm::uvec3 cube(glm::floor(glm::dvec3(p - lowest) / double(side)));
     const std::uint64_t key =
         (std::uint64_t(cube.x) << 42) | (std::uint64_t(cube.y) << 21) | std::uint64_t(cube.z);
     if (++per_cube[key] > most) {
-      const glm::vec3 corner = glm::vec3(glm::floor(p / side)) * side;
+      const glm::vec3 corner = lowest + glm::vec3(cube) * side;
       throw std::invalid_argument(
           "more than " + std::to_string(most) + " particles in the " + std::to_string(side) +
           " m cube at " + str(corner) + ": over " + std::to_string(int(kMaxDensityRatio)) +

@@ -2,6 +2,8 @@
 // bad (and then nothing changes), survived when extreme, and deterministic on the CPU.
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "solver_test_support.h"
 
 namespace fluidcast::sim {
@@ -257,6 +259,21 @@ TEST(CheckDensity, FluidStatesPassAndClumpsAreRefused) {
   for (std::size_t k = 0; k < 400; ++k) clump[k] = {0.8f, 0.3f, 0.15f};
   const std::string error = error_of([&] { check_density(clump, s->fluid()); });
   EXPECT_NE(error.find("times the fluid's rest density"), std::string::npos) << error;
+}
+
+// Positions a caller has not checked against a tank: far apart, or not numbers, are refused in
+// words, not computed with (coverage-guided fuzzing found the cube index overflowing an int).
+TEST(CheckDensity, PositionsFarApartOrNotFiniteAreRefused) {
+  auto s = make_solver(SolverKind::pbf, SceneKind::dam_break, 1000);
+  std::vector<glm::vec3> positions = s->snapshot().position;
+  positions[7] = {-3.2e8f, 0.5f, 0.5f};
+  EXPECT_NE(error_of([&] { check_density(positions, s->fluid()); }).find("spread over more than"),
+            std::string::npos);
+  positions[7] = {0.5f, std::numeric_limits<float>::infinity(), 0.5f};
+  EXPECT_NE(error_of([&] { check_density(positions, s->fluid()); }).find("not finite"),
+            std::string::npos);
+  positions[7] = {1e5f, 0.5f, 0.5f};  // far, but within reach of the cubes: counted, and fine
+  EXPECT_NO_THROW(check_density(positions, s->fluid()));
 }
 
 INSTANTIATE_TEST_SUITE_P(BothSolversBothBackends, SolverInputs,

@@ -148,8 +148,9 @@ class Solver {
 // point cost N² a step).
 inline constexpr float kMaxDensityRatio = 2.0f;
 // Throws std::invalid_argument, naming where, when more particles lie in some cube of side two
-// kernel radii than kMaxDensityRatio times the fluid at rest holds there. O(N): for a state from
-// outside (a snapshot), before it is loaded.
+// kernel radii than kMaxDensityRatio times the fluid at rest holds there (cubes counted from the
+// positions' lowest corner), or when a position is not finite or they spread over more than
+// 2²¹ cubes along an axis. O(N): for a state from outside (a snapshot), before it is loaded.
 void check_density(std::span<const glm::vec3> positions, const FluidConstants& fluid);
 
 std::unique_ptr<Solver> make_cpu_solver(SolverKind kind, Scene scene, const SolverParams& params);
