@@ -46,6 +46,14 @@ glm::mat4 OrbitCamera::projection(float aspect) const {
   return p;
 }
 
+glm::vec3 unproject(const glm::mat4& view, const glm::mat4& projection, glm::vec2 screen,
+                    float depth) {
+  const glm::vec2 ndc = 2.0f * screen - 1.0f;  // y down, as Vulkan's clip space
+  const glm::vec4 in_view(ndc.x * depth / projection[0][0], ndc.y * depth / projection[1][1],
+                          -depth, 1.0f);
+  return glm::vec3(glm::inverse(view) * in_view);
+}
+
 void OrbitCamera::fit(const sim::Box& tank, float aspect) {
   constexpr float kMargin = 1.08f;
   target = 0.5f * (tank.min + tank.max);
@@ -56,11 +64,12 @@ void OrbitCamera::fit(const sim::Box& tank, float aspect) {
   const glm::mat3 rotation(view());
   float needed = 0.0f;
   for (int corner = 0; corner < 8; ++corner) {
-    const glm::vec3 p((corner & 1) ? tank.max.x : tank.min.x, (corner & 2) ? tank.max.y : tank.min.y,
+    const glm::vec3 p((corner & 1) ? tank.max.x : tank.min.x,
+                      (corner & 2) ? tank.max.y : tank.min.y,
                       (corner & 4) ? tank.max.z : tank.min.z);
     const glm::vec3 c = rotation * (p - target);  // z towards the eye
-    needed = std::max({needed, c.z + std::abs(c.x) * kMargin / tan_x,
-                       c.z + std::abs(c.y) * kMargin / tan_y});
+    needed = std::max(
+        {needed, c.z + std::abs(c.x) * kMargin / tan_x, c.z + std::abs(c.y) * kMargin / tan_y});
   }
   distance = std::max(needed, orbit_limits(tank).min_distance);
 }

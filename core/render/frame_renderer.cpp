@@ -167,10 +167,7 @@ codec::Image FrameRenderer::collect(Slot& slot) {
     float distance = 0.0f;  // along the view axis, as the surface passes store it
     std::memcpy(&distance, bytes.data() + image_bytes, sizeof distance);
     if (std::isfinite(distance)) {
-      const glm::vec2 ndc = 2.0f * *slot.probe - 1.0f;
-      const glm::vec4 in_view(ndc.x * distance / slot.projection[0][0],
-                              ndc.y * distance / slot.projection[1][1], -distance, 1.0f);
-      last_probe_hit_ = glm::vec3(glm::inverse(slot.view) * in_view);
+      last_probe_hit_ = unproject(slot.view, slot.projection, *slot.probe, distance);
     }
   }
   return image;
@@ -179,9 +176,8 @@ codec::Image FrameRenderer::collect(Slot& slot) {
 std::uint64_t FrameRenderer::submit(RendererKind requested, const ParticleView& particles,
                                     const sim::Box& tank, const OrbitCamera& camera) {
   camera.validate();
-  const RendererKind kind = requested == RendererKind::automatic
-                                ? drawable(requested, particles.count)
-                                : requested;
+  const RendererKind kind =
+      requested == RendererKind::automatic ? drawable(requested, particles.count) : requested;
   if (points.colour_by == PointsStyle::ColourBy::density &&
       ((particles.count > 0 && particles.density_ratio == 0) || !(points.density_span > 0.0f))) {
     throw std::invalid_argument(
@@ -331,8 +327,12 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
     slot.timestamps.mark(commands);
   }
   // For the mesh, `position` is the vertex buffer; for ellipsoids, their centres.
-  DrawConstants draw{frame_params_.address(), particles.position, particles.velocity,
-                     particles.density_ratio, 0, 0};
+  DrawConstants draw{frame_params_.address(),
+                     particles.position,
+                     particles.velocity,
+                     particles.density_ratio,
+                     0,
+                     0};
   if (mesh) draw.position = marching_cubes_->vertices();
   if (ellipsoids) {
     draw.position = anisotropy_->centres().address();

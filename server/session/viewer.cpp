@@ -127,12 +127,8 @@ std::optional<Viewer::DragPoint> Viewer::drag_point() {
     grab_depth_ = camera_.distance;
   }
   const float aspect = float(render_width_) / float(render_height_);
-  const glm::mat4 projection = camera_.projection(aspect);
-  const glm::vec2 ndc = 2.0f * *drag - 1.0f;
-  const float depth = *grab_depth_;
-  const glm::vec4 in_view(ndc.x * depth / projection[0][0], ndc.y * depth / projection[1][1],
-                          -depth, 1.0f);
-  return DragPoint{glm::vec3(glm::inverse(camera_.view()) * in_view), drags_};
+  return DragPoint{
+      render::unproject(camera_.view(), camera_.projection(aspect), *drag, *grab_depth_), drags_};
 }
 
 bool Viewer::due(Clock::time_point now) const {

@@ -79,5 +79,23 @@ TEST(OrbitCamera, ValidateRefusesBeyondTheDeclaredRanges) {
   EXPECT_LE(orbit_limits({{0, 0, 0}, {100, 100, 100}}).max_distance, OrbitCamera::kMaxDistance);
 }
 
+// A point of the frame at a depth, back in the scene: projecting it again lands where it was, at
+// that depth; the frame's centre lies on the line from the eye to the target.
+TEST(OrbitCamera, UnprojectIsTheInverseOfTheProjection) {
+  OrbitCamera camera;
+  const glm::mat4 view = camera.view(), projection = camera.projection(0.5f);
+  const glm::vec3 centre = unproject(view, projection, {0.5f, 0.5f}, camera.distance);
+  EXPECT_LT(glm::distance(centre, camera.target), 1e-4f);
+  const glm::vec2 screen(0.2f, 0.9f);  // left, near the bottom
+  const glm::vec3 point = unproject(view, projection, screen, 1.7f);
+  const glm::vec4 in_view = view * glm::vec4(point, 1.0f);
+  EXPECT_NEAR(-in_view.z, 1.7f, 1e-4f);
+  EXPECT_LT(in_view.x, 0.0f);  // left of the view axis
+  EXPECT_LT(in_view.y, 0.0f);  // below it
+  const glm::vec4 clip = projection * in_view;
+  EXPECT_NEAR(0.5f * (clip.x / clip.w + 1.0f), screen.x, 1e-4f);
+  EXPECT_NEAR(0.5f * (clip.y / clip.w + 1.0f), screen.y, 1e-4f);
+}
+
 }  // namespace
 }  // namespace fluidcast::render

@@ -12,7 +12,7 @@ struct OrbitCamera {
   // The ranges of every camera, whoever sets it: validate() and the server's validation of
   // Camera messages read these.
   static constexpr float kMaxPitchDegrees = 89.0f;
-  static constexpr float kMaxDistance = 1000.0f;  // m
+  static constexpr float kMaxDistance = 1000.0f;                            // m
   static constexpr float kMinFieldOfView = 1.0f, kMaxFieldOfView = 170.0f;  // degrees
 
   float yaw_degrees = 30.0f;            // about +y, from looking along −z
@@ -32,6 +32,12 @@ struct OrbitCamera {
   // field of view.
   void fit(const sim::Box& tank, float aspect);
 };
+
+// The point in the scene at `depth` metres along the view axis under `screen`, a point of the frame
+// (0 to 1 from its left and its top, as PointerEvent gives it), for a camera's `view` and
+// `projection` matrices.
+glm::vec3 unproject(const glm::mat4& view, const glm::mat4& projection, glm::vec2 screen,
+                    float depth);
 
 // Where gestures may take an orbit camera around a tank: outside it (beyond its bounding
 // sphere), not so far that it shrinks to a speck, and not below its middle.
