@@ -4,14 +4,6 @@
 #include <cmath>
 
 namespace fluidcast::server {
-namespace {
-
-// Frames to wait for the probe to find the surface under a new finger before holding the fluid
-// at the depth of the camera's target instead.
-constexpr int kProbeFrames = 3;
-
-}  // namespace
-
 Viewer::Viewer(gpu::Context& context, std::uint32_t id, Seat seat, const v1::Viewport& viewport,
                const v1::Quality& quality, const ServerLimits& limits,
                std::shared_ptr<ViewerSink> sink)
@@ -98,11 +90,7 @@ void Viewer::reset_view() {
 
 void Viewer::apply_pointer(const v1::PointerEvent& event) {
   const GestureChange change = gestures_.apply(event);
-  if (change.drag_started) {
-    grab_depth_.reset();
-    probe_frames_ = 0;
-    ++drags_;
-  }
+  if (change.drag_started) drag_.start();
   camera_.yaw_degrees = std::remainder(camera_.yaw_degrees + change.yaw_degrees, 360.0f);
   camera_.pitch_degrees += change.pitch_degrees;
   camera_.distance *= change.zoom;
@@ -115,20 +103,10 @@ glm::vec3 Viewer::gravity_from_tilt(const v1::Tilt& tilt) const {
   return camera_to_world * glm::vec3(tilt.x(), tilt.y(), tilt.z());
 }
 
-std::optional<Viewer::DragPoint> Viewer::drag_point() {
-  const std::optional<glm::vec2> drag = gestures_.drag();
-  renderer_->probe = drag;
-  if (!drag) {
-    grab_depth_.reset();
-    return std::nullopt;
-  }
-  if (!grab_depth_) {
-    if (probe_frames_ < kProbeFrames) return std::nullopt;  // the probe has not answered yet
-    grab_depth_ = camera_.distance;
-  }
-  const float aspect = float(render_width_) / float(render_height_);
-  return DragPoint{
-      render::unproject(camera_.view(), camera_.projection(aspect), *drag, *grab_depth_), drags_};
+std::optional<DragProbe::DragPoint> Viewer::drag_point() {
+  const std::optional<glm::vec2> finger = gestures_.drag();
+  renderer_->probe = finger;
+  return drag_.point(finger, camera_, float(render_width_) / float(render_height_));
 }
 
 bool Viewer::due(Clock::time_point now) const {
@@ -176,12 +154,7 @@ std::optional<Viewer::Finished> Viewer::take_finished(Clock::time_point now) {
   // cost.
   if (renderer_warm_) frame_cost_.add(finished.times.drawing_ms() + finished.times.readback_ms);
   renderer_warm_ = true;
-  if (probed && !grab_depth_) {
-    ++probe_frames_;
-    if (const auto hit = renderer_->last_probe_hit()) {
-      grab_depth_ = -(camera_.view() * glm::vec4(*hit, 1.0f)).z;
-    }
-  }
+  if (probed) drag_.probed(renderer_->last_probe_hit(), camera_);
   return finished;
 }
 

@@ -14,6 +14,7 @@
 #include <string>
 
 #include "access.h"
+#include "drag_probe.h"
 #include "flow_control.h"
 #include "fluidcast/render/camera.h"
 #include "fluidcast/render/frame_renderer.h"
@@ -67,13 +68,10 @@ class Viewer {
   // The camera back to where a new viewer's starts, the whole tank in view.
   void reset_view();
 
-  // Where the finger holds the fluid, in the scene, when a drag holds it: the session moves the
-  // finger's sphere there in simulated time. `drag` counts drags, so a new one starts afresh.
-  struct DragPoint {
-    glm::vec3 point;
-    std::uint64_t drag;
-  };
-  std::optional<DragPoint> drag_point();
+  // Where the finger holds the fluid, in the scene, when a drag holds it (DragProbe): the session
+  // moves the finger's sphere there in simulated time. Also points the renderer's probe at the
+  // finger, for the frames that find the depth.
+  std::optional<DragProbe::DragPoint> drag_point();
 
   // A new frame size (asked for, or chosen by adaptation) takes a new renderer, made here at most
   // once per kResizeEvery, the newest size winning: a client that keeps resizing cannot keep the
@@ -147,10 +145,7 @@ class Viewer {
   render::OrbitLimits orbit_{0.05f, 1000.0f};
   FlowControl flow_;
   Gestures gestures_{seat_.access == Access::control};
-  // The drag: the view depth it holds the fluid at once the probe found the surface (or gave up).
-  std::optional<float> grab_depth_;
-  int probe_frames_ = 0;
-  std::uint64_t drags_ = 0;
+  DragProbe drag_;
   std::deque<Shows> in_flight_;  // what each frame in the renderer's ring shows
   CostEstimate frame_cost_;
   bool renderer_warm_ = false;  // its renderer has drawn a frame
