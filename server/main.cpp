@@ -127,6 +127,129 @@ std::uint32_t measure_default_particles(const ServerOptions& options, gpu::Conte
   return size.particles;
 }
 
+// The page's HTTPS: the operator's certificate, else one made for this machine's addresses.
+struct PageTls {
+  TlsFiles files;
+  std::shared_ptr<boost::asio::ssl::context> context;
+};
+PageTls page_tls(const ServerOptions& options, const std::vector<std::string>& addresses) {
+  const TlsFiles files =
+      options.tls_certificate.empty()
+          ? self_signed_certificate(options.state_dir.empty()
+                                        ? default_state_folder()
+                                        : std::filesystem::path(options.state_dir),
+                                    addresses)
+          : TlsFiles{options.tls_certificate, options.tls_key};
+  auto context = std::make_shared<boost::asio::ssl::context>(boost::asio::ssl::context::tls_server);
+  try {
+    context->use_certificate_chain_file(files.certificate.string());
+    context->use_private_key_file(files.key.string(), boost::asio::ssl::context::pem);
+  } catch (const std::exception& e) {
+    throw std::runtime_error("TLS: " + files.certificate.string() + " and " + files.key.string() +
+                             " are not a PEM certificate and its key: " + e.what());
+  }
+  return {files, std::move(context)};
+}
+
+// The gRPC server, listening; nullptr (and `port` 0) when it cannot listen where it was told.
+std::unique_ptr<grpc::Server> start_grpc(const ServerOptions& options, const ServerLimits& limits,
+                                         FluidcastService& service, int& port) {
+  grpc::EnableDefaultHealthCheckService(true);
+  grpc::reflection::InitProtoReflectionServerBuilderPlugin();
+  grpc::ServerBuilder builder;
+  std::shared_ptr<grpc::ServerCredentials> credentials = grpc::InsecureServerCredentials();
+  if (!options.tls_certificate.empty()) {
+    grpc::SslServerCredentialsOptions tls;
+    tls.pem_key_cert_pairs.push_back(
+        {read_file(options.tls_key), read_file(options.tls_certificate)});
+    credentials = grpc::SslServerCredentials(tls);
+  }
+  // gRPC accepts its connections itself. (gRPC 1.51 stops accepting for good after one failed
+  // accept, when descriptors run out: the HTTP side keeps to half of them, and idle gRPC
+  // connections are closed, for that. Accepting here and handing each connection over with
+  // grpc::AddInsecureChannelFromFd avoided it, but such connections stalled: clients' keepalive
+  // pings went unanswered for seconds.)
+  builder.AddListeningPort(options.listen + ":" + std::to_string(options.grpc_port), credentials,
+                           &port);
+  // gRPC sets SO_REUSEPORT by default: a second server on the same port would silently take half
+  // of the new clients. Exclusive, it fails to start instead.
+  builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
+  builder.RegisterService(&service);
+  // A connection carries a stream and a few snapshot calls at a time, not thousands; one with no
+  // call for a minute is closed (its descriptor is worth more than a client's reconnect).
+  builder.AddChannelArgument(GRPC_ARG_MAX_CONCURRENT_STREAMS, 16);
+  builder.AddChannelArgument(GRPC_ARG_MAX_CONNECTION_IDLE_MS, 60000);
+  // Dead phones are noticed in seconds, not gRPC's default two hours.
+  builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIME_MS, 10000);
+  builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIMEOUT_MS, 5000);
+  builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_PERMIT_WITHOUT_CALLS, 1);
+  builder.AddChannelArgument(GRPC_ARG_HTTP2_MIN_RECV_PING_INTERVAL_WITHOUT_DATA_MS, 5000);
+  // A snapshot of the largest session: 24 bytes a particle, and room for the rest.
+  builder.SetMaxReceiveMessageSize(static_cast<int>(
+      std::min<std::uint64_t>(INT32_MAX, 24ull * limits.max_particles + (1 << 20))));
+  auto server = builder.BuildAndStart();
+  if (!server) port = 0;
+  return port == 0 ? nullptr : std::move(server);
+}
+
+// What the operator reads at start: where to connect, from here and from a phone.
+void log_where_to_connect(const ServerOptions& options, const ServerLimits& limits,
+                          const gpu::DeviceInfo& device, const std::vector<std::string>& addresses,
+                          const TlsFiles& tls_files, int grpc_port, int http_port) {
+  spdlog::info("fluidcast-server {} listening: grpc={}:{} http={}:{} (and https)", kVersion,
+               options.listen, grpc_port, options.listen, http_port);
+  spdlog::info("device {}; limits: {} sessions, {} particles, {}x{}, {} fps", device.name,
+               limits.max_sessions, limits.max_particles, limits.max_width, limits.max_height,
+               limits.max_fps);
+  spdlog::info(
+      "new sessions: {} particles at {} frames/s{} (--default-particles, --target-fps; "
+      "a page can ask: ?particles=N)",
+      limits.default_particles, limits.target_fps,
+      device.hardware() ? "" : " (the frame rate of a CPU device)");
+  if (options.listen == "0.0.0.0") {
+    for (const std::string& address : addresses) {
+      spdlog::info(
+          "on a phone on this network, open https://{}:{}/ (tilt needs https; http:// "
+          "works too) (gRPC: {}:{})",
+          address, http_port, address, grpc_port);
+    }
+  }
+  if (options.tls_certificate.empty()) {
+    spdlog::info(
+        "https uses a self-signed certificate, {}: a browser asks once to accept it "
+        "(README: Connect your phone; --tls-cert for a real one)",
+        tls_files.certificate.string());
+  }
+  const char* local = options.listen == "0.0.0.0" ? "127.0.0.1" : options.listen.c_str();
+  spdlog::info(
+      "here: open http://{}:{}/ in a browser, or run {} --headless --server {}:{} --seconds 10",
+      local, http_port, (program_folder() / "fluidcast-client").string(), local, grpc_port);
+  for (const auto& [target, file] : page_routes(options.web_root)) {
+    if (!std::filesystem::exists(file)) {
+      spdlog::warn("the page lacks {} (--web-root): phones will not get it", file.string());
+    }
+  }
+}
+
+// The limits for this device, and connections within what descriptors allow.
+ServerLimits limits_for_device(const ServerOptions& options, gpu::Context& context,
+                               bool gpu_solver) {
+  ServerLimits limits = options.limits_for(
+      context.info().hardware(), options.default_particles
+                                     ? *options.default_particles
+                                     : measure_default_particles(options, context, gpu_solver));
+  const rlim_t descriptors = raise_descriptor_limit();
+  if (limits.max_connections > descriptors / 2) {
+    limits.max_connections = static_cast<std::uint32_t>(std::max<rlim_t>(1, descriptors / 2));
+    spdlog::info(
+        "at most {} HTTP and WebSocket connections: half of the {} descriptors this "
+        "process may open (--max-connections; raise the limit with ulimit -Hn or "
+        "systemd's LimitNOFILE=)",
+        limits.max_connections, descriptors);
+  }
+  return limits;
+}
+
 int serve(const ServerOptions& options) {
   // Signals reach only the main thread, which waits for them below.
   sigset_t signals;
@@ -149,45 +272,14 @@ int serve(const ServerOptions& options) {
 
   Metrics metrics;
   metrics.describe_device(context.info().name, context.info().hardware());
-  ServerLimits limits = options.limits_for(
-      context.info().hardware(), options.default_particles
-                                     ? *options.default_particles
-                                     : measure_default_particles(options, context, gpu_solver));
-  const rlim_t descriptors = raise_descriptor_limit();
-  if (limits.max_connections > descriptors / 2) {
-    limits.max_connections = static_cast<std::uint32_t>(std::max<rlim_t>(1, descriptors / 2));
-    spdlog::info(
-        "at most {} HTTP and WebSocket connections: half of the {} descriptors this "
-        "process may open (--max-connections; raise the limit with ulimit -Hn or "
-        "systemd's LimitNOFILE=)",
-        limits.max_connections, descriptors);
-  }
+  const ServerLimits limits = limits_for_device(options, context, gpu_solver);
   SessionHub hub(context, gpu_solver, limits, read_token(options.token_file), metrics);
   FluidcastService service(hub);
-
-  // The page's HTTPS: the operator's certificate, else one made for this machine's addresses.
   const std::vector<std::string> addresses = lan_addresses();
-  const TlsFiles tls_files =
-      options.tls_certificate.empty()
-          ? self_signed_certificate(options.state_dir.empty()
-                                        ? default_state_folder()
-                                        : std::filesystem::path(options.state_dir),
-                                    addresses)
-          : TlsFiles{options.tls_certificate, options.tls_key};
-  auto page_tls =
-      std::make_shared<boost::asio::ssl::context>(boost::asio::ssl::context::tls_server);
-  try {
-    page_tls->use_certificate_chain_file(tls_files.certificate.string());
-    page_tls->use_private_key_file(tls_files.key.string(), boost::asio::ssl::context::pem);
-  } catch (const std::exception& e) {
-    throw std::runtime_error("TLS: " + tls_files.certificate.string() + " and " +
-                             tls_files.key.string() +
-                             " are not a PEM certificate and its key: " + e.what());
-  }
+  const PageTls tls = page_tls(options, addresses);
 
   // HTTP first: if its port is taken, nothing else has started yet.
   std::atomic<bool> serving{true};
-  const std::filesystem::path web = options.web_root;
   HttpServer http(options.listen, options.http_port,
                   {[&] { return metrics.prometheus_text(); }, [&] { return serving.load(); },
                    [&hub](WebStream stream,
@@ -195,88 +287,22 @@ int serve(const ServerOptions& options) {
                           std::shared_ptr<ConnectionLimits::Slot> slot) {
                      serve_websocket(std::move(stream), std::move(request), std::move(slot), hub);
                    },
-                   page_routes(web), options.allowed_origins},
+                   page_routes(options.web_root), options.allowed_origins},
                   ConnectionLimits(limits.max_connections, limits.max_connections_per_address),
-                  page_tls);
-
-  grpc::EnableDefaultHealthCheckService(true);
-  grpc::reflection::InitProtoReflectionServerBuilderPlugin();
-  grpc::ServerBuilder builder;
-  std::shared_ptr<grpc::ServerCredentials> credentials = grpc::InsecureServerCredentials();
-  if (!options.tls_certificate.empty()) {
-    grpc::SslServerCredentialsOptions tls;
-    tls.pem_key_cert_pairs.push_back(
-        {read_file(options.tls_key), read_file(options.tls_certificate)});
-    credentials = grpc::SslServerCredentials(tls);
-  }
+                  tls.context);
   int grpc_port = 0;
-  const std::string grpc_address = options.listen + ":" + std::to_string(options.grpc_port);
-  // gRPC accepts its connections itself. (gRPC 1.51 stops accepting for good after one failed
-  // accept, when descriptors run out: the HTTP side keeps to half of them, and idle gRPC
-  // connections are closed, for that. Accepting here and handing each connection over with
-  // grpc::AddInsecureChannelFromFd avoided it, but such connections stalled: clients' keepalive
-  // pings went unanswered for seconds.)
-  builder.AddListeningPort(grpc_address, credentials, &grpc_port);
-  // gRPC sets SO_REUSEPORT by default: a second server on the same port would silently take half
-  // of the new clients. Exclusive, it fails to start instead.
-  builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
-  builder.RegisterService(&service);
-  // A connection carries a stream and a few snapshot calls at a time, not thousands; one with no
-  // call for a minute is closed (its descriptor is worth more than a client's reconnect).
-  builder.AddChannelArgument(GRPC_ARG_MAX_CONCURRENT_STREAMS, 16);
-  builder.AddChannelArgument(GRPC_ARG_MAX_CONNECTION_IDLE_MS, 60000);
-  // Dead phones are noticed in seconds, not gRPC's default two hours.
-  builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIME_MS, 10000);
-  builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIMEOUT_MS, 5000);
-  builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_PERMIT_WITHOUT_CALLS, 1);
-  builder.AddChannelArgument(GRPC_ARG_HTTP2_MIN_RECV_PING_INTERVAL_WITHOUT_DATA_MS, 5000);
-  // A snapshot of the largest session: 24 bytes a particle, and room for the rest.
-  builder.SetMaxReceiveMessageSize(static_cast<int>(
-      std::min<std::uint64_t>(INT32_MAX, 24ull * limits.max_particles + (1 << 20))));
-  std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
-  if (!server || grpc_port == 0) {
+  const std::unique_ptr<grpc::Server> server = start_grpc(options, limits, service, grpc_port);
+  if (!server) {
     std::fprintf(stderr,
-                 "fluidcast-server: cannot listen for gRPC on %s: the address is in use (another "
-                 "server?) or not one of this machine's (--listen, --grpc-port)\n",
-                 grpc_address.c_str());
+                 "fluidcast-server: cannot listen for gRPC on %s:%u: the address is in use "
+                 "(another server?) or not one of this machine's (--listen, --grpc-port)\n",
+                 options.listen.c_str(), unsigned(options.grpc_port));
     return kBadFlag;
   }
   grpc::HealthCheckServiceInterface* health = server->GetHealthCheckService();
   health->SetServingStatus(true);
-
-  spdlog::info("fluidcast-server {} listening: grpc={}:{} http={}:{} (and https)", kVersion,
-               options.listen, grpc_port, options.listen, http.port());
-  spdlog::info("device {}; limits: {} sessions, {} particles, {}x{}, {} fps", context.info().name,
-               limits.max_sessions, limits.max_particles, limits.max_width, limits.max_height,
-               limits.max_fps);
-  spdlog::info(
-      "new sessions: {} particles at {} frames/s{} (--default-particles, --target-fps; "
-      "a page can ask: ?particles=N)",
-      limits.default_particles, limits.target_fps,
-      context.info().hardware() ? "" : " (the frame rate of a CPU device)");
-  if (options.listen == "0.0.0.0") {
-    for (const std::string& address : addresses) {
-      spdlog::info(
-          "on a phone on this network, open https://{}:{}/ (tilt needs https; http:// "
-          "works too) (gRPC: {}:{})",
-          address, http.port(), address, grpc_port);
-    }
-  }
-  if (options.tls_certificate.empty()) {
-    spdlog::info(
-        "https uses a self-signed certificate, {}: a browser asks once to accept it "
-        "(README: Connect your phone; --tls-cert for a real one)",
-        tls_files.certificate.string());
-  }
-  const char* local = options.listen == "0.0.0.0" ? "127.0.0.1" : options.listen.c_str();
-  spdlog::info(
-      "here: open http://{}:{}/ in a browser, or run {} --headless --server {}:{} --seconds 10",
-      local, http.port(), (program_folder() / "fluidcast-client").string(), local, grpc_port);
-  for (const auto& [target, file] : page_routes(web)) {
-    if (!std::filesystem::exists(file)) {
-      spdlog::warn("the page lacks {} (--web-root): phones will not get it", file.string());
-    }
-  }
+  log_where_to_connect(options, limits, context.info(), addresses, tls.files, grpc_port,
+                       http.port());
 
   // Under systemd (Type=notify): started once every port listens; stopping from the signal on.
   sd_notifyf(0, "READY=1\nSTATUS=serving: grpc %d, http %d", grpc_port, http.port());
