@@ -82,16 +82,15 @@ LocalStream::LocalStream(v1::Hello hello, std::uint32_t max_particles)
              [&opened](server::SessionHub::Opened result) { opened.set_value(std::move(result)); });
   server::SessionHub::Opened result = opened.get_future().get();
   if (result.refusal) throw *result.refusal;
-  session_ = std::move(result.session);
-  viewer_ = result.viewer;
+  viewer_ = std::move(result.viewer);
   const auto welcome = sink_->wait_welcome(std::chrono::seconds(30));
   if (!welcome) throw std::runtime_error("the local session did not start");
   welcome_ = *welcome;
 }
 
 LocalStream::~LocalStream() {
-  if (session_) hub_->close(session_, viewer_, server::Departure::left);
-  session_.reset();
+  if (viewer_) viewer_->leave(server::Departure::left);
+  viewer_.reset();
   hub_.reset();  // stops the worker: the session's GPU objects go before the context
 }
 
@@ -101,7 +100,7 @@ std::uint64_t LocalStream::send(v1::ClientMessage message) {
                          server::Access::control);  // it created the session
   const std::uint64_t id = latency_.sent();
   message.set_event_id(id);
-  session_->post(viewer_, std::move(message));
+  viewer_->post(std::move(message));
   return id;
 }
 
@@ -111,7 +110,7 @@ std::optional<v1::Frame> LocalStream::next_frame(std::chrono::milliseconds timeo
     latency_.frame_reflects(frame->input_event_id());
     v1::ClientMessage ack;
     ack.mutable_ack()->set_sequence(frame->sequence());
-    session_->post(viewer_, std::move(ack));
+    viewer_->post(std::move(ack));
   }
   return frame;
 }

@@ -37,8 +37,7 @@ class LocalStream final : public FluidStream {
   server::Metrics metrics_;
   std::unique_ptr<server::SessionHub> hub_;
   std::shared_ptr<Sink> sink_;
-  std::shared_ptr<server::Session> session_;
-  std::uint32_t viewer_ = 0;
+  std::shared_ptr<server::ViewerLink> viewer_;
   v1::Welcome welcome_;
 };
 

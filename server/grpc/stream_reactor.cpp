@@ -81,19 +81,17 @@ class GrpcViewerSink final : public ViewerSink {
     reactor_ = nullptr;
   }
 
-  // The session opened (or was refused) on the worker; false when the stream is gone meanwhile,
-  // and then the viewer must be closed again.
-  bool opened(SessionHub::Opened& opened) {
+  // The session opened (or was refused) on the worker; nothing when the stream is gone meanwhile.
+  void opened(SessionHub::Opened& opened) {
     std::lock_guard lock(mutex_);
-    if (!reactor_ || finishing_) return false;
+    if (!reactor_ || finishing_) return;
     if (opened.refusal) {
       reactor_->protocol_.refused(*opened.refusal);
       finishing_ = true;
       reactor_->Finish(to_status(*opened.refusal));
-      return true;
+      return;
     }
     reactor_->on_opened(std::move(opened));
-    return true;
   }
 
  private:
@@ -139,7 +137,7 @@ void StreamReactor::refuse(const Refusal& refusal) {
   protocol_.refused(refusal);
   sink_->end(refusal);
   // The viewer leaves now, even if a client that stopped reading holds the last write open.
-  if (session_) hub_->close(session_, viewer_);
+  if (viewer_) viewer_->leave(Departure::dropped);
 }
 
 void StreamReactor::OnReadDone(bool ok) {
@@ -147,7 +145,7 @@ void StreamReactor::OnReadDone(bool ok) {
     sink_->finish(grpc::Status::OK);
     return;
   }
-  if (!session_) {  // the first message: whatever it is, the deadline has been met
+  if (!viewer_) {  // the first message: whatever it is, the deadline has been met
     sink_->hello_came();
     hello_deadline_.Cancel();
   }
@@ -160,13 +158,12 @@ void StreamReactor::OnReadDone(bool ok) {
     if (auto* hello = std::get_if<StreamProtocol::Open>(&next)) {
       // The next read starts once the session is open (on_opened).
       hub_->open(std::move(hello->hello), address_, sink_,
-                 [sink = sink_, hub = hub_](SessionHub::Opened opened) {
-                   const auto session = opened.session;
-                   if (!sink->opened(opened) && session) hub->close(session, opened.viewer);
+                 [sink = sink_](SessionHub::Opened opened) {
+                   sink->opened(opened);  // a stream gone meanwhile drops the link: it leaves
                  });
       return;
     }
-    session_->post(viewer_, std::move(std::get<StreamProtocol::Post>(next).message));
+    viewer_->post(std::move(std::get<StreamProtocol::Post>(next).message));
     sink_->read_next(&incoming_);
   } catch (const Refusal& refusal) {
     refuse(refusal);
@@ -174,8 +171,7 @@ void StreamReactor::OnReadDone(bool ok) {
 }
 
 void StreamReactor::on_opened(SessionHub::Opened opened) {
-  session_ = std::move(opened.session);
-  viewer_ = opened.viewer;
+  viewer_ = std::move(opened.viewer);
   protocol_.opened(opened.access);
   StartRead(&incoming_);
 }
@@ -189,7 +185,7 @@ void StreamReactor::OnCancel() {
 
 void StreamReactor::OnDone() {
   sink_->detach();
-  if (session_) hub_->close(session_, viewer_, cancelled_ ? Departure::dropped : Departure::left);
+  if (viewer_) viewer_->leave(cancelled_ ? Departure::dropped : Departure::left);
   delete this;
 }
 

@@ -43,8 +43,7 @@ class StreamReactor final : public grpc::ServerBidiReactor<grpc::ByteBuffer, grp
   StreamProtocol protocol_;
   grpc::Alarm hello_deadline_;
   // Set once, on the worker's thread, before the next read starts; read by reactions after.
-  std::shared_ptr<Session> session_;
-  std::uint32_t viewer_ = 0;
+  std::shared_ptr<ViewerLink> viewer_;
   std::string address_;
   // OnCancel came: the stream broke or the client cancelled (a viewer that may resume), rather
   // than the client closing its side and reading the status (one that left).

@@ -83,16 +83,18 @@ void SessionHub::open(v1::Hello hello, std::string address, std::shared_ptr<View
   post([this, hello = std::move(hello), address = std::move(address), sink = std::move(sink),
         done = std::move(done)] {
     Opened opened;
+    std::shared_ptr<Session> session;
+    std::uint32_t viewer = 0;
     try {
       if (closed_) throw Refusal(RefusalCode::unavailable, "the server is shutting down");
       if (hello.has_join()) {
         const Opening joined = find(hello.join(), "Hello.join");
-        opened.session = joined.session;
-        opened.viewer = opened.session->add_viewer(hello, sink, joined.access);
+        session = joined.session;
+        viewer = session->add_viewer(hello, sink, joined.access);
       } else if (hello.has_resume()) {
-        const auto [session, resumed] = find_resumed(hello.resume().key());
-        opened.session = session;
-        opened.viewer = opened.session->resume_viewer(hello, sink, resumed);
+        const auto [found, resumed] = find_resumed(hello.resume().key());
+        session = found;
+        viewer = session->resume_viewer(hello, sink, resumed);
       } else {
         if (sessions_.size() >= limits_.max_sessions) {
           throw Refusal(RefusalCode::resource_exhausted, "this server runs its limit of " +
@@ -123,27 +125,24 @@ void SessionHub::open(v1::Hello hello, std::string address, std::shared_ptr<View
                               ? static_cast<std::uint32_t>(create.state().positions_size() / 3)
                               : create.particles();
         const std::string id = new_key();
-        opened.session = std::make_shared<Session>(
+        session = std::make_shared<Session>(
             id, address, setup,
             SessionServices{context_, gpu_solver_, &steps_, &limits_, metrics_, encoders_.get()});
-        if (create.has_state()) opened.session->load(create.state());
-        sessions_.emplace(id, opened.session);
+        if (create.has_state()) session->load(create.state());
+        sessions_.emplace(id, session);
         session_count_ = static_cast<std::uint32_t>(sessions_.size());
         metrics_->sessions = sessions_.size();
-        opened.viewer = opened.session->add_viewer(hello, sink, Access::control);
+        viewer = session->add_viewer(hello, sink, Access::control);
       }
-      opened.access = opened.session->access(opened.viewer);
-      spdlog::info("session {}: viewer {} {} ({} particles, {} sessions)", opened.session->id(),
-                   opened.viewer,
+      opened.access = session->access(viewer);
+      spdlog::info("session {}: viewer {} {} ({} particles, {} sessions)", session->id(), viewer,
                    hello.has_resume() ? "resumed"
                    : hello.has_join() ? "joined"
                                       : "created it",
-                   opened.session->state().particles(), sessions_.size());
+                   session->state().particles(), sessions_.size());
     } catch (const Refusal& refusal) {
-      opened.session.reset();
       opened.refusal = refusal;
     } catch (const std::exception& e) {  // out of GPU memory, say: this request fails alone
-      opened.session.reset();
       opened.refusal = Refusal(RefusalCode::internal,
                                std::string("the server could not open the session: ") + e.what());
     }
@@ -152,14 +151,15 @@ void SessionHub::open(v1::Hello hello, std::string address, std::shared_ptr<View
       return;
     }
     auto welcome = std::make_shared<v1::ServerMessage>();
-    welcome->mutable_welcome()->set_session_id(opened.session->id());
-    welcome->mutable_welcome()->set_viewer_id(opened.viewer);
-    *welcome->mutable_welcome()->mutable_state() = opened.session->state();
+    welcome->mutable_welcome()->set_session_id(session->id());
+    welcome->mutable_welcome()->set_viewer_id(viewer);
+    *welcome->mutable_welcome()->mutable_state() = session->state();
     const v1::ServerInfo server = info();
     *welcome->mutable_welcome()->mutable_limits() = server.limits();
     *welcome->mutable_welcome()->mutable_rules() = server.rules();
-    *welcome->mutable_welcome()->mutable_access() = opened.session->access_message(opened.viewer);
-    done(opened);
+    *welcome->mutable_welcome()->mutable_access() = session->access_message(viewer);
+    opened.viewer = std::make_shared<ViewerLink>(*this, session, viewer);
+    done(std::move(opened));
     sink->deliver(welcome);
   });
 }

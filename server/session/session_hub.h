@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "session.h"
+#include "viewer_link.h"
 
 namespace fluidcast::server {
 
@@ -34,9 +35,8 @@ class SessionHub {
   Metrics& metrics() { return *metrics_; }
 
   struct Opened {
-    std::shared_ptr<Session> session;  // null when refused
-    std::uint32_t viewer = 0;
-    Access access = Access::view;  // what the viewer's messages may do
+    std::shared_ptr<ViewerLink> viewer;  // null when refused
+    Access access = Access::view;        // what the viewer's messages may do
     std::optional<Refusal> refusal;
   };
   // For a validated Hello from a client at `address` (an IP address, as text): creates, joins or
@@ -44,11 +44,6 @@ class SessionHub {
   // worker's thread).
   void open(v1::Hello hello, std::string address, std::shared_ptr<ViewerSink> sink,
             std::function<void(Opened)> done);
-  // The viewer's stream ended. A session outlives a viewer that dropped for the grace period, and
-  // ends at the next tick once nobody watches and nobody may resume.
-  void close(std::shared_ptr<Session> session, std::uint32_t viewer,
-             Departure departure = Departure::dropped);
-
   // Snapshots, for GetSnapshot (either of the session's keys) and PutSnapshot (its control key);
   // `done` runs on the worker's thread.
   void snapshot(std::string key,
@@ -61,6 +56,10 @@ class SessionHub {
   void stop();
 
  private:
+  friend class ViewerLink;
+  // The viewer's stream ended (ViewerLink::leave). A session outlives a viewer that dropped for the
+  // grace period, and ends at the next tick once nobody watches and nobody may resume.
+  void close(std::shared_ptr<Session> session, std::uint32_t viewer, Departure departure);
   void post(std::function<void()> job);
   void run();
   void run_jobs(std::vector<std::function<void()>>& jobs);

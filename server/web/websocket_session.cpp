@@ -44,7 +44,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
   void start(beast::http::request<beast::http::string_body> request) {
     hello_deadline_.expires_after(hub_->limits().hello_timeout);
     hello_deadline_.async_wait([self = shared_from_this()](beast::error_code error) {
-      if (error || self->session_ || self->opening_) return;  // cancelled, or the Hello came
+      if (error || self->viewer_ || self->opening_) return;  // cancelled, or the Hello came
       self->refuse(self->protocol_.no_hello());
     });
     // Pings after 5 s of silence; a phone that does not answer within 15 s is gone, and its
@@ -130,7 +130,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
         open(hello->hello);
         return;  // the next read starts once the session is open
       }
-      session_->post(viewer_, std::move(std::get<StreamProtocol::Post>(next).message));
+      viewer_->post(std::move(std::get<StreamProtocol::Post>(next).message));
       read();
     } catch (const Refusal& refusal) {
       refuse(refusal);
@@ -149,22 +149,20 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
     auto sink = std::make_shared<Sink>(weak_from_this());
     hub_->open(hello, slot_->address().to_string(), sink,
                [self = shared_from_this()](SessionHub::Opened opened) {
-                 boost::asio::post(
-                     self->socket_.get_executor(), [self, opened = std::move(opened)]() mutable {
-                       if (opened.refusal) {
-                         self->protocol_.refused(*opened.refusal);
-                         self->end(opened.refusal->code(), opened.refusal->what());
-                         return;
-                       }
-                       if (self->ending_) {  // the socket went away while the session opened
-                         self->hub_->close(std::move(opened.session), opened.viewer);
-                         return;
-                       }
-                       self->session_ = std::move(opened.session);
-                       self->viewer_ = opened.viewer;
-                       self->protocol_.opened(opened.access);
-                       self->read();
-                     });
+                 boost::asio::post(self->socket_.get_executor(),
+                                   [self, opened = std::move(opened)]() mutable {
+                                     if (opened.refusal) {
+                                       self->protocol_.refused(*opened.refusal);
+                                       self->end(opened.refusal->code(), opened.refusal->what());
+                                       return;
+                                     }
+                                     // The socket went away while the session opened: the link,
+                                     // dropped, takes the viewer out.
+                                     if (self->ending_) return;
+                                     self->viewer_ = std::move(opened.viewer);
+                                     self->protocol_.opened(opened.access);
+                                     self->read();
+                                   });
                });
   }
 
@@ -217,8 +215,8 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
     hello_deadline_.cancel();
     ending_ = true;
     outgoing_.stop_frames();
-    if (session_) hub_->close(std::move(session_), viewer_, departure);
-    session_.reset();
+    if (viewer_) viewer_->leave(departure);
+    viewer_.reset();
   }
 
   websocket::stream<Stream> socket_;
@@ -226,8 +224,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
   SessionHub* hub_;
   beast::flat_buffer buffer_;
   StreamProtocol protocol_;
-  std::shared_ptr<Session> session_;
-  std::uint32_t viewer_ = 0;
+  std::shared_ptr<ViewerLink> viewer_;
   std::shared_ptr<std::string> writing_;
   OutgoingMessages outgoing_;
   boost::asio::steady_timer hello_deadline_;
