@@ -105,6 +105,9 @@ class Session {
   void apply_rebuilds(Clock::time_point now);
   void rebuild_or_reset();
   void apply(Viewer& viewer, const v1::ClientMessage& message, Clock::time_point received);
+  void apply_tilt(Viewer& viewer, const v1::Tilt& tilt, Clock::time_point received);
+  void answer_state_request(Viewer& viewer);
+  void apply_command(Viewer& viewer, const v1::Command& command);
   // Submits the due frames that the grant pays for (all of them when no other session is
   // watched; at least one every kLongestFrameWait for each viewer).
   void render(const GpuGrant& grant, Clock::time_point now);

@@ -1,0 +1,109 @@
+// Session: a viewer's messages, queued from any thread and applied at the tick.
+#include <algorithm>
+#include <cmath>
+
+#include "fluidcast/sim/scene.h"
+#include "input_rules.h"
+#include "session.h"
+
+namespace fluidcast::server {
+
+void Session::post(std::uint32_t viewer, v1::ClientMessage message) {
+  const auto received = Clock::now();
+  std::lock_guard lock(inbox_mutex_);
+  inbox_.push_back({viewer, std::move(message), received});
+}
+
+void Session::apply(Viewer& viewer, const v1::ClientMessage& message, Clock::time_point received) {
+  viewer.note_input(message.event_id(), received);
+  switch (message.kind_case()) {
+    case v1::ClientMessage::kPointer:
+      viewer.apply_pointer(message.pointer());
+      last_input_ = received;
+      break;
+    case v1::ClientMessage::kTilt:
+      apply_tilt(viewer, message.tilt(), received);
+      break;
+    case v1::ClientMessage::kStateRequest:
+      answer_state_request(viewer);
+      break;
+    case v1::ClientMessage::kAck:
+      viewer.acknowledge(message.ack().sequence(), received);
+      if (const auto round_trip = viewer.flow().round_trip_ms())
+        services_.metrics->round_trip_time.observe_ms(*round_trip);
+      break;
+    case v1::ClientMessage::kCommand:
+      last_input_ = received;
+      apply_command(viewer, message.command());
+      break;
+    default:
+      break;
+  }
+}
+
+void Session::apply_tilt(Viewer& viewer, const v1::Tilt& tilt, Clock::time_point received) {
+  const glm::vec3 gravity = viewer.gravity_from_tilt(tilt);
+  solver_->set_gravity(gravity);
+  // A phone lying still sends the same tilt twenty times a second: only turning it counts.
+  const float turned = glm::degrees(std::acos(std::clamp(
+      glm::dot(glm::normalize(gravity), glm::normalize(last_active_tilt_)), -1.0f, 1.0f)));
+  if (turned > kIdleTiltDegrees) {
+    last_active_tilt_ = gravity;
+    last_input_ = received;
+  }
+}
+
+void Session::answer_state_request(Viewer& viewer) {
+  if (solver_->particle_count() > kMaxStateParticles) {
+    throw Refusal(RefusalCode::failed_precondition,
+                  "StateRequest: this session's " + std::to_string(solver_->particle_count()) +
+                      " particles are more than the " + std::to_string(kMaxStateParticles) +
+                      " a stream carries; use GetSnapshot");
+  }
+  auto answer = std::make_shared<v1::ServerMessage>();
+  *answer->mutable_state() = snapshot();
+  viewer.sink().deliver(answer);
+}
+
+void Session::apply_command(Viewer& viewer, const v1::Command& command) {
+  // A new scene, solver or count waits for the next rebuild; the newest of each wins.
+  const auto rebuild = [&](auto change) {
+    SessionSetup setup = setup_wanted_.value_or(setup_);
+    change(setup);
+    setup_wanted_ = setup;
+    setup_requester_ = viewer.id();
+  };
+  switch (command.kind_case()) {
+    case v1::Command::kReset:
+      if (command.reset()) reset_wanted_ = true;
+      break;
+    case v1::Command::kPause:
+      paused_ = command.pause();
+      break;
+    case v1::Command::kScene:
+      rebuild([&](SessionSetup& setup) { setup.scene = sim::parse_scene(command.scene()); });
+      break;
+    case v1::Command::kSolver:
+      rebuild([&](SessionSetup& setup) { setup.solver = sim::parse_solver(command.solver()); });
+      break;
+    case v1::Command::kParticles:
+      rebuild([&](SessionSetup& setup) { setup.particles = command.particles(); });
+      break;
+    case v1::Command::kQuality:
+      viewer.apply_quality(command.quality());
+      break;
+    case v1::Command::kViewport:
+      viewer.apply_viewport(command.viewport());
+      break;
+    case v1::Command::kCamera:
+      viewer.apply_camera(command.camera());
+      break;
+    case v1::Command::kResetView:
+      viewer.reset_view();
+      break;
+    case v1::Command::KIND_NOT_SET:
+      break;
+  }
+}
+
+}  // namespace fluidcast::server
