@@ -5,6 +5,7 @@ set(FLUIDCAST_SIM_CPU_SOURCES
   fork_join_pool.cpp
   neighbour_grid.cpp
   neighbour_list.cpp
+  param_error.cpp
   pbf_constants.cpp
   scene.cpp
   solver.cpp

@@ -92,25 +92,25 @@ void validate(const SceneParams& p) {
   };
   switch (p.kind) {
     case SceneKind::dam_break:
-      require(p.column_width < p.tank_length, "--column-width: must be less than --tank-length");
-      require(p.column_height <= p.tank_height, "--column-height: must not exceed --tank-height");
+      require(p.column_width < p.tank_length, "{column-width}: must be less than {tank-length}");
+      require(p.column_height <= p.tank_height, "{column-height}: must not exceed {tank-height}");
       break;
     case SceneKind::double_dam_break:
       require(2 * p.column_width < p.tank_length,
-              "--column-width: two columns must fit in --tank-length");
-      require(p.column_height <= p.tank_height, "--column-height: must not exceed --tank-height");
+              "{column-width}: two columns must fit in {tank-length}");
+      require(p.column_height <= p.tank_height, "{column-height}: must not exceed {tank-height}");
       break;
     case SceneKind::drop:
       require(p.drop_height - p.drop_radius > p.pool_height,
-              "--drop-height: the ball must start above the pool (drop-height − drop-radius > "
+              "{drop-height}: the ball must start above the pool (drop-height − drop-radius > "
               "pool-height)");
       require(p.drop_height + p.drop_radius <= p.tank_height,
-              "--drop-height: the ball must fit under --tank-height");
+              "{drop-height}: the ball must fit under {tank-height}");
       require(2 * p.drop_radius <= std::min(p.tank_length, p.depth),
-              "--drop-radius: the ball must fit in the tank's length and depth");
+              "{drop-radius}: the ball must fit in the tank's length and depth");
       [[fallthrough]];
     case SceneKind::pool:
-      require(p.pool_height < p.tank_height, "--pool-height: must be less than --tank-height");
+      require(p.pool_height < p.tank_height, "{pool-height}: must be less than {tank-height}");
       break;
   }
 }

@@ -56,7 +56,7 @@ Solver::Solver(Scene scene, const SolverParams& params)
   fluid_ = derive_fluid_constants(scene_.spacing, params_);
   const glm::vec3 size = scene_.tank.size();
   if (std::min({size.x, size.y, size.z}) < fluid_.spacing) {
-    throw ParamError("--particles, --tank-length, --tank-height, --depth: the tank " + str(size) +
+    throw ParamError("{particles}, {tank-length}, {tank-height}, {depth}: the tank " + str(size) +
                      " m is thinner than one particle spacing (" + std::to_string(fluid_.spacing) +
                      " m) in some direction; use more particles or a larger tank");
   }
@@ -64,15 +64,15 @@ Solver::Solver(Scene scene, const SolverParams& params)
   const double cell_count = double(cells.x) * cells.y * cells.z;
   if (cell_count > double(NeighbourGrid::kMaxCells)) {
     throw ParamError(
-        "--particles, --tank-length, --tank-height, --depth: the neighbour grid would "
+        "{particles}, {tank-length}, {tank-height}, {depth}: the neighbour grid would "
         "need " +
         std::to_string(static_cast<long long>(cell_count)) + " cells of half the kernel radius " +
         std::to_string(fluid_.kernel_radius) + " m, over the limit of " +
         std::to_string(NeighbourGrid::kMaxCells) + "; use fewer particles or a smaller tank");
   }
   if (scene_.particles.size() > static_cast<std::size_t>(params_.max_particles)) {
-    throw ParamError("--particles: the scene has " + std::to_string(scene_.particles.size()) +
-                     " particles, more than --max-particles " +
+    throw ParamError("{particles}: the scene has " + std::to_string(scene_.particles.size()) +
+                     " particles, more than {max-particles} " +
                      std::to_string(params_.max_particles));
   }
   next_id_ = static_cast<std::uint32_t>(scene_.particles.size());

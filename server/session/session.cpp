@@ -31,6 +31,15 @@ double milliseconds_between(Clock::time_point from, Clock::time_point to) {
   return std::chrono::duration<double, std::milli>(to - from).count();
 }
 
+// A simulation parameter as a client reads it: the field of its message where a client chose it,
+// else the server's own setting (the tank's size follows the count, the rest the operator's).
+std::string setup_field_or_setting(std::string_view name) {
+  if (name == "particles") return "the particle count (NewSession.particles, Command.particles)";
+  if (name == "scene") return "the scene (NewSession.scene, Command.scene)";
+  if (name == "solver") return "the solver (NewSession.solver, Command.solver)";
+  return "the server's " + std::string(name);
+}
+
 }  // namespace
 
 Session::Session(std::string id, std::string creator, SessionSetup setup, SessionServices services)
@@ -91,7 +100,7 @@ void Session::rebuild(SessionSetup setup) {
       solver_ = std::move(solver);
     }
   } catch (const sim::ParamError& e) {
-    throw Refusal(RefusalCode::resource_exhausted, e.what());
+    throw Refusal(RefusalCode::resource_exhausted, e.worded(setup_field_or_setting));
   }
   setup_ = setup;
   forget_costs();  // another count or solver: another cost

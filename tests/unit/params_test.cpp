@@ -20,6 +20,23 @@ std::string error_of(const SolverParams& p) {
   return "";
 }
 
+// A ParamError names parameters, and each front end words them: flags on the command line, what
+// a client sent (or the server's own setting) over the protocol.
+TEST(ParamError, NamesItsParametersAsEachReaderKnowsThem) {
+  SceneParams scene;
+  scene.kind = SceneKind::dam_break;
+  scene.column_width = scene.tank_length + 1.0f;
+  try {
+    validate(scene);
+    FAIL() << "accepted";
+  } catch (const ParamError& e) {
+    EXPECT_STREQ(e.what(), "--column-width: must be less than --tank-length");
+    EXPECT_EQ(e.worded([](std::string_view name) { return "the server's " + std::string(name); }),
+              "the server's column-width: must be less than the server's tank-length");
+  }
+  EXPECT_STREQ(ParamError("no parameter named").what(), "no parameter named");
+}
+
 TEST(SolverParams, DefaultsAreValid) { EXPECT_NO_THROW(validate(SolverParams{})); }
 
 TEST(SolverParams, EveryDefaultLiesInItsRangeAndEveryNameIsUnique) {

@@ -10,7 +10,7 @@ std::unique_ptr<Solver> make_cpu_solver(SolverKind kind, Scene scene, const Solv
     case SolverKind::sph:
       return std::make_unique<cpu::SphSolver>(std::move(scene), params);
   }
-  throw ParamError("--solver: unknown solver");
+  throw ParamError("{solver}: unknown solver");
 }
 
 }  // namespace fluidcast::sim

@@ -115,7 +115,7 @@ void GpuSolver::allocate(std::size_t capacity) {
       std::snprintf(text, sizeof text, "%.1f MiB", static_cast<double>(bytes) / (1 << 20));
       return std::string(text);
     };
-    throw ParamError("--particles: " + std::to_string(capacity) + " particles need " +
+    throw ParamError("{particles}: " + std::to_string(capacity) + " particles need " +
                      mib(bytes_needed(capacity)) + " of GPU memory, over the budget of " +
                      mib(memory_budget_) + " on " + context_->info().name + " (" +
                      std::to_string(particles_that_fit()) + " particles would fit in this tank)");

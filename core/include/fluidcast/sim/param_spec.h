@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cmath>
+#include <functional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -12,10 +13,17 @@
 
 namespace fluidcast::sim {
 
-// A value outside its declared range or not finite. The message names the flag and the range.
+// A value outside its declared range, not finite, or at odds with another. Its text names the
+// parameters in braces, by their names ("{column-width}: must be less than {tank-length}"), and
+// each front end words them for its reader: what() as the command line's flags (--column-width),
+// worded() in any other way (the server says which field of a message, or its own setting).
 class ParamError : public std::invalid_argument {
  public:
-  using std::invalid_argument::invalid_argument;
+  explicit ParamError(std::string text);
+  std::string worded(const std::function<std::string(std::string_view name)>& name_of) const;
+
+ private:
+  std::string text_;
 };
 
 template <class Owner>
@@ -39,7 +47,7 @@ inline std::string format_range(double min, double max) {
   return out.str();
 }
 
-// Throws ParamError("--name: value V ...; accepted range [min, max] unit") for the first bad value.
+// Throws ParamError("{name}: value V ...; accepted range [min, max] unit") for the first bad value.
 template <class Owner>
 void validate(const Owner& owner, const std::vector<ParamSpec<Owner>>& specs) {
   for (const auto& spec : specs) {
@@ -52,7 +60,7 @@ void validate(const Owner& owner, const std::vector<ParamSpec<Owner>>& specs) {
     if (!std::isfinite(value) || stored(value) < stored(spec.min) ||
         stored(value) > stored(spec.max)) {
       std::ostringstream out;
-      out << "--" << spec.name << ": value " << value
+      out << '{' << spec.name << "}: value " << value
           << (std::isfinite(value) ? " is out of range" : " is not a finite number")
           << "; accepted range " << format_range(spec.min, spec.max) << ' ' << spec.unit;
       throw ParamError(out.str());
@@ -61,7 +69,7 @@ void validate(const Owner& owner, const std::vector<ParamSpec<Owner>>& specs) {
 }
 
 // The index of `name` in `names`; otherwise throws
-// ParamError("--flag: unknown <what> 'name'; expected one of a, b, c").
+// ParamError("{flag}: unknown <what> 'name'; expected one of a, b, c").
 inline std::size_t index_of_name(const std::vector<std::string_view>& names, std::string_view name,
                                  std::string_view flag, std::string_view what) {
   for (std::size_t i = 0; i < names.size(); ++i) {
@@ -69,8 +77,9 @@ inline std::size_t index_of_name(const std::vector<std::string_view>& names, std
   }
   std::string list;
   for (auto n : names) list += (list.empty() ? "" : ", ") + std::string(n);
-  throw ParamError("--" + std::string(flag) + ": unknown " + std::string(what) + " '" +
-                   std::string(name) + "'; expected one of " + list);
+  std::string text = "{";  // appended, not +: GCC 12 warns about "{" + std::string (-Wrestrict)
+  text.append(flag).append("}: unknown ").append(what).append(" '").append(name);
+  throw ParamError(text.append("'; expected one of ").append(list));
 }
 
 // A Markdown table of the specs with the defaults of `defaults`: the body of docs/tuning.md.
