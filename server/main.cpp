@@ -6,9 +6,9 @@
 #include <grpcpp/grpcpp.h>
 #include <grpcpp/health_check_service_interface.h>
 #include <ifaddrs.h>
+#include <malloc.h>
 #include <netinet/in.h>
 #include <spdlog/spdlog.h>
-#include <malloc.h>
 #include <sys/resource.h>
 #include <systemd/sd-daemon.h>
 
@@ -76,11 +76,12 @@ std::vector<std::string> lan_addresses() {
 // What the page's folder holds, by the path a browser asks for.
 std::map<std::string, std::filesystem::path> page_routes(const std::filesystem::path& web) {
   std::map<std::string, std::filesystem::path> routes{{"/", web / "index.html"}};
-  for (const char* file :
-       {"app.js", "local_mode.js", "local_view.js", "local_worker.js", "style.css",
-        "manifest.webmanifest", "fluidcast.proto", "vendor/protobuf.min.js", "wasm/local_fluid.js",
-        "wasm/local_fluid_mt.js", "wasm/local_fluid_mt.worker.js"}) {
-    routes[std::string("/") + file] = web / file;
+  const std::string_view files = FLUIDCAST_PAGE_FILES;  // comma-separated (page_files.cmake)
+  for (std::size_t at = 0; at < files.size();) {
+    const std::size_t end = std::min(files.find(',', at), files.size());
+    const std::string file(files.substr(at, end - at));
+    routes["/" + file] = web / file;
+    at = end + 1;
   }
   return routes;
 }
