@@ -333,8 +333,8 @@ int serve(const ServerOptions& options) {
 int main(int argc, char** argv) {
   // glibc gives each thread that allocates its own arena, up to 8 per core, and memory freed in
   // one is not reused by another: sessions of 200 000 particles opened and closed one after
-  // another grew the server by ~25 MB each on two cores (flat with 4 arenas, measured; the
-  // encoders, solver and transports' threads share them with no contention worth seeing).
+  // another grew the server by ~25 MB each on two cores (flat with 4 arenas, measured). What the
+  // threads sharing 4 arenas cost in lock contention was not measured.
   mallopt(M_ARENA_MAX, 4);
   const auto options = fluidcast::server::parse_server_options(argc, argv);
   try {
