@@ -1,12 +1,12 @@
-// A fluid to watch and touch, wherever it runs: a server's session over gRPC (StreamClient) or a
-// session simulated and rendered in this process (LocalStream). The window client shows either,
-// and hands over from one to the other.
+// A fluid to watch and touch, wherever it runs: a server's session over gRPC (StreamClient), a
+// session simulated and rendered in this process (LocalStream), or one that moves between the two
+// (HandoffStream).
 #pragma once
 
 #include <chrono>
 #include <condition_variable>
-#include <deque>
 #include <cstdint>
+#include <deque>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -62,7 +62,12 @@ class FluidStream {
   virtual std::optional<v1::Frame> next_frame(std::chrono::milliseconds timeout) = 0;
   virtual bool ended() const = 0;
   virtual std::string end_reason() const = 0;
-  std::vector<double> latencies_ms() const { return latency_.latencies_ms(); }
+  // The fluid's state now, and a state simulated elsewhere put in: what a handoff moves. Either
+  // may run on another thread than the one reading frames; both throw what the session refused.
+  virtual v1::Snapshot snapshot() = 0;
+  virtual void load(const v1::Snapshot& snapshot) = 0;
+  // Touch-to-photon latencies measured so far, ms.
+  virtual std::vector<double> latencies_ms() const { return latency_.latencies_ms(); }
 
  protected:
   LatencyTracker latency_;

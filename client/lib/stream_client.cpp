@@ -20,7 +20,7 @@ std::shared_ptr<grpc::Channel> connect(const std::string& server) {
 }
 
 StreamClient::StreamClient(std::shared_ptr<grpc::Channel> channel, const v1::Hello& hello)
-    : channel_(channel), stub_(v1::Fluidcast::NewStub(channel)) {
+    : channel_(channel), stub_(v1::Fluidcast::NewStub(channel)), token_(hello.token()) {
   // A server that cannot be reached is said in seconds, not after gRPC's long backoff.
   if (!channel->WaitForConnected(std::chrono::system_clock::now() + kConnectTimeout)) {
     throw StreamError(
@@ -210,16 +210,14 @@ void StreamClient::drop() {
   if (reader_.joinable()) reader_.join();
 }
 
-v1::Snapshot get_snapshot(const std::shared_ptr<grpc::Channel>& channel, const std::string& key,
-                          const std::string& token) {
+v1::Snapshot StreamClient::snapshot() {
   grpc::ClientContext context;
   context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(5));
   v1::SnapshotRequest request;
-  request.set_token(token);
-  request.set_key(key);
+  request.set_token(token_);
+  request.set_key(welcome_.access().view_key());
   v1::Snapshot snapshot;
-  const grpc::Status status =
-      v1::Fluidcast::NewStub(channel)->GetSnapshot(&context, request, &snapshot);
+  const grpc::Status status = stub_->GetSnapshot(&context, request, &snapshot);
   if (!status.ok()) throw StreamError(status);
   return snapshot;
 }
@@ -235,11 +233,11 @@ std::string describe_welcome(const v1::Welcome& welcome) {
   return line;
 }
 
-void StreamClient::put_snapshot(const std::string& token, const v1::Snapshot& snapshot) {
+void StreamClient::load(const v1::Snapshot& snapshot) {
   grpc::ClientContext context;
   context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(10));
   v1::PutSnapshotRequest request;
-  request.set_token(token);
+  request.set_token(token_);
   request.set_key(welcome_.access().control_key());
   *request.mutable_snapshot() = snapshot;
   v1::PutSnapshotReply reply;

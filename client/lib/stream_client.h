@@ -36,11 +36,6 @@ class StreamError : public std::runtime_error {
 
 std::shared_ptr<grpc::Channel> connect(const std::string& server);
 
-// A session's state now, for a local continuation (GetSnapshot with either of its keys). Throws
-// StreamError.
-v1::Snapshot get_snapshot(const std::shared_ptr<grpc::Channel>& channel, const std::string& key,
-                          const std::string& token);
-
 // The session joined and how others can join it, in a line for the terminal.
 std::string describe_welcome(const v1::Welcome& welcome);
 
@@ -74,13 +69,13 @@ class StreamClient final : public FluidStream {
   // Drops the connection without a goodbye, as a phone losing its network does.
   void drop();
 
-  const std::shared_ptr<grpc::Channel>& channel() const { return channel_; }
   // The newest state the server sent (after a StateRequest) that was not taken yet, waiting up to
   // `timeout` for one.
   std::optional<v1::Snapshot> take_state(std::chrono::milliseconds timeout);
-  // Puts a fluid simulated elsewhere into this stream's session (after a local continuation); needs
-  // control (Welcome.access).
-  void put_snapshot(const std::string& token, const v1::Snapshot& snapshot);
+  // GetSnapshot with the session's view key (any viewer may), and PutSnapshot (needs control,
+  // Welcome.access), as calls of their own beside the stream; both throw StreamError.
+  v1::Snapshot snapshot() override;
+  void load(const v1::Snapshot& snapshot) override;
 
  private:
   void read_loop();
@@ -91,6 +86,7 @@ class StreamClient final : public FluidStream {
   std::shared_ptr<grpc::Channel> channel_;
   grpc::ClientContext context_;
   std::unique_ptr<v1::Fluidcast::Stub> stub_;
+  const std::string token_;  // the Hello's, for the snapshot calls
   std::unique_ptr<grpc::ClientReaderWriter<v1::ClientMessage, v1::ServerMessage>> stream_;
   v1::Welcome welcome_;
 

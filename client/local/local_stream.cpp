@@ -69,7 +69,7 @@ LocalStream::LocalStream(v1::Hello hello, std::uint32_t max_particles)
                                 " particles here (--max-local-particles); " +
                                 std::to_string(asked) + " asked for");
   }
-  if (hello.quality().renderer().empty()) hello.mutable_quality()->set_renderer("mc");
+  if (hello.quality().renderer().empty()) hello.mutable_quality()->set_renderer(kDefaultRenderer);
   v1::ClientMessage message;
   *message.mutable_hello() = hello;
   const server::ServerLimits limits = local_limits(max_particles);
@@ -98,6 +98,10 @@ std::uint64_t LocalStream::send(v1::ClientMessage message) {
   if (ended()) return 0;
   server::validate_event(message, hub_->limits(),
                          server::Access::control);  // it created the session
+  if (message.has_command() && message.command().has_quality() &&
+      message.command().quality().renderer().empty()) {
+    message.mutable_command()->mutable_quality()->set_renderer(kDefaultRenderer);
+  }
   const std::uint64_t id = latency_.sent();
   message.set_event_id(id);
   viewer_->post(std::move(message));

@@ -14,6 +14,9 @@ namespace fluidcast::client {
 class LocalStream final : public FluidStream {
  public:
   static constexpr std::uint32_t kDefaultMaxParticles = 8000;
+  // What draws the fluid when the Hello or a Quality command names no renderer: at these counts
+  // Marching Cubes is the finest surface and cheap enough for a CPU.
+  static constexpr const char* kDefaultRenderer = "mc";
 
   // Throws std::invalid_argument naming the cap when the Hello asks for more particles, and
   // server::Refusal for anything else the session refuses.
@@ -26,9 +29,8 @@ class LocalStream final : public FluidStream {
   bool ended() const override;
   std::string end_reason() const override;
 
-  // The fluid as it is now, and back (the handoff).
-  v1::Snapshot snapshot();
-  void load(const v1::Snapshot& snapshot);
+  v1::Snapshot snapshot() override;
+  void load(const v1::Snapshot& snapshot) override;
 
  private:
   class Sink;

@@ -7,13 +7,12 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <future>
 #include <map>
 #include <memory>
-#include <mutex>
 
 #include "fluidcast/codec/jpeg.h"
 #include "fluidcast/codec/png.h"
+#include "handoff_stream.h"
 #include "local_stream.h"
 #include "stats_overlay.h"
 #include "stream_client.h"
@@ -22,11 +21,6 @@ namespace fluidcast::client {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-// How far back in time a handoff may go: the fluid continues from the newest snapshot.
-constexpr auto kSnapshotEvery = std::chrono::milliseconds(250);
-constexpr auto kRetryEvery = std::chrono::seconds(2);
-// A stream that sends nothing for this long is treated as lost (a wedged server, a dead route).
-constexpr auto kStallAfter = std::chrono::seconds(5);
 // Pointer moves sent per finger at most: the server limits input events per second.
 constexpr auto kMoveInterval = std::chrono::milliseconds(16);
 // Frames asked for are at most this many pixels along each side (aspect kept).
@@ -75,22 +69,22 @@ class Client {
   int run();
 
  private:
-  void open_first();
+  void open();
   void handle(const SDL_Event& event);
+  void handle_key(SDL_Keycode key);
+  void handle_finger(const SDL_TouchFingerEvent& finger, Uint32 type);
   void pointer(std::uint32_t id, v1::PointerEvent::Phase phase, float window_x, float window_y);
-  // The mouse takes the last pointer id the server allows (Welcome.rules), fingers those below.
   // Whether this viewer may change the fluid (it joined with a view key: no).
   bool controls() const { return stream_ && stream_->welcome().access().control(); }
+  // The mouse takes the last pointer id the server allows (Welcome.rules), fingers those below.
   std::uint32_t mouse_pointer() const {
     return stream_ ? std::max(1u, stream_->welcome().rules().pointer_ids()) - 1 : 0;
   }
   void show(const v1::Frame& frame);
   void draw();
-  void keep_snapshot();
-  void keep_standby();
-  void on_remote_lost();
-  void try_reconnect();
   void update_title(Clock::time_point now);
+  std::string status() const;
+  void complain(std::string trouble);
   void screenshot() const;
   v1::Hello hello_for_window() const;
 
@@ -104,40 +98,13 @@ class Client {
   v1::Frame last_frame_;  // without its JPEG: what the overlay reports
   Sensor accelerometer_;
 
-  std::unique_ptr<FluidStream> stream_;
-  bool remote_ = false;
-  std::string status_;  // what the title says besides the figures
-  std::future<v1::Snapshot> snapshot_request_;
-  std::vector<std::future<v1::Snapshot>> abandoned_;  // finished (or waited for) at exit
-  std::optional<v1::Snapshot> snapshot_;
-  Clock::time_point last_snapshot_{}, last_retry_{}, last_remote_frame_{}, last_title_{};
-  // A new stream to the server, with the local fluid's state put into it on the same thread (a
-  // slow server never stalls the window).
-  struct Reconnected {
-    std::unique_ptr<StreamClient> stream;
-    std::optional<v1::Snapshot> state_put;  // what went in, if the fluid here did
-    std::string put_error;                  // else why not, when it should have
-  };
-  std::future<Reconnected> reconnect_;
-  // A local session kept warm while streaming (paused, one frame a second), so that a handoff
-  // needs no start-up: Vulkan context, pipelines and solver are ready. Each snapshot goes into it
-  // as it arrives, off this thread, so that on a drop it only has to resume.
-  struct Standby {
-    std::mutex mutex;  // held while a snapshot goes in, and while the standby is taken
-    std::unique_ptr<LocalStream> local;  // null until started, and once taken
-    bool holds_state = false;            // the newest snapshot went in
-  };
-  std::shared_ptr<Standby> standby_;
-  std::future<void> standby_start_;
-  // Frames reflecting events older than this show a state from before a handoff (the standby's,
-  // or a new server session's before our state went in): not shown.
-  std::uint64_t show_from_event_ = 0;
-  bool report_next_frame_ = false;  // say the first frame's time after handing back
-  std::optional<double> handoff_gap_ms_;
-  bool awaiting_first_local_frame_ = false;
+  std::unique_ptr<HandoffStream> stream_;
+  // The newest input refused or frame not shown, said beside the stream's status for a while.
+  std::string trouble_;
+  Clock::time_point trouble_until_{};
   std::map<SDL_FingerID, std::uint32_t> fingers_;
   std::map<std::uint32_t, Clock::time_point> last_move_;
-  Clock::time_point last_tilt_{};
+  Clock::time_point last_tilt_{}, last_title_{};
   std::size_t frames_ = 0;
   std::vector<std::pair<Clock::time_point, std::size_t>> recent_frames_;  // arrival, JPEG bytes
   bool quit_ = false;
@@ -156,17 +123,26 @@ v1::Hello Client::hello_for_window() const {
   return hello;
 }
 
-void Client::open_first() {
-  if (options_.local) {
-    stream_ = std::make_unique<LocalStream>(hello_for_window(), options_.max_local_particles);
-    status_ = "local";
-    return;
+// The fluid: the server's (carried on here when it drops, if small enough), or one simulated here.
+void Client::open() {
+  HandoffSides sides{options_.server,
+                     [server = options_.server](const v1::Hello& hello) {
+                       return std::make_shared<StreamClient>(connect(server), hello);
+                     },
+                     [cap = options_.max_local_particles](const v1::Hello& hello) {
+                       return std::make_shared<LocalStream>(hello, cap);
+                     }};
+  HandoffOptions handoff;
+  handoff.local = options_.local;
+  handoff.handoff = options_.handoff;
+  handoff.max_local_particles = options_.max_local_particles;
+  handoff.say = [](const std::string& line) {
+    std::fprintf(stderr, "fluidcast-client: %s\n", line.c_str());
+  };
+  stream_ = std::make_unique<HandoffStream>(hello_for_window(), std::move(sides), handoff);
+  if (!stream_->welcome().session_id().empty()) {
+    std::fprintf(stderr, "fluidcast-client: %s\n", describe_welcome(stream_->welcome()).c_str());
   }
-  stream_ = std::make_unique<StreamClient>(connect(options_.server), hello_for_window());
-  remote_ = true;
-  last_remote_frame_ = Clock::now();
-  status_ = "streaming from " + options_.server;
-  std::fprintf(stderr, "fluidcast-client: %s\n", describe_welcome(stream_->welcome()).c_str());
 }
 
 void Client::pointer(std::uint32_t id, v1::PointerEvent::Phase phase, float window_x,
@@ -208,26 +184,9 @@ void Client::handle(const SDL_Event& event) {
       break;
     case SDL_FINGERDOWN:
     case SDL_FINGERMOTION:
-    case SDL_FINGERUP: {
-      int width = 0, height = 0;
-      SDL_GetWindowSize(window_.get(), &width, &height);
-      auto found = fingers_.find(event.tfinger.fingerId);
-      if (found == fingers_.end()) {
-        if (event.type != SDL_FINGERDOWN || fingers_.size() >= mouse_pointer()) break;
-        std::uint32_t id = 0;  // the smallest free
-        while (std::any_of(fingers_.begin(), fingers_.end(),
-                           [id](const auto& entry) { return entry.second == id; })) {
-          ++id;
-        }
-        found = fingers_.emplace(event.tfinger.fingerId, id).first;
-      }
-      const auto phase = event.type == SDL_FINGERDOWN ? v1::PointerEvent::DOWN
-                         : event.type == SDL_FINGERUP ? v1::PointerEvent::UP
-                                                      : v1::PointerEvent::MOVE;
-      pointer(found->second, phase, event.tfinger.x * width, event.tfinger.y * height);
-      if (event.type == SDL_FINGERUP) fingers_.erase(found);
+    case SDL_FINGERUP:
+      handle_finger(event.tfinger, event.type);
       break;
-    }
     case SDL_SENSORUPDATE: {
       const auto now = Clock::now();
       if (!controls() || now - last_tilt_ < std::chrono::milliseconds(50)) break;
@@ -241,34 +200,9 @@ void Client::handle(const SDL_Event& event) {
       stream_->tilt(-a[0], -a[1], -a[2]);
       break;
     }
-    case SDL_KEYDOWN: {
-      if (!stream_) break;
-      v1::Command command;
-      const SDL_Keycode key = event.key.keysym.sym;
-      // The server's scenes on keys 1 to 9, its device's renderers in turn (Welcome.rules).
-      const v1::InputRules& rules = stream_->welcome().rules();
-      if (key == SDLK_ESCAPE || key == SDLK_q) {
-        quit_ = true;
-      } else if (key == SDLK_r && controls()) {
-        command.set_reset(true);
-      } else if (key >= SDLK_1 && key <= SDLK_9 && key - SDLK_1 < rules.scenes_size() &&
-                 controls()) {
-        command.set_scene(rules.scenes(key - SDLK_1));
-      } else if (key == SDLK_m && rules.renderers_size() > 0) {
-        renderer_choice_ = (renderer_choice_ + 1) % rules.renderers_size();
-        *command.mutable_quality() = options_.hello.quality();
-        command.mutable_quality()->set_renderer(rules.renderers(renderer_choice_));
-      } else if (key == SDLK_p && controls()) {
-        paused_ = !paused_;
-        command.set_pause(paused_);
-      } else if (key == SDLK_F12) {
-        screenshot();
-      } else if (key == SDLK_h) {
-        overlay_->toggle();
-      }
-      if (command.kind_case() != v1::Command::KIND_NOT_SET) stream_->command(command);
+    case SDL_KEYDOWN:
+      handle_key(event.key.keysym.sym);
       break;
-    }
     case SDL_WINDOWEVENT:
       if (event.window.event == SDL_WINDOWEVENT_SIZE_CHANGED && stream_) {
         v1::Command command;
@@ -279,6 +213,52 @@ void Client::handle(const SDL_Event& event) {
     default:
       break;
   }
+}
+
+void Client::handle_finger(const SDL_TouchFingerEvent& finger, Uint32 type) {
+  int width = 0, height = 0;
+  SDL_GetWindowSize(window_.get(), &width, &height);
+  auto found = fingers_.find(finger.fingerId);
+  if (found == fingers_.end()) {
+    if (type != SDL_FINGERDOWN || fingers_.size() >= mouse_pointer()) return;
+    std::uint32_t id = 0;  // the smallest free
+    while (std::any_of(fingers_.begin(), fingers_.end(),
+                       [id](const auto& entry) { return entry.second == id; })) {
+      ++id;
+    }
+    found = fingers_.emplace(finger.fingerId, id).first;
+  }
+  const auto phase = type == SDL_FINGERDOWN ? v1::PointerEvent::DOWN
+                     : type == SDL_FINGERUP ? v1::PointerEvent::UP
+                                            : v1::PointerEvent::MOVE;
+  pointer(found->second, phase, finger.x * width, finger.y * height);
+  if (type == SDL_FINGERUP) fingers_.erase(found);
+}
+
+// The server's scenes on keys 1 to 9, its device's renderers in turn (Welcome.rules).
+void Client::handle_key(SDL_Keycode key) {
+  if (!stream_) return;
+  v1::Command command;
+  const v1::InputRules& rules = stream_->welcome().rules();
+  if (key == SDLK_ESCAPE || key == SDLK_q) {
+    quit_ = true;
+  } else if (key == SDLK_r && controls()) {
+    command.set_reset(true);
+  } else if (key >= SDLK_1 && key <= SDLK_9 && key - SDLK_1 < rules.scenes_size() && controls()) {
+    command.set_scene(rules.scenes(key - SDLK_1));
+  } else if (key == SDLK_m && rules.renderers_size() > 0) {
+    renderer_choice_ = (renderer_choice_ + 1) % rules.renderers_size();
+    *command.mutable_quality() = options_.hello.quality();
+    command.mutable_quality()->set_renderer(rules.renderers(renderer_choice_));
+  } else if (key == SDLK_p && controls()) {
+    paused_ = !paused_;
+    command.set_pause(paused_);
+  } else if (key == SDLK_F12) {
+    screenshot();
+  } else if (key == SDLK_h) {
+    overlay_->toggle();
+  }
+  if (command.kind_case() != v1::Command::KIND_NOT_SET) stream_->command(command);
 }
 
 void Client::show(const v1::Frame& frame) {
@@ -314,192 +294,6 @@ void Client::draw() {
   SDL_RenderPresent(renderer_.get());
 }
 
-// While streaming a session small enough to simulate here, keep its state, fetched on the side.
-void Client::keep_snapshot() {
-  std::erase_if(abandoned_, [](const std::future<v1::Snapshot>& request) {
-    return request.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
-  });
-  // A watcher does not continue the fluid: handed back, it would be a copy of someone's session.
-  if (!remote_ || !options_.handoff || !controls()) return;
-  if (snapshot_request_.valid() &&
-      snapshot_request_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
-    try {
-      snapshot_ = snapshot_request_.get();
-    } catch (const std::exception&) {  // the server may be going: keep the one we have
-    }
-  }
-  const auto now = Clock::now();
-  if (snapshot_request_.valid() || now - last_snapshot_ < kSnapshotEvery) return;
-  if (stream_->welcome().state().particles() > options_.max_local_particles) return;
-  last_snapshot_ = now;
-  auto* remote = static_cast<StreamClient*>(stream_.get());
-  snapshot_request_ = std::async(
-      std::launch::async, [channel = remote->channel(), key = remote->welcome().access().view_key(),
-                           token = options_.hello.token(), standby = standby_] {
-        v1::Snapshot snapshot = get_snapshot(channel, key, token);
-        if (standby) {
-          const std::lock_guard lock(standby->mutex);
-          standby->holds_state = false;
-          if (standby->local) {
-            try {
-              standby->local->load(snapshot);
-              standby->holds_state = true;
-            } catch (const std::exception&) {  // said when a handoff loads it again
-            }
-          }
-        }
-        return snapshot;
-      });
-}
-
-void Client::keep_standby() {
-  if (!remote_ || !options_.handoff || standby_ || !controls()) return;
-  const v1::SessionState state = stream_->welcome().state();
-  if (state.particles() > options_.max_local_particles) return;
-  v1::Hello hello = hello_for_window();
-  hello.mutable_create()->set_scene(state.scene());
-  hello.mutable_create()->set_solver(state.solver());
-  hello.mutable_create()->set_particles(state.particles());
-  hello.mutable_quality()->set_renderer("mc");
-  hello.mutable_quality()->set_max_fps(1);
-  standby_ = std::make_shared<Standby>();
-  standby_start_ = std::async(std::launch::async,
-                              [standby = standby_, hello, cap = options_.max_local_particles] {
-                                auto local = std::make_unique<LocalStream>(hello, cap);
-                                v1::Command pause;
-                                pause.set_pause(true);
-                                local->command(pause);
-                                const std::lock_guard lock(standby->mutex);
-                                standby->local = std::move(local);
-                              });
-}
-
-void Client::on_remote_lost() {
-  const std::string why = stream_->end_reason();
-  // A request still on its way to a dying server is not waited for: the last state will do.
-  if (snapshot_request_.valid()) abandoned_.push_back(std::move(snapshot_request_));
-  const v1::SessionState state = stream_->welcome().state();
-  stream_.reset();
-  remote_ = false;
-  // A state the standby took on the side counts even before this thread collected it.
-  const bool standby_has_state = standby_ && [this] {
-    const std::lock_guard lock(standby_->mutex);
-    return standby_->holds_state;
-  }();
-  if (!options_.handoff || !(snapshot_ || standby_has_state) ||
-      state.particles() > options_.max_local_particles) {
-    status_ = "the server is gone (" + why + "); " +
-              (state.particles() > options_.max_local_particles
-                   ? "this session is too big to continue here (" +
-                         std::to_string(state.particles()) + " particles); "
-                   : std::string()) +
-              "retrying";
-    std::fprintf(stderr, "fluidcast-client: %s\n", status_.c_str());
-    return;
-  }
-  std::unique_ptr<LocalStream> local;
-  bool holds_state = false;
-  try {
-    standby_start_.get();  // waits if it is still starting; says why it could not
-    const std::lock_guard lock(standby_->mutex);  // and for a snapshot going in
-    local = std::move(standby_->local);
-    holds_state = standby_->holds_state;
-  } catch (const std::exception& e) {
-    standby_.reset();
-    status_ = std::string("the server is gone and the local fluid cannot start: ") + e.what();
-    std::fprintf(stderr, "fluidcast-client: %s\n", status_.c_str());
-    return;
-  }
-  standby_.reset();
-  try {
-    if (!holds_state) local->load(snapshot_.value());  // throws if there is none after all
-  } catch (const std::exception& e) {
-    status_ = std::string("the server is gone and its state does not fit here: ") + e.what();
-    std::fprintf(stderr, "fluidcast-client: %s\n", status_.c_str());
-    return;
-  }
-  v1::Command wake;
-  *wake.mutable_quality() = options_.hello.quality();
-  if (wake.quality().renderer().empty()) wake.mutable_quality()->set_renderer("mc");
-  local->command(wake);
-  wake.set_pause(false);
-  show_from_event_ = local->command(wake);
-  stream_ = std::move(local);
-  awaiting_first_local_frame_ = true;
-  status_ = "the server is gone (" + why + "): continuing locally, retrying";
-  std::fprintf(stderr, "fluidcast-client: %s\n", status_.c_str());
-}
-
-// In local mode after a drop, or with no stream at all: try the server again, on the side.
-void Client::try_reconnect() {
-  const auto now = Clock::now();
-  if (reconnect_.valid()) {
-    if (reconnect_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
-    Reconnected reconnected;
-    try {
-      reconnected = reconnect_.get();
-    } catch (const std::exception&) {
-      return;  // still gone
-    }
-    std::unique_ptr<StreamClient> back = std::move(reconnected.stream);
-    show_from_event_ = 0;
-    if (const auto& state = reconnected.state_put) {
-      std::fprintf(stderr,
-                   "fluidcast-client: the server is back and took the state (%d particles, "
-                   "t = %.3f s)\n",
-                   state->positions_size() / 3, state->time());
-      try {
-        v1::Command marker;  // frames from before the state went in reflect no later event
-        *marker.mutable_quality() = options_.hello.quality();
-        show_from_event_ = back->command(marker);
-        report_next_frame_ = true;
-      } catch (const std::exception& e) {
-        std::fprintf(stderr, "fluidcast-client: %s\n", e.what());
-      }
-    } else if (!reconnected.put_error.empty()) {
-      std::fprintf(stderr, "fluidcast-client: the server is back but took no state: %s\n",
-                   reconnected.put_error.c_str());
-    }
-    stream_ = std::move(back);
-    remote_ = true;
-    last_remote_frame_ = Clock::now();
-    snapshot_.reset();
-    status_ = "streaming from " + options_.server + " again";
-    std::fprintf(stderr, "fluidcast-client: %s\n", status_.c_str());
-    return;
-  }
-  if (now - last_retry_ < kRetryEvery) return;
-  last_retry_ = now;
-  v1::Hello hello = hello_for_window();
-  if (stream_) {  // continue the local fluid's scene on the server
-    hello.mutable_create()->set_scene(stream_->welcome().state().scene());
-    hello.mutable_create()->set_solver(stream_->welcome().state().solver());
-    hello.mutable_create()->set_particles(stream_->welcome().state().particles());
-  }
-  // The local stream outlives the task: stream_ changes only once the task is done, and
-  // reconnect_ is destroyed (waited for) before stream_.
-  auto* local = dynamic_cast<LocalStream*>(stream_.get());
-  reconnect_ = std::async(
-      std::launch::async, [server = options_.server, hello, local, token = options_.hello.token()] {
-        Reconnected reconnected{std::make_unique<StreamClient>(connect(server), hello), {}, {}};
-        if (!local) return reconnected;
-        // The fluid here stops while its state goes over, so that nothing done meanwhile is lost.
-        v1::ClientMessage pause;
-        pause.mutable_command()->set_pause(true);
-        try {
-          local->send(pause);
-          v1::Snapshot state = local->snapshot();
-          reconnected.stream->put_snapshot(token, state);
-          reconnected.state_put = std::move(state);
-        } catch (const std::exception& e) {
-          reconnected.put_error = e.what();
-          pause.mutable_command()->set_pause(false);
-          local->send(pause);
-        }
-        return reconnected;
-      });
-}
-
 void Client::update_title(Clock::time_point now) {
   if (now - last_title_ < std::chrono::milliseconds(500)) return;
   last_title_ = now;
@@ -524,15 +318,15 @@ void Client::update_title(Clock::time_point now) {
   lines.emplace_back(line);
   std::snprintf(line, sizeof line,
                 "%s: sim %.1f queue %.1f render %.1f read-back %.2f encode %.1f ms",
-                remote_ ? "server" : "here", t.sim_ms(), t.queue_ms(), t.render_ms(),
-                t.readback_ms(), t.encode_ms());
+                stream_ && stream_->simulating_here() ? "here" : "server", t.sim_ms(), t.queue_ms(),
+                t.render_ms(), t.readback_ms(), t.encode_ms());
   lines.emplace_back(line);
-  lines.push_back(status_ + (handoff_gap_ms_
-                                 ? "; handoff gap " + std::to_string(int(*handoff_gap_ms_)) + " ms"
-                                 : std::string()));
+  const auto gap = stream_ ? stream_->handoff_gap_ms() : std::nullopt;
+  lines.push_back(status() +
+                  (gap ? "; handoff gap " + std::to_string(int(*gap)) + " ms" : std::string()));
   overlay_->set_lines(lines);
   std::snprintf(line, sizeof line, "fluidcast — %s — %.1f fps, touch→photon p50 %.0f ms",
-                status_.c_str(), fps, percentile(latencies, 0.5));
+                status().c_str(), fps, percentile(latencies, 0.5));
   SDL_SetWindowTitle(window_.get(), line);
 }
 
@@ -547,6 +341,16 @@ void Client::screenshot() const {
     return;
   }
   codec::write_png(options_.screenshot, image);
+}
+
+void Client::complain(std::string trouble) {
+  trouble_ = std::move(trouble);
+  trouble_until_ = Clock::now() + std::chrono::seconds(5);
+}
+
+std::string Client::status() const {
+  const std::string said = stream_ ? stream_->status() : std::string();
+  return Clock::now() < trouble_until_ ? said + "; " + trouble_ : said;
 }
 
 int Client::run() {
@@ -564,14 +368,13 @@ int Client::run() {
     }
   }
   try {
-    open_first();
+    open();
   } catch (const std::exception& e) {
-    status_ = std::string(options_.local ? "cannot start: " : "cannot connect: ") + e.what();
-    std::fprintf(stderr, "fluidcast-client: %s\n", status_.c_str());
-    if (options_.local || !options_.handoff) {
-      SDL_SetWindowTitle(window_.get(), ("fluidcast — " + status_).c_str());
-      return 1;
-    }
+    const std::string why =
+        std::string(options_.local ? "cannot start: " : "cannot connect: ") + e.what();
+    std::fprintf(stderr, "fluidcast-client: %s\n", why.c_str());
+    SDL_SetWindowTitle(window_.get(), ("fluidcast — " + why).c_str());
+    return 1;
   }
   const auto start = Clock::now();
   while (!quit_) {
@@ -580,52 +383,25 @@ int Client::run() {
       try {
         handle(event);
       } catch (const std::exception& e) {  // input the session refused: say so, go on
-        status_ = std::string("refused: ") + e.what();
+        complain(std::string("refused: ") + e.what());
       }
     }
     const auto now = Clock::now();
     if (options_.seconds > 0 && now - start > std::chrono::duration<double>(options_.seconds)) {
       break;
     }
-    if (stream_) {
-      auto frame = stream_->next_frame(std::chrono::milliseconds(5));
-      if (frame && frame->input_event_id() < show_from_event_) frame.reset();
-      if (frame && report_next_frame_) {
-        report_next_frame_ = false;
-        std::fprintf(stderr,
-                     "fluidcast-client: first frame streamed after the handoff: t = %.3f s\n",
-                     frame->sim_time());
+    if (const auto frame = stream_->next_frame(std::chrono::milliseconds(5))) {
+      try {
+        show(*frame);
+      } catch (const std::exception& e) {
+        complain(std::string("a frame could not be shown: ") + e.what());
       }
-      if (frame) {
-        try {
-          show(*frame);
-        } catch (const std::exception& e) {
-          status_ = std::string("a frame could not be shown: ") + e.what();
-        }
-        if (remote_) last_remote_frame_ = Clock::now();
-        if (awaiting_first_local_frame_) {
-          awaiting_first_local_frame_ = false;
-          handoff_gap_ms_ =
-              std::chrono::duration<double, std::milli>(Clock::now() - last_remote_frame_).count();
-          std::fprintf(stderr, "fluidcast-client: handoff gap %.0f ms\n", *handoff_gap_ms_);
-        }
-      }
-      keep_snapshot();
-      keep_standby();
-      if (remote_ && !stream_->ended() && Clock::now() - last_remote_frame_ > kStallAfter) {
-        static_cast<StreamClient*>(stream_.get())->drop();  // silent too long: lost
-      }
-      if (remote_ && stream_->ended()) on_remote_lost();
-    } else {
-      SDL_Delay(5);
     }
-    if (!options_.local && !remote_) try_reconnect();
     draw();
     update_title(now);
   }
   screenshot();
-  if (reconnect_.valid()) reconnect_.wait();
-  std::printf("fluidcast-client: %zu frames, %s\n", frames_, status_.c_str());
+  std::printf("fluidcast-client: %zu frames, %s\n", frames_, status().c_str());
   return 0;
 }
 

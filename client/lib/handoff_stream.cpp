@@ -1,0 +1,320 @@
+#include "handoff_stream.h"
+
+#include <cstdio>
+#include <mutex>
+#include <thread>
+#include <utility>
+
+namespace fluidcast::client {
+namespace {
+
+template <typename T>
+bool ready(const std::future<T>& request) {
+  return request.valid() && request.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+}
+
+// The scene, solver and count of a session, for a new one that continues it elsewhere.
+void continue_session(v1::Hello& hello, const v1::SessionState& state) {
+  hello.mutable_create()->set_scene(state.scene());
+  hello.mutable_create()->set_solver(state.solver());
+  hello.mutable_create()->set_particles(state.particles());
+}
+
+}  // namespace
+
+// A local fluid kept warm while streaming (paused, one frame a second), so that a handoff needs no
+// start-up (a Vulkan context, pipelines, the solver): it starts on a thread of its own, and each
+// snapshot goes in as it arrives, on the thread that fetched it.
+class HandoffStream::Standby {
+ public:
+  Standby(const std::function<std::shared_ptr<FluidStream>(const v1::Hello&)>& start_local,
+          v1::Hello hello)
+      : start_(std::async(std::launch::async, [this, start_local, hello = std::move(hello)] {
+          std::shared_ptr<FluidStream> local = start_local(hello);
+          v1::Command pause;
+          pause.set_pause(true);
+          local->command(pause);
+          const std::lock_guard lock(mutex_);
+          local_ = std::move(local);
+        })) {}
+
+  // Any thread. A state that does not go in is said when a handoff loads it again.
+  void put(const v1::Snapshot& snapshot) {
+    const std::lock_guard lock(mutex_);
+    holds_state_ = false;
+    if (!local_) return;
+    try {
+      local_->load(snapshot);
+      holds_state_ = true;
+    } catch (const std::exception&) {
+    }
+  }
+
+  bool holds_state() const {
+    const std::lock_guard lock(mutex_);
+    return holds_state_;
+  }
+
+  struct Taken {
+    std::shared_ptr<FluidStream> fluid;
+    bool holds_state = false;  // the newest snapshot is in it
+  };
+  // Once: waits for the start (throws why it failed) and for a snapshot going in.
+  Taken take() {
+    start_.get();
+    const std::lock_guard lock(mutex_);
+    return {std::exchange(local_, nullptr), holds_state_};
+  }
+
+ private:
+  mutable std::mutex mutex_;  // held while a snapshot goes in, and while the fluid is taken
+  std::shared_ptr<FluidStream> local_;  // null until started, and once taken
+  bool holds_state_ = false;
+  std::future<void> start_;  // last: waited for before the members it writes go
+};
+
+HandoffStream::HandoffStream(v1::Hello hello, HandoffSides sides, HandoffOptions options)
+    : hello_(std::move(hello)), sides_(std::move(sides)), options_(std::move(options)) {
+  open_first();
+}
+
+HandoffStream::~HandoffStream() = default;
+
+void HandoffStream::open_first() {
+  if (options_.local) {
+    stream_ = sides_.start_local(hello_);
+    set_status("local");
+    return;
+  }
+  try {
+    stream_ = sides_.connect(hello_);
+  } catch (const std::exception& e) {
+    if (!options_.handoff) throw;
+    set_status(std::string("cannot connect: ") + e.what() + "; retrying");
+    return;
+  }
+  remote_ = streamed_before_ = true;
+  last_remote_frame_ = Clock::now();
+  set_status("streaming from " + sides_.server);
+}
+
+const v1::Welcome& HandoffStream::welcome() const {
+  static const v1::Welcome none;
+  return stream_ ? stream_->welcome() : none;
+}
+
+std::uint64_t HandoffStream::send(v1::ClientMessage message) {
+  if (message.has_command() && message.command().has_viewport()) {
+    *hello_.mutable_viewport() = message.command().viewport();
+  }
+  if (message.has_command() && message.command().has_quality()) {
+    *hello_.mutable_quality() = message.command().quality();
+  }
+  return stream_ ? stream_->send(std::move(message)) : 0;
+}
+
+std::optional<v1::Frame> HandoffStream::next_frame(std::chrono::milliseconds timeout) {
+  std::optional<v1::Frame> frame;
+  if (stream_) {
+    frame = stream_->next_frame(timeout);
+    if (frame && frame->input_event_id() < show_from_event_) frame.reset();
+    if (frame) shown(*frame);
+    keep_snapshot();
+    keep_standby();
+    if (remote_ && stream_->ended()) {
+      lost(stream_->end_reason());
+    } else if (remote_ && Clock::now() - last_remote_frame_ > options_.stall_after) {
+      lost("nothing came for " + std::to_string(options_.stall_after.count()) + " ms");
+    }
+  } else {
+    std::this_thread::sleep_for(timeout);
+  }
+  if (!options_.local && !remote_) reconnect();
+  return frame;
+}
+
+bool HandoffStream::ended() const { return options_.local && stream_->ended(); }
+
+std::string HandoffStream::end_reason() const { return stream_ ? stream_->end_reason() : ""; }
+
+v1::Snapshot HandoffStream::snapshot() {
+  if (!stream_) throw std::runtime_error("no fluid: the server is gone and none continues here");
+  return stream_->snapshot();
+}
+
+void HandoffStream::load(const v1::Snapshot& snapshot) {
+  if (!stream_) throw std::runtime_error("no fluid: the server is gone and none continues here");
+  stream_->load(snapshot);
+}
+
+std::vector<double> HandoffStream::latencies_ms() const {
+  return stream_ ? stream_->latencies_ms() : std::vector<double>{};
+}
+
+bool HandoffStream::continues_here() const {
+  return options_.handoff && welcome().access().control() &&
+         welcome().state().particles() <= options_.max_local_particles;
+}
+
+void HandoffStream::shown(const v1::Frame& frame) {
+  const auto now = Clock::now();
+  if (report_next_frame_) {
+    report_next_frame_ = false;
+    char line[96];
+    std::snprintf(line, sizeof line, "first frame streamed after the handoff: t = %.3f s",
+                  frame.sim_time());
+    say(line);
+  }
+  if (awaiting_first_local_frame_) {
+    awaiting_first_local_frame_ = false;
+    handoff_gap_ms_ = std::chrono::duration<double, std::milli>(now - last_remote_frame_).count();
+    say("handoff gap " + std::to_string(int(*handoff_gap_ms_)) + " ms");
+  }
+  if (remote_) last_remote_frame_ = now;
+}
+
+void HandoffStream::keep_snapshot() {
+  std::erase_if(abandoned_,
+                [](const std::future<v1::Snapshot>& request) { return ready(request); });
+  if (!remote_ || !continues_here()) return;
+  if (ready(snapshot_request_)) {
+    try {
+      snapshot_ = snapshot_request_.get();
+    } catch (const std::exception&) {  // the server may be going: the one we have will do
+    }
+  }
+  const auto now = Clock::now();
+  if (snapshot_request_.valid() || now - last_snapshot_ < options_.snapshot_every) return;
+  last_snapshot_ = now;
+  // The request holds the stream and the standby: either may be let go of here before it ends.
+  snapshot_request_ = std::async(std::launch::async, [remote = stream_, standby = standby_] {
+    v1::Snapshot snapshot = remote->snapshot();
+    if (standby) standby->put(snapshot);
+    return snapshot;
+  });
+}
+
+void HandoffStream::keep_standby() {
+  if (!remote_ || standby_ || !continues_here()) return;
+  v1::Hello hello = hello_;
+  continue_session(hello, welcome().state());
+  hello.mutable_quality()->set_max_fps(1);
+  standby_ = std::make_shared<Standby>(sides_.start_local, std::move(hello));
+}
+
+void HandoffStream::lost(const std::string& why) {
+  // A request still on its way to a dying server is not waited for: the last state will do.
+  if (snapshot_request_.valid()) abandoned_.push_back(std::move(snapshot_request_));
+  const std::uint32_t particles = welcome().state().particles();
+  const bool may_continue = continues_here();
+  stream_.reset();
+  remote_ = false;
+  const std::shared_ptr<Standby> standby = std::exchange(standby_, nullptr);
+  // A state the standby took on the side counts even before this thread collected it.
+  if (may_continue && standby && (snapshot_ || standby->holds_state())) {
+    continue_here(*standby, why);
+    return;
+  }
+  const bool too_big = options_.handoff && particles > options_.max_local_particles;
+  set_status("the server is gone (" + why + "); " +
+             (too_big ? "this session is too big to continue here (" + std::to_string(particles) +
+                            " particles); "
+                      : std::string()) +
+             "retrying");
+}
+
+void HandoffStream::continue_here(Standby& standby, const std::string& why) {
+  Standby::Taken local;
+  try {
+    local = standby.take();
+  } catch (const std::exception& e) {
+    set_status(std::string("the server is gone and the local fluid cannot start: ") + e.what());
+    return;
+  }
+  try {
+    if (!local.holds_state) local.fluid->load(snapshot_.value());  // throws if there is none
+  } catch (const std::exception& e) {
+    set_status(std::string("the server is gone and its state does not fit here: ") + e.what());
+    return;
+  }
+  v1::Command wake;
+  *wake.mutable_quality() = hello_.quality();
+  local.fluid->command(wake);
+  wake.set_pause(false);
+  show_from_event_ = local.fluid->command(wake);
+  stream_ = std::move(local.fluid);
+  awaiting_first_local_frame_ = true;
+  set_status("the server is gone (" + why + "): continuing locally, retrying");
+}
+
+void HandoffStream::reconnect() {
+  if (reconnect_.valid()) {
+    if (!ready(reconnect_)) return;
+    try {
+      came_back(reconnect_.get());
+    } catch (const std::exception&) {  // still gone
+    }
+    return;
+  }
+  const auto now = Clock::now();
+  if (now - last_retry_ < options_.retry_every) return;
+  last_retry_ = now;
+  v1::Hello hello = hello_;
+  if (stream_) continue_session(hello, welcome().state());
+  reconnect_ = std::async(std::launch::async, [connect = sides_.connect, hello, local = stream_] {
+    Reconnected back{connect(hello), {}, {}};
+    if (!local) return back;
+    // The fluid here stops while its state goes over, so that nothing done meanwhile is lost.
+    v1::Command pause;
+    pause.set_pause(true);
+    try {
+      local->command(pause);
+      v1::Snapshot state = local->snapshot();
+      back.stream->load(state);
+      back.state_put = std::move(state);
+    } catch (const std::exception& e) {
+      back.put_error = e.what();
+      pause.set_pause(false);
+      local->command(pause);
+    }
+    return back;
+  });
+}
+
+void HandoffStream::came_back(Reconnected back) {
+  show_from_event_ = 0;
+  if (const auto& state = back.state_put) {
+    char line[128];
+    std::snprintf(line, sizeof line,
+                  "the server is back and took the state (%d particles, t = %.3f s)",
+                  state->positions_size() / 3, state->time());
+    say(line);
+    try {
+      v1::Command marker;  // frames from before the state went in reflect no later event
+      *marker.mutable_quality() = hello_.quality();
+      show_from_event_ = back.stream->command(marker);
+      report_next_frame_ = true;
+    } catch (const std::exception& e) {
+      say(e.what());
+    }
+  } else if (!back.put_error.empty()) {
+    say("the server is back but took no state: " + back.put_error);
+  }
+  stream_ = std::move(back.stream);
+  remote_ = true;
+  last_remote_frame_ = Clock::now();
+  snapshot_.reset();
+  set_status("streaming from " + sides_.server + (streamed_before_ ? " again" : ""));
+  streamed_before_ = true;
+}
+
+void HandoffStream::set_status(std::string status) {
+  status_ = std::move(status);
+  say(status_);
+}
+
+void HandoffStream::say(const std::string& line) const {
+  if (options_.say) options_.say(line);
+}
+
+}  // namespace fluidcast::client

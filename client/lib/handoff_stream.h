@@ -1,0 +1,120 @@
+// A server's fluid that carries on here when the server goes, and goes back when it returns: the
+// remote↔local handoff, for any client.
+//
+// While it streams a session small enough to simulate here (and may change it: a watcher's copy
+// is not continued), it keeps the session's newest state, fetched on the side every
+// snapshot_every, and a local fluid warm: started, paused, each state put in as it arrives. When
+// the stream ends, or sends nothing for stall_after, the local fluid resumes from that state
+// within a frame or two. Meanwhile it asks the server again every retry_every; once one answers,
+// it pauses the local fluid, puts its state into the new session and streams from there. Frames
+// that reflect no event since a side changed show a state from before the change: they are not
+// returned.
+//
+// One thread uses it; next_frame also takes the handoff's steps. The slow work (connecting,
+// snapshots, starting the local fluid) runs on threads of its own, so no call waits on a server.
+#pragma once
+
+#include <chrono>
+#include <functional>
+#include <future>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "fluid_stream.h"
+
+namespace fluidcast::client {
+
+// The two sides a fluid moves between.
+struct HandoffSides {
+  std::string server;  // where connect goes, as the status line names it
+  // A new stream of the server's session that this Hello asks for; throws when no server answers
+  // or it refuses.
+  std::function<std::shared_ptr<FluidStream>(const v1::Hello&)> connect;
+  // A fluid simulated here; throws when it cannot start.
+  std::function<std::shared_ptr<FluidStream>(const v1::Hello&)> start_local;
+};
+
+struct HandoffOptions {
+  bool local = false;   // simulate here from the start, without a server
+  bool handoff = true;  // continue here when the server goes; else only ask again
+  std::uint32_t max_local_particles = 8000;       // larger sessions are not continued here
+  std::chrono::milliseconds snapshot_every{250};  // how far back in time a handoff may go
+  std::chrono::milliseconds retry_every{2000};
+  // A stream that sends nothing for this long is lost (a wedged server, a dead route).
+  std::chrono::milliseconds stall_after{5000};
+  std::function<void(const std::string&)> say;  // what happened, in a line for the user
+};
+
+class HandoffStream final : public FluidStream {
+ public:
+  // Opens the first stream: a local fluid in local mode, else the server's. Throws what opening
+  // threw in local mode or without handoff; with handoff a server that did not answer is asked
+  // again.
+  HandoffStream(v1::Hello hello, HandoffSides sides, HandoffOptions options);
+  ~HandoffStream() override;
+  HandoffStream(const HandoffStream&) = delete;
+  HandoffStream& operator=(const HandoffStream&) = delete;
+
+  const v1::Welcome& welcome() const override;  // an empty one while there is no stream
+  // To the side streaming now (0 while there is none). Viewport and quality commands are also
+  // what a new stream opens with.
+  std::uint64_t send(v1::ClientMessage message) override;
+  std::optional<v1::Frame> next_frame(std::chrono::milliseconds timeout) override;
+  bool ended() const override;  // only a local-mode fluid ends; a server is asked again
+  std::string end_reason() const override;
+  v1::Snapshot snapshot() override;
+  void load(const v1::Snapshot& snapshot) override;
+  std::vector<double> latencies_ms() const override;
+
+  bool simulating_here() const { return stream_ && !remote_; }
+  // Where the fluid is and what is being tried, in words for the user.
+  const std::string& status() const { return status_; }
+  // From the last frame streamed to the first simulated here, at the newest handoff.
+  std::optional<double> handoff_gap_ms() const { return handoff_gap_ms_; }
+
+ private:
+  class Standby;
+  // A new stream of the server's, with the local fluid's state put into it on the same thread.
+  struct Reconnected {
+    std::shared_ptr<FluidStream> stream;
+    std::optional<v1::Snapshot> state_put;  // what went in, if the fluid here did
+    std::string put_error;                  // else why not, when it should have
+  };
+  using Clock = std::chrono::steady_clock;
+
+  void open_first();
+  bool continues_here() const;
+  void shown(const v1::Frame& frame);
+  void keep_snapshot();
+  void keep_standby();
+  void lost(const std::string& why);
+  void continue_here(Standby& standby, const std::string& why);
+  void reconnect();
+  void came_back(Reconnected back);
+  void set_status(std::string status);
+  void say(const std::string& line) const;
+
+  v1::Hello hello_;  // what a new stream asks for: the newest viewport and quality
+  const HandoffSides sides_;
+  const HandoffOptions options_;
+  std::shared_ptr<FluidStream> stream_;  // null while the server is gone and nothing continues
+  bool remote_ = false;
+  bool streamed_before_ = false;
+  std::string status_;
+
+  std::future<v1::Snapshot> snapshot_request_;
+  std::vector<std::future<v1::Snapshot>> abandoned_;  // requests to a lost server, still running
+  std::optional<v1::Snapshot> snapshot_;
+  std::shared_ptr<Standby> standby_;
+  std::future<Reconnected> reconnect_;
+  Clock::time_point last_snapshot_{}, last_retry_{}, last_remote_frame_{};
+
+  std::uint64_t show_from_event_ = 0;  // frames reflecting older events are from before a change
+  bool awaiting_first_local_frame_ = false;
+  bool report_next_frame_ = false;  // the first frame after handing back is said
+  std::optional<double> handoff_gap_ms_;
+};
+
+}  // namespace fluidcast::client

@@ -1,0 +1,332 @@
+// The handoff without a server, a GPU or a window: fluids in memory stand in for a server's
+// session and for one simulated here, and the test watches what HandoffStream shows and moves.
+#include "handoff_stream.h"
+
+#include <gtest/gtest.h>
+
+#include <mutex>
+#include <thread>
+
+namespace fluidcast::client {
+namespace {
+
+using std::chrono::milliseconds;
+
+// What the in-memory server does; shared with the streams it opened.
+struct FakeServer {
+  std::mutex mutex;
+  bool up = true;
+  bool silent = false;             // its streams send nothing: a wedged server
+  bool viewers_control = true;     // false: every stream only watches
+  std::uint32_t particles = 1000;  // of a session whose Hello names no count
+  std::vector<v1::Snapshot> put;   // states put into its sessions
+  int streams = 0;
+};
+
+// A session whose clock advances 1 ms per frame read. Frames come one read late, as a real
+// pipeline's do: the one returned was made at the previous read, from the state and the events
+// seen then, so a state loaded in between shows only a read later.
+class FakeFluid final : public FluidStream {
+ public:
+  FakeFluid(std::shared_ptr<FakeServer> server, const v1::Hello& hello) : server_(server) {
+    const std::uint32_t asked = hello.create().particles();
+    welcome_.mutable_state()->set_particles(asked ? asked : server ? server->particles : 1000);
+    welcome_.mutable_state()->set_scene(hello.create().scene());
+    welcome_.set_session_id(server ? "remote" : "local");
+    welcome_.mutable_access()->set_control(!server || server->viewers_control);
+    pending_ = make_frame();
+  }
+
+  const v1::Welcome& welcome() const override { return welcome_; }
+  std::uint64_t send(v1::ClientMessage message) override {
+    if (ended()) return 0;
+    const std::lock_guard lock(mutex_);
+    const std::uint64_t id = latency_.sent();
+    if (message.has_command() && message.command().kind_case() == v1::Command::kPause) {
+      paused_ = message.command().pause();
+    }
+    last_event_ = id;
+    return id;
+  }
+  std::optional<v1::Frame> next_frame(milliseconds timeout) override {
+    if (ended() || (server_ && silent())) {
+      std::this_thread::sleep_for(timeout);
+      return std::nullopt;
+    }
+    std::this_thread::sleep_for(milliseconds(1));
+    const std::lock_guard lock(mutex_);
+    if (!paused_) time_ += 0.001;
+    return std::exchange(pending_, make_frame());
+  }
+  bool ended() const override {
+    if (!server_) return false;
+    const std::lock_guard lock(server_->mutex);
+    return !server_->up;
+  }
+  std::string end_reason() const override { return ended() ? "the server went away" : ""; }
+  v1::Snapshot snapshot() override {
+    if (ended()) throw std::runtime_error("no server");
+    const std::lock_guard lock(mutex_);
+    v1::Snapshot snapshot;
+    snapshot.set_time(time_);
+    for (std::uint32_t k = 0; k < 3 * welcome_.state().particles(); ++k) snapshot.add_positions(0);
+    return snapshot;
+  }
+  void load(const v1::Snapshot& snapshot) override {
+    if (ended()) throw std::runtime_error("no server");
+    {
+      const std::lock_guard lock(mutex_);
+      time_ = snapshot.time();
+    }
+    if (server_) {
+      const std::lock_guard lock(server_->mutex);
+      server_->put.push_back(snapshot);
+    }
+  }
+  bool paused() const {
+    const std::lock_guard lock(mutex_);
+    return paused_;
+  }
+
+ private:
+  bool silent() const {
+    const std::lock_guard lock(server_->mutex);
+    return server_->silent;
+  }
+  v1::Frame make_frame() const {  // under mutex_
+    v1::Frame frame;
+    frame.set_sim_time(float(time_));
+    frame.set_input_event_id(last_event_);
+    return frame;
+  }
+
+  const std::shared_ptr<FakeServer> server_;  // null: a fluid simulated here
+  v1::Welcome welcome_;
+  mutable std::mutex mutex_;
+  double time_ = 0.0;
+  bool paused_ = false;
+  std::uint64_t last_event_ = 0;
+  v1::Frame pending_;
+};
+
+struct Fixture {
+  std::shared_ptr<FakeServer> server = std::make_shared<FakeServer>();
+  std::mutex mutex;
+  std::vector<std::string> said;
+  int locals_started = 0;
+
+  int locals() {
+    const std::lock_guard lock(mutex);
+    return locals_started;
+  }
+  HandoffSides sides() {
+    return {"fake:1",
+            [server = server](const v1::Hello& hello) -> std::shared_ptr<FluidStream> {
+              const std::lock_guard lock(server->mutex);
+              if (!server->up) throw std::runtime_error("no server answered");
+              ++server->streams;
+              return std::make_shared<FakeFluid>(server, hello);
+            },
+            [this](const v1::Hello& hello) -> std::shared_ptr<FluidStream> {
+              const std::lock_guard lock(mutex);
+              ++locals_started;
+              return std::make_shared<FakeFluid>(nullptr, hello);
+            }};
+  }
+  HandoffOptions options() {
+    HandoffOptions options;
+    options.snapshot_every = milliseconds(20);
+    options.retry_every = milliseconds(50);
+    options.stall_after = milliseconds(300);
+    options.say = [this](const std::string& line) {
+      const std::lock_guard lock(mutex);
+      said.push_back(line);
+    };
+    return options;
+  }
+  void set(bool FakeServer::*field, bool value) {
+    const std::lock_guard lock(server->mutex);
+    server.get()->*field = value;
+  }
+  bool heard(const std::string& part) {
+    const std::lock_guard lock(mutex);
+    for (const std::string& line : said) {
+      if (line.find(part) != std::string::npos) return true;
+    }
+    return false;
+  }
+};
+
+v1::Hello hello_for(std::uint32_t particles) {
+  v1::Hello hello;
+  hello.mutable_create()->set_particles(particles);
+  return hello;
+}
+
+// Reads frames for `time`; returns their clocks.
+std::vector<float> read_for(HandoffStream& stream, milliseconds time) {
+  std::vector<float> clocks;
+  const auto end = std::chrono::steady_clock::now() + time;
+  while (std::chrono::steady_clock::now() < end) {
+    if (const auto frame = stream.next_frame(milliseconds(2))) clocks.push_back(frame->sim_time());
+  }
+  return clocks;
+}
+
+// Reads frames until `done` holds (at most 5 s); returns the clocks read meanwhile.
+template <typename Done>
+std::vector<float> read_until(HandoffStream& stream, Done done) {
+  std::vector<float> clocks;
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  while (!done() && std::chrono::steady_clock::now() < end) {
+    if (const auto frame = stream.next_frame(milliseconds(2))) clocks.push_back(frame->sim_time());
+  }
+  EXPECT_TRUE(done()) << "not within 5 s; status: " << stream.status();
+  return clocks;
+}
+
+TEST(HandoffStream, ADroppedServersFluidContinuesHereFromItsNewestState) {
+  Fixture f;
+  HandoffStream stream(hello_for(1000), f.sides(), f.options());
+  EXPECT_FALSE(stream.simulating_here());
+  const std::vector<float> streamed = read_for(stream, milliseconds(300));
+  ASSERT_FALSE(streamed.empty());
+  EXPECT_EQ(f.locals(), 1) << "a warm local fluid waits while streaming";
+
+  f.set(&FakeServer::up, false);
+  const float last_streamed = streamed.back();
+  std::vector<float> here = read_until(stream, [&] { return stream.simulating_here(); });
+  const std::vector<float> more = read_for(stream, milliseconds(100));
+  here.insert(here.end(), more.begin(), more.end());
+  ASSERT_FALSE(here.empty()) << "no frame after the handoff";
+  // The fluid goes on from a snapshot a few frames behind the last one streamed; a fresh fluid,
+  // or the warm one's frame from before the state went in, would be at t = 0.
+  for (const float t : here) EXPECT_GT(t, last_streamed / 2) << "a frame from before";
+  EXPECT_NE(stream.status().find("continuing locally"), std::string::npos) << stream.status();
+  ASSERT_TRUE(stream.handoff_gap_ms());
+  EXPECT_LT(*stream.handoff_gap_ms(), 1000.0);
+  EXPECT_TRUE(f.heard("handoff gap"));
+}
+
+TEST(HandoffStream, AServerThatComesBackTakesTheFluidAndStreamsAgain) {
+  Fixture f;
+  HandoffStream stream(hello_for(1000), f.sides(), f.options());
+  read_for(stream, milliseconds(200));
+  f.set(&FakeServer::up, false);
+  read_until(stream, [&] { return stream.simulating_here(); });
+  const std::vector<float> here = read_for(stream, milliseconds(150));
+  ASSERT_FALSE(here.empty());
+  const float continued = here.back();
+
+  f.set(&FakeServer::up, true);
+  read_until(stream, [&] { return !stream.simulating_here(); });
+  const std::vector<float> again = read_for(stream, milliseconds(100));
+  {
+    const std::lock_guard lock(f.server->mutex);
+    ASSERT_EQ(f.server->put.size(), 1u) << "the state here goes into the new session";
+    EXPECT_GE(f.server->put[0].time(), continued);
+    EXPECT_EQ(f.server->streams, 2);
+  }
+  ASSERT_FALSE(again.empty());
+  for (const float t : again) EXPECT_GE(t, continued) << "a frame of the new session before";
+  EXPECT_NE(stream.status().find("again"), std::string::npos) << stream.status();
+  EXPECT_TRUE(f.heard("the server is back and took the state (1000 particles"));
+  EXPECT_TRUE(f.heard("first frame streamed after the handoff"));
+}
+
+TEST(HandoffStream, ASilentStreamCountsAsLost) {
+  Fixture f;
+  HandoffStream stream(hello_for(1000), f.sides(), f.options());
+  read_for(stream, milliseconds(200));
+  f.set(&FakeServer::silent, true);
+  read_until(stream, [&] { return stream.simulating_here(); });
+  EXPECT_NE(stream.status().find("nothing came for 300 ms"), std::string::npos) << stream.status();
+}
+
+TEST(HandoffStream, ASessionTooBigToSimulateHereIsOnlyRetried) {
+  Fixture f;
+  HandoffOptions options = f.options();
+  options.max_local_particles = 500;
+  HandoffStream stream(hello_for(1000), f.sides(), options);
+  read_for(stream, milliseconds(200));
+  EXPECT_EQ(f.locals(), 0) << "no warm fluid for a session that cannot continue here";
+  f.set(&FakeServer::up, false);
+  read_until(stream, [&] { return stream.status().find("gone") != std::string::npos; });
+  EXPECT_FALSE(stream.simulating_here());
+  EXPECT_NE(stream.status().find("too big to continue here (1000 particles)"), std::string::npos)
+      << stream.status();
+  f.set(&FakeServer::up, true);
+  read_until(stream, [&] { return stream.welcome().session_id() == "remote"; });
+  const std::lock_guard lock(f.server->mutex);
+  EXPECT_TRUE(f.server->put.empty()) << "nothing continued, nothing to put back";
+}
+
+TEST(HandoffStream, AWatcherDoesNotContinueSomeoneElsesFluid) {
+  Fixture f;
+  f.set(&FakeServer::viewers_control, false);
+  HandoffStream stream(hello_for(1000), f.sides(), f.options());
+  read_for(stream, milliseconds(200));
+  f.set(&FakeServer::up, false);
+  read_until(stream, [&] { return stream.status().find("retrying") != std::string::npos; });
+  EXPECT_FALSE(stream.simulating_here());
+  EXPECT_EQ(f.locals(), 0);
+}
+
+TEST(HandoffStream, WithoutHandoffAServerThatDoesNotAnswerIsAnError) {
+  Fixture f;
+  f.set(&FakeServer::up, false);
+  HandoffOptions options = f.options();
+  options.handoff = false;
+  EXPECT_THROW(HandoffStream(hello_for(1000), f.sides(), options), std::runtime_error);
+}
+
+TEST(HandoffStream, WithHandoffAServerThatDoesNotAnswerYetIsAskedAgain) {
+  Fixture f;
+  f.set(&FakeServer::up, false);
+  HandoffStream stream(hello_for(1000), f.sides(), f.options());
+  EXPECT_NE(stream.status().find("cannot connect"), std::string::npos);
+  EXPECT_EQ(stream.send({}), 0u) << "no stream, nothing sent";
+  EXPECT_FALSE(stream.next_frame(milliseconds(5)));
+  f.set(&FakeServer::up, true);
+  read_until(stream, [&] { return stream.welcome().session_id() == "remote"; });
+  EXPECT_EQ(stream.status(), "streaming from fake:1");
+}
+
+TEST(HandoffStream, ANewStreamOpensWithTheNewestViewport) {
+  Fixture f;
+  std::vector<v1::Hello> hellos;
+  HandoffSides sides = f.sides();
+  sides.connect = [&, connect = sides.connect](const v1::Hello& hello) {
+    auto opened = connect(hello);  // one retry at a time: no two threads push at once
+    hellos.push_back(hello);
+    return opened;
+  };
+  HandoffStream stream(hello_for(1000), sides, f.options());
+  v1::Command resize;
+  resize.mutable_viewport()->set_width(640);
+  stream.command(resize);
+  read_for(stream, milliseconds(100));
+  f.set(&FakeServer::up, false);
+  read_until(stream, [&] { return stream.simulating_here(); });
+  f.set(&FakeServer::up, true);
+  read_until(stream, [&] { return !stream.simulating_here(); });
+  ASSERT_EQ(hellos.size(), 2u);
+  EXPECT_EQ(hellos[1].viewport().width(), 640u);
+  EXPECT_EQ(hellos[1].create().particles(), 1000u) << "the fluid's count goes with it";
+}
+
+TEST(HandoffStream, LocalModeNeedsNoServer) {
+  Fixture f;
+  f.set(&FakeServer::up, false);
+  HandoffOptions options = f.options();
+  options.local = true;
+  HandoffStream stream(hello_for(1000), f.sides(), options);
+  EXPECT_TRUE(stream.simulating_here());
+  const std::vector<float> clocks = read_for(stream, milliseconds(100));
+  ASSERT_GT(clocks.size(), 10u);
+  EXPECT_GT(clocks.back(), clocks.front());
+  EXPECT_EQ(f.server->streams, 0);
+}
+
+}  // namespace
+}  // namespace fluidcast::client
