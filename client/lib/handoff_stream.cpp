@@ -88,7 +88,7 @@ void HandoffStream::open_first() {
   }
   try {
     stream_ = sides_.connect(hello_);
-  } catch (const std::exception& e) {
+  } catch (const Unreachable& e) {
     if (!options_.handoff) throw;
     set_status(std::string("cannot connect: ") + e.what() + "; retrying");
     return;

@@ -19,6 +19,7 @@
 #include <future>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -26,11 +27,17 @@
 
 namespace fluidcast::client {
 
+// What HandoffSides::connect throws when no server answered: it is asked again later.
+class Unreachable : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 // The two sides a fluid moves between.
 struct HandoffSides {
   std::string server;  // where connect goes, as the status line names it
-  // A new stream of the server's session that this Hello asks for; throws when no server answers
-  // or it refuses.
+  // A new stream of the server's session that this Hello asks for. Throws Unreachable when no
+  // server answered, anything else for what the server refused.
   std::function<std::shared_ptr<FluidStream>(const v1::Hello&)> connect;
   // A fluid simulated here; throws when it cannot start.
   std::function<std::shared_ptr<FluidStream>(const v1::Hello&)> start_local;
@@ -50,8 +57,9 @@ struct HandoffOptions {
 class HandoffStream final : public FluidStream {
  public:
   // Opens the first stream: a local fluid in local mode, else the server's. Throws what opening
-  // threw in local mode or without handoff; with handoff a server that did not answer is asked
-  // again.
+  // threw, except that with handoff a server that did not answer (Unreachable) is asked again; a
+  // refusal stands (asking again would not change it). Later, while the server is gone, any
+  // failure to reconnect is asked again.
   HandoffStream(v1::Hello hello, HandoffSides sides, HandoffOptions options);
   ~HandoffStream() override;
   HandoffStream(const HandoffStream&) = delete;

@@ -12,8 +12,7 @@
 
 #include "fluidcast/codec/jpeg.h"
 #include "fluidcast/codec/png.h"
-#include "handoff_stream.h"
-#include "local_stream.h"
+#include "handoff_sides.h"
 #include "stats_overlay.h"
 #include "stream_client.h"
 
@@ -125,13 +124,6 @@ v1::Hello Client::hello_for_window() const {
 
 // The fluid: the server's (carried on here when it drops, if small enough), or one simulated here.
 void Client::open() {
-  HandoffSides sides{options_.server,
-                     [server = options_.server](const v1::Hello& hello) {
-                       return std::make_shared<StreamClient>(connect(server), hello);
-                     },
-                     [cap = options_.max_local_particles](const v1::Hello& hello) {
-                       return std::make_shared<LocalStream>(hello, cap);
-                     }};
   HandoffOptions handoff;
   handoff.local = options_.local;
   handoff.handoff = options_.handoff;
@@ -139,7 +131,8 @@ void Client::open() {
   handoff.say = [](const std::string& line) {
     std::fprintf(stderr, "fluidcast-client: %s\n", line.c_str());
   };
-  stream_ = std::make_unique<HandoffStream>(hello_for_window(), std::move(sides), handoff);
+  stream_ = std::make_unique<HandoffStream>(
+      hello_for_window(), handoff_sides(options_.server, options_.max_local_particles), handoff);
   if (!stream_->welcome().session_id().empty()) {
     std::fprintf(stderr, "fluidcast-client: %s\n", describe_welcome(stream_->welcome()).c_str());
   }
@@ -370,8 +363,11 @@ int Client::run() {
   try {
     open();
   } catch (const std::exception& e) {
-    const std::string why =
-        std::string(options_.local ? "cannot start: " : "cannot connect: ") + e.what();
+    const bool unreachable = dynamic_cast<const Unreachable*>(&e) != nullptr;
+    const std::string why = std::string(options_.local ? "cannot start: "
+                                        : unreachable  ? "cannot connect: "
+                                                       : "the server refused: ") +
+                            e.what();
     std::fprintf(stderr, "fluidcast-client: %s\n", why.c_str());
     SDL_SetWindowTitle(window_.get(), ("fluidcast — " + why).c_str());
     return 1;

@@ -275,6 +275,10 @@ GpuDemand Session::prepare(Clock::time_point now) {
     } catch (const Refusal& refusal) {
       found->second->sink().end(refusal);
       remove_viewer(id);
+    } catch (const sim::ParamError& e) {
+      found->second->sink().end(
+          Refusal(RefusalCode::invalid_argument, e.worded(setup_field_or_setting)));
+      remove_viewer(id);
     } catch (const std::invalid_argument& e) {
       found->second->sink().end(Refusal(RefusalCode::invalid_argument, e.what()));
       remove_viewer(id);

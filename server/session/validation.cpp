@@ -60,24 +60,24 @@ const char* fluid_change(const v1::ClientMessage& message) {
   }
 }
 
-void validate_scene(const std::string& scene) {
-  check_length(scene, "the scene");
-  if (scene.empty()) return;
+// A scene or solver name in `field` of a message; the error names that field.
+template <typename Parse>
+void validate_name(const std::string& name, const char* field, Parse parse) {
+  check_length(name, field);
+  if (name.empty()) return;
   try {
-    sim::parse_scene(scene);
-  } catch (const std::exception& e) {
-    refuse(RefusalCode::invalid_argument, e.what());
+    parse(name);
+  } catch (const sim::ParamError& e) {
+    refuse(RefusalCode::invalid_argument, e.worded([field](std::string_view) { return field; }));
   }
 }
 
-void validate_solver(const std::string& solver) {
-  check_length(solver, "the solver");
-  if (solver.empty()) return;
-  try {
-    sim::parse_solver(solver);
-  } catch (const std::exception& e) {
-    refuse(RefusalCode::invalid_argument, e.what());
-  }
+void validate_scene(const std::string& scene, const char* field) {
+  validate_name(scene, field, sim::parse_scene);
+}
+
+void validate_solver(const std::string& solver, const char* field) {
+  validate_name(solver, field, sim::parse_solver);
 }
 
 void validate_particles(std::uint32_t particles, const ServerLimits& limits) {
@@ -140,8 +140,8 @@ void validate_tilt(const v1::Tilt& tilt) {
 // A state handed back in NewSession.state: its names and its size (the session checks each particle
 // against its tank when it loads it).
 void validate_state(const v1::Snapshot& state, const ServerLimits& limits) {
-  validate_scene(state.scene());
-  validate_solver(state.solver());
+  validate_scene(state.scene(), "Snapshot.scene");
+  validate_solver(state.solver(), "Snapshot.solver");
   if (state.positions_size() % 3 != 0 || state.velocities_size() != state.positions_size()) {
     refuse(RefusalCode::invalid_argument,
            "NewSession.state: positions and velocities need three values per particle each");
@@ -167,12 +167,12 @@ void validate_command(const v1::Command& command, const ServerLimits& limits) {
       return;
     case v1::Command::kScene:
       if (command.scene().empty()) refuse(RefusalCode::invalid_argument, "Command.scene is empty");
-      return validate_scene(command.scene());
+      return validate_scene(command.scene(), "Command.scene");
     case v1::Command::kSolver:
       if (command.solver().empty()) {
         refuse(RefusalCode::invalid_argument, "Command.solver is empty");
       }
-      return validate_solver(command.solver());
+      return validate_solver(command.solver(), "Command.solver");
     case v1::Command::kParticles:
       if (command.particles() == 0) {
         refuse(RefusalCode::invalid_argument, "Command.particles must be at least 1");
@@ -252,8 +252,8 @@ void validate_hello(const v1::ClientMessage& message, const ServerLimits& limits
   validate_quality(hello.quality(), limits);
   switch (hello.session_case()) {
     case v1::Hello::kCreate:
-      validate_scene(hello.create().scene());
-      validate_solver(hello.create().solver());
+      validate_scene(hello.create().scene(), "NewSession.scene");
+      validate_solver(hello.create().solver(), "NewSession.solver");
       validate_particles(hello.create().particles(), limits);
       if (hello.create().has_state()) validate_state(hello.create().state(), limits);
       break;

@@ -123,7 +123,8 @@ struct Fixture {
     return {"fake:1",
             [server = server](const v1::Hello& hello) -> std::shared_ptr<FluidStream> {
               const std::lock_guard lock(server->mutex);
-              if (!server->up) throw std::runtime_error("no server answered");
+              if (!server->up) throw Unreachable("no server answered");
+              if (hello.create().scene() == "refused") throw std::invalid_argument("no such scene");
               ++server->streams;
               return std::make_shared<FakeFluid>(server, hello);
             },
@@ -277,7 +278,14 @@ TEST(HandoffStream, WithoutHandoffAServerThatDoesNotAnswerIsAnError) {
   f.set(&FakeServer::up, false);
   HandoffOptions options = f.options();
   options.handoff = false;
-  EXPECT_THROW(HandoffStream(hello_for(1000), f.sides(), options), std::runtime_error);
+  EXPECT_THROW(HandoffStream(hello_for(1000), f.sides(), options), Unreachable);
+}
+
+TEST(HandoffStream, ARefusalAtTheStartStands) {
+  Fixture f;
+  v1::Hello hello = hello_for(1000);
+  hello.mutable_create()->set_scene("refused");
+  EXPECT_THROW(HandoffStream(hello, f.sides(), f.options()), std::invalid_argument);
 }
 
 TEST(HandoffStream, WithHandoffAServerThatDoesNotAnswerYetIsAskedAgain) {

@@ -58,6 +58,12 @@ TEST(ValidationTest, AGoodHelloPassesAndEachBadOneGetsItsCode) {
   scene.mutable_hello()->mutable_create()->set_scene("ocean");
   EXPECT_EQ(code_of([&] { validate_hello(scene, limits, std::nullopt); }),
             RefusalCode::invalid_argument);
+  try {
+    validate_hello(scene, limits, std::nullopt);
+  } catch (const Refusal& refusal) {  // the field where the client wrote it, not a flag
+    EXPECT_EQ(std::string(refusal.what()).rfind("NewSession.scene: unknown scene 'ocean'", 0), 0u)
+        << refusal.what();
+  }
   auto renderer = hello();
   renderer.mutable_hello()->mutable_quality()->set_renderer("raytrace");
   EXPECT_EQ(code_of([&] { validate_hello(renderer, limits, std::nullopt); }),
