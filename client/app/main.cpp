@@ -3,13 +3,15 @@
 #include <cstdio>
 
 #include "fluidcast/command_line.h"
+#include "handoff_stream.h"
 #include "headless_client.h"
 #include "stream_client.h"
 #include "window_client.h"
 
 int main(int argc, char** argv) {
   namespace client = fluidcast::client;
-  bool headless = false, local = false, adaptive = false, json = false, no_handoff = false;
+  bool headless = false, local = false, adaptive = false, json = false, handoff = false,
+       no_handoff = false;
   std::string server = "127.0.0.1:50051", scene, solver, renderer, token, join, script, save_frames,
               screenshot;
   std::uint32_t width = 0, height = 0, particles = 0, quality = 0, fps = 0;
@@ -37,7 +39,10 @@ int main(int argc, char** argv) {
   app.add_option("--max-local-particles", max_local,
                  "Most particles simulated here (local mode and handoff)")
       ->check(CLI::Range(1u, 1u << 20));
-  app.add_flag("--no-handoff", no_handoff, "Do not continue locally when the server drops");
+  auto* handoff_flag = app.add_flag(
+      "--handoff", handoff, "Headless: continue locally when the server drops (a window does)");
+  app.add_flag("--no-handoff", no_handoff, "Window: do not continue locally when the server drops")
+      ->excludes(handoff_flag);
   app.add_option("--script", script, "Headless: gesture script (JSON; see gesture_script.h)");
   app.add_option("--seconds", seconds, "How long to run (0: headless 5 s, window until closed)")
       ->check(CLI::Range(0.0, 86400.0));
@@ -71,15 +76,13 @@ int main(int argc, char** argv) {
       return 2;
     }
     try {
-      return client::run_headless(
-          {server, hello, script, save_frames, seconds > 0 ? seconds : 5.0, json});
+      return client::run_headless({server, hello, script, save_frames, seconds > 0 ? seconds : 5.0,
+                                   json, handoff, max_local});
+    } catch (const client::Unreachable& e) {  // no answer at all is not a refusal
+      std::fprintf(stderr, "fluidcast-client: %s (--server %s)\n", e.what(), server.c_str());
+      return 1;
     } catch (const client::StreamError& e) {
-      // A refusal carries the server's reason; no answer at all is not a refusal.
-      if (e.code() == grpc::StatusCode::UNAVAILABLE) {
-        std::fprintf(stderr, "fluidcast-client: %s (--server %s)\n", e.what(), server.c_str());
-      } else {
-        std::fprintf(stderr, "fluidcast-client: the server refused: %s\n", e.what());
-      }
+      std::fprintf(stderr, "fluidcast-client: the server refused: %s\n", e.what());
       return 1;
     } catch (const std::exception& e) {
       std::fprintf(stderr, "fluidcast-client: %s\n", e.what());

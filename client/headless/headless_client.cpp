@@ -9,6 +9,7 @@
 
 #include "fluidcast/codec/jpeg.h"
 #include "gesture_script.h"
+#include "handoff_sides.h"
 #include "stream_client.h"
 
 namespace fluidcast::client {
@@ -25,12 +26,16 @@ double percentile(std::vector<double> values, double p) {
 
 // Where each frame's time went on the server (v1::StageTimings), and how fast its fluid ran.
 struct FrameFigures {
+  std::size_t frames = 0, bytes = 0, bad_frames = 0;
   std::vector<double> input_wait, sim, queue, render, readback, encode_wait, encode, server;
   // Input wait + server, for frames that show a new input: the part of its latency spent there.
   std::vector<double> on_server;
   std::vector<double> sim_speed;
 
-  void add(const v1::Frame& frame) {
+  void add(const v1::Frame& frame, bool decoded) {
+    ++frames;
+    bytes += frame.jpeg().size();
+    if (!decoded) ++bad_frames;
     const v1::StageTimings& t = frame.timings();
     if (t.input_wait_ms() > 0.0f) input_wait.push_back(t.input_wait_ms());
     sim.push_back(t.sim_ms());
@@ -53,68 +58,44 @@ struct FrameFigures {
   }
 };
 
-}  // namespace
-
-int run_headless(const HeadlessOptions& o) {
-  const v1::Hello& hello = o.hello;
-  const std::vector<ScriptedEvent> script =
-      o.script.empty() ? default_gesture(o.seconds) : read_gesture_script(o.script);
-  if (!o.save_frames.empty()) std::filesystem::create_directories(o.save_frames);
-
-  StreamClient stream(connect(o.server), hello);
-  std::fprintf(stderr, "fluidcast-client: %s\n", describe_welcome(stream.welcome()).c_str());
-  const auto start = Clock::now();
-  const auto end =
-      start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(o.seconds));
-  std::size_t next_event = 0, frames = 0, bytes = 0, bad_frames = 0;
-  FrameFigures figures;
-  while (Clock::now() < end && !stream.ended()) {
-    const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
-    while (next_event < script.size() && script[next_event].time <= elapsed) {
-      v1::ClientMessage message = script[next_event++].message;
-      if (message.has_pointer()) {
-        stream.pointer(message.pointer().pointer_id(), message.pointer().phase(),
-                       message.pointer().x(), message.pointer().y());
-      } else if (message.has_tilt()) {
-        stream.tilt(message.tilt().x(), message.tilt().y(), message.tilt().z());
-      } else {
-        stream.command(message.command());
-      }
-    }
-    const auto frame = stream.next_frame(std::chrono::milliseconds(5));
-    if (!frame) continue;
-    ++frames;
-    bytes += frame->jpeg().size();
-    figures.add(*frame);
-    const auto& jpeg = frame->jpeg();
-    try {
-      const codec::ImageRgba image =
-          codec::decode_jpeg({reinterpret_cast<const std::uint8_t*>(jpeg.data()), jpeg.size()});
-      if (std::uint32_t(image.width) != frame->width() ||
-          std::uint32_t(image.height) != frame->height()) {
-        ++bad_frames;
-      }
-    } catch (const std::exception&) {
-      ++bad_frames;
-    }
-    if (!o.save_frames.empty()) {
-      char name[32];
-      std::snprintf(name, sizeof name, "frame_%06llu.jpg",
-                    static_cast<unsigned long long>(frame->sequence()));
-      std::ofstream(std::filesystem::path(o.save_frames) / name, std::ios::binary)
-          .write(jpeg.data(), static_cast<std::streamsize>(jpeg.size()));
-    }
+// Sends what the script says until `elapsed`, from `next` on; returns the next event to send.
+std::size_t play(FluidStream& stream, const std::vector<ScriptedEvent>& script, std::size_t next,
+                 double elapsed) {
+  for (; next < script.size() && script[next].time <= elapsed; ++next) {
+    stream.send(script[next].message);
   }
-  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  const bool ended_early = stream.ended();
-  const grpc::Status status = ended_early ? stream.status() : stream.finish();
+  return next;
+}
+
+// Whether the frame's JPEG decodes to the size it says.
+bool decodes(const v1::Frame& frame) {
+  try {
+    const codec::ImageRgba image = codec::decode_jpeg(
+        {reinterpret_cast<const std::uint8_t*>(frame.jpeg().data()), frame.jpeg().size()});
+    return std::uint32_t(image.width) == frame.width() &&
+           std::uint32_t(image.height) == frame.height();
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+void save(const v1::Frame& frame, const std::string& folder) {
+  char name[32];
+  std::snprintf(name, sizeof name, "frame_%06llu.jpg",
+                static_cast<unsigned long long>(frame.sequence()));
+  std::ofstream(std::filesystem::path(folder) / name, std::ios::binary)
+      .write(frame.jpeg().data(), static_cast<std::streamsize>(frame.jpeg().size()));
+}
+
+nlohmann::json report_of(const FrameFigures& figures, const HandoffStream& stream, double seconds) {
   const std::vector<double> latencies = stream.latencies_ms();
-  nlohmann::json report = {
-      {"frames", frames},
-      {"bad_frames", bad_frames},
+  const auto handoff_gap_ms = stream.handoff_gap_ms();
+  return {
+      {"frames", figures.frames},
+      {"bad_frames", figures.bad_frames},
       {"seconds", seconds},
-      {"fps", double(frames) / seconds},
-      {"bitrate_kbps", 8.0 * double(bytes) / seconds / 1000.0},
+      {"fps", double(figures.frames) / seconds},
+      {"bitrate_kbps", 8.0 * double(figures.bytes) / seconds / 1000.0},
       {"latency_samples", latencies.size()},
       {"latency_p50_ms", percentile(latencies, 0.50)},
       {"latency_p95_ms", percentile(latencies, 0.95)},
@@ -125,26 +106,67 @@ int run_headless(const HeadlessOptions& o) {
       // What the latency spent outside the server: the network both ways and this client.
       {"outside_server_p50_ms",
        std::max(0.0, percentile(latencies, 0.5) - percentile(figures.on_server, 0.5))},
-      {"status", status.ok() ? "OK" : status.error_message()},
+      // Where the fluid was at the end, and the gap of the newest handoff (null: none).
+      {"simulated_here", stream.simulating_here()},
+      {"handoff_gap_ms", handoff_gap_ms ? nlohmann::json(*handoff_gap_ms) : nlohmann::json()},
   };
-  if (o.json) {
+}
+
+// The report as one JSON line, or as sentences; with how the stream ended.
+void print(nlohmann::json report, const std::string& ended_because, bool json) {
+  report["status"] = ended_because.empty() ? "OK" : ended_because;
+  if (json) {
     std::printf("%s\n", report.dump().c_str());
-  } else {
-    std::printf(
-        "%zu frames in %.1f s: %.1f fps, %.0f kbit/s; touch-to-photon p50 %.1f ms, p95 "
-        "%.1f ms, max %.1f ms (%zu samples); simulation speed %.2f\n",
-        frames, seconds, double(frames) / seconds, report["bitrate_kbps"].get<double>(),
-        report["latency_p50_ms"].get<double>(), report["latency_p95_ms"].get<double>(),
-        report["latency_max_ms"].get<double>(), latencies.size(),
-        report["sim_speed_p50"].get<double>());
-    std::printf("where the time went (p50 ms): %s\n", report["stages_p50_ms"].dump().c_str());
+    return;
   }
-  if (!status.ok()) {
-    std::fprintf(stderr, "fluidcast-client: the stream ended: %s\n",
-                 status.error_message().c_str());
+  std::printf(
+      "%zu frames in %.1f s: %.1f fps, %.0f kbit/s; touch-to-photon p50 %.1f ms, p95 "
+      "%.1f ms, max %.1f ms (%zu samples); simulation speed %.2f\n",
+      report["frames"].get<std::size_t>(), report["seconds"].get<double>(),
+      report["fps"].get<double>(), report["bitrate_kbps"].get<double>(),
+      report["latency_p50_ms"].get<double>(), report["latency_p95_ms"].get<double>(),
+      report["latency_max_ms"].get<double>(), report["latency_samples"].get<std::size_t>(),
+      report["sim_speed_p50"].get<double>());
+  std::printf("where the time went (p50 ms): %s\n", report["stages_p50_ms"].dump().c_str());
+}
+
+}  // namespace
+
+int run_headless(const HeadlessOptions& o) {
+  const std::vector<ScriptedEvent> script =
+      o.script.empty() ? default_gesture(o.seconds) : read_gesture_script(o.script);
+  if (!o.save_frames.empty()) std::filesystem::create_directories(o.save_frames);
+
+  HandoffOptions handoff;
+  handoff.handoff = handoff.retry = o.handoff;
+  handoff.max_local_particles = o.max_local_particles;
+  handoff.say = [](const std::string& line) {
+    std::fprintf(stderr, "fluidcast-client: %s\n", line.c_str());
+  };
+  HandoffStream stream(o.hello, handoff_sides(o.server, o.max_local_particles), handoff);
+  std::fprintf(stderr, "fluidcast-client: %s\n", describe_welcome(stream.welcome()).c_str());
+  const auto start = Clock::now();
+  const auto end =
+      start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(o.seconds));
+  std::size_t next_event = 0;
+  FrameFigures figures;
+  while (Clock::now() < end && !stream.ended()) {
+    next_event = play(stream, script, next_event,
+                      std::chrono::duration<double>(Clock::now() - start).count());
+    const auto frame = stream.next_frame(std::chrono::milliseconds(5));
+    if (!frame) continue;
+    figures.add(*frame, decodes(*frame));
+    if (!o.save_frames.empty()) save(*frame, o.save_frames);
+  }
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  const nlohmann::json report = report_of(figures, stream, seconds);
+  const std::string ended_because = stream.close();
+  print(report, ended_because, o.json);
+  if (!ended_because.empty()) {
+    std::fprintf(stderr, "fluidcast-client: the stream ended: %s\n", ended_because.c_str());
     return 1;
   }
-  return bad_frames == 0 ? 0 : 1;
+  return figures.bad_frames == 0 ? 0 : 1;
 }
 
 }  // namespace fluidcast::client

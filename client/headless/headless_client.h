@@ -1,6 +1,7 @@
 // fluidcast-client --headless: connects to a server, plays a gesture script (or a default drag),
 // decodes every frame, and reports frames, fps, bitrate and touch-to-photon latency. With --json
-// its last line is one JSON object.
+// its last line is one JSON object. With handoff it carries the fluid on here when the server
+// drops (as the window does) and reports the gap; without, the run ends with the stream.
 #pragma once
 
 #include <string>
@@ -16,6 +17,8 @@ struct HeadlessOptions {
   std::string save_frames;  // a folder for every frame received, as JPEG
   double seconds = 5.0;
   bool json = false;
+  bool handoff = false;
+  std::uint32_t max_local_particles = 8000;
 };
 
 int run_headless(const HeadlessOptions& options);

@@ -10,11 +10,24 @@ constexpr std::size_t kKeptLatencies = 100000;
 }  // namespace
 
 std::uint64_t LatencyTracker::sent() {
+  std::uint64_t id = 0;
+  {
+    std::lock_guard lock(mutex_);
+    id = next_++;
+  }
+  sent(id);
+  return id;
+}
+
+void LatencyTracker::sent(std::uint64_t id) {
   std::lock_guard lock(mutex_);
-  const std::uint64_t id = next_++;
   unanswered_[id] = std::chrono::steady_clock::now();
   if (unanswered_.size() > kKeptInputs) unanswered_.erase(unanswered_.begin());
-  return id;
+}
+
+void LatencyTracker::forget_unanswered() {
+  std::lock_guard lock(mutex_);
+  unanswered_.clear();
 }
 
 void LatencyTracker::frame_reflects(std::uint64_t newest_event) {

@@ -20,8 +20,11 @@ namespace fluidcast::client {
 // Touch-to-photon: from sending input event N to the first frame that reflects it. Thread-safe.
 class LatencyTracker {
  public:
-  std::uint64_t sent();  // a new event id, timed from now
+  std::uint64_t sent();         // a new event id, timed from now
+  void sent(std::uint64_t id);  // an event whose id another stream gave it, timed from now
   void frame_reflects(std::uint64_t newest_event);
+  // Events not answered yet are forgotten: their ids belonged to a stream that is gone.
+  void forget_unanswered();
   std::vector<double> latencies_ms() const;
 
  private:
@@ -62,12 +65,15 @@ class FluidStream {
   virtual std::optional<v1::Frame> next_frame(std::chrono::milliseconds timeout) = 0;
   virtual bool ended() const = 0;
   virtual std::string end_reason() const = 0;
+  // Ends the stream in order: what was sent is written, then the other side's goodbye awaited (a
+  // few seconds at most). Says how it ended: empty when well, else why.
+  virtual std::string close() = 0;
   // The fluid's state now, and a state simulated elsewhere put in: what a handoff moves. Either
   // may run on another thread than the one reading frames; both throw what the session refused.
   virtual v1::Snapshot snapshot() = 0;
   virtual void load(const v1::Snapshot& snapshot) = 0;
   // Touch-to-photon latencies measured so far, ms.
-  virtual std::vector<double> latencies_ms() const { return latency_.latencies_ms(); }
+  std::vector<double> latencies_ms() const { return latency_.latencies_ms(); }
 
  protected:
   LatencyTracker latency_;

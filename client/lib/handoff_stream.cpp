@@ -89,7 +89,7 @@ void HandoffStream::open_first() {
   try {
     stream_ = sides_.connect(hello_);
   } catch (const Unreachable& e) {
-    if (!options_.handoff) throw;
+    if (!options_.handoff || !options_.retry) throw;
     set_status(std::string("cannot connect: ") + e.what() + "; retrying");
     return;
   }
@@ -110,7 +110,9 @@ std::uint64_t HandoffStream::send(v1::ClientMessage message) {
   if (message.has_command() && message.command().has_quality()) {
     *hello_.mutable_quality() = message.command().quality();
   }
-  return stream_ ? stream_->send(std::move(message)) : 0;
+  const std::uint64_t id = stream_ ? stream_->send(std::move(message)) : 0;
+  if (id) latency_.sent(id);
+  return id;
 }
 
 std::optional<v1::Frame> HandoffStream::next_frame(std::chrono::milliseconds timeout) {
@@ -118,7 +120,10 @@ std::optional<v1::Frame> HandoffStream::next_frame(std::chrono::milliseconds tim
   if (stream_) {
     frame = stream_->next_frame(timeout);
     if (frame && frame->input_event_id() < show_from_event_) frame.reset();
-    if (frame) shown(*frame);
+    if (frame) {
+      latency_.frame_reflects(frame->input_event_id());
+      shown(*frame);
+    }
     keep_snapshot();
     keep_standby();
     if (remote_ && stream_->ended()) {
@@ -129,13 +134,19 @@ std::optional<v1::Frame> HandoffStream::next_frame(std::chrono::milliseconds tim
   } else {
     std::this_thread::sleep_for(timeout);
   }
-  if (!options_.local && !remote_) reconnect();
+  if (!options_.local && !remote_ && options_.retry) reconnect();
   return frame;
 }
 
-bool HandoffStream::ended() const { return options_.local && stream_->ended(); }
+bool HandoffStream::ended() const {
+  return options_.local ? stream_->ended() : !stream_ && !options_.retry;
+}
 
-std::string HandoffStream::end_reason() const { return stream_ ? stream_->end_reason() : ""; }
+std::string HandoffStream::end_reason() const {
+  return stream_ ? stream_->end_reason() : ended() ? status_ : "";
+}
+
+std::string HandoffStream::close() { return stream_ ? stream_->close() : status_; }
 
 v1::Snapshot HandoffStream::snapshot() {
   if (!stream_) throw std::runtime_error("no fluid: the server is gone and none continues here");
@@ -145,10 +156,6 @@ v1::Snapshot HandoffStream::snapshot() {
 void HandoffStream::load(const v1::Snapshot& snapshot) {
   if (!stream_) throw std::runtime_error("no fluid: the server is gone and none continues here");
   stream_->load(snapshot);
-}
-
-std::vector<double> HandoffStream::latencies_ms() const {
-  return stream_ ? stream_->latencies_ms() : std::vector<double>{};
 }
 
 bool HandoffStream::continues_here() const {
@@ -220,7 +227,7 @@ void HandoffStream::lost(const std::string& why) {
              (too_big ? "this session is too big to continue here (" + std::to_string(particles) +
                             " particles); "
                       : std::string()) +
-             "retrying");
+             (options_.retry ? "retrying" : "not asking again"));
 }
 
 void HandoffStream::continue_here(Standby& standby, const std::string& why) {
@@ -243,8 +250,10 @@ void HandoffStream::continue_here(Standby& standby, const std::string& why) {
   wake.set_pause(false);
   show_from_event_ = local.fluid->command(wake);
   stream_ = std::move(local.fluid);
+  latency_.forget_unanswered();
   awaiting_first_local_frame_ = true;
-  set_status("the server is gone (" + why + "): continuing locally, retrying");
+  set_status("the server is gone (" + why + "): continuing locally" +
+             (options_.retry ? ", retrying" : ""));
 }
 
 void HandoffStream::reconnect() {
@@ -301,6 +310,7 @@ void HandoffStream::came_back(Reconnected back) {
     say("the server is back but took no state: " + back.put_error);
   }
   stream_ = std::move(back.stream);
+  latency_.forget_unanswered();
   remote_ = true;
   last_remote_frame_ = Clock::now();
   snapshot_.reset();

@@ -10,6 +10,9 @@
 // that reflect no event since a side changed show a state from before the change: they are not
 // returned.
 //
+// Touch-to-photon latency counts the events sent through it, not what the handoff sends itself
+// (pauses, the wake, markers): those are no one's wait.
+//
 // One thread uses it; next_frame also takes the handoff's steps. The slow work (connecting,
 // snapshots, starting the local fluid) runs on threads of its own, so no call waits on a server.
 #pragma once
@@ -45,7 +48,10 @@ struct HandoffSides {
 
 struct HandoffOptions {
   bool local = false;   // simulate here from the start, without a server
-  bool handoff = true;  // continue here when the server goes; else only ask again
+  bool handoff = true;  // continue here when the server goes
+  // Ask the server again while it is gone; else the stream ends with it, unless the fluid
+  // continues here.
+  bool retry = true;
   std::uint32_t max_local_particles = 8000;       // larger sessions are not continued here
   std::chrono::milliseconds snapshot_every{250};  // how far back in time a handoff may go
   std::chrono::milliseconds retry_every{2000};
@@ -57,9 +63,9 @@ struct HandoffOptions {
 class HandoffStream final : public FluidStream {
  public:
   // Opens the first stream: a local fluid in local mode, else the server's. Throws what opening
-  // threw, except that with handoff a server that did not answer (Unreachable) is asked again; a
-  // refusal stands (asking again would not change it). Later, while the server is gone, any
-  // failure to reconnect is asked again.
+  // threw, except that with handoff and retry a server that did not answer (Unreachable) is asked
+  // again; a refusal stands (asking again would not change it). Later, while the server is gone,
+  // any failure to reconnect is asked again.
   HandoffStream(v1::Hello hello, HandoffSides sides, HandoffOptions options);
   ~HandoffStream() override;
   HandoffStream(const HandoffStream&) = delete;
@@ -70,11 +76,12 @@ class HandoffStream final : public FluidStream {
   // what a new stream opens with.
   std::uint64_t send(v1::ClientMessage message) override;
   std::optional<v1::Frame> next_frame(std::chrono::milliseconds timeout) override;
-  bool ended() const override;  // only a local-mode fluid ends; a server is asked again
+  // A local-mode fluid that ended, or a server gone with nothing continuing here and no retry.
+  bool ended() const override;
   std::string end_reason() const override;
+  std::string close() override;  // the side streaming now; else why there is none
   v1::Snapshot snapshot() override;
   void load(const v1::Snapshot& snapshot) override;
-  std::vector<double> latencies_ms() const override;
 
   bool simulating_here() const { return stream_ && !remote_; }
   // Where the fluid is and what is being tried, in words for the user.

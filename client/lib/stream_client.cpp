@@ -210,6 +210,11 @@ void StreamClient::drop() {
   if (reader_.joinable()) reader_.join();
 }
 
+std::string StreamClient::close() {
+  const grpc::Status status = ended() ? this->status() : finish();
+  return status.ok() ? std::string() : status.error_message();
+}
+
 v1::Snapshot StreamClient::snapshot() {
   grpc::ClientContext context;
   context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(5));

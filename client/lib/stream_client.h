@@ -60,6 +60,7 @@ class StreamClient final : public FluidStream {
   std::optional<v1::Frame> next_frame(std::chrono::milliseconds timeout) override;
   bool ended() const override;
   std::string end_reason() const override { return status().error_message(); }
+  std::string close() override;
   grpc::Status status() const;
   // Closes the sending side once what is queued is written, and waits for the server's status;
   // each of the two waits is at most kFinishWithin, then the call is cancelled and its status

@@ -123,6 +123,12 @@ bool LocalStream::ended() const { return sink_->ended().has_value(); }
 
 std::string LocalStream::end_reason() const { return sink_->ended().value_or(""); }
 
+std::string LocalStream::close() {
+  const std::string why = end_reason();
+  viewer_->leave(server::Departure::left);
+  return why;
+}
+
 v1::Snapshot LocalStream::snapshot() {
   std::promise<v1::Snapshot> result;
   hub_->snapshot(

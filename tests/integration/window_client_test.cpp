@@ -1,6 +1,6 @@
 // The native client with a window, under Xvfb: a streamed frame on screen, local mode on its own,
 // the local cap, and the handoff (the server dies mid-stream, the client carries the fluid on,
-// the server comes back and the client streams again).
+// the server comes back and the client streams again); and the same handoff headless.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <regex>
 #include <string>
 #include <thread>
@@ -24,10 +25,12 @@ struct ClientRun {
   std::string output;  // stdout and stderr together
 };
 
-// Runs the client under a virtual display, collecting what it prints.
+// Runs the client (under a virtual display unless headless), collecting what it prints.
 ClientRun run_client(const std::string& flags) {
-  const std::string command = "xvfb-run -a -s '-screen 0 1280x800x24' " +
-                              std::string(FLUIDCAST_CLIENT_PATH) + " " + flags + " 2>&1";
+  const std::string display = flags.find("--headless") == std::string::npos
+                                  ? "xvfb-run -a -s '-screen 0 1280x800x24' "
+                                  : "";
+  const std::string command = display + FLUIDCAST_CLIENT_PATH + " " + flags + " 2>&1";
   ClientRun run;
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) return run;
@@ -60,12 +63,36 @@ int frames_in(const std::string& output) {
 
 const std::string kOut = "test-output/";
 
+// A server that goes away `after` and comes back on the same port `for_how_long` later (SIGTERM:
+// every stream ends with UNAVAILABLE).
+class Outage {
+ public:
+  Outage(std::chrono::seconds after, std::chrono::seconds for_how_long)
+      : server_(std::make_unique<testing::ServerProcess>()), address_(server_->grpc_address()) {
+    thread_ = std::thread([this, after, for_how_long] {
+      std::this_thread::sleep_for(after);
+      server_.reset();
+      std::this_thread::sleep_for(for_how_long);
+      server_ = std::make_unique<testing::ServerProcess>(
+          std::vector<std::string>{"--grpc-port", address_.substr(address_.rfind(':') + 1)});
+    });
+  }
+  ~Outage() { thread_.join(); }
+  const std::string& address() const { return address_; }
+
+ private:
+  std::unique_ptr<testing::ServerProcess> server_;
+  const std::string address_;
+  std::thread thread_;
+};
+
 TEST(WindowClientTest, ShowsAStreamedFrame) {
   std::filesystem::create_directories(kOut);
   testing::ServerProcess server;
   const ClientRun run = run_client("--server " + server.grpc_address() +
-                             " --particles 1000 --width 320 --height 240 --seconds 5 "
-                             "--screenshot " + kOut + "window_streamed.png");
+                                   " --particles 1000 --width 320 --height 240 --seconds 5 "
+                                   "--screenshot " +
+                                   kOut + "window_streamed.png");
   std::printf("%s", run.output.c_str());
   ASSERT_EQ(run.status, 0);
   EXPECT_GT(frames_in(run.output), 5);
@@ -76,8 +103,10 @@ TEST(WindowClientTest, ShowsAStreamedFrame) {
 
 TEST(WindowClientTest, LocalModeSimulatesAndRendersWithoutAServer) {
   std::filesystem::create_directories(kOut);
-  const ClientRun run = run_client("--local --particles 2000 --width 320 --height 240 --seconds 5 "
-                             "--screenshot " + kOut + "window_local.png");
+  const ClientRun run = run_client(
+      "--local --particles 2000 --width 320 --height 240 --seconds 5 "
+      "--screenshot " +
+      kOut + "window_local.png");
   std::printf("%s", run.output.c_str());
   ASSERT_EQ(run.status, 0);
   EXPECT_GT(frames_in(run.output), 10);
@@ -102,20 +131,11 @@ TEST(WindowClientTest, AnAddressWithNoServerSaysSo) {
 // streams again when the server is back on the same port, with its state put into the session.
 TEST(WindowClientTest, HandsOffToLocalAndBack) {
   std::filesystem::create_directories(kOut);
-  auto server = std::make_unique<testing::ServerProcess>();
-  const std::string address = server->grpc_address();
-  const std::string port = address.substr(address.rfind(':') + 1);
-  std::thread outage([&] {
-    std::this_thread::sleep_for(std::chrono::seconds(5));
-    server.reset();  // SIGTERM: every stream ends with UNAVAILABLE
-    std::this_thread::sleep_for(std::chrono::seconds(5));
-    server = std::make_unique<testing::ServerProcess>(
-        std::vector<std::string>{"--grpc-port", port});
-  });
-  const ClientRun run = run_client("--server " + address +
-                             " --scene drop --particles 1500 --width 320 --height 240 "
-                             "--seconds 20 --screenshot " + kOut + "window_handoff.png");
-  outage.join();
+  Outage outage(std::chrono::seconds(5), std::chrono::seconds(5));
+  const ClientRun run = run_client("--server " + outage.address() +
+                                   " --scene drop --particles 1500 --width 320 --height 240 "
+                                   "--seconds 20 --screenshot " +
+                                   kOut + "window_handoff.png");
   std::printf("%s", run.output.c_str());
   ASSERT_EQ(run.status, 0);
   EXPECT_NE(run.output.find("continuing locally"), std::string::npos);
@@ -127,12 +147,41 @@ TEST(WindowClientTest, HandsOffToLocalAndBack) {
   std::smatch put, first;
   ASSERT_TRUE(std::regex_search(run.output, put,
                                 std::regex("took the state \\([0-9]+ particles, t = ([0-9.]+) s")));
-  ASSERT_TRUE(std::regex_search(run.output, first,
-                                std::regex("first frame streamed after the handoff: t = ([0-9.]+)")));
+  ASSERT_TRUE(std::regex_search(
+      run.output, first, std::regex("first frame streamed after the handoff: t = ([0-9.]+)")));
   EXPECT_GT(std::stod(put[1]), 0.05);
   EXPECT_GE(std::stod(first[1]), std::stod(put[1]));
   EXPECT_NE(run.output.find("again"), std::string::npos);
   EXPECT_GT(spread(codec::read_png(kOut + "window_handoff.png")), 20.0);
+}
+
+// The same handoff without a window: the figures say where the fluid was and how long the gap.
+TEST(WindowClientTest, TheHeadlessClientHandsOffWhenAsked) {
+  Outage outage(std::chrono::seconds(4), std::chrono::seconds(4));
+  const ClientRun run = run_client("--headless --handoff --server " + outage.address() +
+                                   " --particles 1500 --seconds 14 --json");
+  std::printf("%s", run.output.c_str());
+  ASSERT_EQ(run.status, 0);
+  EXPECT_NE(run.output.find("continuing locally"), std::string::npos);
+  EXPECT_NE(run.output.find("took the state"), std::string::npos);
+  const std::size_t line = run.output.rfind("\n{") + 1;  // the report: its one JSON line
+  const nlohmann::json report =
+      nlohmann::json::parse(run.output.substr(line, run.output.find('\n', line) - line));
+  EXPECT_EQ(report["status"], "OK");
+  EXPECT_FALSE(report["simulated_here"].get<bool>()) << "streaming again at the end";
+  ASSERT_TRUE(report["handoff_gap_ms"].is_number());
+  EXPECT_LT(report["handoff_gap_ms"].get<double>(), 1000.0);
+  EXPECT_EQ(report["bad_frames"], 0);
+}
+
+// Without --handoff a headless run measures one stream: it ends with it, and says why.
+TEST(WindowClientTest, AHeadlessRunEndsWithItsServer) {
+  Outage outage(std::chrono::seconds(3), std::chrono::seconds(0));
+  const ClientRun run =
+      run_client("--headless --server " + outage.address() + " --particles 500 --seconds 10");
+  std::printf("%s", run.output.c_str());
+  EXPECT_EQ(run.status, 1);
+  EXPECT_NE(run.output.find("the stream ended: the server is gone"), std::string::npos);
 }
 
 }  // namespace

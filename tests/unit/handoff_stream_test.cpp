@@ -64,6 +64,7 @@ class FakeFluid final : public FluidStream {
     return !server_->up;
   }
   std::string end_reason() const override { return ended() ? "the server went away" : ""; }
+  std::string close() override { return end_reason(); }
   v1::Snapshot snapshot() override {
     if (ended()) throw std::runtime_error("no server");
     const std::lock_guard lock(mutex_);
@@ -209,6 +210,22 @@ TEST(HandoffStream, ADroppedServersFluidContinuesHereFromItsNewestState) {
   EXPECT_TRUE(f.heard("handoff gap"));
 }
 
+// Latency counts what the user sent, on either side: not the warm fluid's pause, sent long
+// before the handoff and answered only after it.
+TEST(HandoffStream, LatencyCountsTheUsersEventsOnEitherSide) {
+  Fixture f;
+  HandoffStream stream(hello_for(1000), f.sides(), f.options());
+  stream.tilt(0, -9.81f, 0);
+  read_for(stream, milliseconds(500));
+  f.set(&FakeServer::up, false);
+  read_until(stream, [&] { return stream.simulating_here(); });
+  stream.tilt(0, -9.81f, 0);
+  read_for(stream, milliseconds(50));
+  const std::vector<double> latencies = stream.latencies_ms();
+  ASSERT_EQ(latencies.size(), 2u);
+  for (const double ms : latencies) EXPECT_LT(ms, 250.0);
+}
+
 TEST(HandoffStream, AServerThatComesBackTakesTheFluidAndStreamsAgain) {
   Fixture f;
   HandoffStream stream(hello_for(1000), f.sides(), f.options());
@@ -321,6 +338,30 @@ TEST(HandoffStream, ANewStreamOpensWithTheNewestViewport) {
   ASSERT_EQ(hellos.size(), 2u);
   EXPECT_EQ(hellos[1].viewport().width(), 640u);
   EXPECT_EQ(hellos[1].create().particles(), 1000u) << "the fluid's count goes with it";
+}
+
+TEST(HandoffStream, WithoutRetryTheStreamEndsWithTheServerUnlessItContinuesHere) {
+  Fixture f;
+  HandoffOptions options = f.options();
+  options.handoff = options.retry = false;
+  HandoffStream stream(hello_for(1000), f.sides(), options);
+  read_for(stream, milliseconds(100));
+  EXPECT_FALSE(stream.ended());
+  f.set(&FakeServer::up, false);
+  read_until(stream, [&] { return stream.ended(); });
+  EXPECT_NE(stream.end_reason().find("the server went away"), std::string::npos);
+  EXPECT_NE(stream.close(), "") << "it did not end well";
+  EXPECT_EQ(f.locals(), 0);
+
+  f.set(&FakeServer::up, true);
+  options.handoff = true;
+  HandoffStream continued(hello_for(1000), f.sides(), options);
+  read_for(continued, milliseconds(100));
+  f.set(&FakeServer::up, false);
+  read_until(continued, [&] { return continued.simulating_here(); });
+  EXPECT_FALSE(continued.ended());
+  EXPECT_EQ(continued.status().find("retrying"), std::string::npos) << continued.status();
+  EXPECT_EQ(continued.close(), "");
 }
 
 TEST(HandoffStream, LocalModeNeedsNoServer) {
