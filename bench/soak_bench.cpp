@@ -12,6 +12,7 @@
 #include <grpcpp/grpcpp.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdio>
@@ -80,148 +81,163 @@ void expect_end(const std::string& address, const v1::ClientMessage& message, gr
   }
 }
 
+// One case of the soak: what a client does, and what it checks the server answered.
+struct Case {
+  const std::string& address;
+  std::mt19937_64& random;
+  Tally& tally;
+};
+
+void create_drag_goodbye(Case& c) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  StreamClient stream(client::connect(c.address), hello_for(200 + c.random() % 1500, 160, 120));
+  stream.pointer(0, v1::PointerEvent::DOWN, 0.5f, 0.7f);
+  for (int k = 0; k < 10; ++k) {
+    stream.pointer(0, v1::PointerEvent::MOVE, float(unit(c.random)), 0.7f);
+    drain(stream, 0.05);
+  }
+  stream.finish();
+}
+
+// Creates, drops, resumes, and watches with the view key.
+void drop_resume_join(Case& c) {
+  auto stream = std::make_unique<StreamClient>(client::connect(c.address), hello_for(500, 128, 96));
+  const v1::Access access = stream->welcome().access();
+  drain(*stream, 0.3);
+  stream->drop();
+  stream.reset();
+  v1::Hello resume = hello_for(0, 128, 96);
+  resume.mutable_resume()->set_key(access.resume_key());
+  StreamClient back(client::connect(c.address), resume);
+  v1::Hello watch = hello_for(0, 96, 64);
+  watch.set_join(access.view_key());
+  StreamClient watcher(client::connect(c.address), watch);
+  drain(watcher, 0.3);
+  watcher.finish();
+  back.finish();
+}
+
+void resize_burst(Case& c) {
+  StreamClient stream(client::connect(c.address), hello_for(400, 160, 120));
+  for (int k = 0; k < 40; ++k) {
+    v1::Command resize;
+    resize.mutable_viewport()->set_width(k % 2 ? 1280 : 16);
+    resize.mutable_viewport()->set_height(k % 2 ? 720 : 16);
+    stream.command(resize);
+    drain(stream, 0.02);
+  }
+  stream.finish();
+}
+
+void nan_pointer(Case& c) {
+  v1::ClientMessage nan;
+  nan.mutable_pointer()->set_phase(v1::PointerEvent::DOWN);
+  nan.mutable_pointer()->set_x(std::nanf(""));
+  expect_end(c.address, nan, grpc::StatusCode::INVALID_ARGUMENT, "NaN pointer", c.tally);
+}
+
+void input_flood(Case& c) {
+  StreamClient stream(client::connect(c.address), hello_for(300, 96, 64));
+  for (int k = 0; k < 1000 && !stream.ended(); ++k) {  // within the client's own queue
+    stream.pointer(0, v1::PointerEvent::MOVE, 0.5f, 0.5f);
+  }
+  for (int k = 0; k < 100 && !stream.ended(); ++k) stream.next_frame(milliseconds(50));
+  if (stream.status().error_code() != grpc::StatusCode::RESOURCE_EXHAUSTED) {
+    c.tally.unexpected("input flood: " + stream.status().error_message());
+  }
+}
+
+// A clumped snapshot into its own session.
+void clumped_snapshot(Case& c) {
+  StreamClient stream(client::connect(c.address), hello_for(2000, 96, 64));
+  v1::PutSnapshotRequest put;
+  put.set_key(stream.welcome().access().control_key());
+  v1::Snapshot& clump = *put.mutable_snapshot();
+  const v1::Box& tank = stream.welcome().state().tank();
+  for (int k = 0; k < 2000; ++k) {
+    clump.add_positions(0.5f * (tank.min().x() + tank.max().x()));
+    clump.add_positions(0.5f * (tank.min().y() + tank.max().y()));
+    clump.add_positions(0.5f * (tank.min().z() + tank.max().z()));
+    for (int axis = 0; axis < 3; ++axis) clump.add_velocities(0.0f);
+  }
+  grpc::ClientContext context;
+  v1::PutSnapshotReply reply;
+  const grpc::Status status =
+      v1::Fluidcast::NewStub(client::connect(c.address))->PutSnapshot(&context, put, &reply);
+  if (status.error_code() != grpc::StatusCode::INVALID_ARGUMENT) {
+    c.tally.unexpected("clumped snapshot: " + status.error_message());
+  }
+  stream.finish();
+}
+
+// A stream that never says Hello (the server's --hello-timeout is 2 s).
+void no_hello(Case& c) {
+  auto stub = v1::Fluidcast::NewStub(client::connect(c.address));
+  grpc::ClientContext context;
+  auto stream = stub->Stream(&context);
+  v1::ServerMessage ignored;
+  while (stream->Read(&ignored)) {
+  }
+  if (stream->Finish().error_code() != grpc::StatusCode::DEADLINE_EXCEEDED) {
+    c.tally.unexpected("no Hello: not DEADLINE_EXCEEDED");
+  }
+}
+
+// Streams without acknowledging, then cancels.
+void no_acknowledgements(Case& c) {
+  auto stub = v1::Fluidcast::NewStub(client::connect(c.address));
+  grpc::ClientContext context;
+  auto stream = stub->Stream(&context);
+  v1::ClientMessage hello;
+  *hello.mutable_hello() = hello_for(500, 640, 480);
+  stream->Write(hello);
+  v1::ServerMessage ignored;
+  const auto until = Clock::now() + std::chrono::seconds(1);
+  while (Clock::now() < until && stream->Read(&ignored)) {
+  }
+  context.TryCancel();
+}
+
+// A watcher that tries to control.
+void watcher_tilts(Case& c) {
+  StreamClient owner(client::connect(c.address), hello_for(300, 96, 64));
+  v1::Hello watch = hello_for(0, 96, 64);
+  watch.set_join(owner.welcome().access().view_key());
+  StreamClient watcher(client::connect(c.address), watch);
+  v1::ClientMessage tilt;
+  tilt.mutable_tilt()->set_y(-9.81f);
+  watcher.send_raw(tilt);
+  for (int k = 0; k < 100 && !watcher.ended(); ++k) watcher.next_frame(milliseconds(50));
+  if (watcher.status().error_code() != grpc::StatusCode::PERMISSION_DENIED) {
+    c.tally.unexpected("watcher tilts: " + watcher.status().error_message());
+  }
+  owner.finish();
+}
+
+constexpr std::array<std::pair<const char*, void (*)(Case&)>, 9> kCases{{
+    {"create, drag, goodbye", create_drag_goodbye},
+    {"drop, resume, join by key", drop_resume_join},
+    {"resize burst", resize_burst},
+    {"NaN pointer", nan_pointer},
+    {"input flood", input_flood},
+    {"clumped snapshot", clumped_snapshot},
+    {"no Hello", no_hello},
+    {"no acknowledgements", no_acknowledgements},
+    {"watcher tilts", watcher_tilts},
+}};
+
 void worker(const std::string& address, std::uint64_t seed, Clock::time_point end, Tally& tally) {
   std::mt19937_64 random(seed);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  Case c{address, random, tally};
   while (Clock::now() < end) {
-    const int action = static_cast<int>(random() % 9);
+    const auto& [name, run] = kCases[random() % kCases.size()];
+    tally.count(name);
     try {
-      switch (action) {
-        case 0: {  // create, drag a little, say goodbye
-          tally.count("create, drag, goodbye");
-          StreamClient stream(client::connect(address), hello_for(200 + random() % 1500, 160, 120));
-          stream.pointer(0, v1::PointerEvent::DOWN, 0.5f, 0.7f);
-          for (int k = 0; k < 10; ++k) {
-            stream.pointer(0, v1::PointerEvent::MOVE, float(unit(random)), 0.7f);
-            drain(stream, 0.05);
-          }
-          stream.finish();
-          break;
-        }
-        case 1: {  // create, drop, resume, watch with the view key, goodbye
-          tally.count("drop, resume, join by key");
-          auto stream =
-              std::make_unique<StreamClient>(client::connect(address), hello_for(500, 128, 96));
-          const v1::Access access = stream->welcome().access();
-          drain(*stream, 0.3);
-          stream->drop();
-          stream.reset();
-          v1::Hello resume = hello_for(0, 128, 96);
-          resume.mutable_resume()->set_key(access.resume_key());
-          StreamClient back(client::connect(address), resume);
-          v1::Hello watch = hello_for(0, 96, 64);
-          watch.set_join(access.view_key());
-          StreamClient watcher(client::connect(address), watch);
-          drain(watcher, 0.3);
-          watcher.finish();
-          back.finish();
-          break;
-        }
-        case 2: {  // resize in a burst
-          tally.count("resize burst");
-          StreamClient stream(client::connect(address), hello_for(400, 160, 120));
-          for (int k = 0; k < 40; ++k) {
-            v1::Command resize;
-            resize.mutable_viewport()->set_width(k % 2 ? 1280 : 16);
-            resize.mutable_viewport()->set_height(k % 2 ? 720 : 16);
-            stream.command(resize);
-            drain(stream, 0.02);
-          }
-          stream.finish();
-          break;
-        }
-        case 3: {  // a NaN
-          tally.count("NaN pointer");
-          v1::ClientMessage nan;
-          nan.mutable_pointer()->set_phase(v1::PointerEvent::DOWN);
-          nan.mutable_pointer()->set_x(std::nanf(""));
-          expect_end(address, nan, grpc::StatusCode::INVALID_ARGUMENT, "NaN pointer", tally);
-          break;
-        }
-        case 4: {  // a flood of input
-          tally.count("input flood");
-          StreamClient stream(client::connect(address), hello_for(300, 96, 64));
-          for (int k = 0; k < 1000 && !stream.ended(); ++k) {  // within the client's own queue
-            stream.pointer(0, v1::PointerEvent::MOVE, 0.5f, 0.5f);
-          }
-          for (int k = 0; k < 100 && !stream.ended(); ++k) stream.next_frame(milliseconds(50));
-          if (stream.status().error_code() != grpc::StatusCode::RESOURCE_EXHAUSTED) {
-            tally.unexpected("input flood: " + stream.status().error_message());
-          }
-          break;
-        }
-        case 5: {  // a clumped snapshot into its own session
-          tally.count("clumped snapshot");
-          StreamClient stream(client::connect(address), hello_for(2000, 96, 64));
-          v1::PutSnapshotRequest put;
-          put.set_key(stream.welcome().access().control_key());
-          v1::Snapshot& clump = *put.mutable_snapshot();
-          const v1::Box& tank = stream.welcome().state().tank();
-          for (int k = 0; k < 2000; ++k) {
-            clump.add_positions(0.5f * (tank.min().x() + tank.max().x()));
-            clump.add_positions(0.5f * (tank.min().y() + tank.max().y()));
-            clump.add_positions(0.5f * (tank.min().z() + tank.max().z()));
-            for (int axis = 0; axis < 3; ++axis) clump.add_velocities(0.0f);
-          }
-          grpc::ClientContext context;
-          v1::PutSnapshotReply reply;
-          const grpc::Status status =
-              v1::Fluidcast::NewStub(client::connect(address))->PutSnapshot(&context, put, &reply);
-          if (status.error_code() != grpc::StatusCode::INVALID_ARGUMENT) {
-            tally.unexpected("clumped snapshot: " + status.error_message());
-          }
-          stream.finish();
-          break;
-        }
-        case 6: {  // a stream that never says Hello (the server's --hello-timeout is 2 s)
-          tally.count("no Hello");
-          auto stub = v1::Fluidcast::NewStub(client::connect(address));
-          grpc::ClientContext context;
-          auto stream = stub->Stream(&context);
-          v1::ServerMessage ignored;
-          while (stream->Read(&ignored)) {
-          }
-          if (stream->Finish().error_code() != grpc::StatusCode::DEADLINE_EXCEEDED) {
-            tally.unexpected("no Hello: not DEADLINE_EXCEEDED");
-          }
-          break;
-        }
-        case 7: {  // streams without acknowledging, then cancels
-          tally.count("no acknowledgements");
-          auto stub = v1::Fluidcast::NewStub(client::connect(address));
-          grpc::ClientContext context;
-          auto stream = stub->Stream(&context);
-          v1::ClientMessage hello;
-          *hello.mutable_hello() = hello_for(500, 640, 480);
-          stream->Write(hello);
-          v1::ServerMessage ignored;
-          const auto until = Clock::now() + std::chrono::seconds(1);
-          while (Clock::now() < until && stream->Read(&ignored)) {
-          }
-          context.TryCancel();
-          break;
-        }
-        case 8: {  // a watcher that tries to control
-          tally.count("watcher tilts");
-          StreamClient owner(client::connect(address), hello_for(300, 96, 64));
-          v1::Hello watch = hello_for(0, 96, 64);
-          watch.set_join(owner.welcome().access().view_key());
-          StreamClient watcher(client::connect(address), watch);
-          v1::ClientMessage tilt;
-          tilt.mutable_tilt()->set_y(-9.81f);
-          watcher.send_raw(tilt);
-          for (int k = 0; k < 100 && !watcher.ended(); ++k) watcher.next_frame(milliseconds(50));
-          if (watcher.status().error_code() != grpc::StatusCode::PERMISSION_DENIED) {
-            tally.unexpected("watcher tilts: " + watcher.status().error_message());
-          }
-          owner.finish();
-          break;
-        }
-      }
+      run(c);
     } catch (const StreamError& e) {
       // The server at its session limit refuses a new one: documented, not a failure.
       if (e.code() != grpc::StatusCode::RESOURCE_EXHAUSTED) {
-        tally.unexpected("case " + std::to_string(action) + ": " + e.what());
+        tally.unexpected(std::string(name) + ": " + e.what());
       }
     }
   }

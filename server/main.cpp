@@ -252,19 +252,36 @@ ServerLimits limits_for_device(const ServerOptions& options, gpu::Context& conte
   return limits;
 }
 
-int serve(const ServerOptions& options) {
-  // Signals reach only the main thread, which waits for them below.
+// SIGINT and SIGTERM reach only the main thread, which waits for them (serve).
+sigset_t block_stop_signals() {
   sigset_t signals;
   sigemptyset(&signals);
   sigaddset(&signals, SIGINT);
   sigaddset(&signals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  return signals;
+}
 
+gpu::ContextOptions context_options(const ServerOptions& options) {
+  gpu::ContextOptions context = gpu::options_from_environment();
+  if (options.device) context.device_index = options.device;
+  context.log = [](const std::string& line) { spdlog::info("{}", line); };
+  return context;
+}
+
+// After the first stop signal: streams go on for --drain-seconds, or until a second signal.
+void drain(const sigset_t& signals, int signal, const ServerOptions& options) {
+  if (options.drain_seconds <= 0) return;
+  spdlog::info("{}: draining for {} s (/healthz 503; streams go on)",
+               signal == SIGINT ? "SIGINT" : "SIGTERM", options.drain_seconds);
+  const timespec period{static_cast<time_t>(options.drain_seconds), 0};
+  sigtimedwait(&signals, nullptr, &period);
+}
+
+int serve(const ServerOptions& options) {
+  const sigset_t signals = block_stop_signals();
   configure_log(options.log_format);
-  gpu::ContextOptions context_options = gpu::options_from_environment();
-  if (options.device) context_options.device_index = options.device;
-  context_options.log = [](const std::string& line) { spdlog::info("{}", line); };
-  gpu::Context context(context_options);
+  gpu::Context context(context_options(options));
   const bool gpu_solver = gpu_solver_for(options, context);
   spdlog::info("sessions simulate on the {}",
                gpu_solver ? "GPU" : "CPU (the Vulkan device is a CPU; it renders only)");
@@ -313,12 +330,7 @@ int serve(const ServerOptions& options) {
   sd_notify(0, "STOPPING=1");
   serving = false;
   health->SetServingStatus(false);
-  if (options.drain_seconds > 0) {
-    spdlog::info("{}: draining for {} s (/healthz 503; streams go on)",
-                 signal == SIGINT ? "SIGINT" : "SIGTERM", options.drain_seconds);
-    const timespec drain{static_cast<time_t>(options.drain_seconds), 0};
-    sigtimedwait(&signals, nullptr, &drain);
-  }
+  drain(signals, signal, options);
   spdlog::info("ending every stream");
   hub.stop();  // every stream ends with UNAVAILABLE; new ones are refused
   server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(3));

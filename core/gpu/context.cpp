@@ -166,6 +166,34 @@ std::string list_for_error(const std::vector<DeviceInfo>& devices) {
   return text;
 }
 
+// The device asked for, or else the best usable one: a discrete GPU before an integrated one
+// before a CPU, then the most device-local memory. Throws GpuUnavailable naming the devices.
+std::uint32_t choose_device(const std::vector<VkPhysicalDevice>& physical,
+                            const std::vector<DeviceInfo>& infos,
+                            std::optional<std::uint32_t> wanted) {
+  if (wanted) {
+    if (*wanted >= infos.size()) {
+      throw GpuUnavailable("there is no Vulkan device " + std::to_string(*wanted) +
+                           "; the devices are:" + list_for_error(infos));
+    }
+    if (!infos[*wanted].rejected_because.empty()) {
+      throw GpuUnavailable("Vulkan device " + infos[*wanted].describe());
+    }
+    return *wanted;
+  }
+  const auto rank = [&](std::uint32_t index) {
+    VkPhysicalDeviceProperties properties;
+    vkGetPhysicalDeviceProperties(physical[index], &properties);
+    return std::pair(type_rank(properties.deviceType), infos[index].device_local_bytes);
+  };
+  std::optional<std::uint32_t> chosen;
+  for (const auto& d : infos) {
+    if (d.rejected_because.empty() && (!chosen || rank(d.index) > rank(*chosen))) chosen = d.index;
+  }
+  if (!chosen) throw GpuUnavailable("no usable Vulkan device:" + list_for_error(infos));
+  return *chosen;
+}
+
 }  // namespace
 
 std::string DeviceInfo::describe() const {
@@ -221,91 +249,67 @@ Context::Context(ContextOptions options) {
   }
   instance_ = create_instance(validation);
   try {
-    if (validation) {
-      VkDebugUtilsMessengerCreateInfoEXT info{
-          VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
-      info.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
-                             VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
-      info.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
-                         VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
-      info.pfnUserCallback = &Context::on_validation_message;
-      info.pUserData = this;
-      auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
-          vkGetInstanceProcAddr(instance_, "vkCreateDebugUtilsMessengerEXT"));
-      FLUIDCAST_VK_CHECK(create(instance_, &info, nullptr, &messenger_));
-    }
-
+    if (validation) create_messenger();
     const auto physical = physical_devices(instance_);
     std::vector<DeviceInfo> infos;
     for (std::uint32_t i = 0; i < physical.size(); ++i) {
       infos.push_back(describe_device(physical[i], i));
     }
-    std::optional<std::uint32_t> chosen;
-    if (options.device_index) {
-      const std::uint32_t wanted = *options.device_index;
-      if (wanted >= infos.size()) {
-        throw GpuUnavailable("there is no Vulkan device " + std::to_string(wanted) +
-                             "; the devices are:" + list_for_error(infos));
-      }
-      if (!infos[wanted].rejected_because.empty()) {
-        throw GpuUnavailable("Vulkan device " + infos[wanted].describe());
-      }
-      chosen = wanted;
-    } else {
-      for (const auto& d : infos) {
-        if (!d.rejected_because.empty()) continue;
-        VkPhysicalDeviceProperties p;
-        vkGetPhysicalDeviceProperties(physical[d.index], &p);
-        const auto better = [&](std::uint32_t other) {
-          VkPhysicalDeviceProperties q;
-          vkGetPhysicalDeviceProperties(physical[other], &q);
-          if (type_rank(p.deviceType) != type_rank(q.deviceType)) {
-            return type_rank(p.deviceType) > type_rank(q.deviceType);
-          }
-          return d.device_local_bytes > infos[other].device_local_bytes;
-        };
-        if (!chosen || better(*chosen)) chosen = d.index;
-      }
-      if (!chosen) throw GpuUnavailable("no usable Vulkan device:" + list_for_error(infos));
-    }
-    physical_device_ = physical[*chosen];
-    info_ = infos[*chosen];
+    const std::uint32_t chosen = choose_device(physical, infos, options.device_index);
+    physical_device_ = physical[chosen];
+    info_ = infos[chosen];
     vkGetPhysicalDeviceProperties(physical_device_, &properties_);
     queue_family_ = *pick_queue_family(physical_device_);
     timestamp_valid_bits_ = timestamp_bits(physical_device_, queue_family_);
-
-    const float priority = 1.0f;
-    VkDeviceQueueCreateInfo queue_info{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
-    queue_info.queueFamilyIndex = queue_family_;
-    queue_info.queueCount = 1;
-    queue_info.pQueuePriorities = &priority;
-    VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
-    v12.bufferDeviceAddress = VK_TRUE;
-    v12.timelineSemaphore = VK_TRUE;  // the submission serial
-    // Independent blending: the fluid's pass (SSFR spheres, MC mesh) keeps the nearest distance in
-    // one attachment and adds up thickness in another.
-    VkPhysicalDeviceFeatures supported{};
-    vkGetPhysicalDeviceFeatures(physical_device_, &supported);
-    VkPhysicalDeviceFeatures features{};
-    independent_blend_ = options.independent_blend && supported.independentBlend == VK_TRUE;
-    features.independentBlend = independent_blend_ ? VK_TRUE : VK_FALSE;
-    VkDeviceCreateInfo device_info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &v12};
-    device_info.queueCreateInfoCount = 1;
-    device_info.pQueueCreateInfos = &queue_info;
-    device_info.pEnabledFeatures = &features;
-    FLUIDCAST_VK_CHECK(vkCreateDevice(physical_device_, &device_info, nullptr, &device_));
-    vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
-    VkSemaphoreTypeCreateInfo timeline_type{VK_STRUCTURE_TYPE_SEMAPHORE_TYPE_CREATE_INFO};
-    timeline_type.semaphoreType = VK_SEMAPHORE_TYPE_TIMELINE;
-    timeline_type.initialValue = 0;
-    VkSemaphoreCreateInfo timeline_info{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO, &timeline_type};
-    FLUIDCAST_VK_CHECK(vkCreateSemaphore(device_, &timeline_info, nullptr, &finished_));
+    create_device(options.independent_blend);
     memory_ = std::make_unique<MemoryAllocator>(device_, physical_device_);
     log("gpu: using device " + info_.describe() + (validation ? ", validation on" : ""));
   } catch (...) {
     release();
     throw;
   }
+}
+
+void Context::create_messenger() {
+  VkDebugUtilsMessengerCreateInfoEXT info{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
+  info.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
+                         VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+  info.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                     VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
+  info.pfnUserCallback = &Context::on_validation_message;
+  info.pUserData = this;
+  auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+      vkGetInstanceProcAddr(instance_, "vkCreateDebugUtilsMessengerEXT"));
+  FLUIDCAST_VK_CHECK(create(instance_, &info, nullptr, &messenger_));
+}
+
+void Context::create_device(bool independent_blend) {
+  const float priority = 1.0f;
+  VkDeviceQueueCreateInfo queue_info{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+  queue_info.queueFamilyIndex = queue_family_;
+  queue_info.queueCount = 1;
+  queue_info.pQueuePriorities = &priority;
+  VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+  v12.bufferDeviceAddress = VK_TRUE;
+  v12.timelineSemaphore = VK_TRUE;  // the submission serial
+  // Independent blending: the fluid's pass (SSFR spheres, MC mesh) keeps the nearest distance in
+  // one attachment and adds up thickness in another.
+  VkPhysicalDeviceFeatures supported{};
+  vkGetPhysicalDeviceFeatures(physical_device_, &supported);
+  VkPhysicalDeviceFeatures features{};
+  independent_blend_ = independent_blend && supported.independentBlend == VK_TRUE;
+  features.independentBlend = independent_blend_ ? VK_TRUE : VK_FALSE;
+  VkDeviceCreateInfo device_info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &v12};
+  device_info.queueCreateInfoCount = 1;
+  device_info.pQueueCreateInfos = &queue_info;
+  device_info.pEnabledFeatures = &features;
+  FLUIDCAST_VK_CHECK(vkCreateDevice(physical_device_, &device_info, nullptr, &device_));
+  vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
+  VkSemaphoreTypeCreateInfo timeline_type{VK_STRUCTURE_TYPE_SEMAPHORE_TYPE_CREATE_INFO};
+  timeline_type.semaphoreType = VK_SEMAPHORE_TYPE_TIMELINE;
+  timeline_type.initialValue = 0;
+  VkSemaphoreCreateInfo timeline_info{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO, &timeline_type};
+  FLUIDCAST_VK_CHECK(vkCreateSemaphore(device_, &timeline_info, nullptr, &finished_));
 }
 
 Context::~Context() { release(); }

@@ -130,24 +130,9 @@ std::size_t FrameRenderer::frames_pending() const {
 codec::Image FrameRenderer::collect(Slot& slot) {
   slot.commands.wait();
   slot.in_flight = false;
-  // Marks: start, [MC: field, triangles,] [SSFR: anisotropy,] scene, particles; SSFR and MC:
-  // smoothing (with the copy of the scene), shading; then the read-back.
   slot.timestamps.fetch();
-  const std::uint32_t marks = slot.timestamps.marks();
-  const std::uint32_t first = (slot.meshed ? 2 : 0) + (slot.anisotropic ? 1 : 0);
   RenderTimes times;
-  if (slot.meshed) {
-    times.mc_field_ms = slot.timestamps.elapsed_ms(0, 1);
-    times.mc_triangles_ms = slot.timestamps.elapsed_ms(1, 2);
-  }
-  if (slot.anisotropic) times.anisotropy_ms = slot.timestamps.elapsed_ms(0, 1);
-  times.scene_ms = slot.timestamps.elapsed_ms(first, first + 1);
-  times.particles_ms = slot.timestamps.elapsed_ms(first + 1, first + 2);
-  if (marks == first + 6) {
-    times.smoothing_ms = slot.timestamps.elapsed_ms(first + 2, first + 3);
-    times.shading_ms = slot.timestamps.elapsed_ms(first + 3, first + 4);
-  }
-  times.readback_ms = slot.timestamps.elapsed_ms(marks - 2, marks - 1);
+  for (const auto& [pass, to] : slot.timed) times.*pass = slot.timestamps.elapsed_ms(to - 1, to);
   last_times_ = times;
   const int width = static_cast<int>(target_.width()), height = static_cast<int>(target_.height());
   const std::span<const std::uint8_t> bytes = slot.readback.mapped<std::uint8_t>();
@@ -274,16 +259,12 @@ codec::Image FrameRenderer::render(RendererKind kind, const ParticleView& partic
   return take_oldest();
 }
 
-void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
-                           const ParticleView& particles, const sim::Box& tank,
-                           const OrbitCamera& camera, Slot& slot) {
-  const gpu::Buffer& readback = slot.readback;
+FrameParams FrameRenderer::frame_params(RendererKind kind, const ParticleView& particles,
+                                        const sim::Box& tank, const OrbitCamera& camera) const {
   const std::uint32_t width = target_.width(), height = target_.height();
   FrameParams frame{};
   frame.view = camera.view();
   frame.projection = camera.projection(float(width) / float(height));
-  slot.view = frame.view;
-  slot.projection = frame.projection;
   frame.inverse_view = glm::inverse(frame.view);
   frame.light_direction = frame.view * glm::vec4(glm::normalize(glm::vec3(0.3f, 1.0f, 0.5f)), 0.0f);
   frame.slow_colour = glm::vec4(points.slow_colour, 1.0f);
@@ -300,7 +281,19 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
   frame.height = height;
   frame.colour_by_density = points.colour_by == PointsStyle::ColourBy::density ? 1u : 0u;
   frame.density_span = points.density_span;
+  return frame;
+}
 
+void FrameRenderer::Slot::mark(VkCommandBuffer recording, double RenderTimes::*pass) {
+  timed.emplace_back(pass, timestamps.mark(recording));
+}
+
+void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
+                           const ParticleView& particles, const sim::Box& tank,
+                           const OrbitCamera& camera, Slot& slot) {
+  const FrameParams frame = frame_params(kind, particles, tank, camera);
+  slot.view = frame.view;
+  slot.projection = frame.projection;
   // The solver's writes (compute, transfers) before this frame reads the particles in place; and
   // the previous frame's reads of what frames share (the per-pixel buffers, the anisotropy's
   // grid and ellipsoids) before this one writes them.
@@ -309,57 +302,20 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
                  kDrawStages | kTransfer | kCompute,
                  VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
   vkCmdUpdateBuffer(commands, frame_params_.get(), 0, sizeof(frame), &frame);
-  // SSFR and MC draw through FluidTarget's attachments, copied into the per-pixel surface
-  // buffers that the filter and the shading read.
-  const bool fluid = kind != RendererKind::points;
   memory_barrier(commands, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, kDrawStages, kShaderAccess);
 
   slot.timestamps.reset(commands);
+  slot.timed.clear();
   slot.timestamps.mark(commands);
-  const bool mesh = kind == RendererKind::mc && particles.count > 0;
-  slot.meshed = mesh;
-  if (mesh) marching_cubes_->record(commands, particles, mc.threshold, slot.timestamps);
-  const bool ellipsoids = kind == RendererKind::ssfr && ssfr.anisotropic && particles.count > 0;
-  slot.anisotropic = ellipsoids;
-  if (ellipsoids) {
-    if (!anisotropy_) anisotropy_ = std::make_unique<Anisotropy>(*context_);
-    anisotropy_->record(commands, particles, tank, ssfr);
-    slot.timestamps.mark(commands);
-  }
-  // For the mesh, `position` is the vertex buffer; for ellipsoids, their centres.
-  DrawConstants draw{frame_params_.address(),
-                     particles.position,
-                     particles.velocity,
-                     particles.density_ratio,
-                     0,
-                     0};
-  if (mesh) draw.position = marching_cubes_->vertices();
-  if (ellipsoids) {
-    draw.position = anisotropy_->centres().address();
-    draw.shape = anisotropy_->shapes().address();
-    draw.ellipsoids = 1;
-  }
-  // The scene depends on the camera and the tank only: while they stay, fluid frames keep the
-  // scene's depth in the attachment and its colour in scene_ from the frame that drew it.
-  const SceneKey scene_key{frame.view, frame.projection, tank.min, tank.max};
-  const bool scene_kept = fluid && scene_drawn_for_ == scene_key;
-  // The scene's pass draws the scene, and points over it; a fluid over a kept scene needs none
-  // (its pass tests against the depth the scene's pass left).
-  const float clear[4] = {0.0f, 0.0f, 0.0f, 1.0f};
-  if (!scene_kept) {
-    target_.begin(commands, clear);
-    background_->draw(commands, draw, 3);
-  }
-  // Points write colour and depth over the scene.
-  scene_drawn_for_ = fluid ? std::optional(scene_key) : std::nullopt;
-  slot.timestamps.mark(commands);
-  if (!scene_kept) {
-    if (kind == RendererKind::points) points_->draw(commands, draw, 6 * particles.count);
-    target_.end(commands);
-  }
-  if (fluid) {
+  const DrawConstants draw = record_shapes(commands, kind, particles, tank, slot);
+  const bool scene_kept =
+      record_scene_and_points(commands, kind, draw, particles.count,
+                              SceneKey{frame.view, frame.projection, tank.min, tank.max}, slot);
+  if (kind != RendererKind::points) {
+    // SSFR and MC draw through FluidTarget's attachments, copied into the per-pixel surface
+    // buffers that the filter and the shading read.
     fluid_target_->begin(commands);
-    if (mesh) {
+    if (kind == RendererKind::mc && particles.count > 0) {
       mc_surface_->draw_indirect(commands, draw, marching_cubes_->draw_buffer());
     } else if (kind == RendererKind::ssfr) {
       fluid_surface_->draw(commands, draw, 6 * particles.count);
@@ -367,73 +323,137 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
     fluid_target_->end(commands);
     fluid_target_->record_read(commands, depth_, thickness_, spray_);
   }
-  slot.timestamps.mark(commands);
-
-  VkBufferImageCopy region{};
-  region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-  region.imageExtent = {width, height, 1};
-  const bool planar = slot.format == FrameFormat::yuv420;
-  if (!fluid) {
-    vkCmdCopyImageToBuffer(commands, target_.colour().get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                           planar ? image_.get() : readback.get(), 1, &region);
-    if (planar) {
-      memory_barrier(commands, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute,
-                     VK_ACCESS_SHADER_READ_BIT);
-      record_yuv420_read_back(commands, slot);
-    }
+  slot.mark(commands, &RenderTimes::particles_ms);
+  if (kind == RendererKind::points) {
+    record_points_read_back(commands, slot);
   } else {
-    if (!scene_kept) {
-      vkCmdCopyImageToBuffer(commands, target_.colour().get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                             scene_.get(), 1, &region);
-    }
-    memory_barrier(commands, kTransfer | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
-                   VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT, kCompute,
-                   kShaderAccess);
-    const std::uint64_t pixels = std::uint64_t{width} * height;
-    ScreenConstants screen{frame_params_.address(),
-                           depth_.address(),
-                           depth_scratch_.address(),
-                           thickness_.address(),
-                           spray_.address(),
-                           scene_.address(),
-                           image_.address(),
-                           0,
-                           ssfr.filter == SsfrStyle::DepthFilter::narrow_range ? 1u : 0u};
-    // The separable filter, x then y, applied smoothing_passes times; ends in depth_.
-    const int smoothing_passes =
-        kind == RendererKind::mc ? mc.smoothing_passes : ssfr.smoothing_passes;
-    for (int pass = 0; pass < 2 * smoothing_passes; ++pass) {
-      screen.axis = static_cast<std::uint32_t>(pass % 2);
-      screen.depth_in = pass % 2 == 0 ? depth_.address() : depth_scratch_.address();
-      screen.depth_out = pass % 2 == 0 ? depth_scratch_.address() : depth_.address();
-      smooth_.dispatch(commands, screen, pixels);
-      memory_barrier(commands, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderAccess);
-    }
-    slot.timestamps.mark(commands);
-    screen.depth_in = depth_.address();
-    shade_.dispatch(commands, screen, pixels);
-    memory_barrier(commands, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute | kTransfer,
-                   VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT);
-    slot.timestamps.mark(commands);
-    if (planar) {
-      record_yuv420_read_back(commands, slot);
-    } else {
-      const VkBufferCopy copy{0, 0, pixels * 4};
-      vkCmdCopyBuffer(commands, image_.get(), readback.get(), 1, &copy);
-    }
-    if (slot.probe) {
-      const auto x = std::min(width - 1, static_cast<std::uint32_t>(slot.probe->x * width));
-      const auto y = std::min(height - 1, static_cast<std::uint32_t>(slot.probe->y * height));
-      const VkBufferCopy surface{(std::uint64_t{y} * width + x) * 4, frame_bytes(slot.format), 4};
-      vkCmdCopyBuffer(commands, depth_.get(), readback.get(), 1, &surface);
-    }
+    record_fluid_screen(commands, kind, scene_kept, slot);
   }
-  slot.timestamps.mark(commands);
+  slot.mark(commands, &RenderTimes::readback_ms);
   // The solver's next step, or the next upload of a CPU solver's particles, writes what this
   // frame read (write after read); and the host reads the copy.
   memory_barrier(commands, kDrawStages | kCompute, 0, kCompute | kTransfer, 0);
   memory_barrier(commands, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
                  VK_ACCESS_HOST_READ_BIT);
+}
+
+DrawConstants FrameRenderer::record_shapes(VkCommandBuffer commands, RendererKind kind,
+                                           const ParticleView& particles, const sim::Box& tank,
+                                           Slot& slot) {
+  // For the mesh, `position` is the vertex buffer; for ellipsoids, their centres.
+  DrawConstants draw{frame_params_.address(),
+                     particles.position,
+                     particles.velocity,
+                     particles.density_ratio,
+                     0,
+                     0};
+  if (particles.count == 0) return draw;
+  if (kind == RendererKind::mc) {
+    marching_cubes_->record_field(commands, particles, mc.threshold);
+    slot.mark(commands, &RenderTimes::mc_field_ms);
+    marching_cubes_->record_triangles(commands, particles, mc.threshold);
+    slot.mark(commands, &RenderTimes::mc_triangles_ms);
+    draw.position = marching_cubes_->vertices();
+  } else if (kind == RendererKind::ssfr && ssfr.anisotropic) {
+    if (!anisotropy_) anisotropy_ = std::make_unique<Anisotropy>(*context_);
+    anisotropy_->record(commands, particles, tank, ssfr);
+    slot.mark(commands, &RenderTimes::anisotropy_ms);
+    draw.position = anisotropy_->centres().address();
+    draw.shape = anisotropy_->shapes().address();
+    draw.ellipsoids = 1;
+  }
+  return draw;
+}
+
+bool FrameRenderer::record_scene_and_points(VkCommandBuffer commands, RendererKind kind,
+                                            const DrawConstants& draw, std::uint32_t particles,
+                                            const SceneKey& scene, Slot& slot) {
+  // The scene depends on the camera and the tank only: while they stay, fluid frames keep the
+  // scene's depth in the attachment and its colour in scene_ from the frame that drew it.
+  const bool fluid = kind != RendererKind::points;
+  const bool kept = fluid && scene_drawn_for_ == scene;
+  // The scene's pass draws the scene, and points over it; a fluid over a kept scene needs none
+  // (its pass tests against the depth the scene's pass left).
+  const float clear[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+  if (!kept) {
+    target_.begin(commands, clear);
+    background_->draw(commands, draw, 3);
+  }
+  scene_drawn_for_ = fluid ? std::optional(scene) : std::nullopt;
+  slot.mark(commands, &RenderTimes::scene_ms);
+  if (!kept) {
+    // Points write colour and depth over the scene.
+    if (kind == RendererKind::points) points_->draw(commands, draw, 6 * particles);
+    target_.end(commands);
+  }
+  return kept;
+}
+
+void FrameRenderer::record_points_read_back(VkCommandBuffer commands, const Slot& slot) {
+  VkBufferImageCopy region{};
+  region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+  region.imageExtent = {target_.width(), target_.height(), 1};
+  const bool planar = slot.format == FrameFormat::yuv420;
+  vkCmdCopyImageToBuffer(commands, target_.colour().get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                         planar ? image_.get() : slot.readback.get(), 1, &region);
+  if (planar) {
+    memory_barrier(commands, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute,
+                   VK_ACCESS_SHADER_READ_BIT);
+    record_yuv420_read_back(commands, slot);
+  }
+}
+
+void FrameRenderer::record_fluid_screen(VkCommandBuffer commands, RendererKind kind,
+                                        bool scene_kept, Slot& slot) {
+  const std::uint32_t width = target_.width(), height = target_.height();
+  if (!scene_kept) {
+    VkBufferImageCopy region{};
+    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    region.imageExtent = {width, height, 1};
+    vkCmdCopyImageToBuffer(commands, target_.colour().get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                           scene_.get(), 1, &region);
+  }
+  memory_barrier(commands, kTransfer | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+                 VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT, kCompute,
+                 kShaderAccess);
+  const std::uint64_t pixels = std::uint64_t{width} * height;
+  ScreenConstants screen{frame_params_.address(),
+                         depth_.address(),
+                         depth_scratch_.address(),
+                         thickness_.address(),
+                         spray_.address(),
+                         scene_.address(),
+                         image_.address(),
+                         0,
+                         ssfr.filter == SsfrStyle::DepthFilter::narrow_range ? 1u : 0u};
+  // The separable filter, x then y, applied smoothing_passes times; ends in depth_.
+  const int smoothing_passes =
+      kind == RendererKind::mc ? mc.smoothing_passes : ssfr.smoothing_passes;
+  for (int pass = 0; pass < 2 * smoothing_passes; ++pass) {
+    screen.axis = static_cast<std::uint32_t>(pass % 2);
+    screen.depth_in = pass % 2 == 0 ? depth_.address() : depth_scratch_.address();
+    screen.depth_out = pass % 2 == 0 ? depth_scratch_.address() : depth_.address();
+    smooth_.dispatch(commands, screen, pixels);
+    memory_barrier(commands, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderAccess);
+  }
+  slot.mark(commands, &RenderTimes::smoothing_ms);
+  screen.depth_in = depth_.address();
+  shade_.dispatch(commands, screen, pixels);
+  memory_barrier(commands, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute | kTransfer,
+                 VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT);
+  slot.mark(commands, &RenderTimes::shading_ms);
+  if (slot.format == FrameFormat::yuv420) {
+    record_yuv420_read_back(commands, slot);
+  } else {
+    const VkBufferCopy copy{0, 0, pixels * 4};
+    vkCmdCopyBuffer(commands, image_.get(), slot.readback.get(), 1, &copy);
+  }
+  if (slot.probe) {  // the surface's distance under the finger, after the frame
+    const auto x = std::min(width - 1, static_cast<std::uint32_t>(slot.probe->x * width));
+    const auto y = std::min(height - 1, static_cast<std::uint32_t>(slot.probe->y * height));
+    const VkBufferCopy surface{(std::uint64_t{y} * width + x) * 4, frame_bytes(slot.format), 4};
+    vkCmdCopyBuffer(commands, depth_.get(), slot.readback.get(), 1, &surface);
+  }
 }
 
 void FrameRenderer::record_yuv420_read_back(VkCommandBuffer commands, const Slot& slot) {

@@ -111,22 +111,26 @@ bool MarchingCubes::fits(const sim::Box& tank, int resolution, float particle_ra
          particle_radius == particle_radius_;
 }
 
-void MarchingCubes::record(VkCommandBuffer commands, const ParticleView& particles,
-                           float threshold, gpu::TimestampQueries& timestamps) const {
-  McConstants constants{particles.position,
-                        splat_.address(),
-                        0,
-                        0,
-                        field_.address(),
-                        tables_.address(),
-                        vertices_.address(),
-                        draw_.address(),
-                        glm::vec4(origin_, spacing_),
-                        glm::ivec4(nodes_, static_cast<int>(particles.count)),
-                        0,
-                        inverse_rest_,
-                        threshold,
-                        max_vertices_};
+McConstants MarchingCubes::constants_for(const ParticleView& particles, float threshold) const {
+  return McConstants{particles.position,
+                     splat_.address(),
+                     0,
+                     0,
+                     field_.address(),
+                     tables_.address(),
+                     vertices_.address(),
+                     draw_.address(),
+                     glm::vec4(origin_, spacing_),
+                     glm::ivec4(nodes_, static_cast<int>(particles.count)),
+                     0,
+                     inverse_rest_,
+                     threshold,
+                     max_vertices_};
+}
+
+void MarchingCubes::record_field(VkCommandBuffer commands, const ParticleView& particles,
+                                 float threshold) const {
+  McConstants constants = constants_for(particles, threshold);
   const VkDrawIndirectCommand empty{0, 1, 0, 0};
   vkCmdUpdateBuffer(commands, draw_.get(), 0, sizeof(empty), &empty);
   gpu::transfer_to_compute_barrier(commands);
@@ -142,12 +146,15 @@ void MarchingCubes::record(VkCommandBuffer commands, const ParticleView& particl
     blur_pass_.dispatch(commands, constants, nodes);
     gpu::compute_barrier(commands);
   }
-  timestamps.mark(commands);
+}
+
+void MarchingCubes::record_triangles(VkCommandBuffer commands, const ParticleView& particles,
+                                     float threshold) const {
+  const McConstants constants = constants_for(particles, threshold);
   const std::uint64_t cells = std::uint64_t(nodes_.x - 1) * (nodes_.y - 1) * (nodes_.z - 1);
   triangles_pass_.dispatch(commands, constants, cells);
   gpu::compute_barrier(commands);
   clamp_pass_.dispatch(commands, constants, 1);
-  timestamps.mark(commands);
   gpu::memory_barrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                       VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_VERTEX_SHADER_BIT,
                       VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT);

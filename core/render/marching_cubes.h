@@ -44,16 +44,18 @@ class MarchingCubes {
   static int resolution_for(const sim::Box& tank, float particle_radius);
 
   bool fits(const sim::Box& tank, int resolution, float particle_radius) const;
-  // Records the field and triangle passes; afterwards vertices() and draw_buffer() are ready for
-  // the vertex shader and vkCmdDrawIndirect.
-  // Marks `timestamps` after the field (splat and blur) and after the triangles (two marks).
-  void record(VkCommandBuffer commands, const ParticleView& particles, float threshold,
-              gpu::TimestampQueries& timestamps) const;
+  // The field (splat and blur), then the triangles from it; afterwards vertices() and
+  // draw_buffer() are ready for the vertex shader and vkCmdDrawIndirect.
+  void record_field(VkCommandBuffer commands, const ParticleView& particles, float threshold) const;
+  void record_triangles(VkCommandBuffer commands, const ParticleView& particles,
+                        float threshold) const;
   VkDeviceAddress vertices() const { return vertices_.address(); }
   VkBuffer draw_buffer() const { return draw_.get(); }
   glm::ivec3 nodes() const { return nodes_; }
 
  private:
+  McConstants constants_for(const ParticleView& particles, float threshold) const;
+
   sim::Box tank_;
   int resolution_;
   float particle_radius_;

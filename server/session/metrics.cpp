@@ -119,6 +119,13 @@ void Metrics::forget_session(const std::string& id) {
 
 std::string Metrics::prometheus_text() const {
   std::string out;
+  write_totals(out);
+  write_histograms(out);
+  write_labelled(out);
+  return out;
+}
+
+void Metrics::write_totals(std::string& out) const {
   write_header(out, "fluidcast_build_info", "gauge", "The server's version; always 1.");
   out += std::string("fluidcast_build_info{version=") + quoted(kVersion) + "} 1\n";
   write_value(out, "fluidcast_sessions", "gauge", "Sessions alive.", sessions);
@@ -137,6 +144,9 @@ std::string Metrics::prometheus_text() const {
               bytes_sent);
   write_value(out, "fluidcast_gpu_memory_bytes", "gauge", "GPU memory held by the allocator.",
               gpu_memory_bytes);
+}
+
+void Metrics::write_histograms(std::string& out) const {
   write_histogram(out, sim_time, "fluidcast_sim_seconds", "Simulation time per tick of a session.");
   write_histogram(out, render_time, "fluidcast_render_seconds",
                   "GPU time of a frame's render passes.");
@@ -160,7 +170,10 @@ std::string Metrics::prometheus_text() const {
         out, "fluidcast_send_seconds",
         std::string("transport=") + quoted(transport_name(transport)));
   }
+}
 
+// The series whose labels are known only at run time: under the lock that guards them.
+void Metrics::write_labelled(std::string& out) const {
   std::lock_guard lock(mutex_);
   write_header(out, "fluidcast_device_info", "gauge",
                "The Vulkan device the server runs on (type: gpu, or cpu for a software device); "
@@ -182,7 +195,6 @@ std::string Metrics::prometheus_text() const {
              number(series.value(figures)) + "\n";
     }
   }
-  return out;
 }
 
 }  // namespace fluidcast::server

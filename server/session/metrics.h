@@ -66,6 +66,10 @@ struct Metrics {
   std::string prometheus_text() const;
 
  private:
+  void write_totals(std::string& out) const;
+  void write_histograms(std::string& out) const;
+  void write_labelled(std::string& out) const;
+
   mutable std::mutex mutex_;  // guards what follows
   std::string device_name_;
   bool device_hardware_ = false;

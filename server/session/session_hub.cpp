@@ -96,42 +96,7 @@ void SessionHub::open(v1::Hello hello, std::string address, std::shared_ptr<View
         session = found;
         viewer = session->resume_viewer(hello, sink, resumed);
       } else {
-        if (sessions_.size() >= limits_.max_sessions) {
-          throw Refusal(RefusalCode::resource_exhausted, "this server runs its limit of " +
-                                                             std::to_string(limits_.max_sessions) +
-                                                             " sessions; join one or try later");
-        }
-        const auto held = std::count_if(sessions_.begin(), sessions_.end(), [&](const auto& entry) {
-          return entry.second->creator() == address;
-        });
-        if (held >= static_cast<std::ptrdiff_t>(limits_.max_sessions_per_address)) {
-          throw Refusal(RefusalCode::resource_exhausted,
-                        "this address already holds " + std::to_string(held) +
-                            " sessions, this server's limit per address "
-                            "(--max-sessions-per-address); end one (a session ends when its "
-                            "viewers leave, or " +
-                            std::to_string(limits_.resume_grace.count()) +
-                            " s after they drop) or join one");
-        }
-        // A state handed back (NewSession.state) names its scene and solver and counts its
-        // particles; the session starts from the scene and then takes the state.
-        const v1::NewSession& create = hello.create();
-        const std::string& scene = create.has_state() ? create.state().scene() : create.scene();
-        const std::string& solver = create.has_state() ? create.state().solver() : create.solver();
-        SessionSetup setup;
-        if (!scene.empty()) setup.scene = sim::parse_scene(scene);
-        if (!solver.empty()) setup.solver = sim::parse_solver(solver);
-        setup.particles = create.has_state()
-                              ? static_cast<std::uint32_t>(create.state().positions_size() / 3)
-                              : create.particles();
-        const std::string id = new_key();
-        session = std::make_shared<Session>(
-            id, address, setup,
-            SessionServices{context_, gpu_solver_, &steps_, &limits_, metrics_, encoders_.get()});
-        if (create.has_state()) session->load(create.state());
-        sessions_.emplace(id, session);
-        session_count_ = static_cast<std::uint32_t>(sessions_.size());
-        metrics_->sessions = sessions_.size();
+        session = create_session(hello.create(), address);
         viewer = session->add_viewer(hello, sink, Access::control);
       }
       opened.access = session->access(viewer);
@@ -150,18 +115,64 @@ void SessionHub::open(v1::Hello hello, std::string address, std::shared_ptr<View
       done(std::move(opened));
       return;
     }
-    auto welcome = std::make_shared<v1::ServerMessage>();
-    welcome->mutable_welcome()->set_session_id(session->id());
-    welcome->mutable_welcome()->set_viewer_id(viewer);
-    *welcome->mutable_welcome()->mutable_state() = session->state();
-    const v1::ServerInfo server = info();
-    *welcome->mutable_welcome()->mutable_limits() = server.limits();
-    *welcome->mutable_welcome()->mutable_rules() = server.rules();
-    *welcome->mutable_welcome()->mutable_access() = session->access_message(viewer);
     opened.viewer = std::make_shared<ViewerLink>(*this, session, viewer);
     done(std::move(opened));
-    sink->deliver(welcome);
+    sink->deliver(welcome(*session, viewer));
   });
+}
+
+std::shared_ptr<Session> SessionHub::create_session(const v1::NewSession& create,
+                                                    const std::string& address) {
+  if (sessions_.size() >= limits_.max_sessions) {
+    throw Refusal(RefusalCode::resource_exhausted, "this server runs its limit of " +
+                                                       std::to_string(limits_.max_sessions) +
+                                                       " sessions; join one or try later");
+  }
+  const auto held = std::count_if(sessions_.begin(), sessions_.end(), [&](const auto& entry) {
+    return entry.second->creator() == address;
+  });
+  if (held >= static_cast<std::ptrdiff_t>(limits_.max_sessions_per_address)) {
+    throw Refusal(RefusalCode::resource_exhausted,
+                  "this address already holds " + std::to_string(held) +
+                      " sessions, this server's limit per address "
+                      "(--max-sessions-per-address); end one (a session ends when its "
+                      "viewers leave, or " +
+                      std::to_string(limits_.resume_grace.count()) +
+                      " s after they drop) or join one");
+  }
+  // A state handed back (NewSession.state) names its scene and solver and counts its particles;
+  // the session starts from the scene and then takes the state.
+  const std::string& scene = create.has_state() ? create.state().scene() : create.scene();
+  const std::string& solver = create.has_state() ? create.state().solver() : create.solver();
+  SessionSetup setup;
+  if (!scene.empty()) setup.scene = sim::parse_scene(scene);
+  if (!solver.empty()) setup.solver = sim::parse_solver(solver);
+  setup.particles = create.has_state()
+                        ? static_cast<std::uint32_t>(create.state().positions_size() / 3)
+                        : create.particles();
+  const std::string id = new_key();
+  auto session = std::make_shared<Session>(
+      id, address, setup,
+      SessionServices{context_, gpu_solver_, &steps_, &limits_, metrics_, encoders_.get()});
+  if (create.has_state()) session->load(create.state());
+  sessions_.emplace(id, session);
+  session_count_ = static_cast<std::uint32_t>(sessions_.size());
+  metrics_->sessions = sessions_.size();
+  return session;
+}
+
+std::shared_ptr<v1::ServerMessage> SessionHub::welcome(const Session& session,
+                                                       std::uint32_t viewer) const {
+  auto message = std::make_shared<v1::ServerMessage>();
+  v1::Welcome& welcome = *message->mutable_welcome();
+  welcome.set_session_id(session.id());
+  welcome.set_viewer_id(viewer);
+  *welcome.mutable_state() = session.state();
+  const v1::ServerInfo server = info();
+  *welcome.mutable_limits() = server.limits();
+  *welcome.mutable_rules() = server.rules();
+  *welcome.mutable_access() = session.access_message(viewer);
+  return message;
 }
 
 void SessionHub::close(std::shared_ptr<Session> session, std::uint32_t viewer,
@@ -257,19 +268,7 @@ void SessionHub::end_all_on_gpu_failure(const std::string& why) {
 }
 
 void SessionHub::tick_all(Clock::time_point now) {
-  try {
-    context_->release_finished();
-    if (tick_serials_.size() == 2) {
-      if (!context_->wait_for(tick_serials_.front(), kGpuStalled)) {
-        end_all_on_gpu_failure("the GPU has not finished a tick's work in " +
-                               std::to_string(kGpuStalled.count()) + " s");
-      } else {
-        tick_serials_.pop_front();
-      }
-    }
-  } catch (const gpu::VulkanError& e) {  // the device is lost: every session with it
-    end_all_on_gpu_failure(e.what());
-  }
+  bound_ticks_in_flight();
   std::vector<Session*> ticking;
   std::vector<GpuDemand> demands;
   for (auto& [id, session] : sessions_) {
@@ -306,6 +305,27 @@ void SessionHub::tick_all(Clock::time_point now) {
     }
   }
   tick_serials_.push_back(context_->last_submitted());
+  end_idle_and_expired(now);
+}
+
+// At most two ticks' work on the GPU: the worker waits for the older before recording a third.
+void SessionHub::bound_ticks_in_flight() {
+  try {
+    context_->release_finished();
+    if (tick_serials_.size() == 2) {
+      if (!context_->wait_for(tick_serials_.front(), kGpuStalled)) {
+        end_all_on_gpu_failure("the GPU has not finished a tick's work in " +
+                               std::to_string(kGpuStalled.count()) + " s");
+      } else {
+        tick_serials_.pop_front();
+      }
+    }
+  } catch (const gpu::VulkanError& e) {  // the device is lost: every session with it
+    end_all_on_gpu_failure(e.what());
+  }
+}
+
+void SessionHub::end_idle_and_expired(Clock::time_point now) {
   for (auto it = sessions_.begin(); it != sessions_.end();) {
     Session& session = *it->second;
     const auto idle = limits_.idle_timeout;

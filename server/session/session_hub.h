@@ -64,6 +64,10 @@ class SessionHub {
   void run();
   void run_jobs(std::vector<std::function<void()>>& jobs);
   void tick_all(Clock::time_point now);
+  void bound_ticks_in_flight();
+  // Ends the streams of sessions idle past --idle-timeout, removes expired ones (their memory goes
+  // back to the system a little later), and updates the sessions' metrics.
+  void end_idle_and_expired(Clock::time_point now);
   // A session that fails ends alone, with INTERNAL for its viewers; the others go on.
   void end_failed(Session& session, const std::exception& e);
   // The device is lost or stalled: every session's viewers get INTERNAL.
@@ -82,6 +86,9 @@ class SessionHub {
   Opening find(const std::string& key, const char* field) const;
   // The session and viewer a resume key names; a Refusal (NOT_FOUND) when none.
   std::pair<std::shared_ptr<Session>, std::uint32_t> find_resumed(const std::string& key) const;
+  // A new session for a NewSession from `address`, within the server's limits (else a Refusal).
+  std::shared_ptr<Session> create_session(const v1::NewSession& create, const std::string& address);
+  std::shared_ptr<v1::ServerMessage> welcome(const Session& session, std::uint32_t viewer) const;
 
   gpu::Context* context_;
   bool gpu_solver_;

@@ -16,6 +16,45 @@ v1::Vec3 vec3(glm::vec3 v) {
   return out;
 }
 
+struct Particles {
+  std::vector<glm::vec3> position, velocity;
+};
+
+// A snapshot's particles, each finite, inside `tank` and not faster than the solvers allow;
+// throws a Refusal naming what is wrong.
+Particles checked_particles(const v1::Snapshot& snapshot, std::uint32_t max_particles,
+                            const sim::Box& tank) {
+  const int values = snapshot.positions_size();
+  if (values % 3 != 0 || snapshot.velocities_size() != values) {
+    throw Refusal(RefusalCode::invalid_argument,
+                  "Snapshot: positions and velocities need three values per particle each");
+  }
+  const std::size_t count = static_cast<std::size_t>(values / 3);
+  if (count > max_particles) {
+    throw Refusal(RefusalCode::resource_exhausted,
+                  std::to_string(count) + " particles are more than this server's limit of " +
+                      std::to_string(max_particles));
+  }
+  Particles particles{std::vector<glm::vec3>(count), std::vector<glm::vec3>(count)};
+  for (std::size_t k = 0; k < count; ++k) {
+    glm::vec3& p = particles.position[k];
+    glm::vec3& v = particles.velocity[k];
+    for (int axis = 0; axis < 3; ++axis) {
+      p[axis] = snapshot.positions(static_cast<int>(3 * k) + axis);
+      v[axis] = snapshot.velocities(static_cast<int>(3 * k) + axis);
+    }
+    if (!std::isfinite(p.x + p.y + p.z) || !std::isfinite(v.x + v.y + v.z) ||
+        glm::any(glm::lessThan(p, tank.min)) || glm::any(glm::greaterThan(p, tank.max)) ||
+        !sim::within_limit(v, sim::kMaxSpeed)) {
+      throw Refusal(RefusalCode::invalid_argument,
+                    "Snapshot: particle " + std::to_string(k) +
+                        " is not finite, outside the tank, or faster than " +
+                        std::to_string(int(sim::kMaxSpeed)) + " m/s");
+    }
+  }
+  return particles;
+}
+
 }  // namespace
 
 v1::SessionState Session::state() const {
@@ -49,45 +88,19 @@ v1::Snapshot Session::snapshot() const {
 }
 
 std::uint32_t Session::load(const v1::Snapshot& snapshot) {
-  const int values = snapshot.positions_size();
-  if (values % 3 != 0 || snapshot.velocities_size() != values) {
-    throw Refusal(RefusalCode::invalid_argument,
-                  "Snapshot: positions and velocities need three values per particle each");
-  }
-  const std::size_t count = static_cast<std::size_t>(values / 3);
-  if (count > services_.limits->max_particles) {
-    throw Refusal(RefusalCode::resource_exhausted,
-                  std::to_string(count) + " particles are more than this server's limit of " +
-                      std::to_string(services_.limits->max_particles));
-  }
-  std::vector<glm::vec3> positions(count), velocities(count);
-  for (std::size_t k = 0; k < count; ++k) {
-    for (int axis = 0; axis < 3; ++axis) {
-      positions[k][axis] = snapshot.positions(static_cast<int>(3 * k) + axis);
-      velocities[k][axis] = snapshot.velocities(static_cast<int>(3 * k) + axis);
-    }
-  }
   // Checked before the fluid is touched: a refused snapshot leaves the session as it was.
-  const sim::Box& box = solver_->tank();
-  for (std::size_t k = 0; k < count; ++k) {
-    const glm::vec3 p = positions[k], v = velocities[k];
-    if (!std::isfinite(p.x + p.y + p.z) || !std::isfinite(v.x + v.y + v.z) ||
-        glm::any(glm::lessThan(p, box.min)) || glm::any(glm::greaterThan(p, box.max)) ||
-        !sim::within_limit(v, sim::kMaxSpeed)) {
-      throw Refusal(RefusalCode::invalid_argument,
-                    "Snapshot: particle " + std::to_string(k) +
-                        " is not finite, outside the tank, or faster than " +
-                        std::to_string(int(sim::kMaxSpeed)) + " m/s");
-    }
-  }
+  const Particles particles =
+      checked_particles(snapshot, services_.limits->max_particles, solver_->tank());
   try {
-    sim::check_density(positions, solver_->fluid());
+    sim::check_density(particles.position, solver_->fluid());
   } catch (const std::invalid_argument& e) {
     throw Refusal(RefusalCode::invalid_argument, std::string("Snapshot: ") + e.what());
   }
+  std::optional<glm::vec3> gravity;
   if (snapshot.has_gravity()) {
-    const glm::vec3 g(snapshot.gravity().x(), snapshot.gravity().y(), snapshot.gravity().z());
-    if (!std::isfinite(g.x + g.y + g.z) || !sim::within_limit(g, sim::kMaxGravity)) {
+    gravity = glm::vec3(snapshot.gravity().x(), snapshot.gravity().y(), snapshot.gravity().z());
+    if (!std::isfinite(gravity->x + gravity->y + gravity->z) ||
+        !sim::within_limit(*gravity, sim::kMaxGravity)) {
       throw Refusal(RefusalCode::invalid_argument, "Snapshot: gravity is not finite or too large");
     }
   }
@@ -95,21 +108,17 @@ std::uint32_t Session::load(const v1::Snapshot& snapshot) {
     throw Refusal(RefusalCode::invalid_argument, "Snapshot: time must be finite, not negative");
   }
   const sim::Box tank = solver_->tank();
-  const glm::vec3 centre = 0.5f * (tank.min + tank.max);
   forget_costs();  // another count: another cost
-  solver_->remove_particles_in_sphere(centre, glm::length(tank.size()));
+  solver_->remove_particles_in_sphere(0.5f * (tank.min + tank.max), glm::length(tank.size()));
   try {
-    solver_->add_particles(positions, velocities);
+    solver_->add_particles(particles.position, particles.velocity);
     solver_->set_time(snapshot.time());
-    if (snapshot.has_gravity()) {
-      solver_->set_gravity(
-          {snapshot.gravity().x(), snapshot.gravity().y(), snapshot.gravity().z()});
-    }
+    if (gravity) solver_->set_gravity(*gravity);
   } catch (const std::invalid_argument& e) {
     solver_->reset();
     throw Refusal(RefusalCode::invalid_argument, std::string("Snapshot: ") + e.what());
   }
-  return static_cast<std::uint32_t>(count);
+  return static_cast<std::uint32_t>(particles.position.size());
 }
 
 }  // namespace fluidcast::server

@@ -117,6 +117,9 @@ class Context {
   static VKAPI_ATTR VkBool32 VKAPI_CALL on_validation_message(
       VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebugUtilsMessageTypeFlagsEXT types,
       const VkDebugUtilsMessengerCallbackDataEXT* data, void* user);
+  void create_messenger();  // validation messages to on_validation_message
+  // The device with one queue of queue_family_, and the timeline semaphore of the submissions.
+  void create_device(bool independent_blend);
   void release();  // what the destructor does; also when the constructor fails half-way
 
   struct RetiredObject {

@@ -26,6 +26,8 @@ class Anisotropy;
 class FluidTarget;
 class GraphicsPipeline;
 class MarchingCubes;
+struct DrawConstants;
+struct FrameParams;
 
 // automatic: Marching Cubes below kMarchingCubesBelow particles, SSFR from there (the talk's rule:
 // MC for small counts and near views, SSFR for large counts and far views).
@@ -105,8 +107,8 @@ struct RenderTimes {
 
   // Every pass but the read-back.
   double drawing_ms() const {
-    return mc_field_ms + mc_triangles_ms + anisotropy_ms + scene_ms + particles_ms +
-           smoothing_ms + shading_ms;
+    return mc_field_ms + mc_triangles_ms + anisotropy_ms + scene_ms + particles_ms + smoothing_ms +
+           shading_ms;
   }
 };
 
@@ -189,18 +191,32 @@ class FrameRenderer {
     bool in_flight = false;
     std::uint64_t frame = 0;
     std::optional<glm::vec2> probe;  // where this frame read the surface back, if it did
-    bool meshed = false;             // drew Marching Cubes: two more timestamps
-    bool anisotropic = false;        // computed ellipsoids: one more timestamp
     FrameFormat format = FrameFormat::rgba;
     glm::mat4 view{1.0f}, projection{1.0f};
+    // Each timestamp after the first ends a pass: the field of RenderTimes it times, its index.
+    std::vector<std::pair<double RenderTimes::*, std::uint32_t>> timed;
+    void mark(VkCommandBuffer recording, double RenderTimes::*pass);
   };
   struct SceneKey {
     glm::mat4 view, projection;
     glm::vec3 tank_min, tank_max;
     bool operator==(const SceneKey&) const = default;
   };
+  FrameParams frame_params(RendererKind kind, const ParticleView& particles, const sim::Box& tank,
+                           const OrbitCamera& camera) const;
   void record(VkCommandBuffer commands, RendererKind kind, const ParticleView& particles,
               const sim::Box& tank, const OrbitCamera& camera, Slot& slot);
+  // What the fluid is drawn from: the particles, Marching Cubes' mesh or SSFR's ellipsoids.
+  DrawConstants record_shapes(VkCommandBuffer commands, RendererKind kind,
+                              const ParticleView& particles, const sim::Box& tank, Slot& slot);
+  // Returns whether the scene was kept from an earlier frame (a fluid frame, the same camera).
+  bool record_scene_and_points(VkCommandBuffer commands, RendererKind kind,
+                               const DrawConstants& draw, std::uint32_t particles,
+                               const SceneKey& scene, Slot& slot);
+  void record_points_read_back(VkCommandBuffer commands, const Slot& slot);
+  // SSFR and MC: the depth filter, shading and the read-back (with the probe).
+  void record_fluid_screen(VkCommandBuffer commands, RendererKind kind, bool scene_kept,
+                           Slot& slot);
   // Converts image_ into planes_ and copies those to the slot's read-back.
   void record_yuv420_read_back(VkCommandBuffer commands, const Slot& slot);
   std::uint64_t frame_bytes(FrameFormat format) const;  // in a read-back, before the probe
