@@ -36,21 +36,31 @@ double seconds_since(Clock::time_point start) {
 // SSFR draws ellipsoids by default; `spheres` turns the anisotropy off (the cost it adds).
 enum class Particles { as_styled, spheres };
 
-void run_render(benchmark::State& state, render::RendererKind kind, int frames_per_iteration,
-                Particles particles) {
-  const auto width = static_cast<std::uint32_t>(state.range(0));
-  const auto height = static_cast<std::uint32_t>(state.range(1));
+void measure_encoding(benchmark::State& state, render::FrameRenderer& renderer,
+                      render::RendererKind kind, const render::ParticleView& view,
+                      const sim::Box& tank, const render::OrbitCamera& camera,
+                      const codec::Image& last);
+
+// The dam break of range(2) particles (range(4): in a unit cube, so the grid is range(3)³), ten
+// steps in, on the GPU.
+std::unique_ptr<sim::Solver> fluid_for(const benchmark::State& state) {
   sim::SceneParams scene;
   scene.particles = static_cast<int>(state.range(2));
-  const int mc_nodes = static_cast<int>(state.range(3));
-  if (state.range(4) != 0) {  // a cube, so the grid is mc_nodes³
-    scene.tank_length = scene.tank_height = scene.depth = 1.0f;
-  }
+  if (state.range(4) != 0) scene.tank_length = scene.tank_height = scene.depth = 1.0f;
   sim::SolverParams params;
   params.max_particles = std::max(params.max_particles, scene.particles);
   auto solver = sim::make_gpu_solver(sim::SolverKind::pbf, bench::gpu_context(),
                                      sim::build_scene(scene), params);
   for (int k = 0; k < 10; ++k) solver->step();
+  return solver;
+}
+
+void run_render(benchmark::State& state, render::RendererKind kind, int frames_per_iteration,
+                Particles particles) {
+  const auto width = static_cast<std::uint32_t>(state.range(0));
+  const auto height = static_cast<std::uint32_t>(state.range(1));
+  const int mc_nodes = static_cast<int>(state.range(3));
+  const auto solver = fluid_for(state);
   render::ParticleSource source(bench::gpu_context());
   const render::ParticleView view = source.view_of(*solver);
   render::FrameRenderer renderer(bench::gpu_context(), width, height);
@@ -70,15 +80,9 @@ void run_render(benchmark::State& state, render::RendererKind kind, int frames_p
       renderer.submit(kind, view, solver->tank(), camera);
       if (renderer.frames_pending() >= render::FrameRenderer::kFramesInFlight) {
         last = renderer.take_oldest();
-        const render::RenderTimes& t = renderer.last_times();
-        sum.anisotropy_ms += t.anisotropy_ms;
-        sum.scene_ms += t.scene_ms;
-        sum.particles_ms += t.particles_ms;
-        sum.smoothing_ms += t.smoothing_ms;
-        sum.shading_ms += t.shading_ms;
-        sum.readback_ms += t.readback_ms;
-        sum.mc_field_ms += t.mc_field_ms;
-        sum.mc_triangles_ms += t.mc_triangles_ms;
+        for (const auto& [name, pass] : render::kRenderPasses) {
+          sum.*pass += renderer.last_times().*pass;
+        }
         ++frames;
       }
     }
@@ -92,24 +96,28 @@ void run_render(benchmark::State& state, render::RendererKind kind, int frames_p
   }
   const double timed = static_cast<double>(std::max<std::uint64_t>(frames, 1));
   state.counters["frames_per_s"] = static_cast<double>(frames) / seconds;
-  state.counters["anisotropy_ms"] = sum.anisotropy_ms / timed;
-  state.counters["scene_ms"] = sum.scene_ms / timed;
-  state.counters["particles_ms"] = sum.particles_ms / timed;
-  state.counters["smoothing_ms"] = sum.smoothing_ms / timed;
-  state.counters["shading_ms"] = sum.shading_ms / timed;
-  state.counters["readback_ms"] = sum.readback_ms / timed;
+  for (const auto& [name, pass] : render::kRenderPasses) {
+    const bool mc_only = name.starts_with("mc_");
+    if (!mc_only || kind == render::RendererKind::mc) {
+      state.counters[std::string(name)] = sum.*pass / timed;
+    }
+  }
   if (kind != render::RendererKind::points) {
     state.counters["rough_share"] =
         render::measure_roughness(renderer.surface_distances(), width, height,
                                   camera.projection(float(width) / float(height)))
             .rough_share;
   }
-  if (kind == render::RendererKind::mc) {
-    state.counters["mc_field_ms"] = sum.mc_field_ms / timed;
-    state.counters["mc_triangles_ms"] = sum.mc_triangles_ms / timed;
-  }
+  measure_encoding(state, renderer, kind, view, solver->tank(), camera, last);
+}
 
-  // Encoding the frame just rendered: one thread, then the pool at one thread per core.
+// Encoding the frame just rendered: one thread, then the pool at one thread per core; and the same
+// frame read back as YCbCr 4:2:0 planes (as the server streams), which the encoder only
+// compresses.
+void measure_encoding(benchmark::State& state, render::FrameRenderer& renderer,
+                      render::RendererKind kind, const render::ParticleView& view,
+                      const sim::Box& tank, const render::OrbitCamera& camera,
+                      const codec::Image& last) {
   const codec::JpegOptions jpeg{80, codec::ChromaSubsampling::s420};
   const int encodes = 10;
   auto start = Clock::now();
@@ -117,10 +125,8 @@ void run_render(benchmark::State& state, render::RendererKind kind, int frames_p
   for (int k = 0; k < encodes; ++k) bytes = codec::encode_jpeg(last, jpeg).size();
   state.counters["encode_ms"] = 1e3 * seconds_since(start) / encodes;
   state.counters["jpeg_kib"] = static_cast<double>(bytes) / 1024.0;
-  // The same frame read back as YCbCr 4:2:0 planes (as the server streams): the encoder only
-  // compresses.
   renderer.format = render::FrameRenderer::FrameFormat::yuv420;
-  const codec::Image planes = renderer.render(kind, view, solver->tank(), camera);
+  const codec::Image planes = renderer.render(kind, view, tank, camera);
   state.counters["planes_readback_ms"] = renderer.last_times().readback_ms;
   start = Clock::now();
   for (int k = 0; k < encodes; ++k) bytes = codec::encode_jpeg(planes, jpeg).size();

@@ -274,6 +274,57 @@ std::vector<double> bystander_windows(const std::string& address, const std::ato
   return windows;
 }
 
+// The bystander's mean frame rate over 15 s with the server to itself.
+double bystander_alone(const std::string& address, std::string& error) {
+  std::atomic<bool> stop{false};
+  std::thread timer([&] {
+    std::this_thread::sleep_for(std::chrono::seconds(17));
+    stop = true;
+  });
+  const std::vector<double> windows = bystander_windows(address, stop, error);
+  timer.join();
+  double fps = 0.0;
+  for (double window : windows) fps += window / double(windows.size());
+  return fps;
+}
+
+// What the soak measured of the server and of the bystander.
+struct Figures {
+  double alone_fps = 0.0;                        // the bystander's, before the mix
+  std::vector<double> windows;                   // its frame rate per 5 s window during the mix
+  std::array<long, 3> rss_kb{};                  // before, peak during, after
+  std::array<long, 2> descriptors{}, threads{};  // before, after
+  std::string bystander_error;                   // why its stream ended, if it did
+};
+
+// The tables and the verdict: false when a figure fails.
+bool report(const Figures& f, const Tally& tally, double max_growth_mb) {
+  const double worst =
+      f.windows.empty() ? 0.0 : *std::min_element(f.windows.begin(), f.windows.end());
+  std::printf("| case | times |\n| --- | --- |\n");
+  for (const auto& [name, count] : tally.cases) std::printf("| %s | %d |\n", name.c_str(), count);
+  std::printf("\n| figure | before | during | after |\n| --- | --- | --- | --- |\n");
+  std::printf("| bystander fps (5 s windows) | %.1f alone | worst %.1f of %zu windows | |\n",
+              f.alone_fps, worst, f.windows.size());
+  std::printf("| server memory (MB) | %.1f | peak %.1f | %.1f |\n", f.rss_kb[0] / 1024.0,
+              f.rss_kb[1] / 1024.0, f.rss_kb[2] / 1024.0);
+  std::printf("| descriptors | %ld | | %ld |\n", f.descriptors[0], f.descriptors[1]);
+  std::printf("| threads | %ld | | %ld |\n", f.threads[0], f.threads[1]);
+  bool failed = false;
+  auto fail = [&](const std::string& why) {
+    std::printf("FAIL: %s\n", why.c_str());
+    failed = true;
+  };
+  if (!f.bystander_error.empty()) fail("the bystander's stream ended: " + f.bystander_error);
+  if (worst < 0.5 * f.alone_fps) fail("the bystander fell below half its frame rate alone");
+  for (const auto& wrong : tally.wrong) fail("unexpected: " + wrong);
+  if (f.descriptors[1] != f.descriptors[0]) fail("descriptors not back to their baseline");
+  if (f.threads[1] != f.threads[0]) fail("threads not back to their baseline");
+  if ((f.rss_kb[2] - f.rss_kb[0]) / 1024.0 > max_growth_mb)
+    fail("memory grew past --max-growth-mb");
+  return !failed;
+}
+
 int run(int argc, char** argv) {
   unsigned clients = 4;
   double seconds = 600.0, max_growth_mb = 64.0;
@@ -295,24 +346,16 @@ int run(int argc, char** argv) {
   const std::string& address = server.grpc_address();
 
   // The bystander alone first; then the baseline, once its session has ended.
-  std::atomic<bool> stop{false};
-  std::string alone_error;
-  std::thread alone_timer([&] {
-    std::this_thread::sleep_for(std::chrono::seconds(17));
-    stop = true;
-  });
-  const std::vector<double> alone = bystander_windows(address, stop, alone_error);
-  alone_timer.join();
+  Figures f;
+  f.alone_fps = bystander_alone(address, f.bystander_error);
   std::this_thread::sleep_for(std::chrono::seconds(3));
-  const long rss_before = server.resident_kb(), fds_before = server.open_descriptors(),
-             threads_before = server.threads();
-  double alone_fps = 0.0;
-  for (double fps : alone) alone_fps += fps / double(alone.size());
+  f.rss_kb[0] = server.resident_kb();
+  f.descriptors[0] = server.open_descriptors();
+  f.threads[0] = server.threads();
 
-  stop = false;
+  std::atomic<bool> stop{false};
   std::string bystander_error;
-  std::vector<double> windows;
-  std::thread bystander([&] { windows = bystander_windows(address, stop, bystander_error); });
+  std::thread bystander([&] { f.windows = bystander_windows(address, stop, bystander_error); });
   Tally tally;
   const auto end = Clock::now() + std::chrono::duration_cast<Clock::duration>(
                                       std::chrono::duration<double>(seconds));
@@ -320,9 +363,8 @@ int run(int argc, char** argv) {
   for (unsigned k = 0; k < clients; ++k) {
     workers.emplace_back([&, k] { worker(address, seed + k, end, tally); });
   }
-  long rss_peak = 0;
   while (Clock::now() < end) {
-    rss_peak = std::max(rss_peak, server.resident_kb());
+    f.rss_kb[1] = std::max(f.rss_kb[1], server.resident_kb());
     std::this_thread::sleep_for(std::chrono::seconds(1));
   }
   for (auto& w : workers) w.join();
@@ -330,35 +372,13 @@ int run(int argc, char** argv) {
   bystander.join();
   // Every session ends (a goodbye at once, a drop after the grace); freed memory is returned.
   std::this_thread::sleep_for(std::chrono::seconds(kResumeGraceSeconds + 5));
-  const long rss_after = server.resident_kb(), fds_after = server.open_descriptors(),
-             threads_after = server.threads();
-
-  const double worst = windows.empty() ? 0.0 : *std::min_element(windows.begin(), windows.end());
+  f.rss_kb[2] = server.resident_kb();
+  f.descriptors[1] = server.open_descriptors();
+  f.threads[1] = server.threads();
+  f.bystander_error += bystander_error;
   std::printf("## fluidcast-bench-soak: %u workers, %.0f s, seed %llu\n\n", clients, seconds,
               static_cast<unsigned long long>(seed));
-  std::printf("| case | times |\n| --- | --- |\n");
-  for (const auto& [name, count] : tally.cases) std::printf("| %s | %d |\n", name.c_str(), count);
-  std::printf("\n| figure | before | during | after |\n| --- | --- | --- | --- |\n");
-  std::printf("| bystander fps (5 s windows) | %.1f alone | worst %.1f of %zu windows | |\n",
-              alone_fps, worst, windows.size());
-  std::printf("| server memory (MB) | %.1f | peak %.1f | %.1f |\n", rss_before / 1024.0,
-              rss_peak / 1024.0, rss_after / 1024.0);
-  std::printf("| descriptors | %ld | | %ld |\n", fds_before, fds_after);
-  std::printf("| threads | %ld | | %ld |\n", threads_before, threads_after);
-  bool failed = false;
-  auto fail = [&](const std::string& why) {
-    std::printf("FAIL: %s\n", why.c_str());
-    failed = true;
-  };
-  if (!alone_error.empty() || !bystander_error.empty()) {
-    fail("the bystander's stream ended: " + alone_error + bystander_error);
-  }
-  if (worst < 0.5 * alone_fps) fail("the bystander fell below half its frame rate alone");
-  for (const auto& wrong : tally.wrong) fail("unexpected: " + wrong);
-  if (fds_after != fds_before) fail("descriptors not back to their baseline");
-  if (threads_after != threads_before) fail("threads not back to their baseline");
-  if ((rss_after - rss_before) / 1024.0 > max_growth_mb) fail("memory grew past --max-growth-mb");
-  return failed ? 1 : 0;
+  return report(f, tally, max_growth_mb) ? 0 : 1;
 }
 
 }  // namespace

@@ -4,30 +4,62 @@
 #include "fluidcast/gpu/vk_check.h"
 
 namespace fluidcast::render {
+namespace {
+
+// Every pipeline's layout: the DrawConstants as push constants, nothing else.
+gpu::UniquePipelineLayout draw_constants_layout(VkDevice device) {
+  const VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                                  sizeof(DrawConstants)};
+  VkPipelineLayoutCreateInfo info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+  info.pushConstantRangeCount = 1;
+  info.pPushConstantRanges = &range;
+  VkPipelineLayout layout;
+  FLUIDCAST_VK_CHECK(vkCreatePipelineLayout(device, &info, nullptr, &layout));
+  return gpu::UniquePipelineLayout(device, layout);
+}
+
+VkPipelineShaderStageCreateInfo stage_info(VkShaderStageFlagBits stage, VkShaderModule module) {
+  VkPipelineShaderStageCreateInfo info{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+  info.stage = stage;
+  info.module = module;
+  info.pName = "main";
+  return info;
+}
+
+std::vector<VkPipelineColorBlendAttachmentState> blend_attachments(const PipelineOptions& options) {
+  std::vector<VkPipelineColorBlendAttachmentState> attachments;
+  for (const Blend kind : options.attachments) {
+    VkPipelineColorBlendAttachmentState attachment{};
+    attachment.colorWriteMask = options.colour_write
+                                    ? VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
+                                          VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT
+                                    : 0;
+    if (kind != Blend::replace) {
+      // Factors of one: a sum, or (ignored by the minimum) what min compares.
+      attachment.blendEnable = VK_TRUE;
+      attachment.srcColorBlendFactor = attachment.dstColorBlendFactor = VK_BLEND_FACTOR_ONE;
+      attachment.srcAlphaBlendFactor = attachment.dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
+      attachment.colorBlendOp = attachment.alphaBlendOp =
+          kind == Blend::add ? VK_BLEND_OP_ADD : VK_BLEND_OP_MIN;
+    }
+    attachments.push_back(attachment);
+  }
+  return attachments;
+}
+
+}  // namespace
+
 GraphicsPipeline::GraphicsPipeline(gpu::Context& context, VkRenderPass render_pass,
                                    std::span<const std::uint32_t> vertex_spirv,
                                    std::span<const std::uint32_t> fragment_spirv,
                                    PipelineOptions options) {
   const VkDevice device = context.device();
-  const VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
-                                  sizeof(DrawConstants)};
-  VkPipelineLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-  layout_info.pushConstantRangeCount = 1;
-  layout_info.pPushConstantRanges = &range;
-  VkPipelineLayout raw_layout;
-  FLUIDCAST_VK_CHECK(vkCreatePipelineLayout(device, &layout_info, nullptr, &raw_layout));
-  layout_ = gpu::UniquePipelineLayout(device, raw_layout);
-
+  layout_ = draw_constants_layout(device);
   const auto vertex = gpu::make_shader_module(device, vertex_spirv);
   const auto fragment = gpu::make_shader_module(device, fragment_spirv);
-  VkPipelineShaderStageCreateInfo stages[2] = {};
-  stages[0].sType = stages[1].sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
-  stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
-  stages[0].module = vertex.get();
-  stages[0].pName = "main";
-  stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
-  stages[1].module = fragment.get();
-  stages[1].pName = "main";
+  const VkPipelineShaderStageCreateInfo stages[2] = {
+      stage_info(VK_SHADER_STAGE_VERTEX_BIT, vertex.get()),
+      stage_info(VK_SHADER_STAGE_FRAGMENT_BIT, fragment.get())};
 
   VkPipelineVertexInputStateCreateInfo vertex_input{
       VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
@@ -50,31 +82,14 @@ GraphicsPipeline::GraphicsPipeline(gpu::Context& context, VkRenderPass render_pa
   depth.depthTestEnable = options.depth_test ? VK_TRUE : VK_FALSE;
   depth.depthWriteEnable = options.depth_write ? VK_TRUE : VK_FALSE;
   depth.depthCompareOp = VK_COMPARE_OP_LESS;
-  std::vector<VkPipelineColorBlendAttachmentState> blend_attachments;
-  for (const Blend kind : options.attachments) {
-    VkPipelineColorBlendAttachmentState attachment{};
-    attachment.colorWriteMask = options.colour_write
-                                    ? VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
-                                          VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT
-                                    : 0;
-    if (kind != Blend::replace) {
-      // Factors of one: a sum, or (ignored by the minimum) what min compares.
-      attachment.blendEnable = VK_TRUE;
-      attachment.srcColorBlendFactor = attachment.dstColorBlendFactor = VK_BLEND_FACTOR_ONE;
-      attachment.srcAlphaBlendFactor = attachment.dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
-      attachment.colorBlendOp = attachment.alphaBlendOp =
-          kind == Blend::add ? VK_BLEND_OP_ADD : VK_BLEND_OP_MIN;
-    }
-    blend_attachments.push_back(attachment);
-  }
+  const std::vector<VkPipelineColorBlendAttachmentState> attachments = blend_attachments(options);
   VkPipelineColorBlendStateCreateInfo blend{
       VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-  blend.attachmentCount = static_cast<std::uint32_t>(blend_attachments.size());
-  blend.pAttachments = blend_attachments.data();
+  blend.attachmentCount = static_cast<std::uint32_t>(attachments.size());
+  blend.pAttachments = attachments.data();
   const VkDynamicState dynamic_states[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
-  VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
-  dynamic.dynamicStateCount = 2;
-  dynamic.pDynamicStates = dynamic_states;
+  const VkPipelineDynamicStateCreateInfo dynamic{
+      VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO, nullptr, 0, 2, dynamic_states};
 
   VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
   info.stageCount = 2;
@@ -87,7 +102,7 @@ GraphicsPipeline::GraphicsPipeline(gpu::Context& context, VkRenderPass render_pa
   info.pDepthStencilState = &depth;
   info.pColorBlendState = &blend;
   info.pDynamicState = &dynamic;
-  info.layout = raw_layout;
+  info.layout = layout_.get();
   info.renderPass = render_pass;
   VkPipeline raw_pipeline;
   FLUIDCAST_VK_CHECK(

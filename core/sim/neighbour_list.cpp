@@ -5,16 +5,15 @@
 
 namespace fluidcast::sim {
 
-void NeighbourList::build(ForkJoinPool& pool, const NeighbourGrid& grid,
-                          std::span<const glm::vec3> positions, float radius,
-                          std::uint32_t max_candidates) {
+void NeighbourList::prepare(ForkJoinPool& pool, std::span<const glm::vec3> positions) {
   const std::size_t n = positions.size();
-  const float r2 = radius * radius;
   begin_.resize(n);
   count_.resize(n);
   offset_.resize(n);
+  first_pair_.resize(n);
   chunk_indices_.resize(pool.size());
   chunk_hits_.resize(pool.size());
+  chunk_used_.assign(pool.size(), 0);
   // Coordinates as separate arrays, so the distance test over a row of cells vectorises.
   xs_.resize(n);
   ys_.resize(n);
@@ -24,8 +23,14 @@ void NeighbourList::build(ForkJoinPool& pool, const NeighbourGrid& grid,
     ys_[i] = positions[i].y;
     zs_[i] = positions[i].z;
   });
-  chunk_used_.assign(pool.size(), 0);
-  first_pair_.resize(n);
+}
+
+void NeighbourList::build(ForkJoinPool& pool, const NeighbourGrid& grid,
+                          std::span<const glm::vec3> positions, float radius,
+                          std::uint32_t max_candidates) {
+  const std::size_t n = positions.size();
+  const float r2 = radius * radius;
+  prepare(pool, positions);
   pool.for_chunks(n, [&](unsigned chunk, std::size_t first, std::size_t last) {
     std::vector<std::uint32_t>& out = chunk_indices_[chunk];
     std::vector<std::uint32_t>& hits = chunk_hits_[chunk];

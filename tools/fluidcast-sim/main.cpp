@@ -57,6 +57,63 @@ bool hardware_gpu_present(const tools::SimOptions& o) {
   return false;
 }
 
+std::unique_ptr<gpu::Context> open_context(const tools::SimOptions& o) {
+  gpu::ContextOptions options = gpu::options_from_environment();
+  if (o.device) options.device_index = o.device;
+  return std::make_unique<gpu::Context>(options);
+}
+
+// What a run writes as it goes: statistics (CSV), particles (PLY) and frames, each as often as
+// asked.
+struct Recorder {
+  const tools::SimOptions& o;
+  std::optional<tools::StatsCsv> csv;
+  std::optional<tools::FrameWriter> frames;
+
+  void operator()(sim::Solver& solver) {
+    if (csv) {
+      csv->write(solver.steps(), solver.time(),
+                 sim::measure(solver.snapshot(), solver.fluid(), solver.tank()));
+    }
+    if (o.dump_every > 0 && solver.steps() % static_cast<std::uint64_t>(o.dump_every) == 0) {
+      char name[32];
+      std::snprintf(name, sizeof(name), "step_%08llu.ply",
+                    static_cast<unsigned long long>(solver.steps()));
+      tools::write_ply(std::filesystem::path(o.dump_dir) / name, solver.snapshot());
+    }
+    if (frames && solver.steps() % static_cast<std::uint64_t>(o.render_every) == 0) {
+      frames->write(solver);
+    }
+  }
+};
+
+// Steps --steps times, recording each and saying progress once a second; returns the seconds
+// spent stepping alone.
+double step_all(const tools::SimOptions& o, sim::Solver& solver, Recorder& record) {
+  auto last_report = Clock::now();
+  std::uint64_t steps_at_report = 0;
+  double stepping_seconds = 0;
+  for (std::int64_t k = 0; k < o.steps; ++k) {
+    const auto before = Clock::now();
+    solver.step();
+    stepping_seconds += std::chrono::duration<double>(Clock::now() - before).count();
+    record(solver);
+    const auto now = Clock::now();
+    if (o.progress && now - last_report >= std::chrono::seconds(1)) {
+      const double wall = std::chrono::duration<double>(now - last_report).count();
+      std::printf("step %llu  t = %.3f s  %.1f steps/s\n",
+                  static_cast<unsigned long long>(solver.steps()), solver.time(),
+                  double(solver.steps() - steps_at_report) / wall);
+      std::fflush(stdout);
+      last_report = now;
+      steps_at_report = solver.steps();
+    }
+  }
+  const auto before_sync = Clock::now();
+  solver.synchronize();  // a GPU solver may still be running the last steps
+  return stepping_seconds + std::chrono::duration<double>(Clock::now() - before_sync).count();
+}
+
 int run(const tools::SimOptions& o) {
   std::unique_ptr<gpu::Context> context;  // outlives the solver
   std::unique_ptr<sim::Solver> solver;
@@ -66,69 +123,24 @@ int run(const tools::SimOptions& o) {
     std::printf("backend auto: %s\n", on_gpu ? "gpu" : "cpu (no hardware Vulkan device)");
   }
   if (on_gpu) {
-    gpu::ContextOptions options = gpu::options_from_environment();
-    if (o.device) options.device_index = o.device;
-    context = std::make_unique<gpu::Context>(options);
+    context = open_context(o);
     solver = sim::make_gpu_solver(o.solver_kind, *context, sim::build_scene(o.scene), o.solver);
   } else {
     solver = sim::make_cpu_solver(o.solver_kind, sim::build_scene(o.scene), o.solver);
   }
   print_geometry(o, *solver);
 
-  std::optional<tools::FrameWriter> frames;
+  Recorder record{o, std::nullopt, std::nullopt};
   if (!o.render_dir.empty() || !o.video_path.empty()) {
-    if (!context) {  // the CPU solver's particles are drawn on the best Vulkan device
-      gpu::ContextOptions options = gpu::options_from_environment();
-      if (o.device) options.device_index = o.device;
-      context = std::make_unique<gpu::Context>(options);
-    }
-    frames.emplace(o, *context, *solver);
+    if (!context) context = open_context(o);  // the CPU solver's particles drawn on the GPU
+    record.frames.emplace(o, *context, *solver);
   }
-
-  std::optional<tools::StatsCsv> csv;
-  if (!o.stats_path.empty()) csv.emplace(o.stats_path);
+  if (!o.stats_path.empty()) record.csv.emplace(o.stats_path);
   if (o.dump_every > 0) std::filesystem::create_directories(o.dump_dir);
-  auto record = [&] {
-    if (csv) {
-      csv->write(solver->steps(), solver->time(),
-                 sim::measure(solver->snapshot(), solver->fluid(), solver->tank()));
-    }
-    if (o.dump_every > 0 && solver->steps() % static_cast<std::uint64_t>(o.dump_every) == 0) {
-      char name[32];
-      std::snprintf(name, sizeof(name), "step_%08llu.ply",
-                    static_cast<unsigned long long>(solver->steps()));
-      tools::write_ply(std::filesystem::path(o.dump_dir) / name, solver->snapshot());
-    }
-    if (frames && solver->steps() % static_cast<std::uint64_t>(o.render_every) == 0) {
-      frames->write(*solver);
-    }
-  };
-
-  record();
+  record(*solver);
   const auto start = Clock::now();
-  auto last_report = start;
-  std::uint64_t steps_at_report = 0;
-  double stepping_seconds = 0;
-  for (std::int64_t k = 0; k < o.steps; ++k) {
-    const auto before = Clock::now();
-    solver->step();
-    stepping_seconds += std::chrono::duration<double>(Clock::now() - before).count();
-    record();
-    const auto now = Clock::now();
-    if (o.progress && now - last_report >= std::chrono::seconds(1)) {
-      const double wall = std::chrono::duration<double>(now - last_report).count();
-      std::printf("step %llu  t = %.3f s  %.1f steps/s\n",
-                  static_cast<unsigned long long>(solver->steps()), solver->time(),
-                  double(solver->steps() - steps_at_report) / wall);
-      std::fflush(stdout);
-      last_report = now;
-      steps_at_report = solver->steps();
-    }
-  }
-  const auto before_sync = Clock::now();
-  solver->synchronize();  // a GPU solver may still be running the last steps
-  stepping_seconds += std::chrono::duration<double>(Clock::now() - before_sync).count();
-  if (frames) frames->finish();
+  const double stepping_seconds = step_all(o, *solver, record);
+  if (record.frames) record.frames->finish();
   const double wall = std::chrono::duration<double>(Clock::now() - start).count();
   const auto stats = sim::measure(solver->snapshot(), solver->fluid(), solver->tank());
   std::printf(

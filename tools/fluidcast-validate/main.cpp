@@ -59,7 +59,8 @@ struct Verdict {
   }
 };
 
-void dam_break(const Options& o, gpu::Context* context, Verdict& verdict) {
+// A column a wide and 2a high in a tank 7a long (Martin & Moyce's n² = 2), thin in depth.
+sim::SceneParams dam_break_scene(const Options& o) {
   const double a = kColumnWidth;
   const double spacing = a / o.column_resolution;
   sim::SceneParams scene;
@@ -75,8 +76,42 @@ void dam_break(const Options& o, gpu::Context* context, Verdict& verdict) {
   }
   const double depth = std::max(8 * spacing, smallest_depth);
   scene.depth = static_cast<float>(depth);
-  scene.particles = static_cast<int>(std::lround(2 * a * a * depth / (spacing * spacing * spacing)));
-  auto solver = make(o, scene, context);
+  scene.particles =
+      static_cast<int>(std::lround(2 * a * a * depth / (spacing * spacing * spacing)));
+  return scene;
+}
+
+// The experiment's front, the simulated one, and the simulated one shifted as their runs were.
+std::string front_chart(std::span<const FrontPoint> experiment,
+                        const std::vector<FrontPoint>& simulated, double shift,
+                        std::size_t particles) {
+  const double last_T = experiment.back().T;
+  validation::Chart chart;
+  chart.title = "Dam break, n² = 2: surge front against Martin & Moyce (1952), " +
+                std::to_string(particles) + " particles";
+  chart.x_label = "T = t·√(2g/a)";
+  chart.y_label = "Z = x / a";
+  validation::Series experiment_series{"experiment", "black", true, {}, {}};
+  for (const FrontPoint& e : experiment) {
+    experiment_series.x.push_back(e.T);
+    experiment_series.y.push_back(e.Z);
+  }
+  validation::Series raw_series{"simulated", "#1f77b4", false, {}, {}};
+  validation::Series shifted_series{"simulated, shifted", "#d62728", false, {}, {}};
+  for (const FrontPoint& p : simulated) {
+    if (p.T > last_T + 0.3) break;
+    raw_series.x.push_back(p.T);
+    raw_series.y.push_back(p.Z);
+    shifted_series.x.push_back(p.T + shift);
+    shifted_series.y.push_back(p.Z);
+  }
+  chart.series = {experiment_series, raw_series, shifted_series};
+  return validation::to_svg(chart);
+}
+
+void dam_break(const Options& o, gpu::Context* context, Verdict& verdict) {
+  const double a = kColumnWidth;
+  auto solver = make(o, dam_break_scene(o), context);
   const double gravity = glm::length(solver->gravity());
   const double n = std::sqrt(2.0);
   const auto experiment = validation::martin_moyce_n2_front();
@@ -101,37 +136,19 @@ void dam_break(const Options& o, gpu::Context* context, Verdict& verdict) {
   const auto raw = validation::compare_fronts(simulated, experiment, 0.0, last_T);
   const auto shifted = validation::compare_fronts(simulated, experiment, shift, last_T);
 
-  validation::Chart chart;
-  chart.title = "Dam break, n² = 2: surge front against Martin & Moyce (1952), " +
-                std::to_string(solver->particle_count()) + " particles";
-  chart.x_label = "T = t·√(2g/a)";
-  chart.y_label = "Z = x / a";
-  validation::Series experiment_series{"experiment", "black", true, {}, {}};
-  for (const FrontPoint& e : experiment) {
-    experiment_series.x.push_back(e.T);
-    experiment_series.y.push_back(e.Z);
-  }
-  validation::Series raw_series{"simulated", "#1f77b4", false, {}, {}};
-  validation::Series shifted_series{"simulated, shifted", "#d62728", false, {}, {}};
-  for (const FrontPoint& p : simulated) {
-    if (p.T > last_T + 0.3) break;
-    raw_series.x.push_back(p.T);
-    raw_series.y.push_back(p.Z);
-    shifted_series.x.push_back(p.T + shift);
-    shifted_series.y.push_back(p.Z);
-  }
-  chart.series = {experiment_series, raw_series, shifted_series};
-  write(std::filesystem::path(o.out) / "dam_break_front.svg", validation::to_svg(chart));
+  write(std::filesystem::path(o.out) / "dam_break_front.svg",
+        front_chart(experiment, simulated, shift, solver->particle_count()));
 
   std::printf("dam break: a = %.5f m, %zu particles (a/d = %d), %s %s, %llu steps\n", a,
               solver->particle_count(), o.column_resolution, o.backend.c_str(),
               std::string(sim::to_string(o.solver)).c_str(),
               static_cast<unsigned long long>(solver->steps()));
-  std::printf("  front error over T ≤ %.2f, as simulated: mean %.1f %%, worst %.1f %% (%zu points)\n",
-              last_T, 100 * raw.mean_relative_error, 100 * raw.worst_relative_error, raw.points);
-  std::printf("  shifted by ΔT = %+.3f as their runs were: mean %.1f %%, worst %.1f %% (%zu points)\n",
-              shift, 100 * shifted.mean_relative_error, 100 * shifted.worst_relative_error,
-              shifted.points);
+  std::printf(
+      "  front error over T ≤ %.2f, as simulated: mean %.1f %%, worst %.1f %% (%zu points)\n",
+      last_T, 100 * raw.mean_relative_error, 100 * raw.worst_relative_error, raw.points);
+  std::printf(
+      "  shifted by ΔT = %+.3f as their runs were: mean %.1f %%, worst %.1f %% (%zu points)\n",
+      shift, 100 * shifted.mean_relative_error, 100 * shifted.worst_relative_error, shifted.points);
   verdict.check(shifted.points >= 10, "points compared (at least 10)", double(shifted.points), 10);
   verdict.check(shifted.mean_relative_error <= o.max_front_error,
                 "front: mean |Z error| / Z, shifted", shifted.mean_relative_error,
@@ -186,12 +203,34 @@ void resting_pool(const Options& o, gpu::Context* context, Verdict& verdict) {
                 o.max_density_error);
 }
 
+// Both runs against their bounds; charts and data in --out. The process's exit status.
+int validate(const Options& o) {
+  Verdict verdict;
+  try {
+    std::filesystem::create_directories(o.out);
+    std::unique_ptr<gpu::Context> context;
+    if (o.backend == "gpu") context = std::make_unique<gpu::Context>();
+    dam_break(o, context.get(), verdict);
+    resting_pool(o, context.get(), verdict);
+  } catch (const sim::ParamError& e) {
+    std::fprintf(stderr, "fluidcast-validate: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "fluidcast-validate: %s\n", e.what());
+    return 3;
+  }
+  std::printf("%s; charts and data in %s/\n", verdict.passed ? "all within bounds" : "MISSED",
+              o.out.c_str());
+  return verdict.passed ? 0 : 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   Options o;
-  CLI::App app{"fluidcast-validate: the solvers against Martin & Moyce's dam break (1952) and a "
-               "resting pool's density error"};
+  CLI::App app{
+      "fluidcast-validate: the solvers against Martin & Moyce's dam break (1952) and a "
+      "resting pool's density error"};
   add_version_flag(app, "fluidcast-validate");
   bool fast = false;
   std::string solver_name = "pbf";
@@ -243,21 +282,5 @@ int main(int argc, char** argv) {
   }
   o.params.max_particles = std::max(
       {o.params.max_particles, o.pool_particles, 32 * o.column_resolution * o.column_resolution});
-  Verdict verdict;
-  try {
-    std::filesystem::create_directories(o.out);
-    std::unique_ptr<gpu::Context> context;
-    if (o.backend == "gpu") context = std::make_unique<gpu::Context>();
-    dam_break(o, context.get(), verdict);
-    resting_pool(o, context.get(), verdict);
-  } catch (const sim::ParamError& e) {
-    std::fprintf(stderr, "fluidcast-validate: %s\n", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "fluidcast-validate: %s\n", e.what());
-    return 3;
-  }
-  std::printf("%s; charts and data in %s/\n", verdict.passed ? "all within bounds" : "MISSED",
-              o.out.c_str());
-  return verdict.passed ? 0 : 1;
+  return validate(o);
 }

@@ -280,11 +280,7 @@ void GpuSolver::harvest(InFlight& slot) {
   }
 }
 
-SimParams GpuSolver::step_params() const {
-  const Kernels kernels(fluid().kernel_radius);
-  const float radius = fluid().particle_radius();
-  const GridGeometry& grid = grid_.geometry();
-  SimParams p{};
+void GpuSolver::set_addresses(SimParams& p) const {
   p.position = buffers_.position.address();
   p.velocity = buffers_.velocity.address();
   p.id = buffers_.id.address();
@@ -303,6 +299,14 @@ SimParams GpuSolver::step_params() const {
   p.sorted_cell = grid_.sorted_cell().address();
   p.stats = stats_buffer_.address();
   p.density_ratio = buffers_.density_ratio.address();
+}
+
+SimParams GpuSolver::step_params() const {
+  const Kernels kernels(fluid().kernel_radius);
+  const float radius = fluid().particle_radius();
+  const GridGeometry& grid = grid_.geometry();
+  SimParams p{};
+  set_addresses(p);
 
   p.tank_min = glm::vec4(tank().min, 0.0f);
   p.tank_max = glm::vec4(tank().max, 0.0f);

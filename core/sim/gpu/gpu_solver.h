@@ -83,6 +83,7 @@ class GpuSolver final : public Solver {
 
   void allocate(std::size_t capacity);
   SimParams step_params() const;
+  void set_addresses(SimParams& p) const;  // every buffer the shaders read or write
   // Submits this solver's steps still waiting in the batch, so that what follows in the queue
   // (uploads, downloads, waits) comes after them.
   void submit_queued() const;

@@ -4,12 +4,14 @@
 // is drawn again only when the camera or the tank changes.
 #pragma once
 
+#include <array>
 #include <deque>
 #include <glm/glm.hpp>
 #include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "fluidcast/codec/image.h"
@@ -37,10 +39,13 @@ const std::vector<std::string_view>& renderer_names();
 std::string_view renderer_name(RendererKind kind);
 RendererKind parse_renderer(std::string_view name);  // throws std::invalid_argument listing them
 
-// Where the particles are on the GPU: vec4 positions and velocities (w unused).
 // The renderer `kind` means for this many particles (resolves automatic).
 RendererKind resolve(RendererKind kind, std::uint32_t particles);
 
+// Where the particles are on the GPU: vec4 positions and velocities (w unused). Taken afresh for
+// each frame (ParticleSource::view_of) and recorded at once: when a solver or an upload replaces
+// the buffers behind it, the old ones are retired to the context, not destroyed, so frames already
+// submitted read them to the end; no caller waits for the GPU to keep them alive.
 struct ParticleView {
   VkDeviceAddress position = 0;
   VkDeviceAddress velocity = 0;
@@ -111,6 +116,18 @@ struct RenderTimes {
            shading_ms;
   }
 };
+
+// Each pass by the name benchmarks report it under, with its field.
+inline constexpr std::array<std::pair<std::string_view, double RenderTimes::*>, 8> kRenderPasses{{
+    {"scene_ms", &RenderTimes::scene_ms},
+    {"particles_ms", &RenderTimes::particles_ms},
+    {"smoothing_ms", &RenderTimes::smoothing_ms},
+    {"shading_ms", &RenderTimes::shading_ms},
+    {"readback_ms", &RenderTimes::readback_ms},
+    {"anisotropy_ms", &RenderTimes::anisotropy_ms},
+    {"mc_field_ms", &RenderTimes::mc_field_ms},
+    {"mc_triangles_ms", &RenderTimes::mc_triangles_ms},
+}};
 
 struct McStyle {
   // Grid nodes along the tank's longest side, 4 to 512 (the talk: 80×40×40); 0: from the

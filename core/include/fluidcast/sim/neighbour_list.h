@@ -30,6 +30,9 @@ class NeighbourList {
   std::size_t first_pair(std::size_t i) const { return first_pair_[i]; }
 
  private:
+  // Sizes the lists for `positions` and copies their coordinates into xs_, ys_, zs_.
+  void prepare(ForkJoinPool& pool, std::span<const glm::vec3> positions);
+
   // One buffer per chunk of the pool, so threads never share a growing vector.
   std::vector<std::vector<std::uint32_t>> chunk_indices_;
   std::vector<std::vector<std::uint32_t>>
