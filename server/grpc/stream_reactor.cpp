@@ -128,7 +128,7 @@ StreamReactor::StreamReactor(SessionHub& hub, std::string address)
       std::chrono::system_clock::now() + hub.limits().hello_timeout,
       [sink = sink_, late = protocol_.no_hello(), &metrics = hub.metrics()](bool fired) {
         if (!fired) return;  // cancelled: the Hello came, or the stream ended
-        if (sink->end_unopened(late)) metrics.refused(Transport::grpc, late.code());
+        if (sink->end_unopened(late)) record_refusal(metrics, Transport::grpc, late);
       });
   StartRead(&incoming_);
 }

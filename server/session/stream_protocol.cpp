@@ -40,9 +40,13 @@ Refusal StreamProtocol::no_hello() const {
                      " s of the stream opening");
 }
 
+void record_refusal(Metrics& metrics, Transport transport, const Refusal& refusal) {
+  metrics.refused(transport, refusal.code());
+  spdlog::warn("ended a {} stream: {}", transport_name(transport), refusal.what());
+}
+
 void StreamProtocol::refused(const Refusal& refusal) const {
-  metrics_->refused(transport_, refusal.code());
-  spdlog::warn("ended a {} stream: {}", transport_name(transport_), refusal.what());
+  record_refusal(*metrics_, transport_, refusal);
 }
 
 }  // namespace fluidcast::server

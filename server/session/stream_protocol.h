@@ -19,6 +19,10 @@
 
 namespace fluidcast::server {
 
+// Counts a refusal that ended a stream of `transport`, and logs it: what StreamProtocol::refused
+// does, for a reaction that may outlive the protocol (the gRPC Hello deadline's alarm).
+void record_refusal(Metrics& metrics, Transport transport, const Refusal& refusal);
+
 class StreamProtocol {
  public:
   // `limits`, `token` and `metrics` outlive it.
@@ -41,7 +45,7 @@ class StreamProtocol {
 
   // Why a stream that sent no Hello within ServerLimits::hello_timeout ends.
   Refusal no_hello() const;
-  // Counts a refusal that ended the stream, and logs it.
+  // Counts a refusal that ended the stream, and logs it (record_refusal).
   void refused(const Refusal& refusal) const;
 
  private:

@@ -19,6 +19,8 @@
 #include <thread>
 #include <vector>
 
+#include "raw_connection.h"
+
 namespace fluidcast::testing {
 
 class ServerProcess {
@@ -88,20 +90,7 @@ class ServerProcess {
   // The value of an unlabelled metric in its /metrics page now; -1 when the page or the name
   // is missing.
   double metric(const std::string& name) const {
-    const int fd = socket(AF_INET, SOCK_STREAM, 0);
-    sockaddr_in address{};
-    address.sin_family = AF_INET;
-    address.sin_port = htons(static_cast<std::uint16_t>(http_port_));
-    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    std::string page;
-    if (connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0) {
-      const std::string request =
-          "GET /metrics HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
-      send(fd, request.data(), request.size(), MSG_NOSIGNAL);
-      char chunk[4096];
-      for (ssize_t got; (got = recv(fd, chunk, sizeof chunk, 0)) > 0;) page.append(chunk, got);
-    }
-    close(fd);
+    const std::string page = RawConnection(http_port_).page("/metrics");
     const auto at = page.find("\n" + name + " ");
     return at == std::string::npos ? -1 : std::stod(page.substr(at + name.size() + 2));
   }
