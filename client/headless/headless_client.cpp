@@ -144,7 +144,9 @@ int run_headless(const HeadlessOptions& o) {
     std::fprintf(stderr, "fluidcast-client: %s\n", line.c_str());
   };
   HandoffStream stream(o.hello, handoff_sides(o.server, o.max_local_particles), handoff);
-  std::fprintf(stderr, "fluidcast-client: %s\n", describe_welcome(stream.welcome()).c_str());
+  if (!stream.welcome().session_id().empty()) {  // else it is still asking (--handoff)
+    std::fprintf(stderr, "fluidcast-client: %s\n", describe_welcome(stream.welcome()).c_str());
+  }
   const auto start = Clock::now();
   const auto end =
       start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(o.seconds));

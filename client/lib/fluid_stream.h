@@ -65,6 +65,10 @@ class FluidStream {
   virtual std::optional<v1::Frame> next_frame(std::chrono::milliseconds timeout) = 0;
   virtual bool ended() const = 0;
   virtual std::string end_reason() const = 0;
+  // Whether it ended because the other side went away (a server stopping, a network gone), not
+  // because it ended the stream on purpose (bad input, an idle session): only a loss is worth
+  // carrying on elsewhere and asking again.
+  virtual bool lost() const = 0;
   // Ends the stream in order: what was sent is written, then the other side's goodbye awaited (a
   // few seconds at most). Says how it ended: empty when well, else why.
   virtual std::string close() = 0;

@@ -110,6 +110,9 @@ std::uint64_t HandoffStream::send(v1::ClientMessage message) {
   if (message.has_command() && message.command().has_quality()) {
     *hello_.mutable_quality() = message.command().quality();
   }
+  if (message.has_command() && message.command().kind_case() == v1::Command::kPause) {
+    paused_ = message.command().pause();
+  }
   const std::uint64_t id = stream_ ? stream_->send(std::move(message)) : 0;
   if (id) latency_.sent(id);
   return id;
@@ -117,7 +120,7 @@ std::uint64_t HandoffStream::send(v1::ClientMessage message) {
 
 std::optional<v1::Frame> HandoffStream::next_frame(std::chrono::milliseconds timeout) {
   std::optional<v1::Frame> frame;
-  if (stream_) {
+  if (stream_ && !server_ended_) {
     frame = stream_->next_frame(timeout);
     if (frame && frame->input_event_id() < show_from_event_) frame.reset();
     if (frame) {
@@ -127,7 +130,7 @@ std::optional<v1::Frame> HandoffStream::next_frame(std::chrono::milliseconds tim
     keep_snapshot();
     keep_standby();
     if (remote_ && stream_->ended()) {
-      lost(stream_->end_reason());
+      stream_->lost() ? lost(stream_->end_reason()) : ended_by_server();
     } else if (remote_ && Clock::now() - last_remote_frame_ > options_.stall_after) {
       lost("nothing came for " + std::to_string(options_.stall_after.count()) + " ms");
     }
@@ -139,7 +142,7 @@ std::optional<v1::Frame> HandoffStream::next_frame(std::chrono::milliseconds tim
 }
 
 bool HandoffStream::ended() const {
-  return options_.local ? stream_->ended() : !stream_ && !options_.retry;
+  return server_ended_ || (options_.local ? stream_->ended() : !stream_ && !options_.retry);
 }
 
 std::string HandoffStream::end_reason() const {
@@ -209,6 +212,14 @@ void HandoffStream::keep_standby() {
   standby_ = std::make_shared<Standby>(sides_.start_local, std::move(hello));
 }
 
+// The server ended the stream on purpose (bad input, an idle session): that stands; nothing
+// carries the fluid on or asks again.
+void HandoffStream::ended_by_server() {
+  server_ended_ = true;
+  standby_.reset();
+  set_status("the server ended the stream: " + stream_->end_reason());
+}
+
 void HandoffStream::lost(const std::string& why) {
   // A request still on its way to a dying server is not waited for: the last state will do.
   if (snapshot_request_.valid()) abandoned_.push_back(std::move(snapshot_request_));
@@ -244,11 +255,18 @@ void HandoffStream::continue_here(Standby& standby, const std::string& why) {
     set_status(std::string("the server is gone and its state does not fit here: ") + e.what());
     return;
   }
-  v1::Command wake;
-  *wake.mutable_quality() = hello_.quality();
-  local.fluid->command(wake);
-  wake.set_pause(false);
-  show_from_event_ = local.fluid->command(wake);
+  try {  // as this viewer last asked: its quality, its size, paused or not
+    v1::Command wake;
+    *wake.mutable_quality() = hello_.quality();
+    local.fluid->command(wake);
+    *wake.mutable_viewport() = hello_.viewport();
+    local.fluid->command(wake);
+    wake.set_pause(paused_);
+    show_from_event_ = local.fluid->command(wake);
+  } catch (const std::exception& e) {
+    set_status(std::string("the server is gone and the local fluid refused to go on: ") + e.what());
+    return;
+  }
   stream_ = std::move(local.fluid);
   latency_.forget_unanswered();
   awaiting_first_local_frame_ = true;
@@ -261,7 +279,10 @@ void HandoffStream::reconnect() {
     if (!ready(reconnect_)) return;
     try {
       came_back(reconnect_.get());
-    } catch (const std::exception&) {  // still gone
+    } catch (const Unreachable&) {  // still gone
+    } catch (const std::exception& e) {
+      set_status(std::string("the server is back but refused a session: ") + e.what() +
+                 (stream_ ? "; continuing locally, retrying" : "; retrying"));
     }
     return;
   }
@@ -271,7 +292,7 @@ void HandoffStream::reconnect() {
   v1::Hello hello = hello_;
   if (stream_) continue_session(hello, welcome().state());
   reconnect_ = std::async(std::launch::async, [connect = sides_.connect, hello, local = stream_] {
-    Reconnected back{connect(hello), {}, {}};
+    Reconnected back{connect(hello), {}};
     if (!local) return back;
     // The fluid here stops while its state goes over, so that nothing done meanwhile is lost.
     v1::Command pause;
@@ -281,10 +302,10 @@ void HandoffStream::reconnect() {
       v1::Snapshot state = local->snapshot();
       back.stream->load(state);
       back.state_put = std::move(state);
-    } catch (const std::exception& e) {
-      back.put_error = e.what();
+    } catch (const std::exception& e) {  // the fluid stays here: the new session goes unused
       pause.set_pause(false);
       local->command(pause);
+      throw std::runtime_error(std::string("it did not take the fluid here (") + e.what() + ")");
     }
     return back;
   });
@@ -306,8 +327,6 @@ void HandoffStream::came_back(Reconnected back) {
     } catch (const std::exception& e) {
       say(e.what());
     }
-  } else if (!back.put_error.empty()) {
-    say("the server is back but took no state: " + back.put_error);
   }
   stream_ = std::move(back.stream);
   latency_.forget_unanswered();

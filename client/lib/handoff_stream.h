@@ -4,11 +4,13 @@
 // While it streams a session small enough to simulate here (and may change it: a watcher's copy
 // is not continued), it keeps the session's newest state, fetched on the side every
 // snapshot_every, and a local fluid warm: started, paused, each state put in as it arrives. When
-// the stream ends, or sends nothing for stall_after, the local fluid resumes from that state
-// within a frame or two. Meanwhile it asks the server again every retry_every; once one answers,
-// it pauses the local fluid, puts its state into the new session and streams from there. Frames
-// that reflect no event since a side changed show a state from before the change: they are not
-// returned.
+// the stream is lost (FluidStream::lost: the server or the network went away), or sends nothing
+// for stall_after, the local fluid resumes from that state within a frame or two. Meanwhile it
+// asks the server again every retry_every; once one answers and takes the local fluid's state
+// into a new session, it streams from there (a server that refuses is asked again, the fluid
+// going on here). A stream the server ended on purpose (bad input, an idle session) ends this
+// one: its reason stands. Frames that reflect no event since a side changed show a state from
+// before the change: they are not returned.
 //
 // Touch-to-photon latency counts the events sent through it, not what the handoff sends itself
 // (pauses, the wake, markers): those are no one's wait.
@@ -76,9 +78,11 @@ class HandoffStream final : public FluidStream {
   // what a new stream opens with.
   std::uint64_t send(v1::ClientMessage message) override;
   std::optional<v1::Frame> next_frame(std::chrono::milliseconds timeout) override;
-  // A local-mode fluid that ended, or a server gone with nothing continuing here and no retry.
+  // A stream the server ended on purpose, a local-mode fluid that ended, or a server gone with
+  // nothing continuing here and no retry.
   bool ended() const override;
   std::string end_reason() const override;
+  bool lost() const override { return ended() && !server_ended_ && !options_.local; }
   std::string close() override;  // the side streaming now; else why there is none
   v1::Snapshot snapshot() override;
   void load(const v1::Snapshot& snapshot) override;
@@ -91,11 +95,11 @@ class HandoffStream final : public FluidStream {
 
  private:
   class Standby;
-  // A new stream of the server's, with the local fluid's state put into it on the same thread.
+  // A new stream of the server's, with the local fluid's state put into it on the same thread (a
+  // state it does not take makes the reconnection fail: the fluid stays here).
   struct Reconnected {
     std::shared_ptr<FluidStream> stream;
-    std::optional<v1::Snapshot> state_put;  // what went in, if the fluid here did
-    std::string put_error;                  // else why not, when it should have
+    std::optional<v1::Snapshot> state_put;  // what went in, if a fluid here did
   };
   using Clock = std::chrono::steady_clock;
 
@@ -104,6 +108,7 @@ class HandoffStream final : public FluidStream {
   void shown(const v1::Frame& frame);
   void keep_snapshot();
   void keep_standby();
+  void ended_by_server();
   void lost(const std::string& why);
   void continue_here(Standby& standby, const std::string& why);
   void reconnect();
@@ -116,6 +121,8 @@ class HandoffStream final : public FluidStream {
   const HandoffOptions options_;
   std::shared_ptr<FluidStream> stream_;  // null while the server is gone and nothing continues
   bool remote_ = false;
+  bool server_ended_ = false;  // on purpose (a refusal, an idle session): final
+  bool paused_ = false;        // as this viewer last asked
   bool streamed_before_ = false;
   std::string status_;
 

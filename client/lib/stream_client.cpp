@@ -206,7 +206,10 @@ void StreamClient::cancel_because(std::string why) {
 }
 
 void StreamClient::drop() {
-  context_.TryCancel();
+  {
+    std::lock_guard lock(write_mutex_);
+    cancel_because("the connection was dropped");
+  }
   if (reader_.joinable()) reader_.join();
 }
 

@@ -60,6 +60,10 @@ class StreamClient final : public FluidStream {
   std::optional<v1::Frame> next_frame(std::chrono::milliseconds timeout) override;
   bool ended() const override;
   std::string end_reason() const override { return status().error_message(); }
+  // UNAVAILABLE: the server stopped, the network dropped, or drop().
+  bool lost() const override {
+    return ended() && status().error_code() == grpc::StatusCode::UNAVAILABLE;
+  }
   std::string close() override;
   grpc::Status status() const;
   // Closes the sending side once what is queued is written, and waits for the server's status;

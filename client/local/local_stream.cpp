@@ -56,6 +56,9 @@ server::ServerLimits local_limits(std::uint32_t max_particles) {
   limits.max_particles = max_particles;
   limits.default_particles = std::min<std::uint32_t>(4000, max_particles);
   limits.max_viewers_per_session = 1;
+  // The one person here may leave the fluid alone as long as they like (and a warm standby only
+  // ever takes snapshots): an idle session is the server's concern, for its shared GPU.
+  limits.idle_timeout = std::chrono::seconds(0);
   return limits;
 }
 

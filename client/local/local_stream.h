@@ -28,7 +28,8 @@ class LocalStream final : public FluidStream {
   std::optional<v1::Frame> next_frame(std::chrono::milliseconds timeout) override;
   bool ended() const override;
   std::string end_reason() const override;
-  std::string close() override;  // the viewer leaves; the session ends with it
+  bool lost() const override { return false; }  // nothing here goes away
+  std::string close() override;                 // the viewer leaves; the session ends with it
 
   v1::Snapshot snapshot() override;
   void load(const v1::Snapshot& snapshot) override;

@@ -90,7 +90,8 @@ class ServerProcess {
   // The value of an unlabelled metric in its /metrics page now; -1 when the page or the name
   // is missing.
   double metric(const std::string& name) const {
-    const std::string page = RawConnection(http_port_).page("/metrics");
+    // A busy server may take seconds to answer: a missing page is for a server that is gone.
+    const std::string page = RawConnection(http_port_, std::chrono::seconds(30)).page("/metrics");
     const auto at = page.find("\n" + name + " ");
     return at == std::string::npos ? -1 : std::stod(page.substr(at + name.size() + 2));
   }

@@ -17,10 +17,13 @@ struct FakeServer {
   std::mutex mutex;
   bool up = true;
   bool silent = false;             // its streams send nothing: a wedged server
+  bool ends_streams = false;       // it ends every stream on purpose (an idle session, say)
+  bool refuses_states = false;     // a state put into a session is refused
   bool viewers_control = true;     // false: every stream only watches
   std::uint32_t particles = 1000;  // of a session whose Hello names no count
   std::vector<v1::Snapshot> put;   // states put into its sessions
   int streams = 0;
+  int snapshots = 0;  // taken from its sessions
 };
 
 // A session whose clock advances 1 ms per frame read. Frames come one read late, as a real
@@ -61,12 +64,23 @@ class FakeFluid final : public FluidStream {
   bool ended() const override {
     if (!server_) return false;
     const std::lock_guard lock(server_->mutex);
+    return !server_->up || server_->ends_streams;
+  }
+  bool lost() const override {
+    if (!server_) return false;
+    const std::lock_guard lock(server_->mutex);
     return !server_->up;
   }
-  std::string end_reason() const override { return ended() ? "the server went away" : ""; }
+  std::string end_reason() const override {
+    return !ended() ? "" : lost() ? "the server went away" : "nobody touched the fluid";
+  }
   std::string close() override { return end_reason(); }
   v1::Snapshot snapshot() override {
     if (ended()) throw std::runtime_error("no server");
+    if (server_) {
+      const std::lock_guard lock(server_->mutex);
+      ++server_->snapshots;
+    }
     const std::lock_guard lock(mutex_);
     v1::Snapshot snapshot;
     snapshot.set_time(time_);
@@ -75,6 +89,10 @@ class FakeFluid final : public FluidStream {
   }
   void load(const v1::Snapshot& snapshot) override {
     if (ended()) throw std::runtime_error("no server");
+    if (server_) {
+      const std::lock_guard lock(server_->mutex);
+      if (server_->refuses_states) throw std::invalid_argument("Snapshot: particle 7 is outside");
+    }
     {
       const std::lock_guard lock(mutex_);
       time_ = snapshot.time();
@@ -139,7 +157,7 @@ struct Fixture {
     HandoffOptions options;
     options.snapshot_every = milliseconds(20);
     options.retry_every = milliseconds(50);
-    options.stall_after = milliseconds(300);
+    options.stall_after = std::chrono::seconds(2);  // no false alarm on a slow machine
     options.say = [this](const std::string& line) {
       const std::lock_guard lock(mutex);
       said.push_back(line);
@@ -149,6 +167,10 @@ struct Fixture {
   void set(bool FakeServer::*field, bool value) {
     const std::lock_guard lock(server->mutex);
     server.get()->*field = value;
+  }
+  int snapshots_taken() {
+    const std::lock_guard lock(server->mutex);
+    return server->snapshots;
   }
   bool heard(const std::string& part) {
     const std::lock_guard lock(mutex);
@@ -187,11 +209,21 @@ std::vector<float> read_until(HandoffStream& stream, Done done) {
   return clocks;
 }
 
+// Streams until the server has given a few snapshots (the newest state is kept) and the warm local
+// fluid has started; returns the clocks read meanwhile.
+std::vector<float> stream_until_kept(HandoffStream& stream, Fixture& f) {
+  std::vector<float> clocks =
+      read_until(stream, [&] { return f.snapshots_taken() >= 3 && f.locals() >= 1; });
+  const std::vector<float> more = read_for(stream, milliseconds(50));
+  clocks.insert(clocks.end(), more.begin(), more.end());
+  return clocks;
+}
+
 TEST(HandoffStream, ADroppedServersFluidContinuesHereFromItsNewestState) {
   Fixture f;
   HandoffStream stream(hello_for(1000), f.sides(), f.options());
   EXPECT_FALSE(stream.simulating_here());
-  const std::vector<float> streamed = read_for(stream, milliseconds(300));
+  const std::vector<float> streamed = stream_until_kept(stream, f);
   ASSERT_FALSE(streamed.empty());
   EXPECT_EQ(f.locals(), 1) << "a warm local fluid waits while streaming";
 
@@ -216,7 +248,7 @@ TEST(HandoffStream, LatencyCountsTheUsersEventsOnEitherSide) {
   Fixture f;
   HandoffStream stream(hello_for(1000), f.sides(), f.options());
   stream.tilt(0, -9.81f, 0);
-  read_for(stream, milliseconds(500));
+  stream_until_kept(stream, f);
   f.set(&FakeServer::up, false);
   read_until(stream, [&] { return stream.simulating_here(); });
   stream.tilt(0, -9.81f, 0);
@@ -229,7 +261,7 @@ TEST(HandoffStream, LatencyCountsTheUsersEventsOnEitherSide) {
 TEST(HandoffStream, AServerThatComesBackTakesTheFluidAndStreamsAgain) {
   Fixture f;
   HandoffStream stream(hello_for(1000), f.sides(), f.options());
-  read_for(stream, milliseconds(200));
+  stream_until_kept(stream, f);
   f.set(&FakeServer::up, false);
   read_until(stream, [&] { return stream.simulating_here(); });
   const std::vector<float> here = read_for(stream, milliseconds(150));
@@ -254,8 +286,10 @@ TEST(HandoffStream, AServerThatComesBackTakesTheFluidAndStreamsAgain) {
 
 TEST(HandoffStream, ASilentStreamCountsAsLost) {
   Fixture f;
-  HandoffStream stream(hello_for(1000), f.sides(), f.options());
-  read_for(stream, milliseconds(200));
+  HandoffOptions options = f.options();
+  options.stall_after = milliseconds(300);
+  HandoffStream stream(hello_for(1000), f.sides(), options);
+  stream_until_kept(stream, f);
   f.set(&FakeServer::silent, true);
   read_until(stream, [&] { return stream.simulating_here(); });
   EXPECT_NE(stream.status().find("nothing came for 300 ms"), std::string::npos) << stream.status();
@@ -330,7 +364,7 @@ TEST(HandoffStream, ANewStreamOpensWithTheNewestViewport) {
   v1::Command resize;
   resize.mutable_viewport()->set_width(640);
   stream.command(resize);
-  read_for(stream, milliseconds(100));
+  stream_until_kept(stream, f);
   f.set(&FakeServer::up, false);
   read_until(stream, [&] { return stream.simulating_here(); });
   f.set(&FakeServer::up, true);
@@ -356,12 +390,51 @@ TEST(HandoffStream, WithoutRetryTheStreamEndsWithTheServerUnlessItContinuesHere)
   f.set(&FakeServer::up, true);
   options.handoff = true;
   HandoffStream continued(hello_for(1000), f.sides(), options);
-  read_for(continued, milliseconds(100));
+  stream_until_kept(continued, f);
   f.set(&FakeServer::up, false);
   read_until(continued, [&] { return continued.simulating_here(); });
   EXPECT_FALSE(continued.ended());
   EXPECT_EQ(continued.status().find("retrying"), std::string::npos) << continued.status();
   EXPECT_EQ(continued.close(), "");
+}
+
+// A stream the server ends on purpose (here: an idle session) is not a loss: its reason stands,
+// nothing continues here and nothing asks again.
+TEST(HandoffStream, AStreamTheServerEndsOnPurposeEndsThisOne) {
+  Fixture f;
+  HandoffStream stream(hello_for(1000), f.sides(), f.options());
+  stream_until_kept(stream, f);
+  f.set(&FakeServer::ends_streams, true);
+  read_until(stream, [&] { return stream.ended(); });
+  read_for(stream, milliseconds(200));
+  EXPECT_FALSE(stream.simulating_here());
+  EXPECT_EQ(stream.status(), "the server ended the stream: nobody touched the fluid");
+  EXPECT_EQ(stream.close(), "nobody touched the fluid");
+  const std::lock_guard lock(f.server->mutex);
+  EXPECT_EQ(f.server->streams, 1) << "not asked again";
+}
+
+// A server that comes back but refuses the fluid here leaves it here, going on, and is asked
+// again; once it takes it, the stream goes on from the fluid's clock, not a new session's.
+TEST(HandoffStream, AServerThatRefusesTheFluidLeavesItHere) {
+  Fixture f;
+  HandoffStream stream(hello_for(1000), f.sides(), f.options());
+  stream_until_kept(stream, f);
+  f.set(&FakeServer::up, false);
+  read_until(stream, [&] { return stream.simulating_here(); });
+  f.set(&FakeServer::refuses_states, true);
+  f.set(&FakeServer::up, true);
+  read_until(stream, [&] { return stream.status().find("refused") != std::string::npos; });
+  EXPECT_TRUE(stream.simulating_here());
+  EXPECT_NE(stream.status().find("particle 7 is outside"), std::string::npos) << stream.status();
+  const std::vector<float> here = read_for(stream, milliseconds(100));
+  ASSERT_FALSE(here.empty());
+  EXPECT_GT(here.front(), 0.05f) << "the fluid here went on, not from the start";
+  f.set(&FakeServer::refuses_states, false);
+  read_until(stream, [&] { return !stream.simulating_here(); });
+  const std::vector<float> back = read_for(stream, milliseconds(100));
+  ASSERT_FALSE(back.empty());
+  EXPECT_GE(back.front(), here.back());
 }
 
 TEST(HandoffStream, LocalModeNeedsNoServer) {
