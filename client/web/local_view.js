@@ -325,7 +325,16 @@ class LocalView {
     gl.viewport(0, 0, width, height);
     gl.bindBuffer(gl.ARRAY_BUFFER, this.centres);
     gl.bufferData(gl.ARRAY_BUFFER, positions.subarray(0, 3 * count), gl.STREAM_DRAW);
+    this.drawSpheres(count, radius, view, projection, height);
+    this.smoothDepth(radius, projection);
+    this.shade(tank, camera, aspect);
+    this.drawTank(tank, view, projection);
+  }
 
+  // The particles as spheres: the surface's depth (the nearest, by the depth test), then the
+  // thickness (added up).
+  drawSpheres(count, radius, view, projection, height) {
+    const gl = this.gl;
     const spheres = (p) => {
       gl.useProgram(p.program);
       gl.uniformMatrix4fv(p.uniforms.view, false, view);
@@ -352,8 +361,11 @@ class LocalView {
     gl.blendFunc(gl.ONE, gl.ONE);
     spheres(this.thicknessProgram);
     gl.disable(gl.BLEND);
+  }
 
-    // The depth smoothed across x, then y, twice: 5 particle radii, jumps over 6 radii kept.
+  // The depth smoothed across x, then y, twice: 5 particle radii, jumps over 6 radii kept.
+  smoothDepth(radius, projection) {
+    const gl = this.gl;
     gl.bindVertexArray(this.empty);
     const blur = this.blurProgram;
     gl.useProgram(blur.program);
@@ -369,8 +381,11 @@ class LocalView {
       gl.uniform2fv(blur.uniforms.direction, direction);
       gl.drawArrays(gl.TRIANGLES, 0, 3);
     }
+  }
 
-    // Shading into the canvas.
+  // Shading into the canvas, the scene behind the water ray-cast from `tank`.
+  shade(tank, camera, aspect) {
+    const gl = this.gl;
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
     const shade = this.shadeProgram;
     gl.useProgram(shade.program);
@@ -390,8 +405,11 @@ class LocalView {
     gl.drawArrays(gl.TRIANGLES, 0, 3);
     gl.activeTexture(gl.TEXTURE0);
     gl.bindVertexArray(null);
+  }
 
-    // The tank's edges over it, uploaded when the tank changes.
+  // The tank's edges over it, uploaded when the tank changes.
+  drawTank(tank, view, projection) {
+    const gl = this.gl;
     const lines = this.lineProgram;
     gl.useProgram(lines.program);
     gl.uniformMatrix4fv(lines.uniforms.view, false, view);
