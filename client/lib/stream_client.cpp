@@ -19,7 +19,8 @@ std::shared_ptr<grpc::Channel> connect(const std::string& server) {
   return grpc::CreateCustomChannel(server, grpc::InsecureChannelCredentials(), arguments);
 }
 
-StreamClient::StreamClient(std::shared_ptr<grpc::Channel> channel, const v1::Hello& hello)
+StreamClient::StreamClient(std::shared_ptr<grpc::Channel> channel, const v1::Hello& hello,
+                           std::chrono::milliseconds welcome_within)
     : channel_(channel), stub_(v1::Fluidcast::NewStub(channel)), token_(hello.token()) {
   // A server that cannot be reached is said in seconds, not after gRPC's long backoff.
   if (!channel->WaitForConnected(std::chrono::system_clock::now() + kConnectTimeout)) {
@@ -31,8 +32,31 @@ StreamClient::StreamClient(std::shared_ptr<grpc::Channel> channel, const v1::Hel
   v1::ClientMessage message;
   *message.mutable_hello() = hello;
   v1::ServerMessage reply;
-  if (!stream_->Write(message) || !stream_->Read(&reply)) {
+  // The blocking Write and Read have no deadline of their own: a watchdog cancels them.
+  std::mutex waiting;
+  std::condition_variable answered;
+  bool done = false, gave_up = false;
+  std::thread watchdog([&] {
+    std::unique_lock lock(waiting);
+    if (!answered.wait_for(lock, welcome_within, [&] { return done; })) {
+      gave_up = true;
+      context_.TryCancel();
+    }
+  });
+  const bool welcomed = stream_->Write(message) && stream_->Read(&reply);
+  {
+    std::lock_guard lock(waiting);
+    done = true;
+  }
+  answered.notify_all();
+  watchdog.join();
+  if (!welcomed) {
     const grpc::Status status = stream_->Finish();
+    if (gave_up) {
+      throw StreamError(grpc::Status(grpc::StatusCode::UNAVAILABLE,
+                                     "the server took the stream but sent no Welcome within " +
+                                         std::to_string(welcome_within.count()) + " ms"));
+    }
     throw StreamError(status.ok() ? grpc::Status(grpc::StatusCode::UNAVAILABLE,
                                                  "the stream ended before the Welcome")
                                   : status);

@@ -42,8 +42,11 @@ std::string describe_welcome(const v1::Welcome& welcome);
 class StreamClient final : public FluidStream {
  public:
   // Opens a stream and sends `hello`; waits for the Welcome (throws StreamError when the server
-  // refuses, with its status).
-  StreamClient(std::shared_ptr<grpc::Channel> channel, const v1::Hello& hello);
+  // refuses, with its status, and UNAVAILABLE when none comes within `welcome_within`: a server
+  // that takes the call and never answers is one that does not answer).
+  static constexpr std::chrono::seconds kWelcomeWithin{30};
+  StreamClient(std::shared_ptr<grpc::Channel> channel, const v1::Hello& hello,
+               std::chrono::milliseconds welcome_within = kWelcomeWithin);
   ~StreamClient();
   StreamClient(const StreamClient&) = delete;
   StreamClient& operator=(const StreamClient&) = delete;

@@ -1,6 +1,8 @@
 // The client library against a server that misbehaves on purpose (a stand-in service here, not
 // fluidcast-server): a caller's sends never wait on the network, a server that stops reading
 // ends the stream with a status that says so, and finishing never waits without end.
+#include "stream_client.h"
+
 #include <grpcpp/grpcpp.h>
 #include <gtest/gtest.h>
 
@@ -8,19 +10,21 @@
 #include <chrono>
 #include <thread>
 
-#include "stream_client.h"
-
 namespace fluidcast::client {
 namespace {
 
 // Welcomes, then never reads again until the client goes away.
 class ServerThatStopsReading final : public v1::Fluidcast::Service {
  public:
-  grpc::Status Stream(grpc::ServerContext* context,
-                      grpc::ServerReaderWriter<v1::ServerMessage, v1::ClientMessage>* stream)
-      override {
+  grpc::Status Stream(
+      grpc::ServerContext* context,
+      grpc::ServerReaderWriter<v1::ServerMessage, v1::ClientMessage>* stream) override {
     v1::ClientMessage hello;
     if (!stream->Read(&hello)) return grpc::Status::CANCELLED;
+    if (hello.hello().token() == "mute") {  // takes the stream, never answers
+      while (!context->IsCancelled()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      return grpc::Status::CANCELLED;
+    }
     v1::ServerMessage welcome;
     welcome.mutable_welcome()->set_viewer_id(1);
     stream->Write(welcome);
@@ -67,8 +71,23 @@ TEST_F(StreamClientTest, SendsNeverWaitAndAServerThatStopsReadingEndsTheStream) 
   }
   ASSERT_TRUE(client.ended());
   EXPECT_EQ(client.status().error_code(), grpc::StatusCode::UNAVAILABLE);
-  EXPECT_NE(client.end_reason().find("stopped reading"), std::string::npos)
-      << client.end_reason();
+  EXPECT_NE(client.end_reason().find("stopped reading"), std::string::npos) << client.end_reason();
+}
+
+TEST_F(StreamClientTest, AServerThatNeverWelcomesIsGivenUpOn) {
+  v1::Hello hello;
+  hello.set_token("mute");
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    StreamClient client(connect("127.0.0.1:" + std::to_string(port_)), hello,
+                        std::chrono::milliseconds(500));
+    ADD_FAILURE() << "a stream without a Welcome was taken";
+  } catch (const StreamError& e) {
+    EXPECT_EQ(e.code(), grpc::StatusCode::UNAVAILABLE);
+    EXPECT_NE(std::string(e.what()).find("no Welcome within 500 ms"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(5));
 }
 
 TEST_F(StreamClientTest, FinishingWithAServerThatNeverEndsTheStreamTakesBoundedTime) {
