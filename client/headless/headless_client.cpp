@@ -17,13 +17,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double percentile(std::vector<double> values, double p) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const std::size_t index = std::min(values.size() - 1, std::size_t(p * double(values.size())));
-  return values[index];
-}
-
 // Where each frame's time went on the server (v1::StageTimings), and how fast its fluid ran.
 struct FrameFigures {
   std::size_t frames = 0, bytes = 0, bad_frames = 0;

@@ -1,5 +1,7 @@
 #include "fluid_stream.h"
 
+#include <algorithm>
+
 namespace fluidcast::client {
 namespace {
 
@@ -8,6 +10,12 @@ constexpr std::size_t kKeptInputs = 1024;
 constexpr std::size_t kKeptLatencies = 100000;
 
 }  // namespace
+
+double percentile(std::vector<double> values, double p) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  return values[std::min(values.size() - 1, std::size_t(p * double(values.size())))];
+}
 
 std::uint64_t LatencyTracker::sent() {
   std::uint64_t id = 0;

@@ -34,6 +34,9 @@ class LatencyTracker {
   std::vector<double> latencies_ms_;
 };
 
+// The value below which a share `p` (0 to 1) of `values` lies; 0 for none.
+double percentile(std::vector<double> values, double p);
+
 // Frames received and not yet shown: the newest `keep`, waited for with a timeout. Thread-safe.
 class FrameQueue {
  public:

@@ -151,15 +151,14 @@ std::string HandoffStream::end_reason() const {
 
 std::string HandoffStream::close() { return stream_ ? stream_->close() : status_; }
 
-v1::Snapshot HandoffStream::snapshot() {
+FluidStream& HandoffStream::current() const {
   if (!stream_) throw std::runtime_error("no fluid: the server is gone and none continues here");
-  return stream_->snapshot();
+  return *stream_;
 }
 
-void HandoffStream::load(const v1::Snapshot& snapshot) {
-  if (!stream_) throw std::runtime_error("no fluid: the server is gone and none continues here");
-  stream_->load(snapshot);
-}
+v1::Snapshot HandoffStream::snapshot() { return current().snapshot(); }
+
+void HandoffStream::load(const v1::Snapshot& snapshot) { current().load(snapshot); }
 
 bool HandoffStream::continues_here() const {
   return options_.handoff && welcome().access().control() &&

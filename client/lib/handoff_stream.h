@@ -104,6 +104,7 @@ class HandoffStream final : public FluidStream {
   using Clock = std::chrono::steady_clock;
 
   void open_first();
+  FluidStream& current() const;  // the side streaming now; throws when there is none
   bool continues_here() const;
   void shown(const v1::Frame& frame);
   void keep_snapshot();

@@ -21,7 +21,7 @@ std::shared_ptr<grpc::Channel> connect(const std::string& server) {
 
 StreamClient::StreamClient(std::shared_ptr<grpc::Channel> channel, const v1::Hello& hello,
                            std::chrono::milliseconds welcome_within)
-    : channel_(channel), stub_(v1::Fluidcast::NewStub(channel)), token_(hello.token()) {
+    : stub_(v1::Fluidcast::NewStub(channel)), token_(hello.token()) {
   // A server that cannot be reached is said in seconds, not after gRPC's long backoff.
   if (!channel->WaitForConnected(std::chrono::system_clock::now() + kConnectTimeout)) {
     throw StreamError(

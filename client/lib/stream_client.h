@@ -91,7 +91,6 @@ class StreamClient final : public FluidStream {
   bool queue(v1::ClientMessage message);  // under write_mutex_
   void cancel_because(std::string why);   // under write_mutex_
 
-  std::shared_ptr<grpc::Channel> channel_;
   grpc::ClientContext context_;
   std::unique_ptr<v1::Fluidcast::Stub> stub_;
   const std::string token_;  // the Hello's, for the snapshot calls

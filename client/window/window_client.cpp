@@ -54,12 +54,6 @@ struct SdlLibrary {
   ~SdlLibrary() { SDL_Quit(); }
 };
 
-double percentile(std::vector<double> values, double p) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  return values[std::min(values.size() - 1, std::size_t(p * double(values.size())))];
-}
-
 // What the window shows, and where it comes from.
 class Client {
  public:

@@ -28,6 +28,14 @@ constexpr std::uint32_t kScreenGroup = 64;
 
 }  // namespace
 
+double RenderTimes::drawing_ms() const {
+  double sum = 0.0;
+  for (const auto& [name, pass] : kRenderPasses) {
+    if (pass != &RenderTimes::readback_ms) sum += this->*pass;
+  }
+  return sum;
+}
+
 const std::vector<std::string_view>& renderer_names() {
   static const std::vector<std::string_view> names = {"points", "ssfr", "mc", "auto"};
   return names;

@@ -110,11 +110,7 @@ struct RenderTimes {
   double mc_field_ms = 0;      // MC: the scalar field splatted from the particles
   double mc_triangles_ms = 0;  // MC: triangles and normals from the tables
 
-  // Every pass but the read-back.
-  double drawing_ms() const {
-    return mc_field_ms + mc_triangles_ms + anisotropy_ms + scene_ms + particles_ms + smoothing_ms +
-           shading_ms;
-  }
+  double drawing_ms() const;  // every pass of kRenderPasses but the read-back
 };
 
 // Each pass by the name benchmarks report it under, with its field.
