@@ -28,6 +28,9 @@
 #include "fluidcast/render/frame_renderer.h"
 #include "fluidcast/sim/solver_params.h"
 #include "grpc/fluidcast_service.h"
+#include "grpc/grpc_listener.h"
+#include "grpc/grpc_log.h"
+#include "grpc/peer_address.h"
 #include "log.h"
 #include "options.h"
 #include "session/default_size.h"
@@ -153,26 +156,21 @@ PageTls page_tls(const ServerOptions& options, const std::vector<std::string>& a
   return {files, std::move(context)};
 }
 
-// The gRPC server, listening; nullptr (and `port` 0) when it cannot listen where it was told.
+// The gRPC server, listening (on `listener` when there is one, else on its own port); nullptr
+// (and `port` 0) when it cannot listen where it was told.
 std::unique_ptr<grpc::Server> start_grpc(const ServerOptions& options, const ServerLimits& limits,
-                                         FluidcastService& service, int& port) {
+                                         FluidcastService& service, GrpcListener* listener,
+                                         int& port) {
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
-  std::shared_ptr<grpc::ServerCredentials> credentials = grpc::InsecureServerCredentials();
-  if (!options.tls_certificate.empty()) {
+  if (!listener) {
     grpc::SslServerCredentialsOptions tls;
     tls.pem_key_cert_pairs.push_back(
         {read_file(options.tls_key), read_file(options.tls_certificate)});
-    credentials = grpc::SslServerCredentials(tls);
+    builder.AddListeningPort(options.listen + ":" + std::to_string(options.grpc_port),
+                             grpc::SslServerCredentials(tls), &port);
   }
-  // gRPC accepts its connections itself. (gRPC 1.51 stops accepting for good after one failed
-  // accept, when descriptors run out: the HTTP side keeps to half of them, and idle gRPC
-  // connections are closed, for that. Accepting here and handing each connection over with
-  // grpc::AddInsecureChannelFromFd avoided it, but such connections stalled: clients' keepalive
-  // pings went unanswered for seconds.)
-  builder.AddListeningPort(options.listen + ":" + std::to_string(options.grpc_port), credentials,
-                           &port);
   // gRPC sets SO_REUSEPORT by default: a second server on the same port would silently take half
   // of the new clients. Exclusive, it fails to start instead.
   builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
@@ -190,8 +188,20 @@ std::unique_ptr<grpc::Server> start_grpc(const ServerOptions& options, const Ser
   builder.SetMaxReceiveMessageSize(static_cast<int>(
       std::min<std::uint64_t>(INT32_MAX, 24ull * limits.max_particles + (1 << 20))));
   auto server = builder.BuildAndStart();
+  if (server && listener) {
+    listener->start(*server);
+    port = listener->port();
+  }
   if (!server) port = 0;
   return port == 0 ? nullptr : std::move(server);
+}
+
+int grpc_address_in_use(const ServerOptions& options) {
+  std::fprintf(stderr,
+               "fluidcast-server: cannot listen for gRPC on %s:%u: the address is in use "
+               "(another server?) or not one of this machine's (--listen, --grpc-port)\n",
+               options.listen.c_str(), unsigned(options.grpc_port));
+  return kBadFlag;
 }
 
 // What the operator reads at start: where to connect, from here and from a phone.
@@ -281,6 +291,7 @@ void drain(const sigset_t& signals, int signal, const ServerOptions& options) {
 int serve(const ServerOptions& options) {
   const sigset_t signals = block_stop_signals();
   configure_log(options.log_format);
+  route_grpc_log();
   gpu::Context context(context_options(options));
   const bool gpu_solver = gpu_solver_for(options, context);
   spdlog::info("sessions simulate on the {}",
@@ -293,14 +304,30 @@ int serve(const ServerOptions& options) {
   metrics.describe_device(context.info().name, context.info().hardware());
   const ServerLimits limits = limits_for_device(options, context, gpu_solver);
   SessionHub hub(context, gpu_solver, limits, read_token(options.token_file), metrics);
-  FluidcastService service(hub);
+  // Plaintext gRPC is accepted by a listener of ours (grpc_listener.h); gRPC over TLS by gRPC.
+  std::optional<GrpcListener> grpc_listener;
+  if (options.tls_certificate.empty()) {
+    try {
+      grpc_listener.emplace(options.listen, options.grpc_port);
+    } catch (const std::runtime_error&) {
+      return grpc_address_in_use(options);
+    }
+  }
+  FluidcastService service(hub, [&grpc_listener](std::string_view peer) {
+    return grpc_listener ? grpc_listener->address_of(peer) : peer_address(peer);
+  });
   const std::vector<std::string> addresses = lan_addresses();
   const PageTls tls = page_tls(options, addresses);
 
-  // HTTP first: if its port is taken, nothing else has started yet.
+  // HTTP before gRPC's server: if its port is taken, no stream has started yet. /healthz is
+  // unhealthy from SIGTERM on, and while either port cannot accept for want of descriptors.
   std::atomic<bool> serving{true};
   HttpServer http(options.listen, options.http_port,
-                  {[&] { return metrics.prometheus_text(); }, [&] { return serving.load(); },
+                  {[&] { return metrics.prometheus_text(); },
+                   [&] {
+                     return serving.load() &&
+                            (grpc_listener ? grpc_listener->accepting() : !grpc_acceptor_failed());
+                   },
                    [&hub](WebStream stream,
                           boost::beast::http::request<boost::beast::http::string_body> request,
                           std::shared_ptr<ConnectionLimits::Slot> slot) {
@@ -310,14 +337,9 @@ int serve(const ServerOptions& options) {
                   ConnectionLimits(limits.max_connections, limits.max_connections_per_address),
                   tls.context);
   int grpc_port = 0;
-  const std::unique_ptr<grpc::Server> server = start_grpc(options, limits, service, grpc_port);
-  if (!server) {
-    std::fprintf(stderr,
-                 "fluidcast-server: cannot listen for gRPC on %s:%u: the address is in use "
-                 "(another server?) or not one of this machine's (--listen, --grpc-port)\n",
-                 options.listen.c_str(), unsigned(options.grpc_port));
-    return kBadFlag;
-  }
+  const std::unique_ptr<grpc::Server> server =
+      start_grpc(options, limits, service, grpc_listener ? &*grpc_listener : nullptr, grpc_port);
+  if (!server) return grpc_address_in_use(options);
   grpc::HealthCheckServiceInterface* health = server->GetHealthCheckService();
   health->SetServingStatus(true);
   log_where_to_connect(options, limits, context.info(), addresses, tls.files, grpc_port,
@@ -333,6 +355,7 @@ int serve(const ServerOptions& options) {
   drain(signals, signal, options);
   spdlog::info("ending every stream");
   hub.stop();  // every stream ends with UNAVAILABLE; new ones are refused
+  if (grpc_listener) grpc_listener->stop();
   server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(3));
   http.stop();
   spdlog::info("stopped");

@@ -23,7 +23,7 @@
 #include <vector>
 
 #include "web/connection_limits.h"
-#include "web/listener.h"
+#include "net/listener.h"
 
 namespace fluidcast::server {
 

@@ -1,7 +1,7 @@
 // What an idle or greedy client can hold of the real server on loopback: streams that send no
 // Hello end at their deadline on both transports, HTTP and WebSocket connections over the limits
-// are closed while the others are served, and when the process runs out of descriptors the HTTP
-// side neither spins nor stays deaf once they come back.
+// are closed while the others are served, and when the process runs out of descriptors neither
+// port spins nor stays deaf once they come back.
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <netinet/in.h>
@@ -13,6 +13,7 @@
 #include <boost/beast/core/flat_buffer.hpp>
 #include <boost/beast/websocket.hpp>
 #include <chrono>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <thread>
@@ -21,6 +22,7 @@
 #include "fluidcast/v1/fluidcast.grpc.pb.h"
 #include "server_process.h"
 #include "stream_client.h"
+#include "web/tls_certificate.h"
 
 namespace fluidcast {
 namespace {
@@ -29,6 +31,15 @@ using Clock = std::chrono::steady_clock;
 using std::chrono::milliseconds;
 using std::chrono::seconds;
 using testing::RawConnection;
+
+// A Hello that opens a small session.
+v1::Hello small_session() {
+  v1::Hello hello;
+  hello.mutable_viewport()->set_width(64);
+  hello.mutable_viewport()->set_height(48);
+  hello.mutable_create()->set_particles(500);
+  return hello;
+}
 
 // A WebSocket to the server's /ws; reads give up after 20 s, so that a server that never answers
 // fails the test instead of hanging it.
@@ -89,13 +100,7 @@ TEST(ConnectionLimitsTest, AWebSocketThatSendsNoHelloEndsAtItsDeadline) {
 // before the server buffers the rest of it; another stream goes on.
 TEST(ConnectionLimitsTest, AnOversizedWebSocketMessageEndsWithAStreamEnd) {
   testing::ServerProcess server;
-  client::StreamClient bystander(client::connect(server.grpc_address()), [] {
-    v1::Hello hello;
-    hello.mutable_viewport()->set_width(64);
-    hello.mutable_viewport()->set_height(48);
-    hello.mutable_create()->set_particles(500);
-    return hello;
-  }());
+  client::StreamClient bystander(client::connect(server.grpc_address()), small_session());
   boost::asio::io_context io;
   const auto connection = open_websocket(io, server.http_port());
   WebSocket& socket = *connection;
@@ -153,8 +158,8 @@ TEST(ConnectionLimitsTest, ConnectionsOverTheLimitFromOneAddressAreClosedOthersS
 
 TEST(ConnectionLimitsTest, WhenDescriptorsRunOutItWaitsAndServesAgainOnceTheyAreBack) {
   // 96 descriptors in all: connections to the gRPC port (which has no limit of its own) take
-  // the rest, and the HTTP port can accept nothing. (gRPC 1.51's own acceptor stops for good
-  // here: docs/operations.md.)
+  // the rest, and the HTTP port can accept nothing. (gRPC 1.51's own acceptor would stop for good
+  // here: the server accepts gRPC's connections itself.)
   testing::ServerProcess server({}, 96);
   RawConnection monitor(server.http_port());  // a load balancer's, open before
   ASSERT_EQ(monitor.get("/healthz"), "HTTP/1.1 200 OK");
@@ -185,6 +190,34 @@ TEST(ConnectionLimitsTest, WhenDescriptorsRunOutItWaitsAndServesAgainOnceTheyAre
   EXPECT_EQ(answer, "HTTP/1.1 200 OK");
   std::printf("HTTP served again %.1f s after the descriptors came back\n",
               std::chrono::duration<double>(Clock::now() - freed).count());
+  client::StreamClient viewer(client::connect(server.grpc_address()), small_session());
+  EXPECT_FALSE(viewer.next_frame(milliseconds(10000)) == std::nullopt)
+      << "the gRPC port stayed deaf after the descriptors came back";
+  std::printf("gRPC streamed again %.1f s after the descriptors came back\n",
+              std::chrono::duration<double>(Clock::now() - freed).count());
+}
+
+// With --tls-cert gRPC accepts its own connections, and gRPC 1.51 stops for good once it runs
+// out of descriptors: then the server says it is unhealthy until restarted, so that a load
+// balancer or systemd replaces it instead of sending it clients it cannot take.
+TEST(ConnectionLimitsTest, AgRpcAcceptorThatStoppedForGoodMakesTheServerUnhealthy) {
+  const auto folder =
+      std::filesystem::temp_directory_path() / ("fluidcast-tls-" + std::to_string(::getpid()));
+  const server::TlsFiles tls = server::self_signed_certificate(folder, {});
+  testing::ServerProcess server(
+      {"--tls-cert", tls.certificate.string(), "--tls-key", tls.key.string()}, 96);
+  RawConnection monitor(server.http_port());
+  ASSERT_EQ(monitor.get("/healthz"), "HTTP/1.1 200 OK");
+  std::vector<std::unique_ptr<RawConnection>> flood;
+  const std::string address = server.grpc_address();
+  const int grpc_port = std::stoi(address.substr(address.rfind(':') + 1));
+  for (int k = 0; k < 120; ++k) flood.push_back(std::make_unique<RawConnection>(grpc_port));
+  std::this_thread::sleep_for(milliseconds(500));
+  flood.clear();
+  std::this_thread::sleep_for(seconds(1));
+  EXPECT_EQ(monitor.get("/healthz"), "HTTP/1.1 503 Service Unavailable")
+      << "healthy with a gRPC port that accepts no more?";
+  std::filesystem::remove_all(folder);
 }
 
 }  // namespace

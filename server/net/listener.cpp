@@ -1,4 +1,4 @@
-#include "web/listener.h"
+#include "net/listener.h"
 
 #include <spdlog/spdlog.h>
 #include <unistd.h>
