@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numeric>
+#include <string_view>
 
 namespace fluidcast::server {
 namespace {
@@ -30,21 +32,47 @@ std::vector<double> share_equally(double budget, std::span<const double> demands
   return shares;
 }
 
+std::vector<double> share_between_clients(double budget, std::span<const double> demands,
+                                          std::span<const std::string> clients) {
+  std::map<std::string_view, std::vector<std::size_t>> by_client;
+  for (std::size_t k = 0; k < demands.size(); ++k) by_client[clients[k]].push_back(k);
+  std::vector<double> client_demands;
+  for (const auto& [client, members] : by_client) {
+    double sum = 0.0;
+    for (std::size_t k : members) sum += std::max(0.0, demands[k]);
+    client_demands.push_back(sum);
+  }
+  const std::vector<double> client_shares = share_equally(budget, client_demands);
+  std::vector<double> shares(demands.size(), 0.0);
+  std::size_t c = 0;
+  for (const auto& [client, members] : by_client) {
+    std::vector<double> own;
+    for (std::size_t k : members) own.push_back(demands[k]);
+    const std::vector<double> own_shares = share_equally(client_shares[c++], own);
+    for (std::size_t m = 0; m < members.size(); ++m) shares[members[m]] = own_shares[m];
+  }
+  return shares;
+}
+
 std::vector<GpuGrant> grant_gpu_time(double period_ms, double sim_share,
                                      std::span<const GpuDemand> demands) {
   std::vector<double> sim(demands.size()), render(demands.size());
+  std::vector<std::string> clients(demands.size());
   std::size_t watched = 0;
   for (std::size_t k = 0; k < demands.size(); ++k) {
     sim[k] = demands[k].sim_ms;
     render[k] = demands[k].render_ms;
+    clients[k] = demands[k].client;
     watched += demands[k].watched ? 1 : 0;
   }
-  const std::vector<double> sim_granted = share_equally(sim_share * period_ms, sim);
+  const std::vector<double> sim_granted =
+      share_between_clients(sim_share * period_ms, sim, clients);
   double sim_on_gpu = 0.0;
   for (std::size_t k = 0; k < demands.size(); ++k) {
     if (demands[k].sim_on_gpu) sim_on_gpu += sim_granted[k];
   }
-  const std::vector<double> render_granted = share_equally(period_ms - sim_on_gpu, render);
+  const std::vector<double> render_granted =
+      share_between_clients(period_ms - sim_on_gpu, render, clients);
   std::vector<GpuGrant> grants(demands.size());
   for (std::size_t k = 0; k < demands.size(); ++k) {
     grants[k] = {sim_granted[k], render_granted[k], period_ms,

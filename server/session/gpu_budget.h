@@ -3,13 +3,15 @@
 //
 // Each tick of period T, the hub asks every session what it would spend (its due frames at their
 // measured cost, the substeps real time owes at their measured cost), grants simulation up to
-// sim_share·T in all and rendering the rest of T, both shared out by equal GPU time per session,
+// sim_share·T in all and rendering the rest of T, both shared out by equal GPU time per client and
+// then per session of that client,
 // and each session spends its grant through accounts that carry credit from tick to tick: a
 // frame or a substep dearer than one tick's share runs once enough ticks have paid for it.
 #pragma once
 
 #include <cstddef>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace fluidcast::server {
@@ -19,6 +21,11 @@ namespace fluidcast::server {
 // session that needs little leaves its share to the others.
 std::vector<double> share_equally(double budget, std::span<const double> demands);
 
+// Equal shares between clients first, then between each client's demands: a client that opens
+// more sessions divides its own share, not everyone's. `clients[k]` names demand k's client.
+std::vector<double> share_between_clients(double budget, std::span<const double> demands,
+                                          std::span<const std::string> clients);
+
 // What one session asks of a tick, in GPU milliseconds.
 struct GpuDemand {
   double sim_ms = 0.0;     // the substeps that real time owes
@@ -27,6 +34,8 @@ struct GpuDemand {
   // Its solver runs on the GPU. A CPU solver's substeps take the worker thread's time, not the
   // device's: they count against the simulation share, not against rendering.
   bool sim_on_gpu = true;
+  // Who created the session (its address): sessions of one client share one client's time.
+  std::string client;
 };
 
 // What the hub grants it.
@@ -47,7 +56,8 @@ struct GpuGrant {
 };
 
 // The rule, for all sessions at once: simulation shares sim_share·period, rendering the rest of
-// the period (what simulation on the GPU leaves included). A tick that comes late grants no more:
+// the period (what simulation on the GPU leaves included), each between clients and then between
+// a client's sessions. A tick that comes late grants no more:
 // when the device cannot keep the tick rate, frame rates and fluids slow down alike, and an item
 // that overran its tick does not pay for itself.
 std::vector<GpuGrant> grant_gpu_time(double period_ms, double sim_share,

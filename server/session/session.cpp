@@ -294,6 +294,7 @@ GpuDemand Session::prepare(Clock::time_point now) {
   tick_elapsed_ = elapsed;
 
   GpuDemand demand;
+  demand.client = creator_;
   demand.watched = !viewers_.empty();
   demand.sim_on_gpu = services_.gpu_solver;
   // Nobody watching: the fluid waits as it is, for a resume.

@@ -100,11 +100,12 @@ void SessionHub::open(v1::Hello hello, std::string address, std::shared_ptr<View
         viewer = session->add_viewer(hello, sink, Access::control);
       }
       opened.access = session->access(viewer);
-      spdlog::info("session {}: viewer {} {} ({} particles, {} sessions)", session->id(), viewer,
+      spdlog::info("session {}: viewer {} {} from {} ({} particles, {} sessions)", session->id(),
+                   viewer,
                    hello.has_resume() ? "resumed"
                    : hello.has_join() ? "joined"
                                       : "created it",
-                   session->state().particles(), sessions_.size());
+                   address, session->state().particles(), sessions_.size());
     } catch (const Refusal& refusal) {
       opened.refusal = refusal;
     } catch (const std::exception& e) {  // out of GPU memory, say: this request fails alone

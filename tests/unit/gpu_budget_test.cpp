@@ -1,11 +1,14 @@
 // How sessions share the GPU's time: water-filling, grants, accounts, cost estimates, and the
 // simulation speed. Pure arithmetic; no Vulkan.
+#include "session/gpu_budget.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numeric>
+#include <string>
+#include <vector>
 
-#include "session/gpu_budget.h"
 #include "session/sim_speed.h"
 
 namespace fluidcast::server {
@@ -61,6 +64,30 @@ TEST(GrantGpuTimeTest, AHeavySessionCannotTakeTheLightOnesShare) {
   EXPECT_LE(total, period + 1e-9);
 }
 
+TEST(ShareBetweenClientsTest, AClientWithManySessionsDividesItsOwnShare) {
+  // One client's three sessions and another's one, all asking for the whole budget.
+  const std::vector<double> demands = {30.0, 30.0, 30.0, 30.0};
+  const std::vector<std::string> clients = {"10.0.0.7", "10.0.0.7", "10.0.0.7", "10.0.0.9"};
+  const auto shares = share_between_clients(30.0, demands, clients);
+  EXPECT_DOUBLE_EQ(shares[3], 15.0);
+  for (std::size_t k = 0; k < 3; ++k) EXPECT_DOUBLE_EQ(shares[k], 5.0);
+  // What a client does not need goes to the others; one client alone is shared per session.
+  const std::vector<double> small = {30.0, 30.0, 2.0};
+  const std::vector<std::string> two = {"a", "a", "b"};
+  EXPECT_EQ(share_between_clients(30.0, small, two), (std::vector<double>{14.0, 14.0, 2.0}));
+  const std::vector<std::string> one = {"a", "a", "a"};
+  EXPECT_EQ(share_between_clients(30.0, small, one), share_equally(30.0, small));
+}
+
+TEST(GrantGpuTimeTest, ManySessionsOfOneClientDoNotCrowdOutAnother) {
+  // A client with seven sessions and a bystander with one, each wanting a 10 ms frame a tick.
+  std::vector<GpuDemand> demands(8, GpuDemand{0.0, 10.0, true, false, "attacker"});
+  demands[7].client = "bystander";
+  const auto grants = grant_gpu_time(20.0, 0.5, demands);
+  EXPECT_DOUBLE_EQ(grants[7].render_ms, 10.0);  // half the device: all it asks
+  for (std::size_t k = 0; k < 7; ++k) EXPECT_NEAR(grants[k].render_ms, 10.0 / 7.0, 1e-12);
+}
+
 TEST(GrantGpuTimeTest, RenderingGetsWhatSimulationLeaves) {
   const std::vector<GpuDemand> demands = {{0.0, 30.0, true}};
   const auto grants = grant_gpu_time(20.0, 0.5, demands);
@@ -91,7 +118,7 @@ TEST(GrantGpuTimeTest, AnItemLongerThanATickPaysForTheFramesItHoldsBack) {
   grant.period_ms = 10.0;
   EXPECT_DOUBLE_EQ(grant.charge(25.0), 25.0);  // alone: its own time
   grant.others_watched = 3;
-  EXPECT_DOUBLE_EQ(grant.charge(8.0), 8.0);    // within a tick: nobody misses a frame
+  EXPECT_DOUBLE_EQ(grant.charge(8.0), 8.0);  // within a tick: nobody misses a frame
   EXPECT_DOUBLE_EQ(grant.charge(25.0), 25.0 + 3 * 15.0);
 }
 
