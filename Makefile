@@ -27,10 +27,10 @@ test: build
 # The unit and integration tests built with AddressSanitizer and UndefinedBehaviorSanitizer
 # (build/asan; CI runs it after `make test`). Left out: frame-rate comparisons, the load test and
 # the bound on a server's memory (the sanitizers slow the server several times and hold freed
-# memory in quarantine, which is what those would measure), and the descriptor-exhaustion test:
+# memory in quarantine, which is what those would measure), and the descriptor-exhaustion tests:
 # UBSan checks a virtual call's object by writing it to a pipe, which it cannot open when the
 # process has no descriptors left, and then reports every such call (Boost.System's
-# error_category first) as an invalid vptr. The plain build runs it.
+# error_category first) as an invalid vptr. The plain build runs them.
 test-sanitized: deps
 	cmake --preset asan
 	cmake --build --preset asan -j $(JOBS)

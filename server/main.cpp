@@ -204,6 +204,9 @@ int grpc_address_in_use(const ServerOptions& options) {
   return kBadFlag;
 }
 
+// Whether the server listens on every interface: IPv4's (0.0.0.0) or IPv6's and IPv4's (::).
+bool every_interface(const std::string& listen) { return listen == "0.0.0.0" || listen == "::"; }
+
 // What the operator reads at start: where to connect, from here and from a phone.
 void log_where_to_connect(const ServerOptions& options, const ServerLimits& limits,
                           const gpu::DeviceInfo& device, const std::vector<std::string>& addresses,
@@ -218,7 +221,7 @@ void log_where_to_connect(const ServerOptions& options, const ServerLimits& limi
       "a page can ask: ?particles=N)",
       limits.default_particles, limits.target_fps,
       device.hardware() ? "" : " (the frame rate of a CPU device)");
-  if (options.listen == "0.0.0.0") {
+  if (every_interface(options.listen)) {
     for (const std::string& address : addresses) {
       spdlog::info(
           "on a phone on this network, open https://{}:{}/ (tilt needs https; http:// "
@@ -232,7 +235,7 @@ void log_where_to_connect(const ServerOptions& options, const ServerLimits& limi
         "(README: Connect your phone; --tls-cert for a real one)",
         tls_files.certificate.string());
   }
-  const char* local = options.listen == "0.0.0.0" ? "127.0.0.1" : options.listen.c_str();
+  const char* local = every_interface(options.listen) ? "127.0.0.1" : options.listen.c_str();
   spdlog::info(
       "here: open http://{}:{}/ in a browser, or run {} --headless --server {}:{} --seconds 10",
       local, http_port, (program_folder() / "fluidcast-client").string(), local, grpc_port);

@@ -23,7 +23,9 @@ ServerOptions read_server_options(CLI::App& app, int argc, const char* const* ar
   ServerLimits& l = o.limits;
   add_version_flag(app, "fluidcast-server");
   app.option_defaults()->always_capture_default();
-  app.add_option("--listen", o.listen, "Address to listen on (0.0.0.0: every interface)")
+  app.add_option(
+         "--listen", o.listen,
+         "Address to listen on (0.0.0.0: every IPv4 interface; ::, every interface, IPv6 and IPv4)")
       ->envname("FLUIDCAST_LISTEN");
   app.add_option("--grpc-port", o.grpc_port, "gRPC port (0: any free port, printed at start)")
       ->envname("FLUIDCAST_GRPC_PORT");

@@ -15,23 +15,23 @@ GrpcListener::GrpcListener(const std::string& address, unsigned short port)
 GrpcListener::~GrpcListener() { stop(); }
 
 void GrpcListener::start(grpc::Server& server) {
-  listener_.start([this, &server](boost::asio::ip::tcp::socket socket) {
-    boost::system::error_code error;
-    const std::string address = socket.remote_endpoint(error).address().to_string();
-    if (error) return;  // gone already
-    // gRPC reads and writes without waiting: a blocking socket would hold one of its polling
-    // threads in read() until the client spoke, and every other connection's pings with it.
-    socket.non_blocking(true, error);
-    socket.set_option(boost::asio::ip::tcp::no_delay(true), error);
-    if (error) return;
-    const int fd = socket.release();
-    fcntl(fd, F_SETFD, FD_CLOEXEC);
-    {
-      const std::lock_guard lock(mutex_);
-      addresses_[fd] = address;
-    }
-    grpc::AddInsecureChannelFromFd(&server, fd);
-  });
+  listener_.start(
+      [this, &server](boost::asio::ip::tcp::socket socket, boost::asio::ip::address client) {
+        boost::system::error_code error;
+        // gRPC reads and writes without waiting: a blocking socket would hold one of its polling
+        // threads in read() until the client spoke, and every other connection's pings with it.
+        socket.non_blocking(true, error);
+        if (error) return;
+        socket.set_option(boost::asio::ip::tcp::no_delay(true), error);
+        if (error) return;
+        const int fd = socket.release();
+        fcntl(fd, F_SETFD, FD_CLOEXEC);
+        {
+          const std::lock_guard lock(mutex_);
+          addresses_[fd] = client.to_string();
+        }
+        grpc::AddInsecureChannelFromFd(&server, fd);
+      });
   thread_ = std::thread([this] { io_.run(); });
 }
 

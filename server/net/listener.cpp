@@ -39,7 +39,7 @@ Listener::Listener(boost::asio::io_context& io, const std::string& address, unsi
   }
 }
 
-void Listener::start(std::function<void(tcp::socket)> take) {
+void Listener::start(Take take) {
   take_ = std::move(take);
   accept();
 }
@@ -66,7 +66,12 @@ void Listener::accept() {
     }
     if (!error) {
       if (!accepting_.exchange(true)) spdlog::info("{}: accepting connections again", what_);
-      take_(std::move(socket));
+      boost::system::error_code gone;
+      boost::asio::ip::address client = socket.remote_endpoint(gone).address();
+      if (client.is_v6() && client.to_v6().is_v4_mapped()) {
+        client = boost::asio::ip::make_address_v4(boost::asio::ip::v4_mapped, client.to_v6());
+      }
+      if (!gone) take_(std::move(socket), client);
     }
     accept();
   });

@@ -24,8 +24,11 @@ class Listener {
   Listener(const Listener&) = delete;
   Listener& operator=(const Listener&) = delete;
 
-  // Hands each accepted connection to `take`, on the io_context's threads, while it runs.
-  void start(std::function<void(boost::asio::ip::tcp::socket)> take);
+  // Hands each accepted connection to `take` with its client's address (an IPv4 client on a
+  // dual-stack port as plain IPv4: the same client either way), on the io_context's threads,
+  // while it runs. A connection gone before it is handed over is closed.
+  using Take = std::function<void(boost::asio::ip::tcp::socket, boost::asio::ip::address client)>;
+  void start(Take take);
 
   unsigned short port() const { return port_; }
   bool accepting() const { return accepting_.load(); }
@@ -37,7 +40,7 @@ class Listener {
   boost::asio::io_context* io_;
   boost::asio::ip::tcp::acceptor acceptor_;
   boost::asio::steady_timer retry_;
-  std::function<void(boost::asio::ip::tcp::socket)> take_;
+  Take take_;
   unsigned short port_ = 0;
   std::atomic<bool> accepting_{true};
 };

@@ -227,10 +227,8 @@ HttpServer::HttpServer(const std::string& address, unsigned short port, Routes r
   routes_.healthy = [serving = std::move(routes_.healthy), this] {
     return serving() && listener_.accepting();
   };
-  listener_.start([this](tcp::socket socket) {
-    boost::system::error_code unknown;
-    const auto peer = socket.remote_endpoint(unknown);
-    if (auto slot = unknown ? nullptr : limits_.admit(peer.address())) {
+  listener_.start([this](tcp::socket socket, boost::asio::ip::address client) {
+    if (auto slot = limits_.admit(client)) {
       std::make_shared<Detector>(std::move(socket), routes_, tls_, std::move(slot))->run();
     }  // else the socket closes here: over a limit
   });

@@ -200,7 +200,7 @@ TEST(ConnectionLimitsTest, WhenDescriptorsRunOutItWaitsAndServesAgainOnceTheyAre
 // With --tls-cert gRPC accepts its own connections, and gRPC 1.51 stops for good once it runs
 // out of descriptors: then the server says it is unhealthy until restarted, so that a load
 // balancer or systemd replaces it instead of sending it clients it cannot take.
-TEST(ConnectionLimitsTest, AgRpcAcceptorThatStoppedForGoodMakesTheServerUnhealthy) {
+TEST(ConnectionLimitsTest, WhenDescriptorsRunOutUnderTlsTheServerIsUnhealthyForGood) {
   const auto folder =
       std::filesystem::temp_directory_path() / ("fluidcast-tls-" + std::to_string(::getpid()));
   const server::TlsFiles tls = server::self_signed_certificate(folder, {});

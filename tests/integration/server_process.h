@@ -13,6 +13,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <map>
 #include <regex>
 #include <stdexcept>
 #include <string>
@@ -33,12 +35,15 @@ class ServerProcess {
     std::string state = (std::filesystem::temp_directory_path() / "fluidcast-test-XXXXXX").string();
     if (!mkdtemp(state.data())) throw std::runtime_error("mkdtemp failed");
     state_ = state;
-    std::vector<std::string> args = {
-        FLUIDCAST_SERVER_PATH, "--listen", "127.0.0.1", "--http-port", "0", "--state-dir", state};
-    // Any free port, unless the flags name one (a restart on the same address).
-    if (std::find(flags.begin(), flags.end(), "--grpc-port") == flags.end()) {
-      args.insert(args.end(), {"--grpc-port", "0"});
-    }
+    std::vector<std::string> args = {FLUIDCAST_SERVER_PATH, "--http-port", "0", "--state-dir",
+                                     state};
+    const auto named = [&](const char* flag) {
+      return std::find(flags.begin(), flags.end(), flag) != flags.end();
+    };
+    // Loopback, unless the flags name an address; any free port, unless they name one (a
+    // restart on the same address).
+    if (!named("--listen")) args.insert(args.end(), {"--listen", "127.0.0.1"});
+    if (!named("--grpc-port")) args.insert(args.end(), {"--grpc-port", "0"});
     args.insert(args.end(), flags.begin(), flags.end());
     pid_ = fork();
     if (pid_ == 0) {
@@ -57,7 +62,7 @@ class ServerProcess {
     close(out[1]);
     output_ = fdopen(out[0], "r");
     char line[1024];
-    const std::regex listening("grpc=([0-9.]+):([0-9]+) http=[0-9.]+:([0-9]+)");
+    const std::regex listening("grpc=([0-9a-f.:]+):([0-9]+) http=[0-9a-f.:]+:([0-9]+)");
     while (std::fgets(line, sizeof line, output_)) {
       std::cmatch match;
       if (std::regex_search(line, match, listening)) {
@@ -83,6 +88,7 @@ class ServerProcess {
     std::filesystem::remove_all(state_, ignored);
   }
 
+  // host:port as the server printed it (with --listen :: a client names an address instead).
   const std::string& grpc_address() const { return grpc_address_; }
   // Resident memory now, from /proc (kB).
   long resident_kb() const { return status_value("VmRSS: %ld kB"); }
@@ -108,6 +114,19 @@ class ServerProcess {
   }
   // Its threads now, from /proc.
   long threads() const { return status_value("Threads: %ld"); }
+  // How many of its threads have each name now (/proc/PID/task/*/comm: gRPC's, spdlog's, ours).
+  std::map<std::string, int> thread_names() const {
+    std::map<std::string, int> names;
+    std::error_code error;
+    for (std::filesystem::directory_iterator it("/proc/" + std::to_string(pid_) + "/task", error),
+         end;
+         !error && it != end; it.increment(error)) {
+      std::ifstream comm(it->path() / "comm");
+      std::string name;
+      if (std::getline(comm, name)) ++names[name];
+    }
+    return names;
+  }
   // CPU time the process has used (user and system), seconds.
   double cpu_seconds() const {
     std::FILE* stat = std::fopen(("/proc/" + std::to_string(pid_) + "/stat").c_str(), "r");
