@@ -106,4 +106,8 @@ void CostEstimate::add(double ms) {
   known_ = true;
 }
 
+void CostEstimate::scale(double factor) {
+  if (std::isfinite(factor) && factor > 0.0) ms_ *= factor;
+}
+
 }  // namespace fluidcast::server

@@ -88,6 +88,10 @@ class GpuAccount {
 class CostEstimate {
  public:
   void add(double ms);
+  // The work changed size by `factor` (a frame's pixels, on a resize): the estimate follows at
+  // once. Left to samples, whose rises count twice the estimate at most, a frame 3600 times
+  // larger would be underpriced for a dozen frames, each holding every other session back.
+  void scale(double factor);
   bool known() const { return known_; }
   double ms() const { return ms_; }
 

@@ -84,13 +84,13 @@ void Session::rebuild(SessionSetup setup) {
   scene.particles = static_cast<int>(setup.particles);
   sim::SolverParams params;
   params.max_particles = static_cast<int>(services_.limits->max_particles);
-  params.threads = 0;  // a CPU solver (lavapipe machines) uses every core between frames
   try {
     auto built = sim::build_scene(scene);
-    auto solver = services_.gpu_solver
-                      ? sim::make_gpu_solver(setup.solver, *services_.context, std::move(built),
-                                             params, services_.steps)
-                      : sim::make_cpu_solver(setup.solver, std::move(built), params);
+    auto solver =
+        services_.gpu_solver
+            ? sim::make_gpu_solver(setup.solver, *services_.context, std::move(built), params,
+                                   services_.steps)
+            : sim::make_cpu_solver(setup.solver, std::move(built), params, services_.cpu_threads);
     // Frames in flight still read the old one's particles; steps it queued go first, so that
     // none is recorded after it is retired (gpu_step_batch.h).
     if (solver_) {
@@ -371,6 +371,15 @@ void Session::simulate(const GpuGrant& grant) {
 }
 
 void Session::render(const GpuGrant& grant, Clock::time_point now) {
+  // New sizes first, so that each frame is priced at the size it is drawn at. A new renderer's
+  // time is the session's: while others are watched it is repaid before this session's next
+  // frames, so resizing slows only its own viewers.
+  for (auto& [id, viewer] : viewers_) {
+    const auto resizing = Clock::now();
+    if (viewer->due(now) && viewer->settle_size(now) && grant.contended()) {
+      render_account_.spend(milliseconds_between(resizing, Clock::now()));
+    }
+  }
   double dearest_frame = 0.0;
   for (auto& [id, viewer] : viewers_) {
     dearest_frame = std::max(dearest_frame, grant.charge(viewer->frame_cost().ms()));
@@ -393,12 +402,6 @@ void Session::render(const GpuGrant& grant, Clock::time_point now) {
   const render::ParticleView particles = source_.view_of(*solver_);
   std::vector<std::uint32_t> failed;
   for (auto [id, viewer] : due) {
-    // A new renderer's time is the session's: while others are watched it is repaid before this
-    // session's next frames, so resizing slows only its own viewers.
-    const auto resizing = Clock::now();
-    if (viewer->settle_size(now) && grant.contended()) {
-      render_account_.spend(milliseconds_between(resizing, Clock::now()));
-    }
     Viewer::Shows shows;
     shows.input_event_id = viewer->newest_input();
     shows.sim_time = solver_->time();

@@ -13,6 +13,7 @@
 
 #include "fluidcast/codec/jpeg_encoder_pool.h"
 #include "fluidcast/render/particle_source.h"
+#include "fluidcast/sim/fork_join_pool.h"
 #include "fluidcast/sim/gpu_step_batch.h"
 #include "fluidcast/sim/solver.h"
 #include "gpu_budget.h"
@@ -34,6 +35,7 @@ struct SessionServices {
   gpu::Context* context;
   bool gpu_solver;           // simulate on the GPU (a hardware device) or on the CPU (lavapipe)
   sim::GpuStepBatch* steps;  // where a GPU solver's steps wait for the tick's one submission
+  std::shared_ptr<sim::ForkJoinPool> cpu_threads;  // what a CPU solver steps on
   const ServerLimits* limits;
   Metrics* metrics;
   codec::JpegEncoderPool* encoders;

@@ -30,6 +30,7 @@ SessionHub::SessionHub(gpu::Context& context, bool gpu_solver, ServerLimits limi
       token_(std::move(token)),
       metrics_(&metrics),
       steps_(context),
+      cpu_threads_(gpu_solver ? nullptr : std::make_shared<sim::ForkJoinPool>(0)),
       worker_([this] { run(); }) {}
 
 SessionHub::~SessionHub() { stop(); }
@@ -152,9 +153,10 @@ std::shared_ptr<Session> SessionHub::create_session(const v1::NewSession& create
                         ? static_cast<std::uint32_t>(create.state().positions_size() / 3)
                         : create.particles();
   const std::string id = new_key();
-  auto session = std::make_shared<Session>(
-      id, address, setup,
-      SessionServices{context_, gpu_solver_, &steps_, &limits_, metrics_, encoders_.get()});
+  auto session =
+      std::make_shared<Session>(id, address, setup,
+                                SessionServices{context_, gpu_solver_, &steps_, cpu_threads_,
+                                                &limits_, metrics_, encoders_.get()});
   if (create.has_state()) session->load(create.state());
   sessions_.emplace(id, session);
   session_count_ = static_cast<std::uint32_t>(sessions_.size());

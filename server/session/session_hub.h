@@ -103,6 +103,9 @@ class SessionHub {
   // Every GPU solver's steps of a tick, submitted together (declared before the sessions, whose
   // solvers queue in it, so that it outlives them).
   sim::GpuStepBatch steps_;
+  // The threads every CPU solver steps on, one solver at a time (on the worker); none with GPU
+  // solvers.
+  std::shared_ptr<sim::ForkJoinPool> cpu_threads_;
   std::map<std::string, std::shared_ptr<Session>> sessions_;
   // The newest submission of each of the last ticks: a tick starts once the one two before it has
   // finished on the GPU, so no more than one tick's work waits behind the one executing.

@@ -39,6 +39,9 @@ void Viewer::make_renderer(std::uint32_t width, std::uint32_t height) {
   // Frames go to the JPEG encoder only: converted and subsampled on the GPU.
   renderer->format = render::FrameRenderer::FrameFormat::yuv420;
   if (renderer_) {
+    // Screen-space passes cost by the pixel: the new size's frames are priced as such at once.
+    frame_cost_.scale(double(width) * double(height) /
+                      (double(render_width_) * double(render_height_)));
     renderer->probe = renderer_->probe;
     context_->retire(std::move(renderer_));  // its frames in flight, of the old size, are dropped
   }

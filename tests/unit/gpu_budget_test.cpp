@@ -167,6 +167,20 @@ TEST(CostEstimateTest, FollowsAChangeWithinAFewSamples) {
   EXPECT_FALSE(unmeasured.known());
 }
 
+TEST(CostEstimateTest, AResizedFrameIsPricedAtItsNewSizeAtOnce) {
+  CostEstimate cost;
+  cost.scale(4.0);  // nothing known: nothing to scale
+  EXPECT_FALSE(cost.known());
+  cost.add(0.5);
+  cost.scale(3600.0);  // 16×16 → 1280×720
+  EXPECT_DOUBLE_EQ(cost.ms(), 1800.0);
+  cost.scale(0.0);  // not a size change
+  cost.scale(std::nan(""));
+  EXPECT_DOUBLE_EQ(cost.ms(), 1800.0);
+  cost.scale(1.0 / 3600.0);
+  EXPECT_DOUBLE_EQ(cost.ms(), 0.5);
+}
+
 TEST(SimSpeedTest, SimulatedSecondsPerWallSecondOverTheLastSecond) {
   SimSpeed speed;
   const SimSpeed::Clock::time_point start{};

@@ -5,9 +5,10 @@
 
 namespace fluidcast::sim::cpu {
 
-CpuSolver::CpuSolver(Scene scene, const SolverParams& params)
+CpuSolver::CpuSolver(Scene scene, const SolverParams& params, std::shared_ptr<ForkJoinPool> pool)
     : Solver(std::move(scene), params),
-      pool_(static_cast<unsigned>(params.threads)),
+      pool_(pool ? std::move(pool)
+                 : std::make_shared<ForkJoinPool>(static_cast<unsigned>(params.threads))),
       kernels_(fluid().kernel_radius),
       grid_(tank(), fluid().kernel_radius) {
   const glm::vec3 r(fluid().particle_radius());
@@ -50,12 +51,12 @@ void CpuSolver::sort_by(std::vector<glm::vec3>& key,
   apply_order(order, particles_.velocity, reorder_scratch_);
   apply_order(order, particles_.id, id_scratch_);
   for (auto* array : solver_arrays) apply_order(order, *array, reorder_scratch_);
-  neighbours_.build(pool_, grid_, key, kernels_.radius(), fluid().max_candidates);
+  neighbours_.build(*pool_, grid_, key, kernels_.radius(), fluid().max_candidates);
 }
 
 float CpuSolver::max_speed() {
-  chunk_max_.assign(pool_.size(), 0.0f);
-  pool_.for_chunks(particles_.size(), [&](unsigned chunk, std::size_t begin, std::size_t end) {
+  chunk_max_.assign(pool_->size(), 0.0f);
+  pool_->for_chunks(particles_.size(), [&](unsigned chunk, std::size_t begin, std::size_t end) {
     float largest = 0.0f;
     for (std::size_t i = begin; i < end; ++i) {
       largest = std::max(largest, glm::dot(particles_.velocity[i], particles_.velocity[i]));

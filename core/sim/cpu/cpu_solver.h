@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <initializer_list>
+#include <memory>
 
 #include "fluidcast/sim/fork_join_pool.h"
 #include "fluidcast/sim/kernels.h"
@@ -15,7 +16,8 @@ namespace fluidcast::sim::cpu {
 
 class CpuSolver : public Solver {
  public:
-  CpuSolver(Scene scene, const SolverParams& params);
+  // `pool`: null for a pool of its own (params.threads); see make_cpu_solver.
+  CpuSolver(Scene scene, const SolverParams& params, std::shared_ptr<ForkJoinPool> pool);
 
   std::size_t particle_count() const override { return particles_.size(); }
   ParticleSet snapshot() const override { return particles_; }
@@ -36,7 +38,7 @@ class CpuSolver : public Solver {
   // ρ0·Σ wall_volume, and its gradient. Along edges and in corners the half-spaces of two or three
   // walls overlap and are counted twice, which pushes the fluid slightly off the tank's edges.
   struct WallContribution {
-    float density = 0.0f;     // kg/m³
+    float density = 0.0f;      // kg/m³
     glm::vec3 gradient{0.0f};  // ∇ of density, pointing into the walls
   };
   WallContribution walls(glm::vec3 p) const {
@@ -69,9 +71,9 @@ class CpuSolver : public Solver {
     explicit StageTimer(double& total_ms)
         : total_ms_(total_ms), start_(std::chrono::steady_clock::now()) {}
     ~StageTimer() {
-      total_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -
-                                                             start_)
-                       .count();
+      total_ms_ +=
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_)
+              .count();
     }
     StageTimer(const StageTimer&) = delete;
     StageTimer& operator=(const StageTimer&) = delete;
@@ -82,14 +84,15 @@ class CpuSolver : public Solver {
   };
 
   ParticleSet particles_;
-  ForkJoinPool pool_;
+  std::shared_ptr<ForkJoinPool> pool_;
   Kernels kernels_;
   NeighbourGrid grid_;
   NeighbourList neighbours_;
 
  private:
   Box inner_tank_;
-  float time_into_step_ = 0.0f;  // the tank shrunk by a particle radius: where particle centres may be
+  float time_into_step_ =
+      0.0f;  // the tank shrunk by a particle radius: where particle centres may be
   std::vector<glm::vec3> reorder_scratch_;
   std::vector<std::uint32_t> id_scratch_;
   std::vector<float> chunk_max_;

@@ -9,8 +9,8 @@
 
 namespace fluidcast::sim::cpu {
 
-PbfSolver::PbfSolver(Scene scene, const SolverParams& params)
-    : CpuSolver(std::move(scene), params), substeps_(params, kernels_.radius()) {
+PbfSolver::PbfSolver(Scene scene, const SolverParams& params, std::shared_ptr<ForkJoinPool> pool)
+    : CpuSolver(std::move(scene), params, std::move(pool)), substeps_(params, kernels_.radius()) {
   const PbfConstants constants = derive_pbf_constants(params, fluid());
   relaxation_epsilon_ = constants.relaxation_epsilon;
   scorr_scale_ = constants.scorr_scale;
@@ -69,7 +69,7 @@ void PbfSolver::predict() {
   const float dt = dt_;
   const glm::vec3 dv = gravity() * dt;
   const float limit2 = substeps_.speed_limit(dt) * substeps_.speed_limit(dt);
-  pool_.for_each(n, [&](std::size_t i) {
+  pool_->for_each(n, [&](std::size_t i) {
     glm::vec3& v = particles_.velocity[i];
     v += dv;
     const float speed2 = glm::dot(v, v);
@@ -86,7 +86,7 @@ void PbfSolver::compute_lambdas() {
   const float volume = fluid().rest_volume();
   const float self_density = kernels_.poly6(0.0f);
   pair_kernels_.resize(neighbours_.pair_count());
-  pool_.for_each(n, [&](std::size_t i) {
+  pool_->for_each(n, [&](std::size_t i) {
     const glm::vec3 p = predicted_[i];
     float density = self_density;
     glm::vec3 gradient_i(0.0f);
@@ -121,7 +121,7 @@ float PbfSolver::average_compression() {
   const float mass = fluid().particle_mass;
   const float inv_rest_density = 1.0f / fluid().rest_density;
   const float self_density = kernels_.poly6(0.0f);
-  pool_.for_each(n, [&](std::size_t i) {
+  pool_->for_each(n, [&](std::size_t i) {
     const glm::vec3 p = predicted_[i];
     float density = self_density;
     for (std::uint32_t j : neighbours_.of(i)) {
@@ -141,7 +141,7 @@ void PbfSolver::apply_position_corrections() {
   const float inv_rest_density = 1.0f / fluid().rest_density;
   const float exponent = params().scorr_exponent;
   const bool exponent_is_four = exponent == 4.0f;
-  pool_.for_each(n, [&](std::size_t i) {
+  pool_->for_each(n, [&](std::size_t i) {
     const glm::vec3 p = predicted_[i];
     const float lambda_i = lambda_[i];
     glm::vec3 delta(0.0f);
@@ -162,7 +162,7 @@ void PbfSolver::apply_position_corrections() {
 
 void PbfSolver::update_velocities() {
   const float inv_dt = 1.0f / dt_;
-  pool_.for_each(particles_.size(), [&](std::size_t i) {
+  pool_->for_each(particles_.size(), [&](std::size_t i) {
     particles_.velocity[i] = (predicted_[i] - particles_.position[i]) * inv_dt;
   });
 }
@@ -175,7 +175,7 @@ void PbfSolver::compute_vorticity() {
   pair_kernels_.resize(neighbours_.pair_count());
   const float volume = fluid().rest_volume();
   const auto& v = particles_.velocity;
-  pool_.for_each(n, [&](std::size_t i) {
+  pool_->for_each(n, [&](std::size_t i) {
     const glm::vec3 p = predicted_[i];
     glm::vec3 omega(0.0f);
     PairKernel* pair = pair_kernels_.data() + neighbours_.first_pair(i);
@@ -201,7 +201,7 @@ void PbfSolver::apply_confinement_and_viscosity() {
   const float epsilon = params().vorticity;
   const float xsph = params().xsph_viscosity;
   const auto& v = particles_.velocity;
-  pool_.for_each(n, [&](std::size_t i) {
+  pool_->for_each(n, [&](std::size_t i) {
     const float omega_i = vorticity_norm_[i];
     glm::vec3 eta(0.0f);
     glm::vec3 smoothing(0.0f);

@@ -2,8 +2,8 @@
 // A step is split into substeps by PbfSubsteps (substeps.h): short enough that nothing travels
 // more than pbf_travel·h in one and that the compression the last step left stays within
 // tolerance. A substep: predict → neighbour search on predicted positions (sorted, reordered) →
-// Jacobi iterations of the density constraint (λ, then Δp with s_corr and collisions) → velocity from
-// the displacement → vorticity confinement and XSPH viscosity.
+// Jacobi iterations of the density constraint (λ, then Δp with s_corr and collisions) → velocity
+// from the displacement → vorticity confinement and XSPH viscosity.
 //
 // Two choices beyond the paper: the density constraint is unilateral, C = max(ρ/ρ0 − 1, 0), so a
 // surface particle with few neighbours is not pulled inwards; and ε and s_corr are scaled by the
@@ -17,7 +17,7 @@ namespace fluidcast::sim::cpu {
 
 class PbfSolver final : public CpuSolver {
  public:
-  PbfSolver(Scene scene, const SolverParams& params);
+  PbfSolver(Scene scene, const SolverParams& params, std::shared_ptr<ForkJoinPool> pool);
   SolverKind kind() const override { return SolverKind::pbf; }
 
  private:

@@ -14,15 +14,15 @@ float tait_pressure(float density, const SolverParams& params) {
   return std::max(0.0f, stiffness * (std::pow(ratio, params.tait_exponent) - 1.0f));
 }
 
-SphSolver::SphSolver(Scene scene, const SolverParams& params)
-    : CpuSolver(std::move(scene), params),
+SphSolver::SphSolver(Scene scene, const SolverParams& params, std::shared_ptr<ForkJoinPool> pool)
+    : CpuSolver(std::move(scene), params, std::move(pool)),
       min_substep_(params.time_step / static_cast<float>(params.max_substeps)) {}
 
 int SphSolver::substeps_for(float seconds) {
   const float dt = stable_substep(last_max_acceleration_);
   if (!std::isfinite(dt)) return params().max_substeps;
-  return static_cast<int>(std::clamp(std::ceil(seconds / dt), 1.0f,
-                                     static_cast<float>(params().max_substeps)));
+  return static_cast<int>(
+      std::clamp(std::ceil(seconds / dt), 1.0f, static_cast<float>(params().max_substeps)));
 }
 
 // Each substep as long as the state just computed allows: the planned count is not binding.
@@ -62,7 +62,7 @@ void SphSolver::compute_densities_and_pressures() {
   const float mass = fluid().particle_mass;
   const float self = kernels_.poly6(0.0f);
   const auto& x = particles_.position;
-  pool_.for_each(n, [&](std::size_t i) {
+  pool_->for_each(n, [&](std::size_t i) {
     float sum = self;
     for (std::uint32_t j : neighbours_.of(i)) {
       const glm::vec3 r = x[i] - x[j];
@@ -80,7 +80,7 @@ void SphSolver::compute_densities_and_pressures() {
 float SphSolver::compute_accelerations() {
   const std::size_t n = particles_.size();
   acceleration_.resize(n);
-  chunk_max_acceleration_.assign(pool_.size(), 0.0f);
+  chunk_max_acceleration_.assign(pool_->size(), 0.0f);
   const float mass = fluid().particle_mass;
   const float viscosity = params().sph_viscosity;
   const float artificial = 2.0f * params().artificial_viscosity * kernels_.radius() *
@@ -89,7 +89,7 @@ float SphSolver::compute_accelerations() {
   const glm::vec3 g = gravity();
   const auto& x = particles_.position;
   const auto& v = particles_.velocity;
-  pool_.for_chunks(n, [&](unsigned chunk, std::size_t begin, std::size_t end) {
+  pool_->for_chunks(n, [&](unsigned chunk, std::size_t begin, std::size_t end) {
     float largest = 0.0f;
     for (std::size_t i = begin; i < end; ++i) {
       const float pressure_term_i = pressure_[i] / (density_[i] * density_[i]);
@@ -126,7 +126,7 @@ float SphSolver::stable_substep(float max_acceleration) {
 
 // Symplectic Euler, then the boundaries.
 void SphSolver::integrate(float dt) {
-  pool_.for_each(particles_.size(), [&](std::size_t i) {
+  pool_->for_each(particles_.size(), [&](std::size_t i) {
     glm::vec3& v = particles_.velocity[i];
     glm::vec3& x = particles_.position[i];
     v += dt * acceleration_[i];

@@ -1,8 +1,8 @@
 // Weakly compressible SPH: the kernels and viscosity of Müller, Charypar & Gross, "Particle-based
 // fluid simulation for interactive applications", SCA 2003, with the Tait equation of state and
 // symmetric pressure force of Becker & Teschner, "Weakly compressible SPH for free surface flows",
-// SCA 2007, and Monaghan's artificial viscosity. Each step is split into substeps bounded by the CFL condition, the largest
-// acceleration and the viscous diffusion limit.
+// SCA 2007, and Monaghan's artificial viscosity. Each step is split into substeps bounded by the
+// CFL condition, the largest acceleration and the viscous diffusion limit.
 #pragma once
 
 #include "cpu/cpu_solver.h"
@@ -14,7 +14,7 @@ float tait_pressure(float density, const SolverParams& params);
 
 class SphSolver final : public CpuSolver {
  public:
-  SphSolver(Scene scene, const SolverParams& params);
+  SphSolver(Scene scene, const SolverParams& params, std::shared_ptr<ForkJoinPool> pool);
   SolverKind kind() const override { return SolverKind::sph; }
 
  private:
@@ -27,7 +27,7 @@ class SphSolver final : public CpuSolver {
   void integrate(float dt);
 
   std::vector<float> density_, pressure_, chunk_max_acceleration_;
-  float min_substep_;  // time_step / max_substeps
+  float min_substep_;                   // time_step / max_substeps
   float last_max_acceleration_ = 0.0f;  // of the newest substep, for substeps_for()
   std::vector<glm::vec3> acceleration_;
 };

@@ -153,7 +153,13 @@ inline constexpr float kMaxDensityRatio = 2.0f;
 // 2²¹ cubes along an axis. O(N): for a state from outside (a snapshot), before it is loaded.
 void check_density(std::span<const glm::vec3> positions, const FluidConstants& fluid);
 
-std::unique_ptr<Solver> make_cpu_solver(SolverKind kind, Scene scene, const SolverParams& params);
+class ForkJoinPool;
+// `pool`: the threads it steps on. Null: a pool of its own, of params.threads. Solvers that step
+// one at a time on one thread (a server's sessions) share one: a pool per solver would keep a
+// thread per solver, each spinning a while after its solver's every step, taking the cores from
+// the one that is stepping.
+std::unique_ptr<Solver> make_cpu_solver(SolverKind kind, Scene scene, const SolverParams& params,
+                                        std::shared_ptr<ForkJoinPool> pool = nullptr);
 class GpuStepBatch;
 // The same solver in Vulkan compute on the context's device. Throws ParamError also when the
 // particles would not fit in the device's memory. `batch`: a GpuStepBatch on the same context

@@ -14,8 +14,8 @@ struct SolverParams {
   float rest_density = 1000.0f;     // kg/m³
   float kernel_ratio = 2.0f;        // kernel radius h over particle spacing d
   int max_particles = 1 << 20;      // cap for add_particles
-  int threads = 0;                  // 0: one per core
-  int max_substeps = 256;           // a step never splits into more substeps than this
+  int threads = 0;  // a CPU solver's own pool (0: one per core; make_cpu_solver may share one)
+  int max_substeps = 256;  // a step never splits into more substeps than this
 
   // PBF (Macklin & Müller 2013).
   int iterations = 4;
