@@ -303,12 +303,12 @@ struct Figures {
 };
 
 // Whether the server's threads are back to where they were: ours by name exactly; gRPC's pools
-// (its executor, two threads a core at most, and its timer threads) start threads as work queues
-// up and keep them, so theirs may stay grown, by at most two a core in all.
+// (its executor, two threads a core at most, its timer and event-engine threads) start threads as
+// work queues up and keep them, so theirs may stay grown, by at most two a core in all.
 bool threads_back(const std::array<std::map<std::string, int>, 2>& names) {
   // Their names as the kernel keeps them (15 characters).
-  constexpr std::array<const char*, 3> kGrpcPools{"default-executo", "resolver-execu",
-                                                  "grpc_global_tim"};
+  constexpr std::array<const char*, 4> kGrpcPools{"default-executo", "resolver-execu",
+                                                  "grpc_global_tim", "event_engine"};
   auto ours = names;
   int grpc_growth = 0;
   for (const char* pool : kGrpcPools) {
@@ -330,8 +330,15 @@ bool report(const Figures& f, const Tally& tally, double max_growth_mb) {
   std::printf("| case | times |\n| --- | --- |\n");
   for (const auto& [name, count] : tally.cases) std::printf("| %s | %d |\n", name.c_str(), count);
   std::printf("\n| figure | before | during | after |\n| --- | --- | --- | --- |\n");
-  std::printf("| bystander fps (5 s windows) | %.1f alone | worst %.1f of %zu windows | |\n",
-              f.alone_fps, worst, f.windows.size());
+  const auto below_half = std::count_if(f.windows.begin(), f.windows.end(),
+                                        [&](double fps) { return fps < 0.5 * f.alone_fps; });
+  std::vector<double> sorted = f.windows;
+  std::sort(sorted.begin(), sorted.end());
+  const double median = sorted.empty() ? 0.0 : sorted[sorted.size() / 2];
+  std::printf(
+      "| bystander fps (5 s windows) | %.1f alone | worst %.1f, median %.1f of %zu windows; %zu "
+      "below half | |\n",
+      f.alone_fps, worst, median, f.windows.size(), static_cast<std::size_t>(below_half));
   std::printf("| server memory (MB) | %.1f | peak %.1f | %.1f |\n", f.rss_kb[0] / 1024.0,
               f.rss_kb[1] / 1024.0, f.rss_kb[2] / 1024.0);
   std::printf("| descriptors | %ld | | %ld |\n", f.descriptors[0], f.descriptors[1]);

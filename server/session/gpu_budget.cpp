@@ -110,4 +110,32 @@ void CostEstimate::scale(double factor) {
   if (std::isfinite(factor) && factor > 0.0) ms_ *= factor;
 }
 
+double ClientDebts::left(const Debt& debt, double now_ms, std::size_t clients) {
+  const double forgiven =
+      std::max(0.0, now_ms - debt.since_ms) / double(std::max<std::size_t>(1, clients));
+  return std::max(0.0, debt.owed_ms - forgiven);
+}
+
+void ClientDebts::record(const std::string& client, double owed_ms, double now_ms) {
+  if (!(owed_ms > 0.0)) return;
+  const auto found = debts_.find(client);
+  // Several sessions of one client ending: their debts add up (what is left of the older one,
+  // counted as if it were the client's only share).
+  const double earlier = found == debts_.end() ? 0.0 : left(found->second, now_ms, 1);
+  debts_[client] = {earlier + owed_ms, now_ms};
+  if (debts_.size() > kMostClients) {
+    debts_.erase(std::min_element(debts_.begin(), debts_.end(), [](const auto& a, const auto& b) {
+      return a.second.since_ms < b.second.since_ms;
+    }));
+  }
+}
+
+double ClientDebts::take(const std::string& client, double now_ms, std::size_t clients) {
+  const auto found = debts_.find(client);
+  if (found == debts_.end()) return 0.0;
+  const double owed = left(found->second, now_ms, clients);
+  debts_.erase(found);
+  return owed;
+}
+
 }  // namespace fluidcast::server

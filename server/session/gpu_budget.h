@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstddef>
+#include <map>
 #include <span>
 #include <string>
 #include <vector>
@@ -79,6 +80,31 @@ class GpuAccount {
 
  private:
   double balance_ms_ = 0.0;
+};
+
+// GPU time clients still owe after their sessions ended in debt (an account below zero). Without
+// it a client could open a session, spend far beyond its share on a few dear frames (a resize to
+// the largest size), leave, and start the next session free of debt, again and again. A debt is
+// forgiven as the client sits its share out: wall time times its share of the device (one over
+// the clients sharing it). Pure: times are given in milliseconds.
+class ClientDebts {
+ public:
+  // Beyond this many clients in debt, the oldest debt is forgotten (memory stays bounded
+  // whatever the number of addresses).
+  static constexpr std::size_t kMostClients = 4096;
+
+  void record(const std::string& client, double owed_ms, double now_ms);
+  // What `client` owes at `now_ms`, with `clients` sharing the device meanwhile; forgotten here:
+  // its new session starts its account that far below zero.
+  double take(const std::string& client, double now_ms, std::size_t clients);
+
+ private:
+  struct Debt {
+    double owed_ms;
+    double since_ms;
+  };
+  static double left(const Debt& debt, double now_ms, std::size_t clients);
+  std::map<std::string, Debt> debts_;
 };
 
 // A cost that is measured now and then and drifts (a substep's, a frame's): an exponential

@@ -22,6 +22,8 @@ constexpr double kMaxOwedSteps = 4.0;
 // However far in debt its session's rendering account is, a viewer gets a frame at least this
 // often: a frame rate floor, and fresh measurements for a cost that was overestimated.
 constexpr auto kLongestFrameWait = std::chrono::seconds(1);
+// Frames smaller than this (a 320×240 frame is 0.077) do not set the device's price per pixel.
+constexpr double kLeastPricedMegapixels = 0.05;
 
 double total_ms(const sim::StageTimes& times) {
   return times.grid_ms + times.predict_ms + times.solve_ms + times.velocity_ms + times.viscosity_ms;
@@ -57,6 +59,10 @@ void Session::send_frames(FrameWait wait) {
     while (wait == FrameWait::for_all || viewer->frame_finished()) {
       auto finished = viewer->take_finished(Clock::now());
       if (!finished) break;
+      // Tiny frames cost mostly what any frame costs: they would overprice the pixels.
+      if (viewer->frame_cost().known() && viewer->megapixels() >= kLeastPricedMegapixels) {
+        services_.frame_ms_per_megapixel->add(viewer->frame_cost().ms() / viewer->megapixels());
+      }
       encode(*viewer, std::move(*finished));
     }
   }
@@ -189,6 +195,19 @@ void Session::remove_viewer(std::uint32_t id, Departure departure) {
   services_.metrics->viewers--;
 }
 
+std::optional<double> Session::frame_price(const Viewer& viewer) const {
+  if (viewer.frame_cost().known()) return viewer.frame_cost().ms();
+  if (services_.frame_ms_per_megapixel->known()) {
+    return services_.frame_ms_per_megapixel->ms() * viewer.megapixels();
+  }
+  return std::nullopt;
+}
+
+void Session::inherit_debts(double sim_ms, double render_ms) {
+  sim_account_.spend(sim_ms);
+  render_account_.spend(render_ms);
+}
+
 bool Session::expired(Clock::time_point now) const {
   if (!viewers_.empty()) return false;
   const auto grace = services_.limits->resume_grace;
@@ -306,7 +325,7 @@ GpuDemand Session::prepare(Clock::time_point now) {
     demand.sim_ms = steps * solver_->substeps_for(dt) * substep_cost_.ms();
   }
   for (auto& [id, viewer] : viewers_) {
-    if (viewer->due(now)) demand.render_ms += viewer->frame_cost().ms();
+    if (viewer->due(now)) demand.render_ms += frame_price(*viewer).value_or(0.0);
   }
   return demand;
 }
@@ -382,17 +401,17 @@ void Session::render(const GpuGrant& grant, Clock::time_point now) {
   }
   double dearest_frame = 0.0;
   for (auto& [id, viewer] : viewers_) {
-    dearest_frame = std::max(dearest_frame, grant.charge(viewer->frame_cost().ms()));
+    dearest_frame = std::max(dearest_frame, grant.charge(frame_price(*viewer).value_or(0.0)));
   }
   render_account_.deposit(grant.render_ms, dearest_frame);
   std::vector<std::pair<std::uint32_t, Viewer*>> due;
   for (auto& [id, viewer] : viewers_) {
     if (!viewer->due(now)) {
       if (viewer->flow().throttled()) services_.metrics->frames_skipped++;
-    } else if (!grant.contended() || !viewer->frame_cost().known()) {
+    } else if (!grant.contended() || !frame_price(*viewer)) {
       due.emplace_back(id, viewer.get());  // nobody waits behind it; or drawn to be measured
     } else if (render_account_.can_spend() || viewer->flow().overdue(now) >= kLongestFrameWait) {
-      render_account_.spend(grant.charge(viewer->frame_cost().ms()));
+      render_account_.spend(grant.charge(*frame_price(*viewer)));
       due.emplace_back(id, viewer.get());
     } else {
       services_.metrics->frames_deferred++;  // its share of the GPU is spent; others go first

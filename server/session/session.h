@@ -4,6 +4,7 @@
 // draw() spend what the hub grants (gpu_budget.h). Knows nothing of gRPC or HTTP.
 #pragma once
 
+#include <algorithm>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -35,6 +36,9 @@ struct SessionServices {
   gpu::Context* context;
   bool gpu_solver;           // simulate on the GPU (a hardware device) or on the CPU (lavapipe)
   sim::GpuStepBatch* steps;  // where a GPU solver's steps wait for the tick's one submission
+  // What a frame costs per million pixels on this device, from every session's measured frames:
+  // the price of a frame whose viewer has none measured yet (a new viewer, a new size).
+  CostEstimate* frame_ms_per_megapixel;
   std::shared_ptr<sim::ForkJoinPool> cpu_threads;  // what a CPU solver steps on
   const ServerLimits* limits;
   Metrics* metrics;
@@ -74,6 +78,14 @@ class Session {
   std::size_t viewer_count() const { return viewers_.size(); }
   // Nobody watches and nobody who dropped may still resume: the session can end.
   bool expired(Clock::time_point now) const;
+  // GPU time it spent beyond its grants (its accounts below zero), which its client still owes
+  // when it ends (ClientDebts); and, at its start, what its client owes from earlier sessions.
+  double sim_debt_ms() const { return std::max(0.0, -sim_account_.balance_ms()); }
+  double render_debt_ms() const { return std::max(0.0, -render_account_.balance_ms()); }
+  void inherit_debts(double sim_ms, double render_ms);
+  // GPU milliseconds a frame of `viewer` would cost: its own estimate, else the device's per
+  // pixel; nothing when neither is known yet (the frame is drawn to be measured).
+  std::optional<double> frame_price(const Viewer& viewer) const;
   // When a viewer last joined, touched, commanded, or tilted by more than kIdleTiltDegrees.
   Clock::time_point last_input() const { return last_input_; }
   // A tick in three parts: the inputs and rebuilds that arrived, and what the tick would cost

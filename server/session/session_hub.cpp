@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <set>
+#include <string_view>
 
 #include "fluidcast/gpu/vk_check.h"
 #include "fluidcast/render/frame_renderer.h"
@@ -14,6 +16,11 @@
 
 namespace fluidcast::server {
 namespace {
+
+// A steady clock's time as milliseconds, for ClientDebts.
+double milliseconds_since_epoch(Clock::time_point time) {
+  return std::chrono::duration<double, std::milli>(time.time_since_epoch()).count();
+}
 
 std::string no_session(const char* field, const ServerLimits& limits) {
   return std::string(field) + " opens no live session (it may have ended: sessions without " +
@@ -153,11 +160,16 @@ std::shared_ptr<Session> SessionHub::create_session(const v1::NewSession& create
                         ? static_cast<std::uint32_t>(create.state().positions_size() / 3)
                         : create.particles();
   const std::string id = new_key();
-  auto session =
-      std::make_shared<Session>(id, address, setup,
-                                SessionServices{context_, gpu_solver_, &steps_, cpu_threads_,
-                                                &limits_, metrics_, encoders_.get()});
+  auto session = std::make_shared<Session>(
+      id, address, setup,
+      SessionServices{context_, gpu_solver_, &steps_, &frame_ms_per_megapixel_, cpu_threads_,
+                      &limits_, metrics_, encoders_.get()});
   if (create.has_state()) session->load(create.state());
+  std::set<std::string_view> clients{address};
+  for (const auto& [other, running] : sessions_) clients.insert(running->creator());
+  const double now_ms = milliseconds_since_epoch(Clock::now());
+  session->inherit_debts(sim_debts_.take(address, now_ms, clients.size()),
+                         render_debts_.take(address, now_ms, clients.size()));
   sessions_.emplace(id, session);
   session_count_ = static_cast<std::uint32_t>(sessions_.size());
   metrics_->sessions = sessions_.size();
@@ -344,6 +356,9 @@ void SessionHub::end_idle_and_expired(Clock::time_point now) {
       spdlog::info("session {} ended: its viewers left, or dropped more than {} s ago",
                    session.id(), limits_.resume_grace.count());
       metrics_->forget_session(session.id());
+      sim_debts_.record(session.creator(), session.sim_debt_ms(), milliseconds_since_epoch(now));
+      render_debts_.record(session.creator(), session.render_debt_ms(),
+                           milliseconds_since_epoch(now));
       it = sessions_.erase(it);
       trim_after_ = now + kTrimDelay;
     } else {

@@ -103,6 +103,9 @@ class SessionHub {
   // Every GPU solver's steps of a tick, submitted together (declared before the sessions, whose
   // solvers queue in it, so that it outlives them).
   sim::GpuStepBatch steps_;
+  // What clients owe of GPU time from sessions that ended in debt.
+  ClientDebts sim_debts_, render_debts_;
+  CostEstimate frame_ms_per_megapixel_;  // SessionServices::frame_ms_per_megapixel
   // The threads every CPU solver steps on, one solver at a time (on the worker); none with GPU
   // solvers.
   std::shared_ptr<sim::ForkJoinPool> cpu_threads_;

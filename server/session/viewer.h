@@ -112,6 +112,8 @@ class Viewer {
   bool frame_finished();
   // GPU milliseconds one of its frames costs (render passes and read-back, from timestamps).
   const CostEstimate& frame_cost() const { return frame_cost_; }
+  // Its frames' size as rendered, in millions of pixels.
+  double megapixels() const { return double(render_width_) * double(render_height_) * 1e-6; }
   void note_input(std::uint64_t event_id, Clock::time_point received);
   std::uint64_t newest_input() const { return newest_input_; }
   // How long the newest input waited for the tick that applies it, for the first frame that shows
