@@ -307,7 +307,7 @@ struct Figures {
 // work queues up and keep them, so theirs may stay grown, by at most two a core in all.
 bool threads_back(const std::array<std::map<std::string, int>, 2>& names) {
   // Their names as the kernel keeps them (15 characters).
-  constexpr std::array<const char*, 4> kGrpcPools{"default-executo", "resolver-execu",
+  constexpr std::array<const char*, 4> kGrpcPools{"default-executo", "resolver-execut",
                                                   "grpc_global_tim", "event_engine"};
   auto ours = names;
   int grpc_growth = 0;

@@ -168,7 +168,10 @@ std::unique_ptr<grpc::Server> start_grpc(const ServerOptions& options, const Ser
     grpc::SslServerCredentialsOptions tls;
     tls.pem_key_cert_pairs.push_back(
         {read_file(options.tls_key), read_file(options.tls_certificate)});
-    builder.AddListeningPort(options.listen + ":" + std::to_string(options.grpc_port),
+    // An IPv6 address in brackets: gRPC reads "::" + ":50051" as a host without a port.
+    const std::string host =
+        options.listen.find(':') == std::string::npos ? options.listen : "[" + options.listen + "]";
+    builder.AddListeningPort(host + ":" + std::to_string(options.grpc_port),
                              grpc::SslServerCredentials(tls), &port);
   }
   // gRPC sets SO_REUSEPORT by default: a second server on the same port would silently take half
@@ -343,6 +346,10 @@ int serve(const ServerOptions& options) {
   const std::unique_ptr<grpc::Server> server =
       start_grpc(options, limits, service, grpc_listener ? &*grpc_listener : nullptr, grpc_port);
   if (!server) return grpc_address_in_use(options);
+  // The listener hands connections to `server`: it stops before `server` goes, however serve()
+  // ends (at shutdown it is stopped earlier, before the streams end).
+  const std::unique_ptr<GrpcListener, void (*)(GrpcListener*)> stop_listener(
+      grpc_listener ? &*grpc_listener : nullptr, [](GrpcListener* listener) { listener->stop(); });
   grpc::HealthCheckServiceInterface* health = server->GetHealthCheckService();
   health->SetServingStatus(true);
   log_where_to_connect(options, limits, context.info(), addresses, tls.files, grpc_port,

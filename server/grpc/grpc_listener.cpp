@@ -38,6 +38,7 @@ void GrpcListener::start(grpc::Server& server) {
 void GrpcListener::stop() {
   io_.stop();
   if (thread_.joinable()) thread_.join();
+  listener_.close();
 }
 
 std::string GrpcListener::address_of(std::string_view grpc_peer) const {

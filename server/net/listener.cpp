@@ -44,6 +44,12 @@ void Listener::start(Take take) {
   accept();
 }
 
+void Listener::close() {
+  boost::system::error_code ignored;
+  retry_.cancel();
+  acceptor_.close(ignored);
+}
+
 void Listener::accept() {
   acceptor_.async_accept(boost::asio::make_strand(*io_), [this](boost::system::error_code error,
                                                                 tcp::socket socket) {

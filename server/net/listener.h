@@ -30,6 +30,10 @@ class Listener {
   using Take = std::function<void(boost::asio::ip::tcp::socket, boost::asio::ip::address client)>;
   void start(Take take);
 
+  // Stops listening: clients that connect from now on are refused, not left waiting. Only once
+  // the io_context no longer runs.
+  void close();
+
   unsigned short port() const { return port_; }
   bool accepting() const { return accepting_.load(); }
 

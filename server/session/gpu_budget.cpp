@@ -110,9 +110,8 @@ void CostEstimate::scale(double factor) {
   if (std::isfinite(factor) && factor > 0.0) ms_ *= factor;
 }
 
-double ClientDebts::left(const Debt& debt, double now_ms, std::size_t clients) {
-  const double forgiven =
-      std::max(0.0, now_ms - debt.since_ms) / double(std::max<std::size_t>(1, clients));
+double ClientDebts::left(const Debt& debt, double now_ms, double share) {
+  const double forgiven = std::max(0.0, now_ms - debt.since_ms) * std::clamp(share, 0.0, 1.0);
   return std::max(0.0, debt.owed_ms - forgiven);
 }
 
@@ -120,8 +119,8 @@ void ClientDebts::record(const std::string& client, double owed_ms, double now_m
   if (!(owed_ms > 0.0)) return;
   const auto found = debts_.find(client);
   // Several sessions of one client ending: their debts add up (what is left of the older one,
-  // counted as if it were the client's only share).
-  const double earlier = found == debts_.end() ? 0.0 : left(found->second, now_ms, 1);
+  // counted as if the client had had the whole device meanwhile: the lenient side).
+  const double earlier = found == debts_.end() ? 0.0 : left(found->second, now_ms, 1.0);
   debts_[client] = {earlier + owed_ms, now_ms};
   if (debts_.size() > kMostClients) {
     debts_.erase(std::min_element(debts_.begin(), debts_.end(), [](const auto& a, const auto& b) {
@@ -130,10 +129,10 @@ void ClientDebts::record(const std::string& client, double owed_ms, double now_m
   }
 }
 
-double ClientDebts::take(const std::string& client, double now_ms, std::size_t clients) {
+double ClientDebts::take(const std::string& client, double now_ms, double share) {
   const auto found = debts_.find(client);
   if (found == debts_.end()) return 0.0;
-  const double owed = left(found->second, now_ms, clients);
+  const double owed = left(found->second, now_ms, share);
   debts_.erase(found);
   return owed;
 }

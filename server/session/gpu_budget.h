@@ -85,8 +85,8 @@ class GpuAccount {
 // GPU time clients still owe after their sessions ended in debt (an account below zero). Without
 // it a client could open a session, spend far beyond its share on a few dear frames (a resize to
 // the largest size), leave, and start the next session free of debt, again and again. A debt is
-// forgiven as the client sits its share out: wall time times its share of the device (one over
-// the clients sharing it). Pure: times are given in milliseconds.
+// forgiven as the client sits its share out: wall time times its share of the device's time for
+// that account. Pure: times are given in milliseconds.
 class ClientDebts {
  public:
   // Beyond this many clients in debt, the oldest debt is forgotten (memory stays bounded
@@ -94,16 +94,17 @@ class ClientDebts {
   static constexpr std::size_t kMostClients = 4096;
 
   void record(const std::string& client, double owed_ms, double now_ms);
-  // What `client` owes at `now_ms`, with `clients` sharing the device meanwhile; forgotten here:
-  // its new session starts its account that far below zero.
-  double take(const std::string& client, double now_ms, std::size_t clients);
+  // What `client` owes at `now_ms`, `share` being the fraction of wall time that repays it (its
+  // share of the account's time: sim_share over the clients, say); forgotten here: its new
+  // session starts its account that far below zero.
+  double take(const std::string& client, double now_ms, double share);
 
  private:
   struct Debt {
     double owed_ms;
     double since_ms;
   };
-  static double left(const Debt& debt, double now_ms, std::size_t clients);
+  static double left(const Debt& debt, double now_ms, double share);
   std::map<std::string, Debt> debts_;
 };
 

@@ -203,9 +203,16 @@ std::optional<double> Session::frame_price(const Viewer& viewer) const {
   return std::nullopt;
 }
 
-void Session::inherit_debts(double sim_ms, double render_ms) {
-  sim_account_.spend(sim_ms);
-  render_account_.spend(render_ms);
+Session::Debts Session::hand_over_debts() {
+  const Debts debts{std::max(0.0, -sim_account_.balance_ms()),
+                    std::max(0.0, -render_account_.balance_ms())};
+  inherit_debts({-debts.sim_ms, -debts.render_ms});  // back to zero
+  return debts;
+}
+
+void Session::inherit_debts(const Debts& debts) {
+  sim_account_.spend(debts.sim_ms);
+  render_account_.spend(debts.render_ms);
 }
 
 bool Session::expired(Clock::time_point now) const {

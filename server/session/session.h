@@ -78,11 +78,14 @@ class Session {
   std::size_t viewer_count() const { return viewers_.size(); }
   // Nobody watches and nobody who dropped may still resume: the session can end.
   bool expired(Clock::time_point now) const;
-  // GPU time it spent beyond its grants (its accounts below zero), which its client still owes
-  // when it ends (ClientDebts); and, at its start, what its client owes from earlier sessions.
-  double sim_debt_ms() const { return std::max(0.0, -sim_account_.balance_ms()); }
-  double render_debt_ms() const { return std::max(0.0, -render_account_.balance_ms()); }
-  void inherit_debts(double sim_ms, double render_ms);
+  // GPU time it spent beyond its grants (its accounts below zero), which its client owes: handed
+  // to the client's ledger (ClientDebts) once it has no viewers, its accounts left at zero; and,
+  // at its start, what its client owes from earlier sessions.
+  struct Debts {
+    double sim_ms = 0.0, render_ms = 0.0;
+  };
+  Debts hand_over_debts();
+  void inherit_debts(const Debts& debts);
   // GPU milliseconds a frame of `viewer` would cost: its own estimate, else the device's per
   // pixel; nothing when neither is known yet (the frame is drawn to be measured).
   std::optional<double> frame_price(const Viewer& viewer) const;

@@ -165,11 +165,23 @@ std::shared_ptr<Session> SessionHub::create_session(const v1::NewSession& create
       SessionServices{context_, gpu_solver_, &steps_, &frame_ms_per_megapixel_, cpu_threads_,
                       &limits_, metrics_, encoders_.get()});
   if (create.has_state()) session->load(create.state());
+  // What the client owes, from sessions that ended and from its sessions that nobody watches
+  // now (a client that drops or says goodbye and comes straight back starts no fresher).
+  const auto now = Clock::now();
   std::set<std::string_view> clients{address};
-  for (const auto& [other, running] : sessions_) clients.insert(running->creator());
-  const double now_ms = milliseconds_since_epoch(Clock::now());
-  session->inherit_debts(sim_debts_.take(address, now_ms, clients.size()),
-                         render_debts_.take(address, now_ms, clients.size()));
+  for (const auto& [other, running] : sessions_) {
+    clients.insert(running->creator());
+    if (running->creator() == address && running->viewer_count() == 0) {
+      collect_debts(*running, now);
+    }
+  }
+  // The share of each account's time that repays a debt: the client's part of the device's.
+  const double sim_share = limits_.sim_share / double(clients.size());
+  const double render_share =
+      (gpu_solver_ ? 1.0 - limits_.sim_share : 1.0) / double(clients.size());
+  const double now_ms = milliseconds_since_epoch(now);
+  session->inherit_debts({sim_debts_.take(address, now_ms, sim_share),
+                          render_debts_.take(address, now_ms, render_share)});
   sessions_.emplace(id, session);
   session_count_ = static_cast<std::uint32_t>(sessions_.size());
   metrics_->sessions = sessions_.size();
@@ -340,6 +352,12 @@ void SessionHub::bound_ticks_in_flight() {
   }
 }
 
+void SessionHub::collect_debts(Session& session, Clock::time_point now) {
+  const Session::Debts debts = session.hand_over_debts();
+  sim_debts_.record(session.creator(), debts.sim_ms, milliseconds_since_epoch(now));
+  render_debts_.record(session.creator(), debts.render_ms, milliseconds_since_epoch(now));
+}
+
 void SessionHub::end_idle_and_expired(Clock::time_point now) {
   for (auto it = sessions_.begin(); it != sessions_.end();) {
     Session& session = *it->second;
@@ -356,9 +374,7 @@ void SessionHub::end_idle_and_expired(Clock::time_point now) {
       spdlog::info("session {} ended: its viewers left, or dropped more than {} s ago",
                    session.id(), limits_.resume_grace.count());
       metrics_->forget_session(session.id());
-      sim_debts_.record(session.creator(), session.sim_debt_ms(), milliseconds_since_epoch(now));
-      render_debts_.record(session.creator(), session.render_debt_ms(),
-                           milliseconds_since_epoch(now));
+      collect_debts(session, now);
       it = sessions_.erase(it);
       trim_after_ = now + kTrimDelay;
     } else {

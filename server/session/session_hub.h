@@ -68,6 +68,8 @@ class SessionHub {
   // Ends the streams of sessions idle past --idle-timeout, removes expired ones (their memory goes
   // back to the system a little later), and updates the sessions' metrics.
   void end_idle_and_expired(Clock::time_point now);
+  // Moves what `session` owes of GPU time to its client's ledger.
+  void collect_debts(Session& session, Clock::time_point now);
   // A session that fails ends alone, with INTERNAL for its viewers; the others go on.
   void end_failed(Session& session, const std::exception& e);
   // The device is lost or stalled: every session's viewers get INTERNAL.

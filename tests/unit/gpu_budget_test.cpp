@@ -185,16 +185,16 @@ TEST(ClientDebtsTest, AClientsNextSessionInheritsWhatItsLastOneOwed) {
   ClientDebts debts;
   debts.record("10.0.0.7", 200.0, 1000.0);
   debts.record("10.0.0.9", -5.0, 1000.0);  // in credit: owes nothing
-  EXPECT_DOUBLE_EQ(debts.take("10.0.0.9", 1000.0, 2), 0.0);
-  // 100 ms later, sharing the device with one other client: half of that is forgiven.
-  EXPECT_DOUBLE_EQ(debts.take("10.0.0.7", 1100.0, 2), 150.0);
-  EXPECT_DOUBLE_EQ(debts.take("10.0.0.7", 1100.0, 2), 0.0);  // taken once
+  EXPECT_DOUBLE_EQ(debts.take("10.0.0.9", 1000.0, 0.5), 0.0);
+  // 100 ms later, with half of the account's time its share: half of that is forgiven.
+  EXPECT_DOUBLE_EQ(debts.take("10.0.0.7", 1100.0, 0.5), 150.0);
+  EXPECT_DOUBLE_EQ(debts.take("10.0.0.7", 1100.0, 0.5), 0.0);  // taken once
   // Two sessions ending in debt add up; a long enough wait forgives it all.
   debts.record("a", 50.0, 0.0);
   debts.record("a", 50.0, 10.0);
-  EXPECT_DOUBLE_EQ(debts.take("a", 10.0, 1), 90.0);
+  EXPECT_DOUBLE_EQ(debts.take("a", 10.0, 1.0), 90.0);
   debts.record("b", 50.0, 0.0);
-  EXPECT_DOUBLE_EQ(debts.take("b", 1000.0, 3), 0.0);
+  EXPECT_DOUBLE_EQ(debts.take("b", 1000.0, 1.0 / 3.0), 0.0);
 }
 
 TEST(ClientDebtsTest, ManyAddressesKeepItsMemoryBounded) {
@@ -202,8 +202,8 @@ TEST(ClientDebtsTest, ManyAddressesKeepItsMemoryBounded) {
   for (std::size_t k = 0; k <= ClientDebts::kMostClients; ++k) {
     debts.record("client " + std::to_string(k), 10.0, double(k));
   }
-  EXPECT_DOUBLE_EQ(debts.take("client 0", 0.0, 1), 0.0);  // the oldest, forgotten
-  EXPECT_DOUBLE_EQ(debts.take("client 1", 1.0, 1), 10.0);
+  EXPECT_DOUBLE_EQ(debts.take("client 0", 0.0, 1.0), 0.0);  // the oldest, forgotten
+  EXPECT_DOUBLE_EQ(debts.take("client 1", 1.0, 1.0), 10.0);
 }
 
 TEST(SimSpeedTest, SimulatedSecondsPerWallSecondOverTheLastSecond) {
