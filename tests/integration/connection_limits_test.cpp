@@ -41,6 +41,17 @@ v1::Hello small_session() {
   return hello;
 }
 
+// 120 idle connections to the server's gRPC port, which has no limit of its own: with 96
+// descriptors, they take every one left.
+std::vector<std::unique_ptr<RawConnection>> flood_grpc_port(const testing::ServerProcess& server) {
+  std::vector<std::unique_ptr<RawConnection>> flood;
+  const std::string& address = server.grpc_address();
+  const int grpc_port = std::stoi(address.substr(address.rfind(':') + 1));
+  for (int k = 0; k < 120; ++k) flood.push_back(std::make_unique<RawConnection>(grpc_port));
+  std::this_thread::sleep_for(milliseconds(500));
+  return flood;
+}
+
 // A WebSocket to the server's /ws; reads give up after 20 s, so that a server that never answers
 // fails the test instead of hanging it.
 using WebSocket = boost::beast::websocket::stream<boost::asio::ip::tcp::socket>;
@@ -163,11 +174,7 @@ TEST(ConnectionLimitsTest, WhenDescriptorsRunOutItWaitsAndServesAgainOnceTheyAre
   testing::ServerProcess server({}, 96);
   RawConnection monitor(server.http_port());  // a load balancer's, open before
   ASSERT_EQ(monitor.get("/healthz"), "HTTP/1.1 200 OK");
-  std::vector<std::unique_ptr<RawConnection>> flood;
-  const std::string address = server.grpc_address();
-  const int grpc_port = std::stoi(address.substr(address.rfind(':') + 1));
-  for (int k = 0; k < 120; ++k) flood.push_back(std::make_unique<RawConnection>(grpc_port));
-  std::this_thread::sleep_for(milliseconds(500));
+  auto flood = flood_grpc_port(server);
   {
     RawConnection starved(server.http_port(), milliseconds(1000));
     EXPECT_EQ(starved.get("/healthz"), "") << "answered with no descriptors left?";
@@ -208,11 +215,7 @@ TEST(ConnectionLimitsTest, WhenDescriptorsRunOutUnderTlsTheServerIsUnhealthyForG
       {"--tls-cert", tls.certificate.string(), "--tls-key", tls.key.string()}, 96);
   RawConnection monitor(server.http_port());
   ASSERT_EQ(monitor.get("/healthz"), "HTTP/1.1 200 OK");
-  std::vector<std::unique_ptr<RawConnection>> flood;
-  const std::string address = server.grpc_address();
-  const int grpc_port = std::stoi(address.substr(address.rfind(':') + 1));
-  for (int k = 0; k < 120; ++k) flood.push_back(std::make_unique<RawConnection>(grpc_port));
-  std::this_thread::sleep_for(milliseconds(500));
+  auto flood = flood_grpc_port(server);
   flood.clear();
   std::this_thread::sleep_for(seconds(1));
   EXPECT_EQ(monitor.get("/healthz"), "HTTP/1.1 503 Service Unavailable")
