@@ -58,13 +58,19 @@ std::vector<GpuGrant> grant_gpu_time(double period_ms, double sim_share,
                                      std::span<const GpuDemand> demands) {
   std::vector<double> sim(demands.size()), render(demands.size());
   std::vector<std::string> clients(demands.size());
-  std::size_t watched = 0;
+  std::map<std::string_view, std::size_t> watched_sessions;  // of each client with any watched
   for (std::size_t k = 0; k < demands.size(); ++k) {
     sim[k] = demands[k].sim_ms;
     render[k] = demands[k].render_ms;
     clients[k] = demands[k].client;
-    watched += demands[k].watched ? 1 : 0;
+    if (demands[k].watched) ++watched_sessions[demands[k].client];
   }
+  const auto others_watched = [&](const GpuDemand& demand) {
+    const auto own = watched_sessions.find(demand.client);
+    if (own == watched_sessions.end()) return watched_sessions.size();
+    const std::size_t own_others = own->second - (demand.watched ? 1 : 0);
+    return watched_sessions.size() - 1 + (own_others > 0 ? 1 : 0);
+  };
   const std::vector<double> sim_granted =
       share_between_clients(sim_share * period_ms, sim, clients);
   double sim_on_gpu = 0.0;
@@ -75,8 +81,7 @@ std::vector<GpuGrant> grant_gpu_time(double period_ms, double sim_share,
       share_between_clients(period_ms - sim_on_gpu, render, clients);
   std::vector<GpuGrant> grants(demands.size());
   for (std::size_t k = 0; k < demands.size(); ++k) {
-    grants[k] = {sim_granted[k], render_granted[k], period_ms,
-                 watched - (demands[k].watched ? 1u : 0u)};
+    grants[k] = {sim_granted[k], render_granted[k], period_ms, others_watched(demands[k])};
   }
   return grants;
 }

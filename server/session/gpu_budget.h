@@ -44,9 +44,11 @@ struct GpuGrant {
   double sim_ms = 0.0;
   double render_ms = 0.0;
   double period_ms = 0.0;  // of a tick
-  // Other sessions with viewers. With none, a session renders every due frame (nobody waits
-  // behind it); with some, frames beyond its grant wait: even when their frames are not due in
-  // this tick, a long frame now holds back theirs in the next.
+  // Who waits behind its frames: each other client with a session watched, and its own client
+  // once more if another of its sessions is watched (counted by clients, not sessions, so that
+  // opening many sessions does not make everyone else's long frames dearer). With nobody, a
+  // session renders every due frame; with somebody, frames beyond its grant wait: even when their
+  // frames are not due in this tick, a long frame now holds back theirs in the next.
   std::size_t others_watched = 0;
   bool contended() const { return others_watched > 0; }
   // What an item (a substep, a frame) of `item_ms` costs the session's account: its own time,

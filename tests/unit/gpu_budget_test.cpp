@@ -104,13 +104,30 @@ TEST(GrantGpuTimeTest, ACpuSolversStepsLeaveTheDeviceToRendering) {
 
 TEST(GrantGpuTimeTest, OnlyOtherSessionsViewersMakeAContest) {
   // Watched, with no frame due this tick: its next frame would still wait behind a long one.
-  const std::vector<GpuDemand> demands = {{5.0, 3.0, true}, {5.0, 0.0, true}, {0.0, 0.0, false}};
+  const std::vector<GpuDemand> demands = {
+      {5.0, 3.0, true, true, "a"}, {5.0, 0.0, true, true, "b"}, {0.0, 0.0, false, true, "c"}};
   const auto grants = grant_gpu_time(16.0, 0.5, demands);
   EXPECT_EQ(grants[0].others_watched, 1u);
   EXPECT_EQ(grants[1].others_watched, 1u);
   EXPECT_EQ(grants[2].others_watched, 2u);
   const std::vector<GpuDemand> alone = {{5.0, 3.0, true}, {0.0, 0.0, false}};
   EXPECT_FALSE(grant_gpu_time(16.0, 0.5, alone)[0].contended());
+}
+
+TEST(GrantGpuTimeTest, ThoseWaitingBehindAFrameAreCountedByClient) {
+  // A phone beside a client with seven watched sessions: its long frames hold back one client.
+  std::vector<GpuDemand> demands(8, GpuDemand{0.0, 5.0, true, true, "many"});
+  demands[7].client = "phone";
+  const auto grants = grant_gpu_time(16.0, 0.5, demands);
+  EXPECT_EQ(grants[7].others_watched, 1u);
+  // One of the seven: the phone, and its own client's six other sessions, once.
+  EXPECT_EQ(grants[0].others_watched, 2u);
+  // A client's only other session watched still waits behind its frames.
+  const std::vector<GpuDemand> own = {
+      {0.0, 5.0, true, true, "a"}, {0.0, 5.0, true, true, "a"}, {0.0, 0.0, false, true, "b"}};
+  const auto own_grants = grant_gpu_time(16.0, 0.5, own);
+  EXPECT_EQ(own_grants[0].others_watched, 1u);
+  EXPECT_EQ(own_grants[2].others_watched, 1u);
 }
 
 TEST(GrantGpuTimeTest, AnItemLongerThanATickPaysForTheFramesItHoldsBack) {
