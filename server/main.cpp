@@ -239,9 +239,15 @@ void log_where_to_connect(const ServerOptions& options, const ServerLimits& limi
         tls_files.certificate.string());
   }
   const char* local = every_interface(options.listen) ? "127.0.0.1" : options.listen.c_str();
-  spdlog::info(
-      "here: open http://{}:{}/ in a browser, or run {} --headless --server {}:{} --seconds 10",
-      local, http_port, (program_folder() / "fluidcast-client").string(), local, grpc_port);
+  // The client is installed beside the server by a build or a full install, not in the image.
+  const std::filesystem::path client = program_folder() / "fluidcast-client";
+  if (std::filesystem::exists(client)) {
+    spdlog::info(
+        "here: open http://{}:{}/ in a browser, or run {} --headless --server {}:{} --seconds 10",
+        local, http_port, client.string(), local, grpc_port);
+  } else {
+    spdlog::info("here: open http://{}:{}/ in a browser", local, http_port);
+  }
   for (const auto& [target, file] : page_routes(options.web_root)) {
     if (!std::filesystem::exists(file)) {
       spdlog::warn("the page lacks {} (--web-root): phones will not get it", file.string());
