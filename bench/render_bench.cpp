@@ -6,8 +6,9 @@
 // at 640×360, 1280×720 and 1920×1080 with 64k and 1M particles (the dam break after a few GPU
 // steps); Marching Cubes in a cubic 1 m tank on a 128³ grid (the target), and as the
 // client's local mode draws it (5000 particles, 640×360, grid from the particle size); SSFR with
-// spheres instead of ellipsoids at 1920×1080 (SsfrSpheres). `--smoke` runs small cases (for CI, on
-// lavapipe); `--device N` picks the device.
+// spheres instead of ellipsoids at 1920×1080 (SsfrSpheres); what a new renderer costs the thread
+// that makes it, as a new viewer or a resize does (NewRenderer*). `--smoke` runs small cases (for
+// CI, on lavapipe); `--device N` picks the device.
 #include <benchmark/benchmark.h>
 
 #include <chrono>
@@ -139,6 +140,38 @@ void measure_encoding(benchmark::State& state, render::FrameRenderer& renderer,
   state.counters["pool_encodes_per_s"] = static_cast<double>(jobs.size()) / seconds_since(start);
 }
 
+// What a new viewer or a resize costs the thread that makes its renderer (the server's worker):
+// constructing the FrameRenderer, then its first frame (where each kind builds what it draws
+// with) and a warm frame after it, all in wall time around the calls, the frame waited for.
+void run_new_renderer(benchmark::State& state, render::RendererKind kind) {
+  const auto width = static_cast<std::uint32_t>(state.range(0));
+  const auto height = static_cast<std::uint32_t>(state.range(1));
+  const auto solver = fluid_for(state);
+  render::ParticleSource source(bench::gpu_context());
+  const render::ParticleView view = source.view_of(*solver);
+  render::OrbitCamera camera;
+  camera.target = 0.5f * (solver->tank().min + solver->tank().max);
+  camera.distance = 1.3f * glm::length(solver->tank().size());
+  double construct = 0.0, first = 0.0, warm = 0.0;
+  int made = 0;
+  for (auto _ : state) {
+    auto start = Clock::now();
+    render::FrameRenderer renderer(bench::gpu_context(), width, height);
+    construct += seconds_since(start);
+    start = Clock::now();
+    renderer.render(kind, view, solver->tank(), camera);
+    first += seconds_since(start);
+    start = Clock::now();
+    renderer.render(kind, view, solver->tank(), camera);
+    warm += seconds_since(start);
+    state.SetIterationTime(construct + first);
+    ++made;
+  }
+  state.counters["construct_ms"] = 1e3 * construct / made;
+  state.counters["first_frame_ms"] = 1e3 * first / made;
+  state.counters["warm_frame_ms"] = 1e3 * warm / made;
+}
+
 enum class Tank { dam_break, cube };
 
 void add(const char* name, render::RendererKind kind, int width, int height, int particles,
@@ -152,7 +185,22 @@ void add(const char* name, render::RendererKind kind, int width, int height, int
       ->Unit(benchmark::kMillisecond);
 }
 
+void add_new_renderer(const char* name, render::RendererKind kind, int width, int height,
+                      int particles) {
+  benchmark::RegisterBenchmark(name, run_new_renderer, kind)
+      ->Args({width, height, particles, 0, 0})
+      ->ArgNames({"width", "height", "particles", "mc_nodes", "cube"})
+      ->Iterations(5)
+      ->UseManualTime()
+      ->Unit(benchmark::kMillisecond);
+}
+
 void register_cases(bool smoke) {
+  for (auto [name, kind] : {std::pair{"NewRendererSsfr", render::RendererKind::ssfr},
+                            {"NewRendererMc", render::RendererKind::mc},
+                            {"NewRendererPoints", render::RendererKind::points}}) {
+    add_new_renderer(name, kind, 1280, 720, smoke ? 4000 : 64000);
+  }
   if (smoke) {
     add("Ssfr", render::RendererKind::ssfr, 320, 180, 4000, 3);
     add("Points", render::RendererKind::points, 320, 180, 4000, 3);

@@ -58,6 +58,16 @@ struct GpuGrant {
   double charge(double item_ms) const;
 };
 
+// What a frame was charged when it was submitted, under which grant; settled once its GPU time is
+// measured (a price is an estimate: a renderer's first frame draws the whole scene, and a frame
+// drawn to be measured had no price at all).
+struct FrameCharge {
+  GpuGrant grant;
+  double charged_ms = 0.0;
+  // What is still owed once the frame took `measured_ms` (negative: a refund).
+  double settle(double measured_ms) const { return grant.charge(measured_ms) - charged_ms; }
+};
+
 // The rule, for all sessions at once: simulation shares sim_share·period, rendering the rest of
 // the period (what simulation on the GPU leaves included), each between clients and then between
 // a client's sessions. A tick that comes late grants no more:
@@ -69,7 +79,8 @@ std::vector<GpuGrant> grant_gpu_time(double period_ms, double sim_share,
 // Credit in GPU milliseconds. A tick's grant adds to it; an item (a frame, a substep) may be
 // started while the balance is positive and may take it below zero, which later grants repay.
 // Credit never exceeds one grant plus the dearest item, so an idle session cannot save up a
-// burst. (Frames drawn while no other session is watched are not charged: nobody waits.)
+// burst. (Frames drawn while no other session is watched are not charged: nobody waits.) A frame
+// is charged its price when submitted and settled against its measured time when it finishes.
 class GpuAccount {
  public:
   void deposit(double grant_ms, double dearest_item_ms);

@@ -19,8 +19,9 @@ constexpr std::size_t kMaxDepartedViewers = 64;
 constexpr auto kRebuildInterval = std::chrono::milliseconds(500);
 // Time steps of real time the simulation may owe; past it the fluid runs slow instead.
 constexpr double kMaxOwedSteps = 4.0;
-// However far in debt its session's rendering account is, a viewer gets a frame at least this
-// often: a frame rate floor, and fresh measurements for a cost that was overestimated.
+// A viewer gets a frame at least this often while its session's rendering account owes no more
+// than its grant repays in that time: a frame rate floor (and fresh measurements for a cost that
+// was overestimated) that a session whose frames cost more than its share cannot live on.
 constexpr auto kLongestFrameWait = std::chrono::seconds(1);
 // Frames smaller than this (a 320×240 frame is 0.077) do not set the device's price per pixel.
 constexpr double kLeastPricedMegapixels = 0.05;
@@ -59,6 +60,9 @@ void Session::send_frames(FrameWait wait) {
     while (wait == FrameWait::for_all || viewer->frame_finished()) {
       auto finished = viewer->take_finished(Clock::now());
       if (!finished) break;
+      if (finished->shows.charge) {
+        render_account_.spend(finished->shows.charge->settle(Viewer::gpu_ms(*finished)));
+      }
       // Tiny frames cost mostly what any frame costs: they would overprice the pixels.
       if (viewer->frame_cost().known() && viewer->megapixels() >= kLeastPricedMegapixels) {
         services_.frame_ms_per_megapixel->add(viewer->frame_cost().ms() / viewer->megapixels());
@@ -411,15 +415,30 @@ void Session::render(const GpuGrant& grant, Clock::time_point now) {
     dearest_frame = std::max(dearest_frame, grant.charge(frame_price(*viewer).value_or(0.0)));
   }
   render_account_.deposit(grant.render_ms, dearest_frame);
-  std::vector<std::pair<std::uint32_t, Viewer*>> due;
+  const double floor_debt_ms =
+      grant.period_ms > 0.0
+          ? grant.render_ms * std::chrono::duration<double, std::milli>(kLongestFrameWait).count() /
+                grant.period_ms
+          : 0.0;
+  const bool within_floor_debt = render_account_.balance_ms() > -floor_debt_ms;
+  struct Due {
+    std::uint32_t id;
+    Viewer* viewer;
+    std::optional<FrameCharge> charge;
+  };
+  std::vector<Due> due;
   for (auto& [id, viewer] : viewers_) {
     if (!viewer->due(now)) {
       if (viewer->flow().throttled()) services_.metrics->frames_skipped++;
-    } else if (!grant.contended() || !frame_price(*viewer)) {
-      due.emplace_back(id, viewer.get());  // nobody waits behind it; or drawn to be measured
-    } else if (render_account_.can_spend() || viewer->flow().overdue(now) >= kLongestFrameWait) {
-      render_account_.spend(grant.charge(*frame_price(*viewer)));
-      due.emplace_back(id, viewer.get());
+    } else if (!grant.contended()) {
+      due.push_back({id, viewer.get(), std::nullopt});  // nobody waits behind it
+    } else if (!frame_price(*viewer)) {
+      due.push_back({id, viewer.get(), FrameCharge{grant, 0.0}});  // drawn to be measured
+    } else if (render_account_.can_spend() ||
+               (viewer->flow().overdue(now) >= kLongestFrameWait && within_floor_debt)) {
+      const FrameCharge charge{grant, grant.charge(*frame_price(*viewer))};
+      render_account_.spend(charge.charged_ms);
+      due.push_back({id, viewer.get(), charge});
     } else {
       services_.metrics->frames_deferred++;  // its share of the GPU is spent; others go first
     }
@@ -427,8 +446,9 @@ void Session::render(const GpuGrant& grant, Clock::time_point now) {
   if (due.empty()) return;  // no upload of a CPU solver's particles for nobody
   const render::ParticleView particles = source_.view_of(*solver_);
   std::vector<std::uint32_t> failed;
-  for (auto [id, viewer] : due) {
+  for (auto& [id, viewer, charge] : due) {
     Viewer::Shows shows;
+    shows.charge = charge;
     shows.input_event_id = viewer->newest_input();
     shows.sim_time = solver_->time();
     shows.sim_ms = measured_sim_ms_;

@@ -155,7 +155,7 @@ std::optional<Viewer::Finished> Viewer::take_finished(Clock::time_point now) {
   in_flight_.pop_front();
   // A renderer's first frame builds its pipelines and draws the whole scene: not what its frames
   // cost.
-  if (renderer_warm_) frame_cost_.add(finished.times.drawing_ms() + finished.times.readback_ms);
+  if (renderer_warm_) frame_cost_.add(gpu_ms(finished));
   renderer_warm_ = true;
   if (probed) drag_.probed(renderer_->last_probe_hit(), camera_);
   return finished;

@@ -92,6 +92,8 @@ class Viewer {
     Clock::time_point tick_start{};
     Clock::time_point submitted{};
     std::string renderer;
+    // Set where it was drawn while others watched: what its session's account paid for it.
+    std::optional<FrameCharge> charge;
   };
   struct Finished {
     codec::Image image;  // YCbCr 4:2:0 planes, ready for the JPEG encoder
@@ -112,6 +114,10 @@ class Viewer {
   bool frame_finished();
   // GPU milliseconds one of its frames costs (render passes and read-back, from timestamps).
   const CostEstimate& frame_cost() const { return frame_cost_; }
+  // What a finished frame took, by the same measure.
+  static double gpu_ms(const Finished& frame) {
+    return frame.times.drawing_ms() + frame.times.readback_ms;
+  }
   // Its frames' size as rendered, in millions of pixels.
   double megapixels() const { return double(render_width_) * double(render_height_) * 1e-6; }
   void note_input(std::uint64_t event_id, Clock::time_point received);

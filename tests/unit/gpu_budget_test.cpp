@@ -139,6 +139,19 @@ TEST(GrantGpuTimeTest, AnItemLongerThanATickPaysForTheFramesItHoldsBack) {
   EXPECT_DOUBLE_EQ(grant.charge(25.0), 25.0 + 3 * 15.0);
 }
 
+TEST(FrameChargeTest, AFrameIsSettledAgainstWhatItTook) {
+  GpuGrant grant;
+  grant.period_ms = 10.0;
+  grant.others_watched = 2;
+  // Priced at 4 ms, it took 25 (a new renderer drew the whole scene): it owes the rest, and the
+  // two periods it held two clients' frames back.
+  const FrameCharge priced{grant, grant.charge(4.0)};
+  EXPECT_DOUBLE_EQ(priced.settle(25.0), 25.0 + 2 * 15.0 - 4.0);
+  EXPECT_DOUBLE_EQ(priced.settle(3.0), -1.0);  // overpriced: the difference comes back
+  const FrameCharge unpriced{grant, 0.0};      // drawn to be measured
+  EXPECT_DOUBLE_EQ(unpriced.settle(6.0), 6.0);
+}
+
 TEST(GpuAccountTest, AnItemDearerThanAGrantRunsOnceEnoughTicksPaidForIt) {
   GpuAccount account;
   int runs = 0;
