@@ -157,14 +157,16 @@ void run_new_renderer(benchmark::State& state, render::RendererKind kind) {
   for (auto _ : state) {
     auto start = Clock::now();
     render::FrameRenderer renderer(bench::gpu_context(), width, height);
-    construct += seconds_since(start);
+    const double constructing = seconds_since(start);
     start = Clock::now();
     renderer.render(kind, view, solver->tank(), camera);
-    first += seconds_since(start);
+    const double first_frame = seconds_since(start);
     start = Clock::now();
     renderer.render(kind, view, solver->tank(), camera);
     warm += seconds_since(start);
-    state.SetIterationTime(construct + first);
+    construct += constructing;
+    first += first_frame;
+    state.SetIterationTime(constructing + first_frame);
     ++made;
   }
   state.counters["construct_ms"] = 1e3 * construct / made;

@@ -113,9 +113,18 @@ void TimestampQueries::fetch() {
   fetched_ = true;
 }
 
+std::uint64_t timestamp_ticks_between(std::uint64_t from, std::uint64_t to,
+                                      std::uint32_t valid_bits) {
+  const std::uint64_t range_mask =
+      valid_bits >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << valid_bits) - 1;
+  return (to - from) & range_mask;
+}
+
 double TimestampQueries::elapsed_ms(std::uint32_t from, std::uint32_t to) {
   if (!pool_) return 0.0;
-  return static_cast<double>(ticks_[to] - ticks_[from]) * context_->timestamp_period_ns() * 1e-6;
+  const std::uint64_t ticks =
+      timestamp_ticks_between(ticks_[from], ticks_[to], context_->timestamp_valid_bits());
+  return static_cast<double>(ticks) * context_->timestamp_period_ns() * 1e-6;
 }
 
 }  // namespace fluidcast::gpu

@@ -22,6 +22,7 @@ bool FlowControl::due(Clock::time_point now) const {
 
 void FlowControl::rendered(Clock::time_point now) {
   next_frame_ = std::max(next_frame_ + frame_interval_, now);
+  last_rendered_ = now;
 }
 
 std::uint64_t FlowControl::produced(Clock::time_point now) {

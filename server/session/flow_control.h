@@ -31,6 +31,9 @@ class FlowControl {
   // Round trips above which a viewer is behind, and below which it keeps up.
   static constexpr double kBehindMs = 120.0, kKeepingUpMs = 50.0;
 
+  // A viewer's, from `start` (when it joined).
+  explicit FlowControl(Clock::time_point start) : last_rendered_(start) {}
+
   struct Size {
     std::uint32_t width = 0, height = 0;
     bool operator==(const Size&) const = default;
@@ -48,6 +51,9 @@ class FlowControl {
   bool throttled() const { return sequence_ - acknowledged_ >= kMaxFramesInFlight; }
   // How long ago its next frame fell due (negative before).
   Clock::duration overdue(Clock::time_point now) const { return now - next_frame_; }
+  // How long since its last frame was rendered (since `start` before its first): what the
+  // session's frame rate floors go by, which a new rate (ask) does not reset.
+  Clock::duration since_rendered(Clock::time_point now) const { return now - last_rendered_; }
   // A frame was rendered now: the next one is due an interval later.
   void rendered(Clock::time_point now);
   // A rendered frame is handed to the viewer now; returns its sequence number.
@@ -66,6 +72,7 @@ class FlowControl {
 
   Clock::duration frame_interval_{};
   Clock::time_point next_frame_{};
+  Clock::time_point last_rendered_{};
   std::uint64_t sequence_ = 0, acknowledged_ = 0;
   std::array<Clock::time_point, 64> produced_at_{};
   std::optional<double> round_trip_ms_;

@@ -90,6 +90,11 @@ double GpuGrant::charge(double item_ms) const {
   return item_ms + double(others_watched) * std::max(0.0, item_ms - period_ms);
 }
 
+double FrameCharge::settle(double measured_ms) const {
+  if (!std::isfinite(measured_ms) || measured_ms <= 0.0) return 0.0;
+  return grant.charge(std::min(measured_ms, kMostMeasuredMs)) - charged_ms;
+}
+
 void GpuAccount::deposit(double grant_ms, double dearest_item_ms) {
   balance_ms_ = std::min(balance_ms_ + grant_ms, grant_ms + std::max(0.0, dearest_item_ms));
 }

@@ -62,10 +62,15 @@ struct GpuGrant {
 // measured (a price is an estimate: a renderer's first frame draws the whole scene, and a frame
 // drawn to be measured had no price at all).
 struct FrameCharge {
+  // One frame owes at most this much of the device's time (before the hold-back charge): a stall
+  // or a driver's odd timestamp must not cost a session minutes of frames.
+  static constexpr double kMostMeasuredMs = 1000.0;
+
   GpuGrant grant;
   double charged_ms = 0.0;
-  // What is still owed once the frame took `measured_ms` (negative: a refund).
-  double settle(double measured_ms) const { return grant.charge(measured_ms) - charged_ms; }
+  // What is still owed once the frame took `measured_ms` (negative: a refund); nothing where
+  // the measurement is not a positive, finite duration.
+  double settle(double measured_ms) const;
 };
 
 // The rule, for all sessions at once: simulation shares sim_share·period, rendering the rest of
@@ -79,8 +84,7 @@ std::vector<GpuGrant> grant_gpu_time(double period_ms, double sim_share,
 // Credit in GPU milliseconds. A tick's grant adds to it; an item (a frame, a substep) may be
 // started while the balance is positive and may take it below zero, which later grants repay.
 // Credit never exceeds one grant plus the dearest item, so an idle session cannot save up a
-// burst. (Frames drawn while no other session is watched are not charged: nobody waits.) A frame
-// is charged its price when submitted and settled against its measured time when it finishes.
+// burst. (Frames drawn while no other session is watched are not charged: nobody waits.)
 class GpuAccount {
  public:
   void deposit(double grant_ms, double dearest_item_ms);

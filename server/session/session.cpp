@@ -20,9 +20,13 @@ constexpr auto kRebuildInterval = std::chrono::milliseconds(500);
 // Time steps of real time the simulation may owe; past it the fluid runs slow instead.
 constexpr double kMaxOwedSteps = 4.0;
 // A viewer gets a frame at least this often while its session's rendering account owes no more
-// than its grant repays in that time: a frame rate floor (and fresh measurements for a cost that
-// was overestimated) that a session whose frames cost more than its share cannot live on.
+// than this long of an equal share of the device: a frame rate floor (and fresh measurements for
+// a cost that was overestimated) that a session whose frames cost more than its share cannot
+// live on.
 constexpr auto kLongestFrameWait = std::chrono::seconds(1);
+// However deep its session's debt, a viewer waits no longer than this for a frame (its first
+// one included, counted from when it joined): a picture that moves now and then, never none.
+constexpr auto kLongestFrameWaitInDebt = std::chrono::seconds(5);
 // Frames smaller than this (a 320×240 frame is 0.077) do not set the device's price per pixel.
 constexpr double kLeastPricedMegapixels = 0.05;
 
@@ -416,11 +420,13 @@ void Session::render(const GpuGrant& grant, Clock::time_point now) {
   }
   render_account_.deposit(grant.render_ms, dearest_frame);
   const double floor_debt_ms =
-      grant.period_ms > 0.0
-          ? grant.render_ms * std::chrono::duration<double, std::milli>(kLongestFrameWait).count() /
-                grant.period_ms
-          : 0.0;
-  const bool within_floor_debt = render_account_.balance_ms() > -floor_debt_ms;
+      std::chrono::duration<double, std::milli>(kLongestFrameWait).count() /
+      double(1 + grant.others_watched);
+  const auto floor_reached = [&](const Viewer& viewer) {
+    const auto waited = viewer.flow().since_rendered(now);
+    return waited >= kLongestFrameWaitInDebt ||
+           (waited >= kLongestFrameWait && render_account_.balance_ms() > -floor_debt_ms);
+  };
   struct Due {
     std::uint32_t id;
     Viewer* viewer;
@@ -434,8 +440,7 @@ void Session::render(const GpuGrant& grant, Clock::time_point now) {
       due.push_back({id, viewer.get(), std::nullopt});  // nobody waits behind it
     } else if (!frame_price(*viewer)) {
       due.push_back({id, viewer.get(), FrameCharge{grant, 0.0}});  // drawn to be measured
-    } else if (render_account_.can_spend() ||
-               (viewer->flow().overdue(now) >= kLongestFrameWait && within_floor_debt)) {
+    } else if (render_account_.can_spend() || floor_reached(*viewer)) {
       const FrameCharge charge{grant, grant.charge(*frame_price(*viewer))};
       render_account_.spend(charge.charged_ms);
       due.push_back({id, viewer.get(), charge});

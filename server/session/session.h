@@ -126,8 +126,8 @@ class Session {
   void answer_state_request(Viewer& viewer);
   void apply_command(Viewer& viewer, const v1::Command& command);
   // Submits the due frames that the grant pays for (all of them when no other session is
-  // watched; at least one every kLongestFrameWait for each viewer while the debt is small), each
-  // charged its price now and settled against its timestamps when it finishes (send_frames).
+  // watched; the floors aside), each charged its price now and settled against its timestamps
+  // when it finishes (send_frames).
   void render(const GpuGrant& grant, Clock::time_point now);
   // A new fluid (rebuild, loaded snapshot): its costs are measured afresh, it owes no time.
   void forget_costs();

@@ -153,8 +153,8 @@ std::optional<Viewer::Finished> Viewer::take_finished(Clock::time_point now) {
       std::move(image), flow_.produced(now), std::move(in_flight_.front()), renderer_->last_times(),
       queue_ms,         flow_.jpeg_quality()};
   in_flight_.pop_front();
-  // A renderer's first frame builds its pipelines and draws the whole scene: not what its frames
-  // cost.
+  // A renderer's first frame draws the whole scene (the tank and floor, kept while the camera
+  // stays) and, on some drivers, compiles its pipelines: not what its frames cost.
   if (renderer_warm_) frame_cost_.add(gpu_ms(finished));
   renderer_warm_ = true;
   if (probed) drag_.probed(renderer_->last_probe_hit(), camera_);

@@ -150,7 +150,7 @@ class Viewer {
   render::RendererKind renderer_kind_ = render::RendererKind::automatic;
   sim::Box tank_;  // what the camera looks at
   render::OrbitLimits orbit_{0.05f, 1000.0f};
-  FlowControl flow_;
+  FlowControl flow_{Clock::now()};
   Gestures gestures_{seat_.access == Access::control};
   DragProbe drag_;
   std::deque<Shows> in_flight_;  // what each frame in the renderer's ring shows

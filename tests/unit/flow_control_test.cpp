@@ -28,8 +28,8 @@ class FlowControlTest : public testing::Test {
     now += FlowControl::kAdaptEvery;
   }
 
-  FlowControl flow;
   Clock::time_point now = Clock::now();
+  FlowControl flow{now};
 };
 
 TEST_F(FlowControlTest, FramesFollowTheRateAskedFor) {

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <string>
 #include <vector>
@@ -144,12 +145,22 @@ TEST(FrameChargeTest, AFrameIsSettledAgainstWhatItTook) {
   grant.period_ms = 10.0;
   grant.others_watched = 2;
   // Priced at 4 ms, it took 25 (a new renderer drew the whole scene): it owes the rest, and the
-  // two periods it held two clients' frames back.
+  // 15 ms beyond a period that it held two clients' frames back.
   const FrameCharge priced{grant, grant.charge(4.0)};
   EXPECT_DOUBLE_EQ(priced.settle(25.0), 25.0 + 2 * 15.0 - 4.0);
   EXPECT_DOUBLE_EQ(priced.settle(3.0), -1.0);  // overpriced: the difference comes back
   const FrameCharge unpriced{grant, 0.0};      // drawn to be measured
   EXPECT_DOUBLE_EQ(unpriced.settle(6.0), 6.0);
+}
+
+TEST(FrameChargeTest, AStallOrAnOddTimestampCostsAtMostASecond) {
+  GpuGrant grant;
+  grant.period_ms = 10.0;
+  const FrameCharge charge{grant, 4.0};
+  EXPECT_DOUBLE_EQ(charge.settle(1e12), FrameCharge::kMostMeasuredMs - 4.0);
+  for (double odd : {0.0, -3.0, std::nan(""), std::numeric_limits<double>::infinity()}) {
+    EXPECT_DOUBLE_EQ(charge.settle(odd), 0.0) << odd;  // the price stands
+  }
 }
 
 TEST(GpuAccountTest, AnItemDearerThanAGrantRunsOnceEnoughTicksPaidForIt) {

@@ -30,6 +30,11 @@ class CommandSlot {
   bool submitted_ = false;
 };
 
+// Ticks from timestamp `from` to `to` of a counter with `valid_bits` bits (timestampValidBits):
+// one narrower than 64 bits wraps, and the difference is taken modulo its range.
+std::uint64_t timestamp_ticks_between(std::uint64_t from, std::uint64_t to,
+                                      std::uint32_t valid_bits);
+
 // GPU timestamps written between stages of a command buffer, read once its fence has signalled.
 class TimestampQueries {
  public:

@@ -80,6 +80,7 @@ class Context {
   const DeviceInfo& info() const { return info_; }
   bool validation_enabled() const { return messenger_ != VK_NULL_HANDLE; }
   bool timestamps_supported() const { return timestamp_valid_bits_ > 0; }
+  std::uint32_t timestamp_valid_bits() const { return timestamp_valid_bits_; }
   // Colour attachments of one pass may blend differently (independentBlend).
   bool independent_blend_supported() const { return independent_blend_; }
   float timestamp_period_ns() const { return properties_.limits.timestampPeriod; }
