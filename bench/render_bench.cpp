@@ -201,7 +201,7 @@ void register_cases(bool smoke) {
   for (auto [name, kind] : {std::pair{"NewRendererSsfr", render::RendererKind::ssfr},
                             {"NewRendererMc", render::RendererKind::mc},
                             {"NewRendererPoints", render::RendererKind::points}}) {
-    add_new_renderer(name, kind, 1280, 720, smoke ? 4000 : 64000);
+    add_new_renderer(name, kind, smoke ? 320 : 1280, smoke ? 180 : 720, 4000);
   }
   if (smoke) {
     add("Ssfr", render::RendererKind::ssfr, 320, 180, 4000, 3);
