@@ -115,9 +115,13 @@ void TimestampQueries::fetch() {
 
 std::uint64_t timestamp_ticks_between(std::uint64_t from, std::uint64_t to,
                                       std::uint32_t valid_bits) {
+  if (valid_bits == 0) return 0;
   const std::uint64_t range_mask =
       valid_bits >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << valid_bits) - 1;
-  return (to - from) & range_mask;
+  const std::uint64_t ticks = (to - from) & range_mask;
+  // More than half the counter's range apart: `to` came before `from` (a driver's odd reading),
+  // not a wrap; no time measured.
+  return ticks > range_mask / 2 ? 0 : ticks;
 }
 
 double TimestampQueries::elapsed_ms(std::uint32_t from, std::uint32_t to) {

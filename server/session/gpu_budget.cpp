@@ -92,7 +92,10 @@ double GpuGrant::charge(double item_ms) const {
 
 double FrameCharge::settle(double measured_ms) const {
   if (!std::isfinite(measured_ms) || measured_ms <= 0.0) return 0.0;
-  return grant.charge(std::min(measured_ms, kMostMeasuredMs)) - charged_ms;
+  // Past the cap the price stands if it was higher: the cap limits a debt, it refunds nothing.
+  if (measured_ms > kMostMeasuredMs)
+    return std::max(0.0, grant.charge(kMostMeasuredMs) - charged_ms);
+  return grant.charge(measured_ms) - charged_ms;
 }
 
 void GpuAccount::deposit(double grant_ms, double dearest_item_ms) {

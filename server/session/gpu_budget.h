@@ -62,8 +62,8 @@ struct GpuGrant {
 // measured (a price is an estimate: a renderer's first frame draws the whole scene, and a frame
 // drawn to be measured had no price at all).
 struct FrameCharge {
-  // One frame owes at most this much of the device's time (before the hold-back charge): a stall
-  // or a driver's odd timestamp must not cost a session minutes of frames.
+  // A frame is settled as if it took at most this long (its price stands where that was higher):
+  // a stall or a driver's odd timestamp must not cost a session minutes of frames.
   static constexpr double kMostMeasuredMs = 1000.0;
 
   GpuGrant grant;

@@ -24,8 +24,9 @@ constexpr double kMaxOwedSteps = 4.0;
 // a cost that was overestimated) that a session whose frames cost more than its share cannot
 // live on.
 constexpr auto kLongestFrameWait = std::chrono::seconds(1);
-// However deep its session's debt, a viewer waits no longer than this for a frame (its first
-// one included, counted from when it joined): a picture that moves now and then, never none.
+// However deep its debt, a session draws one frame this often (or, for a frame dearer than an
+// equal share of this long, as often as an equal share pays for it), for the viewer that has
+// waited longest (since it joined, before its first): a picture that moves now and then.
 constexpr auto kLongestFrameWaitInDebt = std::chrono::seconds(5);
 // Frames smaller than this (a 320×240 frame is 0.077) do not set the device's price per pixel.
 constexpr double kLeastPricedMegapixels = 0.05;
@@ -404,6 +405,26 @@ void Session::simulate(const GpuGrant& grant) {
   }
 }
 
+std::optional<std::uint32_t> Session::longest_waiting_in_debt(const GpuGrant& grant,
+                                                              Clock::time_point now) const {
+  std::optional<std::uint32_t> longest;
+  Clock::duration longest_wait{};
+  double dearest_ms = 0.0;
+  for (const auto& [id, viewer] : viewers_) {
+    if (!viewer->due(now) || !frame_price(*viewer)) continue;
+    dearest_ms = std::max(dearest_ms, *frame_price(*viewer));
+    if (!longest || viewer->flow().since_rendered(now) > longest_wait) {
+      longest = id;
+      longest_wait = viewer->flow().since_rendered(now);
+    }
+  }
+  const auto share_pays = std::chrono::duration_cast<Clock::duration>(
+      std::chrono::duration<double, std::milli>(dearest_ms * double(1 + grant.others_watched)));
+  const auto wait = std::max<Clock::duration>(kLongestFrameWaitInDebt, share_pays);
+  if (!longest || longest_wait < wait || now - last_drawn_in_debt_ < wait) return std::nullopt;
+  return longest;
+}
+
 void Session::render(const GpuGrant& grant, Clock::time_point now) {
   // New sizes first, so that each frame is priced at the size it is drawn at. A new renderer's
   // time is the session's: while others are watched it is repaid before this session's next
@@ -422,10 +443,10 @@ void Session::render(const GpuGrant& grant, Clock::time_point now) {
   const double floor_debt_ms =
       std::chrono::duration<double, std::milli>(kLongestFrameWait).count() /
       double(1 + grant.others_watched);
-  const auto floor_reached = [&](const Viewer& viewer) {
-    const auto waited = viewer.flow().since_rendered(now);
-    return waited >= kLongestFrameWaitInDebt ||
-           (waited >= kLongestFrameWait && render_account_.balance_ms() > -floor_debt_ms);
+  const std::optional<std::uint32_t> longest_waiting = longest_waiting_in_debt(grant, now);
+  const auto floor_reached = [&](std::uint32_t id, const Viewer& viewer) {
+    return id == longest_waiting || (viewer.flow().since_rendered(now) >= kLongestFrameWait &&
+                                     render_account_.balance_ms() > -floor_debt_ms);
   };
   struct Due {
     std::uint32_t id;
@@ -440,9 +461,10 @@ void Session::render(const GpuGrant& grant, Clock::time_point now) {
       due.push_back({id, viewer.get(), std::nullopt});  // nobody waits behind it
     } else if (!frame_price(*viewer)) {
       due.push_back({id, viewer.get(), FrameCharge{grant, 0.0}});  // drawn to be measured
-    } else if (render_account_.can_spend() || floor_reached(*viewer)) {
+    } else if (render_account_.can_spend() || floor_reached(id, *viewer)) {
       const FrameCharge charge{grant, grant.charge(*frame_price(*viewer))};
       render_account_.spend(charge.charged_ms);
+      if (id == longest_waiting) last_drawn_in_debt_ = now;
       due.push_back({id, viewer.get(), charge});
     } else {
       services_.metrics->frames_deferred++;  // its share of the GPU is spent; others go first

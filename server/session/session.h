@@ -129,6 +129,10 @@ class Session {
   // watched; the floors aside), each charged its price now and settled against its timestamps
   // when it finishes (send_frames).
   void render(const GpuGrant& grant, Clock::time_point now);
+  // The due viewer that has waited longest, where the session may draw it a frame whatever its
+  // debt (kLongestFrameWaitInDebt); none otherwise.
+  std::optional<std::uint32_t> longest_waiting_in_debt(const GpuGrant& grant,
+                                                       Clock::time_point now) const;
   // A new fluid (rebuild, loaded snapshot): its costs are measured afresh, it owes no time.
   void forget_costs();
   // Counts the cost of finished steps into substep_cost_ and measured_sim_ms_.
@@ -166,7 +170,8 @@ class Session {
   double tick_elapsed_ = 0.0;  // wall seconds since the tick before
   double lag_seconds_ = 0.0;   // real time the simulation still owes
   GpuAccount sim_account_, render_account_;
-  bool contended_ = false;        // other sessions were watched at the last grant
+  Clock::time_point last_drawn_in_debt_{};  // the last frame drawn whatever the debt
+  bool contended_ = false;                  // other sessions were watched at the last grant
   CostEstimate substep_cost_;     // ms of one substep (GPU time, or CPU time for a CPU solver)
   double measured_sim_ms_ = 0.0;  // the steps measured since the last frame was submitted
   SimSpeed speed_;

@@ -8,6 +8,7 @@ namespace fluidcast::server {
 namespace {
 
 using std::chrono::milliseconds;
+using std::chrono::seconds;
 
 class FlowControlTest : public testing::Test {
  protected:
@@ -93,6 +94,14 @@ TEST_F(FlowControlTest, AskingAgainStartsFromWhatWasAsked) {
   EXPECT_EQ(flow.render_size(), (FlowControl::Size{320, 240}));
   flow.ask(30, 0, true);
   EXPECT_EQ(flow.jpeg_quality(), FlowControl::kDefaultQuality);
+}
+
+TEST_F(FlowControlTest, TheWaitForAFrameRunsFromJoiningThenFromTheLastFrame) {
+  EXPECT_EQ(flow.since_rendered(now + seconds(2)), seconds(2));  // nothing rendered yet
+  frame();
+  EXPECT_EQ(flow.since_rendered(now + seconds(1)), seconds(1));
+  flow.ask(60, 80, true);  // a new rate: due at once, but the wait goes on
+  EXPECT_EQ(flow.since_rendered(now + seconds(1)), seconds(1));
 }
 
 }  // namespace

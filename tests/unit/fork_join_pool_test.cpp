@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <atomic>
-#include <thread>
 #include <stdexcept>
+#include <thread>
 #include <vector>
 
 namespace fluidcast::sim {

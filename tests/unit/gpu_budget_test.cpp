@@ -158,6 +158,11 @@ TEST(FrameChargeTest, AStallOrAnOddTimestampCostsAtMostASecond) {
   grant.period_ms = 10.0;
   const FrameCharge charge{grant, 4.0};
   EXPECT_DOUBLE_EQ(charge.settle(1e12), FrameCharge::kMostMeasuredMs - 4.0);
+  // A frame priced beyond the cap is not refunded because of it.
+  const FrameCharge dear{grant, 2500.0};
+  EXPECT_DOUBLE_EQ(dear.settle(3000.0), 0.0);
+  EXPECT_DOUBLE_EQ(dear.settle(2000.0), 0.0);
+  EXPECT_DOUBLE_EQ(dear.settle(800.0), -1700.0);  // measured within the cap: the rest comes back
   for (double odd : {0.0, -3.0, std::nan(""), std::numeric_limits<double>::infinity()}) {
     EXPECT_DOUBLE_EQ(charge.settle(odd), 0.0) << odd;  // the price stands
   }

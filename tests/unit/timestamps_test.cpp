@@ -18,5 +18,11 @@ TEST(TimestampTicksBetween, ANarrowerCounterThatWrappedCountsOnPastItsTop) {
   EXPECT_EQ(timestamp_ticks_between(5, 25, 36), 20u);
 }
 
+TEST(TimestampTicksBetween, ATimestampBeforeTheFirstMeasuresNothing) {
+  EXPECT_EQ(timestamp_ticks_between(1250, 1000, 64), 0u);
+  EXPECT_EQ(timestamp_ticks_between(1250, 1000, 36), 0u);
+  EXPECT_EQ(timestamp_ticks_between(1000, 1250, 0), 0u);  // no timestamps at all
+}
+
 }  // namespace
 }  // namespace fluidcast::gpu

@@ -31,7 +31,8 @@ class CommandSlot {
 };
 
 // Ticks from timestamp `from` to `to` of a counter with `valid_bits` bits (timestampValidBits):
-// one narrower than 64 bits wraps, and the difference is taken modulo its range.
+// one narrower than 64 bits wraps, and the difference is taken modulo its range; a `to` before
+// `from` (more than half the range apart) measures 0.
 std::uint64_t timestamp_ticks_between(std::uint64_t from, std::uint64_t to,
                                       std::uint32_t valid_bits);
 
