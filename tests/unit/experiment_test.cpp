@@ -71,11 +71,8 @@ TEST(MartinMoyce, ComparisonIsTheMeanRelativeErrorAtTheExperimentsPoints) {
 }
 
 TEST(SvgPlot, DrawsEverySeriesAndLabel) {
-  Chart chart{"title <1>",
-              "T",
-              "Z",
-              {{"experiment", "black", true, {0, 1, 2}, {1, 2, 3}},
-               {"simulated", "red", false, {0, 1, 2}, {1, 2.5, 3.5}}}};
+  Chart chart{"title <1>", "T", "Z", {{"experiment", "black", true, {0, 1, 2}, {1, 2, 3}},
+                                      {"simulated", "red", false, {0, 1, 2}, {1, 2.5, 3.5}}}};
   const std::string svg = to_svg(chart);
   EXPECT_NE(svg.find("title &lt;1&gt;"), std::string::npos);
   EXPECT_NE(svg.find("<polyline"), std::string::npos);

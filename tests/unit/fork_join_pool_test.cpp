@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <atomic>
-#include <stdexcept>
 #include <thread>
+#include <stdexcept>
 #include <vector>
 
 namespace fluidcast::sim {

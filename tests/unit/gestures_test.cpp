@@ -1,8 +1,8 @@
 // Pointer events to gestures: one finger drags, two orbit and zoom, and a finger left behind
 // after two does not drag; a view-only viewer's one finger orbits.
-#include "session/gestures.h"
-
 #include <gtest/gtest.h>
+
+#include "session/gestures.h"
 
 namespace fluidcast::server {
 namespace {

@@ -63,7 +63,8 @@ TEST(Kernels, SpikyGradientMatchesFiniteDifferences) {
       minus[axis] -= step;
       const double numeric =
           (k.spiky(float(glm::length(plus))) - k.spiky(float(glm::length(minus)))) / (2 * step);
-      EXPECT_NEAR(analytic[axis], numeric, 2e-3 * std::abs(k.spiky(0.0f)) / kH) << "axis " << axis;
+      EXPECT_NEAR(analytic[axis], numeric, 2e-3 * std::abs(k.spiky(0.0f)) / kH)
+          << "axis " << axis;
     }
   }
 }

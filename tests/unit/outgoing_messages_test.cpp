@@ -81,7 +81,7 @@ TEST(OutgoingMessagesTest, AWrittenFrameSaysHowLongItTookAControlMessageDoesNot)
   ASSERT_TRUE(queue.next()->has_frame());
   const auto send_ms = queue.written();
   ASSERT_TRUE(send_ms);
-  EXPECT_GE(*send_ms, 5.0);       // from its push, waiting behind the welcome included
+  EXPECT_GE(*send_ms, 5.0);  // from its push, waiting behind the welcome included
   EXPECT_FALSE(queue.written());  // once
 }
 

@@ -66,9 +66,7 @@ TEST(SolverParams, EveryBoundItselfIsAccepted) {
     for (const double bound : {spec.min, spec.max}) {
       SolverParams p;
       std::visit(
-          [&](auto field) {
-            p.*field = static_cast<std::remove_reference_t<decltype(p.*field)>>(bound);
-          },
+          [&](auto field) { p.*field = static_cast<std::remove_reference_t<decltype(p.*field)>>(bound); },
           spec.member);
       EXPECT_EQ(error_of(p), "") << spec.name << " = " << bound;
     }

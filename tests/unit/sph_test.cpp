@@ -24,8 +24,7 @@ TEST(Sph, HydrostaticPressureIsLinearInDepth) {
   const float h = solver->fluid().kernel_radius, d = solver->fluid().spacing;
   const Box tank = solver->tank();
   const double top = solver->scene().params.pool_height;
-  std::vector<double> layer_sum(static_cast<std::size_t>(top / d) + 2, 0.0),
-      layer_count = layer_sum;
+  std::vector<double> layer_sum(static_cast<std::size_t>(top / d) + 2, 0.0), layer_count = layer_sum;
   for (int snapshot = 0; snapshot < 5; ++snapshot) {
     run_for(*solver, 0.1);
     const ParticleSet p = solver->snapshot();

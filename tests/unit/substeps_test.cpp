@@ -1,12 +1,12 @@
 // PBF's substep rule (substeps.h): the travel bound, the density bound and how it follows the
 // measured compression, and the speed limit that holds the travel bound for a particle flung
 // faster than planned.
-#include "substeps.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
+
+#include "substeps.h"
 
 namespace fluidcast::sim {
 namespace {
