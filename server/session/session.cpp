@@ -7,6 +7,7 @@
 #include "fluidcast/render/frame_renderer.h"
 #include "fluidcast/sim/param_spec.h"
 #include "fluidcast/sim/scene.h"
+#include "frame_admission.h"
 #include "input_rules.h"
 
 namespace fluidcast::server {
@@ -19,15 +20,6 @@ constexpr std::size_t kMaxDepartedViewers = 64;
 constexpr auto kRebuildInterval = std::chrono::milliseconds(500);
 // Time steps of real time the simulation may owe; past it the fluid runs slow instead.
 constexpr double kMaxOwedSteps = 4.0;
-// A viewer gets a frame at least this often while its session's rendering account owes no more
-// than this long of an equal share of the device: a frame rate floor (and fresh measurements for
-// a cost that was overestimated) that a session whose frames cost more than its share cannot
-// live on.
-constexpr auto kLongestFrameWait = std::chrono::seconds(1);
-// However deep its debt, a session draws one frame this often (or, for a frame dearer than an
-// equal share of this long, as often as an equal share pays for it), for the viewer that has
-// waited longest (since it joined, before its first): a picture that moves now and then.
-constexpr auto kLongestFrameWaitInDebt = std::chrono::seconds(5);
 // Frames smaller than this (a 320×240 frame is 0.077) do not set the device's price per pixel.
 constexpr double kLeastPricedMegapixels = 0.05;
 
@@ -35,8 +27,12 @@ double total_ms(const sim::StageTimes& times) {
   return times.grid_ms + times.predict_ms + times.solve_ms + times.velocity_ms + times.viscosity_ms;
 }
 
+double milliseconds(Clock::duration duration) {
+  return std::chrono::duration<double, std::milli>(duration).count();
+}
+
 double milliseconds_between(Clock::time_point from, Clock::time_point to) {
-  return std::chrono::duration<double, std::milli>(to - from).count();
+  return milliseconds(to - from);
 }
 
 // A simulation parameter as a client reads it: the field of its message where a client chose it,
@@ -405,26 +401,6 @@ void Session::simulate(const GpuGrant& grant) {
   }
 }
 
-std::optional<std::uint32_t> Session::longest_waiting_in_debt(const GpuGrant& grant,
-                                                              Clock::time_point now) const {
-  std::optional<std::uint32_t> longest;
-  Clock::duration longest_wait{};
-  double dearest_ms = 0.0;
-  for (const auto& [id, viewer] : viewers_) {
-    if (!viewer->due(now) || !frame_price(*viewer)) continue;
-    dearest_ms = std::max(dearest_ms, *frame_price(*viewer));
-    if (!longest || viewer->flow().since_rendered(now) > longest_wait) {
-      longest = id;
-      longest_wait = viewer->flow().since_rendered(now);
-    }
-  }
-  const auto share_pays = std::chrono::duration_cast<Clock::duration>(
-      std::chrono::duration<double, std::milli>(dearest_ms * double(1 + grant.others_watched)));
-  const auto wait = std::max<Clock::duration>(kLongestFrameWaitInDebt, share_pays);
-  if (!longest || longest_wait < wait || now - last_drawn_in_debt_ < wait) return std::nullopt;
-  return longest;
-}
-
 void Session::render(const GpuGrant& grant, Clock::time_point now) {
   // New sizes first, so that each frame is priced at the size it is drawn at. A new renderer's
   // time is the session's: while others are watched it is repaid before this session's next
@@ -440,32 +416,30 @@ void Session::render(const GpuGrant& grant, Clock::time_point now) {
     dearest_frame = std::max(dearest_frame, grant.charge(frame_price(*viewer).value_or(0.0)));
   }
   render_account_.deposit(grant.render_ms, dearest_frame);
-  const double floor_debt_ms =
-      std::chrono::duration<double, std::milli>(kLongestFrameWait).count() /
-      double(1 + grant.others_watched);
-  const std::optional<std::uint32_t> longest_waiting = longest_waiting_in_debt(grant, now);
-  const auto floor_reached = [&](std::uint32_t id, const Viewer& viewer) {
-    return id == longest_waiting || (viewer.flow().since_rendered(now) >= kLongestFrameWait &&
-                                     render_account_.balance_ms() > -floor_debt_ms);
-  };
+  std::vector<std::pair<std::uint32_t, Viewer*>> due_viewers;
+  std::vector<DueFrame> due_frames;
+  for (auto& [id, viewer] : viewers_) {
+    if (viewer->due(now)) {
+      due_viewers.emplace_back(id, viewer.get());
+      due_frames.push_back(
+          {frame_price(*viewer), milliseconds(viewer->flow().since_rendered(now))});
+    } else if (viewer->flow().throttled()) {
+      services_.metrics->frames_skipped++;
+    }
+  }
+  const FrameAdmission admission = admit_frames(grant, render_account_, due_frames,
+                                                milliseconds_between(last_drawn_in_debt_, now));
+  if (admission.drew_in_debt) last_drawn_in_debt_ = now;
   struct Due {
     std::uint32_t id;
     Viewer* viewer;
     std::optional<FrameCharge> charge;
   };
   std::vector<Due> due;
-  for (auto& [id, viewer] : viewers_) {
-    if (!viewer->due(now)) {
-      if (viewer->flow().throttled()) services_.metrics->frames_skipped++;
-    } else if (!grant.contended()) {
-      due.push_back({id, viewer.get(), std::nullopt});  // nobody waits behind it
-    } else if (!frame_price(*viewer)) {
-      due.push_back({id, viewer.get(), FrameCharge{grant, 0.0}});  // drawn to be measured
-    } else if (render_account_.can_spend() || floor_reached(id, *viewer)) {
-      const FrameCharge charge{grant, grant.charge(*frame_price(*viewer))};
-      render_account_.spend(charge.charged_ms);
-      if (id == longest_waiting) last_drawn_in_debt_ = now;
-      due.push_back({id, viewer.get(), charge});
+  for (std::size_t k = 0; k < due_viewers.size(); ++k) {
+    const auto& [id, viewer] = due_viewers[k];
+    if (admission.frames[k].drawn) {
+      due.push_back({id, viewer, admission.frames[k].charge});
     } else {
       services_.metrics->frames_deferred++;  // its share of the GPU is spent; others go first
     }

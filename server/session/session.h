@@ -129,10 +129,6 @@ class Session {
   // watched; the floors aside), each charged its price now and settled against its timestamps
   // when it finishes (send_frames).
   void render(const GpuGrant& grant, Clock::time_point now);
-  // The due viewer that has waited longest, where the session may draw it a frame whatever its
-  // debt (kLongestFrameWaitInDebt); none otherwise.
-  std::optional<std::uint32_t> longest_waiting_in_debt(const GpuGrant& grant,
-                                                       Clock::time_point now) const;
   // A new fluid (rebuild, loaded snapshot): its costs are measured afresh, it owes no time.
   void forget_costs();
   // Counts the cost of finished steps into substep_cost_ and measured_sim_ms_.
