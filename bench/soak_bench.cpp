@@ -21,6 +21,8 @@
 #include <mutex>
 #include <random>
 #include <thread>
+#include <tuple>
+#include <utility>
 
 #include "fluidcast/command_line.h"
 #include "fluidcast/v1/fluidcast.grpc.pb.h"
@@ -247,10 +249,26 @@ void worker(const std::string& address, const CaseList& cases, std::uint64_t see
   }
 }
 
-// Frames per 5-second window of a viewer that drags through its fluid until `stop`.
-std::vector<double> bystander_windows(const std::string& address, const std::atomic<bool>& stop,
-                                      std::string& error) {
+// What a viewer that drags through its fluid saw: frames per 5-second window, and the GPU time
+// of each frame (render passes and read-back, as the server measured them): on lavapipe the
+// "device" is the same two cores as everything else, so a frame's GPU time grows with the load,
+// and the fair share charges it that way.
+struct BystanderFigures {
   std::vector<double> windows;
+  std::vector<double> frame_gpu_ms;
+};
+
+// Median of `values` (0 for none).
+double median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  return values[values.size() / 2];
+}
+
+BystanderFigures bystander_windows(const std::string& address, const std::atomic<bool>& stop,
+                                   std::string& error) {
+  BystanderFigures figures;
+  std::vector<double>& windows = figures.windows;
   try {
     StreamClient stream(client::connect(address), hello_for(1000, 320, 240));
     drain(stream, 2.0);  // pipelines compiled, costs measured
@@ -262,7 +280,13 @@ std::vector<double> bystander_windows(const std::string& address, const std::ato
       t += 0.05;
       stream.pointer(0, v1::PointerEvent::MOVE, 0.5f + 0.3f * float(std::sin(t)), 0.6f);
       const auto next = Clock::now() + milliseconds(50);
-      while (Clock::now() < next) frames += stream.next_frame(milliseconds(10)).has_value();
+      while (Clock::now() < next) {
+        const auto frame = stream.next_frame(milliseconds(10));
+        if (!frame) continue;
+        ++frames;
+        figures.frame_gpu_ms.push_back(frame->timings().render_ms() +
+                                       frame->timings().readback_ms());
+      }
       if (Clock::now() - window_start >= std::chrono::seconds(5)) {
         windows.push_back(frames /
                           std::chrono::duration<double>(Clock::now() - window_start).count());
@@ -275,27 +299,30 @@ std::vector<double> bystander_windows(const std::string& address, const std::ato
   } catch (const std::exception& e) {
     error = e.what();
   }
-  return windows;
+  return figures;
 }
 
-// The bystander's mean frame rate over 15 s with the server to itself.
-double bystander_alone(const std::string& address, std::string& error) {
+// The bystander over 15 s with the server to itself: its mean frame rate, and its frames' GPU
+// time.
+std::pair<double, std::vector<double>> bystander_alone(const std::string& address,
+                                                       std::string& error) {
   std::atomic<bool> stop{false};
   std::thread timer([&] {
     std::this_thread::sleep_for(std::chrono::seconds(17));
     stop = true;
   });
-  const std::vector<double> windows = bystander_windows(address, stop, error);
+  const BystanderFigures figures = bystander_windows(address, stop, error);
   timer.join();
   double fps = 0.0;
-  for (double window : windows) fps += window / double(windows.size());
-  return fps;
+  for (double window : figures.windows) fps += window / double(figures.windows.size());
+  return {fps, figures.frame_gpu_ms};
 }
 
 // What the soak measured of the server and of the bystander.
 struct Figures {
   double alone_fps = 0.0;                        // the bystander's, before the mix
-  std::vector<double> windows;                   // its frame rate per 5 s window during the mix
+  std::vector<double> alone_frame_gpu_ms;        // its frames' GPU time then
+  BystanderFigures during;                       // per 5 s window, and per frame, during the mix
   std::array<long, 3> rss_kb{};                  // before, peak during, after
   std::array<long, 2> descriptors{}, threads{};  // before, after
   std::array<std::map<std::string, int>, 2> thread_names;  // before, after
@@ -325,20 +352,19 @@ bool threads_back(const std::array<std::map<std::string, int>, 2>& names) {
 
 // The tables and the verdict: false when a figure fails.
 bool report(const Figures& f, const Tally& tally, double max_growth_mb) {
-  const double worst =
-      f.windows.empty() ? 0.0 : *std::min_element(f.windows.begin(), f.windows.end());
+  const std::vector<double>& windows = f.during.windows;
+  const double worst = windows.empty() ? 0.0 : *std::min_element(windows.begin(), windows.end());
   std::printf("| case | times |\n| --- | --- |\n");
   for (const auto& [name, count] : tally.cases) std::printf("| %s | %d |\n", name.c_str(), count);
   std::printf("\n| figure | before | during | after |\n| --- | --- | --- | --- |\n");
-  const auto below_half = std::count_if(f.windows.begin(), f.windows.end(),
+  const auto below_half = std::count_if(windows.begin(), windows.end(),
                                         [&](double fps) { return fps < 0.5 * f.alone_fps; });
-  std::vector<double> sorted = f.windows;
-  std::sort(sorted.begin(), sorted.end());
-  const double median = sorted.empty() ? 0.0 : sorted[sorted.size() / 2];
   std::printf(
       "| bystander fps (5 s windows) | %.1f alone | worst %.1f, median %.1f of %zu windows; %zu "
       "below half | |\n",
-      f.alone_fps, worst, median, f.windows.size(), static_cast<std::size_t>(below_half));
+      f.alone_fps, worst, median(windows), windows.size(), static_cast<std::size_t>(below_half));
+  std::printf("| bystander frame GPU ms (median) | %.1f alone | %.1f | |\n",
+              median(f.alone_frame_gpu_ms), median(f.during.frame_gpu_ms));
   std::printf("| server memory (MB) | %.1f | peak %.1f | %.1f |\n", f.rss_kb[0] / 1024.0,
               f.rss_kb[1] / 1024.0, f.rss_kb[2] / 1024.0);
   std::printf("| descriptors | %ld | | %ld |\n", f.descriptors[0], f.descriptors[1]);
@@ -401,7 +427,8 @@ int run(int argc, char** argv) {
 
   // The bystander alone first; then the baseline, once its session has ended.
   Figures f;
-  f.alone_fps = bystander_alone(bystander_address, f.bystander_error);
+  std::tie(f.alone_fps, f.alone_frame_gpu_ms) =
+      bystander_alone(bystander_address, f.bystander_error);
   std::this_thread::sleep_for(std::chrono::seconds(3));
   f.rss_kb[0] = server.resident_kb();
   f.descriptors[0] = server.open_descriptors();
@@ -411,7 +438,7 @@ int run(int argc, char** argv) {
   std::atomic<bool> stop{false};
   std::string bystander_error;
   std::thread bystander(
-      [&] { f.windows = bystander_windows(bystander_address, stop, bystander_error); });
+      [&] { f.during = bystander_windows(bystander_address, stop, bystander_error); });
   Tally tally;
   const auto end = Clock::now() + std::chrono::duration_cast<Clock::duration>(
                                       std::chrono::duration<double>(seconds));

@@ -13,6 +13,9 @@ class ParticleSource {
   // with_densities: a CPU solver's particles come with ρ/ρ0 (for points coloured by density).
   explicit ParticleSource(gpu::Context& context, bool with_densities = false)
       : context_(&context), with_densities_(with_densities) {}
+  ~ParticleSource();
+  ParticleSource(const ParticleSource&) = delete;
+  ParticleSource& operator=(const ParticleSource&) = delete;
 
   ParticleView view_of(const sim::Solver& solver);
   // Copies particles up (what view_of does for a CPU solver, with its densities ρ/ρ0 measured
@@ -21,9 +24,12 @@ class ParticleSource {
                       std::span<const float> density_ratio = {});
 
  private:
+  // Retired after the frames submitted so far, which may read them.
+  void retire_buffers();
+
   gpu::Context* context_;
   bool with_densities_;
-  gpu::Buffer position_, velocity_, density_ratio_;  // for CPU solvers
+  gpu::Buffer position_, velocity_, density_ratio_;  // a CPU solver's newest particles
 };
 
 }  // namespace fluidcast::render
