@@ -220,6 +220,8 @@ std::uint64_t FrameRenderer::submit(RendererKind requested, const ParticleView& 
     slot.commands.submit();
   } catch (...) {
     scene_drawn_for_.reset();  // the scene this frame was to draw may never have been drawn
+    // Nor its first frame's filling of the tables: a new one, whose first frame does it.
+    if (marching_cubes_) context_->retire(std::move(marching_cubes_));
     throw;
   }
   slot.in_flight = true;

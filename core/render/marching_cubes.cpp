@@ -8,7 +8,6 @@
 #include <string>
 #include <vector>
 
-#include "fluidcast/gpu/transfer.h"
 #include "fluidcast_shaders/fluidcast_render.h"
 #include "marching_cubes_tables.h"
 
@@ -84,16 +83,14 @@ MarchingCubes::MarchingCubes(gpu::Context& context, const sim::Box& tank, int re
   max_vertices_ = static_cast<std::uint32_t>(std::min<std::uint64_t>(cells * 15, kVertexCap));
 
   const auto tables = packed_tables();
-  tables_ = gpu::Buffer(context, tables.size() * sizeof(std::int32_t), gpu::MemoryDomain::device);
-  gpu::upload<std::int32_t>(context, tables_, tables);
+  const std::uint64_t table_bytes = tables.size() * sizeof(std::int32_t);
+  tables_ = gpu::Buffer(context, table_bytes, gpu::MemoryDomain::device);
+  tables_upload_ = gpu::Buffer(context, table_bytes, gpu::MemoryDomain::upload);
+  std::copy(tables.begin(), tables.end(), tables_upload_.mapped<std::int32_t>().begin());
   const std::uint64_t node_bytes = std::uint64_t(nodes_.x) * nodes_.y * nodes_.z * 4;
   for (gpu::Buffer* buffer : {&splat_, &field_, &scratch_}) {
     *buffer = gpu::Buffer(context, node_bytes, gpu::MemoryDomain::device);
   }
-  // Zero before the first frame; afterwards the blur's y pass clears it behind itself.
-  context.run_now([this](VkCommandBuffer commands) {
-    vkCmdFillBuffer(commands, splat_.get(), 0, VK_WHOLE_SIZE, 0);
-  });
   vertices_ = gpu::Buffer(context, std::uint64_t(max_vertices_) * 32, gpu::MemoryDomain::device);
   draw_ = gpu::Buffer(context, sizeof(VkDrawIndirectCommand), gpu::MemoryDomain::device);
 }
@@ -129,8 +126,17 @@ McConstants MarchingCubes::constants_for(const ParticleView& particles, float th
 }
 
 void MarchingCubes::record_field(VkCommandBuffer commands, const ParticleView& particles,
-                                 float threshold) const {
+                                 float threshold) {
   McConstants constants = constants_for(particles, threshold);
+  if (!initialised_) {
+    // In the first frame's commands rather than a submission of their own, which would wait for
+    // everything queued before it. The splat is zeroed once; afterwards the blur's y pass clears
+    // it behind itself.
+    const VkBufferCopy all{0, 0, tables_.size()};
+    vkCmdCopyBuffer(commands, tables_upload_.get(), tables_.get(), 1, &all);
+    vkCmdFillBuffer(commands, splat_.get(), 0, VK_WHOLE_SIZE, 0);
+    initialised_ = true;
+  }
   const VkDrawIndirectCommand empty{0, 1, 0, 0};
   vkCmdUpdateBuffer(commands, draw_.get(), 0, sizeof(empty), &empty);
   gpu::transfer_to_compute_barrier(commands);

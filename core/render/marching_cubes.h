@@ -46,7 +46,8 @@ class MarchingCubes {
   bool fits(const sim::Box& tank, int resolution, float particle_radius) const;
   // The field (splat and blur), then the triangles from it; afterwards vertices() and
   // draw_buffer() are ready for the vertex shader and vkCmdDrawIndirect.
-  void record_field(VkCommandBuffer commands, const ParticleView& particles, float threshold) const;
+  // The first also fills the tables and zeroes the splat.
+  void record_field(VkCommandBuffer commands, const ParticleView& particles, float threshold);
   void record_triangles(VkCommandBuffer commands, const ParticleView& particles,
                         float threshold) const;
   VkDeviceAddress vertices() const { return vertices_.address(); }
@@ -67,6 +68,8 @@ class MarchingCubes {
   std::uint32_t max_vertices_;
   gpu::ComputePipeline splat_pass_, blur_pass_, triangles_pass_, clamp_pass_;
   gpu::Buffer tables_, splat_, field_, scratch_, vertices_, draw_;
+  gpu::Buffer tables_upload_;  // the tables as the host wrote them, copied by the first frame
+  bool initialised_ = false;   // the first frame's commands are recorded
 };
 
 }  // namespace fluidcast::render
