@@ -340,8 +340,8 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
     record_fluid_screen(commands, kind, scene_kept, slot);
   }
   slot.mark(commands, &RenderTimes::readback_ms);
-  // The solver's next step, or the next upload of a CPU solver's particles, writes what this
-  // frame read (write after read); and the host reads the copy.
+  // A GPU solver's next step writes what this frame read (write after read); and the host reads
+  // the copy.
   memory_barrier(commands, kDrawStages | kCompute, 0, kCompute | kTransfer, 0);
   memory_barrier(commands, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
                  VK_ACCESS_HOST_READ_BIT);

@@ -130,5 +130,37 @@ TEST(AdmitFramesTest, AFrameTheCreditPaysForDoesNotRestartTheWaitInDebt) {
   EXPECT_FALSE(admission.drew_in_debt);
 }
 
+TEST(AdmitFramesTest, AFrameTheOneSecondFloorPaysForDoesNotRestartTheWaitInDebt) {
+  // In debt, but within the floor's bound: the longest-waiting viewer is drawn by the floor.
+  GpuAccount account = with_balance(-100.0);
+  const std::vector<DueFrame> due = {{10.0, 9000.0}};
+  const FrameAdmission admission = admit_frames(contended(), account, due, kLongAgoMs);
+  EXPECT_TRUE(admission.frames[0].drawn);
+  EXPECT_FALSE(admission.drew_in_debt);
+}
+
+TEST(AdmitFramesTest, WhenCreditRunsOutWithinATickTheLongestWaitingStillGetsItsFrame) {
+  // The first frame spends the credit and sinks the account past the floor's bound; the second,
+  // waiting longest, is drawn in debt; the third waits.
+  GpuAccount account = with_balance(1.0);
+  const std::vector<DueFrame> due = {{900.0, 0.0}, {10.0, 6000.0}, {10.0, 5500.0}};
+  GpuGrant grant = contended();
+  grant.period_ms = 1e6;  // no hold-back charge
+  const FrameAdmission admission = admit_frames(grant, account, due, kLongAgoMs);
+  EXPECT_EQ(drawn(admission), (std::vector<bool>{true, true, false}));
+  EXPECT_TRUE(admission.drew_in_debt);
+}
+
+TEST(AdmitFramesTest, AFrameNotYetPricedIsNeverTheOneDrawnInDebt) {
+  // It waited longest, but it is drawn anyway (to be measured); the debt floor goes to the
+  // priced frame that waited longest.
+  GpuAccount account = with_balance(-1e5);
+  const std::vector<DueFrame> due = {{std::nullopt, 60000.0}, {10.0, 6000.0}};
+  const FrameAdmission admission = admit_frames(contended(), account, due, kLongAgoMs);
+  EXPECT_EQ(drawn(admission), (std::vector<bool>{true, true}));
+  EXPECT_TRUE(admission.drew_in_debt);
+  EXPECT_DOUBLE_EQ(account.balance_ms(), -1e5 - 10.0);
+}
+
 }  // namespace
 }  // namespace fluidcast::server
