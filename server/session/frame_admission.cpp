@@ -49,7 +49,7 @@ FrameAdmission admit_frames(const GpuGrant& grant, GpuAccount& account,
         due[k].waited_ms >= kLongestFrameWaitMs && account.balance_ms() > -floor_debt_ms;
     const bool in_debt = k == longest_waiting && !paid && !on_floor;
     if (!paid && !on_floor && !in_debt) continue;  // its share is spent; others go first
-    frame = {true, FrameCharge{grant, grant.charge(*due[k].price_ms)}};
+    frame = {true, FrameCharge{grant, grant.charge(*due[k].price_ms)}, !paid};
     account.spend(frame.charge->charged_ms);
     admission.drew_in_debt = admission.drew_in_debt || in_debt;
   }

@@ -31,6 +31,7 @@ struct FrameAdmission {
     bool drawn = false;
     // What a drawn frame is charged; none when nobody waits behind it (it is not charged).
     std::optional<FrameCharge> charge;
+    bool on_floor = false;  // drawn though the account could not pay: by a floor
   };
   std::vector<Frame> frames;  // one for each due frame, in order
   // A frame was drawn only because the session had waited kLongestFrameWaitInDebtMs (or its

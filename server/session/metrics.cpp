@@ -140,6 +140,11 @@ void Metrics::write_totals(std::string& out) const {
               "Frames not rendered in a tick because their session had spent its share of the GPU "
               "while other sessions were watched.",
               frames_deferred);
+  write_value(out, "fluidcast_frames_on_floor_total", "counter",
+              "Frames rendered though their session had spent its share of the GPU: a viewer's "
+              "frame rate floor (once a second while the debt is small, one every five seconds "
+              "per session however deep).",
+              frames_on_floor);
   write_value(out, "fluidcast_sent_bytes_total", "counter", "JPEG bytes handed to transports.",
               bytes_sent);
   write_value(out, "fluidcast_gpu_memory_bytes", "gauge", "GPU memory held by the allocator.",

@@ -49,6 +49,8 @@ struct Metrics {
   std::atomic<std::uint64_t> frames_skipped{0};  // not rendered: the viewer had enough in flight
   // Not rendered in a tick: the session had spent its share of the GPU while others were watched.
   std::atomic<std::uint64_t> frames_deferred{0};
+  // Rendered though the session's share was spent: a viewer's frame rate floor.
+  std::atomic<std::uint64_t> frames_on_floor{0};
   std::atomic<std::uint64_t> bytes_sent{0};
   std::atomic<std::uint64_t> gpu_memory_bytes{0};
   Histogram sim_time, render_time, readback_time, encode_time, round_trip_time;

@@ -439,6 +439,7 @@ void Session::render(const GpuGrant& grant, Clock::time_point now) {
   for (std::size_t k = 0; k < due_viewers.size(); ++k) {
     const auto& [id, viewer] = due_viewers[k];
     if (admission.frames[k].drawn) {
+      if (admission.frames[k].on_floor) services_.metrics->frames_on_floor++;
       due.push_back({id, viewer, admission.frames[k].charge});
     } else {
       services_.metrics->frames_deferred++;  // its share of the GPU is spent; others go first

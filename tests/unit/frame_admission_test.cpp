@@ -51,6 +51,8 @@ TEST(AdmitFramesTest, CreditPaysForFramesUntilItIsSpentThenTheyWait) {
   EXPECT_EQ(drawn(admission), (std::vector<bool>{true, true, false}));
   EXPECT_DOUBLE_EQ(admission.frames[0].charge->charged_ms, 4.0);
   EXPECT_DOUBLE_EQ(account.balance_ms(), -3.0);
+  EXPECT_FALSE(admission.frames[0].on_floor);
+  EXPECT_FALSE(admission.frames[1].on_floor);
 }
 
 TEST(AdmitFramesTest, AFrameLongerThanATickIsChargedTheTimeItHoldsOthersBack) {
@@ -77,8 +79,9 @@ TEST(AdmitFramesTest, AViewerWaitingASecondGetsAFrameWhileTheDebtIsSmall) {
   // One other client: the floor holds while the session owes less than half a second.
   const std::vector<DueFrame> due = {{10.0, 999.0}, {10.0, kLongestFrameWaitMs}};
   GpuAccount small_debt = with_balance(-400.0);
-  EXPECT_EQ(drawn(admit_frames(contended(1), small_debt, due, 0.0)),
-            (std::vector<bool>{false, true}));
+  const FrameAdmission floor = admit_frames(contended(1), small_debt, due, 0.0);
+  EXPECT_EQ(drawn(floor), (std::vector<bool>{false, true}));
+  EXPECT_TRUE(floor.frames[1].on_floor);
   GpuAccount large_debt = with_balance(-600.0);
   EXPECT_EQ(drawn(admit_frames(contended(1), large_debt, due, 0.0)),
             (std::vector<bool>{false, false}));
@@ -95,6 +98,8 @@ TEST(AdmitFramesTest, HoweverDeepTheDebtTheLongestWaitingViewerGetsAFrameEveryFi
   const FrameAdmission admission = admit_frames(contended(), account, due, kLongAgoMs);
   EXPECT_EQ(drawn(admission), (std::vector<bool>{false, true, true, false}));
   EXPECT_TRUE(admission.drew_in_debt);
+  EXPECT_TRUE(admission.frames[1].on_floor);
+  EXPECT_FALSE(admission.frames[2].on_floor);  // unpriced: drawn to be measured
   EXPECT_DOUBLE_EQ(account.balance_ms(), -1e5 - 10.0);
 
   // Not again until five seconds after the last such frame.
