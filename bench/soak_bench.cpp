@@ -24,6 +24,7 @@
 #include <tuple>
 #include <utility>
 
+#include "dragging_viewer.h"
 #include "fluidcast/command_line.h"
 #include "fluidcast/v1/fluidcast.grpc.pb.h"
 #include "server_process.h"
@@ -258,13 +259,6 @@ struct BystanderFigures {
   std::vector<double> frame_gpu_ms;
 };
 
-// Median of `values` (0 for none).
-double median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  return values[values.size() / 2];
-}
-
 BystanderFigures bystander_windows(const std::string& address, const std::atomic<bool>& stop,
                                    std::string& error) {
   BystanderFigures figures;
@@ -362,9 +356,11 @@ bool report(const Figures& f, const Tally& tally, double max_growth_mb) {
   std::printf(
       "| bystander fps (5 s windows) | %.1f alone | worst %.1f, median %.1f of %zu windows; %zu "
       "below half | |\n",
-      f.alone_fps, worst, median(windows), windows.size(), static_cast<std::size_t>(below_half));
+      f.alone_fps, worst, testing::percentile(windows, 0.5), windows.size(),
+      static_cast<std::size_t>(below_half));
   std::printf("| bystander frame GPU ms (median) | %.1f alone | %.1f | |\n",
-              median(f.alone_frame_gpu_ms), median(f.during.frame_gpu_ms));
+              testing::percentile(f.alone_frame_gpu_ms, 0.5),
+              testing::percentile(f.during.frame_gpu_ms, 0.5));
   std::printf("| server memory (MB) | %.1f | peak %.1f | %.1f |\n", f.rss_kb[0] / 1024.0,
               f.rss_kb[1] / 1024.0, f.rss_kb[2] / 1024.0);
   std::printf("| descriptors | %ld | | %ld |\n", f.descriptors[0], f.descriptors[1]);

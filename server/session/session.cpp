@@ -416,11 +416,16 @@ void Session::render(const GpuGrant& grant, Clock::time_point now) {
     dearest_frame = std::max(dearest_frame, grant.charge(frame_price(*viewer).value_or(0.0)));
   }
   render_account_.deposit(grant.render_ms, dearest_frame);
-  std::vector<std::pair<std::uint32_t, Viewer*>> due_viewers;
+  struct Due {
+    std::uint32_t id;
+    Viewer* viewer;
+    std::optional<FrameCharge> charge;
+  };
+  std::vector<Due> candidates;
   std::vector<DueFrame> due_frames;
   for (auto& [id, viewer] : viewers_) {
     if (viewer->due(now)) {
-      due_viewers.emplace_back(id, viewer.get());
+      candidates.push_back({id, viewer.get(), std::nullopt});
       due_frames.push_back(
           {frame_price(*viewer), milliseconds(viewer->flow().since_rendered(now))});
     } else if (viewer->flow().throttled()) {
@@ -430,20 +435,15 @@ void Session::render(const GpuGrant& grant, Clock::time_point now) {
   const FrameAdmission admission = admit_frames(grant, render_account_, due_frames,
                                                 milliseconds_between(last_drawn_in_debt_, now));
   if (admission.drew_in_debt) last_drawn_in_debt_ = now;
-  struct Due {
-    std::uint32_t id;
-    Viewer* viewer;
-    std::optional<FrameCharge> charge;
-  };
   std::vector<Due> due;
-  for (std::size_t k = 0; k < due_viewers.size(); ++k) {
-    const auto& [id, viewer] = due_viewers[k];
-    if (admission.frames[k].drawn) {
-      if (admission.frames[k].on_floor) services_.metrics->frames_on_floor++;
-      due.push_back({id, viewer, admission.frames[k].charge});
-    } else {
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    const FrameAdmission::Frame& frame = admission.frames[k];
+    if (!frame.drawn) {
       services_.metrics->frames_deferred++;  // its share of the GPU is spent; others go first
+      continue;
     }
+    if (frame.on_floor) services_.metrics->frames_on_floor++;
+    due.push_back({candidates[k].id, candidates[k].viewer, frame.charge});
   }
   if (due.empty()) return;  // no upload of a CPU solver's particles for nobody
   const render::ParticleView particles = source_.view_of(*solver_);
