@@ -7,7 +7,10 @@ import sys
 everything = json.load(open(sys.argv[1]))["benchmarks"]
 # Many sessions (fluidcast-bench-gpu's Sessions/...) have a table of their own, after the rest.
 sessions = [r for r in everything if r["name"].startswith("Sessions/")]
-runs = [r for r in everything if not r["name"].startswith("Sessions/")]
+# A renderer's construction and first frames (fluidcast-bench-render's NewRenderer...) likewise.
+new_renderers = [r for r in everything if r["name"].startswith("NewRenderer")]
+runs = [r for r in everything
+        if not r["name"].startswith("Sessions/") and not r["name"].startswith("NewRenderer")]
 
 
 def fields_of(run):
@@ -77,3 +80,13 @@ if sessions:
         f = fields_of(r)
         mode = "one for all" if f["batched"] == "1" else "one per session"
         print(f"| {mode} | {f['sessions']} × {f['particles']} | {r['gpu_ms']:.3f} | {r['wall_ms']:.3f} |")
+
+if new_renderers:
+    print()
+    print("| new renderer | size | particles | construct ms | first frame ms | warm frame ms |")
+    print("|---|---|---|---|---|---|")
+    for r in new_renderers:
+        f = fields_of(r)
+        print(f"| {r['name'].split('/')[0][len('NewRenderer'):]} | {f['width']}×{f['height']} | "
+              f"{f['particles']} | {r['construct_ms']:.2f} | {r['first_frame_ms']:.2f} | "
+              f"{r['warm_frame_ms']:.2f} |")
