@@ -4,20 +4,21 @@
 #   ../shared/tools/gpu-bundle build fluidcast-server fluidcast-bench-load fluidcast-bench-gpu \
 #     fluidcast-bench-render fluidcast-validate gpu_context_test gpu_neighbour_grid_test \
 #     gpu_solver_test gpu_step_batch_test solver_inputs_test render_test render_golden_test \
-#     anisotropy_test default_size_test fluidcast-sim
+#     render_surface_test anisotropy_test default_size_test timestamps_test fluidcast-sim
 # and on the device (carry .gpu):  source .gpu/env.sh && BIN=.gpu/bin bench/gpu_lease.sh PART $OUT
 # PART: tests   every GPU test with the validation layer on (a message fails its test)
 #       solver  fluidcast-bench-gpu: the solver table and many sessions batched against serial
 #       render  fluidcast-bench-render: passes, encode from RGBA and from planes, roughness; and
 #               the dam break at 216k and 1M, t = 0.5 s, with spheres and ellipsoids, as PNG
 #               (for docs/images: ssfr-ellipsoids-216k.png, -1m.png)
-#       loop    the frame-loop table (bench/frame_loop_table.sh) and the validation at 1M
-# Each writes its log and tables under OUT. --smoke (third argument) runs the benchmarks' small
+#       loop    the frame-loop table (bench/frame_loop_table.sh; on an H100 over 7 minutes)
+#       validate  the validation against Martin & Moyce and the resting pool at 1M
+# Times on an H100 (2026-11-25): tests 43 s, solver 12 s, render 27 s. Each writes its log and tables under OUT. --smoke (third argument) runs the benchmarks' small
 # cases, to prove the script here on lavapipe.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-part=${1:?usage: bench/gpu_lease.sh tests|solver|render|loop OUT [--smoke]}
-out=${2:?usage: bench/gpu_lease.sh tests|solver|render|loop OUT [--smoke]}
+part=${1:?usage: bench/gpu_lease.sh tests|solver|render|loop|validate OUT [--smoke]}
+out=${2:?usage: bench/gpu_lease.sh tests|solver|render|loop|validate OUT [--smoke]}
 smoke=${3:-}
 bin=${BIN:-build/bin}
 mkdir -p "$out"
@@ -32,7 +33,8 @@ case "$part" in
   tests)
     status=0
     for test in gpu_context_test gpu_neighbour_grid_test gpu_solver_test gpu_step_batch_test \
-      solver_inputs_test render_test render_golden_test anisotropy_test default_size_test; do
+      solver_inputs_test render_test render_golden_test render_surface_test anisotropy_test \
+      default_size_test timestamps_test; do
       echo "== $test" >>"$out/tests.log"
       FLUIDCAST_VALIDATION=1 "$bin/$test" >>"$out/tests.log" 2>&1 || status=1
     done
@@ -60,6 +62,8 @@ case "$part" in
     ;;
   loop)
     BIN="$bin" bench/frame_loop_table.sh "$out/frame-loop.md" "$smoke" 2>&1 | tail -20
+    ;;
+  validate)
     if [[ "$smoke" == --smoke ]]; then
       BIN="$bin" bench/validate.sh "$out/validation" --backend gpu --column-resolution 8 \
         --pool-particles 1000 2>&1 | tail -5
@@ -69,7 +73,7 @@ case "$part" in
     fi
     ;;
   *)
-    echo "bench/gpu_lease.sh: PART must be tests, solver, render or loop, not '$part'" >&2
+    echo "bench/gpu_lease.sh: PART must be tests, solver, render, loop or validate, not '$part'" >&2
     exit 2
     ;;
 esac
