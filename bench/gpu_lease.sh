@@ -13,12 +13,18 @@
 #               (for docs/images: ssfr-ellipsoids-216k.png, -1m.png)
 #       loop    the frame-loop table (bench/frame_loop_table.sh; on an H100 over 7 minutes)
 #       validate  the validation against Martin & Moyce and the resting pool at 1M
+#       burst   where the 1M dam break bursts on an H100 (2026-11-25): fluidcast-sim to t = 0.5 s
+#               (its substeps, centre of mass height and largest speed at the end) at 216k to 2M;
+#               at 1M with 2 and 8 iterations, without the density bound on substeps
+#               (--pbf-density-tolerance 0.1), with statistics read back every step (the rule
+#               then sees each step's compression in time), and as point frames. The CPU
+#               solver's 1M reference is in bench/results/h100-2026-11-25.md
 # Times on an H100 (2026-11-25): tests 43 s, solver 12 s, render 27 s. Each writes its log and tables under OUT. --smoke (third argument) runs the benchmarks' small
 # cases, to prove the script here on lavapipe.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-part=${1:?usage: bench/gpu_lease.sh tests|solver|render|loop|validate OUT [--smoke]}
-out=${2:?usage: bench/gpu_lease.sh tests|solver|render|loop|validate OUT [--smoke]}
+part=${1:?usage: bench/gpu_lease.sh tests|solver|render|loop|validate|burst OUT [--smoke]}
+out=${2:?usage: bench/gpu_lease.sh tests|solver|render|loop|validate|burst OUT [--smoke]}
 smoke=${3:-}
 bin=${BIN:-build/bin}
 mkdir -p "$out"
@@ -72,8 +78,28 @@ case "$part" in
         --pool-particles 1000000 2>&1 | tail -5
     fi
     ;;
+  burst)
+    sim() {  # NAME FLAGS...: one run to t = 0.5 s and its last line (substeps, centre of mass,
+      local name=$1  # largest speed)
+      shift
+      timeout 90 "$bin/fluidcast-sim" --backend gpu --until "${until:-0.5}" "$@" >"$out/$name.log" 2>&1
+      echo "$name (exit $?): $(tail -1 "$out/$name.log")"
+    }
+    counts=(216000 500000 1000000 2000000)
+    big=1000000
+    [[ "$smoke" == --smoke ]] && counts=(2000 4000) big=4000 until=0.05
+    for n in "${counts[@]}"; do sim "p$n" --particles "$n" --max-particles 2000000; done
+    sim "p$big-it2" --particles "$big" --iterations 2
+    sim "p$big-it8" --particles "$big" --iterations 8
+    sim "p$big-no-density-bound" --particles "$big" --pbf-density-tolerance 0.1
+    # Statistics read back every step, so that the substep rule sees each step's compression
+    # before planning the next (no steps in flight), as on the CPU.
+    sim "p$big-synchronous" --particles "$big" --stats "$out/p$big-synchronous.csv"
+    sim "p$big-frames" --particles "$big" --render "$out/frames" --render-every 15 \
+      --renderer points --camera 30,35,1.9 --width 960 --height 540
+    ;;
   *)
-    echo "bench/gpu_lease.sh: PART must be tests, solver, render, loop or validate, not '$part'" >&2
+    echo "bench/gpu_lease.sh: PART must be tests, solver, render, loop, validate or burst, not '$part'" >&2
     exit 2
     ;;
 esac

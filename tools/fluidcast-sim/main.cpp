@@ -1,6 +1,7 @@
 // fluidcast-sim: runs a scene headless on the CPU or GPU solver; prints the geometry, optionally
 // progress, writes statistics CSV, PLY dumps and rendered frames. Bad flags: one line on stderr,
 // exit code 2.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -87,16 +88,25 @@ struct Recorder {
   }
 };
 
-// Steps --steps times, recording each and saying progress once a second; returns the seconds
-// spent stepping alone.
-double step_all(const tools::SimOptions& o, sim::Solver& solver, Recorder& record) {
+struct Stepping {
+  double seconds = 0;  // spent stepping alone
+  std::uint64_t substeps = 0;
+  int most_substeps = 0;  // in one step
+};
+
+// Steps --steps times, recording each and saying progress once a second.
+Stepping step_all(const tools::SimOptions& o, sim::Solver& solver, Recorder& record) {
   auto last_report = Clock::now();
   std::uint64_t steps_at_report = 0;
-  double stepping_seconds = 0;
+  Stepping stepping;
   for (std::int64_t k = 0; k < o.steps; ++k) {
     const auto before = Clock::now();
-    solver.step();
-    stepping_seconds += std::chrono::duration<double>(Clock::now() - before).count();
+    const float seconds = solver.params().time_step;
+    const int substeps = solver.substeps_for(seconds);
+    solver.step(seconds, substeps);
+    stepping.seconds += std::chrono::duration<double>(Clock::now() - before).count();
+    stepping.substeps += static_cast<std::uint64_t>(substeps);
+    stepping.most_substeps = std::max(stepping.most_substeps, substeps);
     record(solver);
     const auto now = Clock::now();
     if (o.progress && now - last_report >= std::chrono::seconds(1)) {
@@ -111,7 +121,8 @@ double step_all(const tools::SimOptions& o, sim::Solver& solver, Recorder& recor
   }
   const auto before_sync = Clock::now();
   solver.synchronize();  // a GPU solver may still be running the last steps
-  return stepping_seconds + std::chrono::duration<double>(Clock::now() - before_sync).count();
+  stepping.seconds += std::chrono::duration<double>(Clock::now() - before_sync).count();
+  return stepping;
 }
 
 int run(const tools::SimOptions& o) {
@@ -139,15 +150,18 @@ int run(const tools::SimOptions& o) {
   if (o.dump_every > 0) std::filesystem::create_directories(o.dump_dir);
   record(*solver);
   const auto start = Clock::now();
-  const double stepping_seconds = step_all(o, *solver, record);
+  const Stepping stepping = step_all(o, *solver, record);
   if (record.frames) record.frames->finish();
   const double wall = std::chrono::duration<double>(Clock::now() - start).count();
   const auto stats = sim::measure(solver->snapshot(), solver->fluid(), solver->tank());
   std::printf(
       "done: %llu steps, t = %.3f s simulated in %.2f s wall; stepping alone %.1f steps/s; "
-      "front_x %.3f m, max density error %.4f\n",
+      "%llu substeps (at most %d a step); front_x %.3f m, centre of mass %.3f m high, largest "
+      "speed %.2f m/s, max density error %.4f\n",
       static_cast<unsigned long long>(solver->steps()), solver->time(), wall,
-      double(o.steps) / stepping_seconds, stats.front_x, stats.max_density_error);
+      double(o.steps) / stepping.seconds, static_cast<unsigned long long>(stepping.substeps),
+      stepping.most_substeps, stats.front_x, stats.centre_of_mass.y, stats.max_speed,
+      stats.max_density_error);
   return stats.non_finite == 0 && stats.outside_tank == 0 ? 0 : 1;
 }
 
