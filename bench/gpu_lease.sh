@@ -11,7 +11,8 @@
 #       render  fluidcast-bench-render: passes, encode from RGBA and from planes, roughness; and
 #               the dam break at 216k and 1M, t = 0.5 s, with spheres and ellipsoids, as PNG
 #               (for docs/images: ssfr-ellipsoids-216k.png, -1m.png)
-#       loop    the frame-loop table (bench/frame_loop_table.sh; on an H100 over 7 minutes)
+#       loop    the frame-loop table (bench/frame_loop_table.sh; on an H100 over 7 minutes: give
+#               CASES="1 2 3" and CASES="4 5 6" a call each)
 #       validate  the validation against Martin & Moyce and the resting pool at 1M
 #       burst   where the 1M dam break bursts on an H100 (2026-11-25): fluidcast-sim to t = 0.5 s
 #               (its substeps, centre of mass height and largest speed at the end) at 216k to 2M;
