@@ -2,13 +2,14 @@
 // particles, smoothing, shading, read-back) from timestamps, frames/s with the read-back ring kept
 // full, and JPEG encode ms (quality 80, 4:2:0, one thread) from RGBA and from the YCbCr planes the
 // GPU converts (with their read-back: conversion and copy), throughput on the encoder pool (one
-// thread per core), and the share of rough surface pixels (surface_roughness.h) in the last frame,
-// at 640×360, 1280×720 and 1920×1080 with 64k and 1M particles (the dam break after a few GPU
-// steps); Marching Cubes in a cubic 1 m tank on a 128³ grid (the target), and as the
-// client's local mode draws it (5000 particles, 640×360, grid from the particle size); SSFR with
-// spheres instead of ellipsoids at 1920×1080 (SsfrSpheres); what a new renderer costs the thread
-// that makes it, as a new viewer or a resize does (NewRenderer*). `--smoke` runs small cases (for
-// CI, on lavapipe); `--device N` picks the device.
+// thread per core) and its latency for one frame of planes (in strips on its threads), and the
+// share of rough surface pixels (surface_roughness.h) in the last frame, at 640×360, 1280×720 and
+// 1920×1080 with 64k and 1M particles (the dam break after a few GPU steps); Marching Cubes in a
+// cubic 1 m tank on a 128³ grid (the target), and as the client's local mode draws it (5000
+// particles, 640×360, grid from the particle size); SSFR with spheres instead of ellipsoids at
+// 1920×1080 (SsfrSpheres); what a new renderer costs the thread that makes it, as a new viewer or a
+// resize does (NewRenderer*). `--smoke` runs small cases (for CI, on lavapipe); `--device N` picks
+// the device.
 #include <benchmark/benchmark.h>
 
 #include <chrono>
@@ -138,6 +139,11 @@ void measure_encoding(benchmark::State& state, render::FrameRenderer& renderer,
   for (unsigned k = 0; k < 4 * pool.threads(); ++k) jobs.push_back(pool.encode(last, jpeg));
   for (auto& job : jobs) job.get();
   state.counters["pool_encodes_per_s"] = static_cast<double>(jobs.size()) / seconds_since(start);
+  // The server's path: the planes through the idle pool, one frame at a time, in strips on its
+  // threads where the frame is tall enough (jpeg_strips.h): a frame's encode latency.
+  start = Clock::now();
+  for (int k = 0; k < encodes; ++k) pool.encode(planes, jpeg).get();
+  state.counters["pool_planes_encode_ms"] = 1e3 * seconds_since(start) / encodes;
 }
 
 // What a new viewer or a resize costs the thread that makes its renderer (the server's worker):

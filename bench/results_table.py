@@ -42,13 +42,14 @@ if runs and "frames_per_s" in runs[0]:
               f"{r['encode_ms']:.2f} | {r['jpeg_kib']:.0f} | {r['pool_encodes_per_s']:.0f} |")
     print()
     print("| renderer | size | particles | planes read-back (GPU ms) | JPEG encode from planes ms | "
-          "rough surface pixels |")
-    print("|---|---|---|---|---|---|")
+          "the same on the pool, in strips ms | rough surface pixels |")
+    print("|---|---|---|---|---|---|---|")
     for r in runs:
         f = fields_of(r)
         rough = f"{100 * r['rough_share']:.1f} %" if "rough_share" in r else "–"
+        strips = f"{r['pool_planes_encode_ms']:.2f}" if "pool_planes_encode_ms" in r else "–"
         print(f"| {r['name'].split('/')[0]} | {f['width']}×{f['height']} | {f['particles']} | "
-              f"{r['planes_readback_ms']:.3f} | {r['planes_encode_ms']:.2f} | {rough} |")
+              f"{r['planes_readback_ms']:.3f} | {r['planes_encode_ms']:.2f} | {strips} | {rough} |")
 elif runs and "gpu_ms" in runs[0]:
     print("| solver | particles | iterations | substeps/step | steps/s | GPU ms/step | grid | predict | "
           "iterations (each) | velocity | viscosity |")

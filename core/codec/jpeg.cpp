@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "fluidcast/codec/jpeg_strips.h"
+
 namespace fluidcast::codec {
 namespace {
 
@@ -36,6 +38,16 @@ void check_quality(const JpegOptions& options) {
   }
 }
 
+// A strip starts on a block row (jpeg_strips.h) and lies within the image.
+void check_rows(int height, int first_row, int rows) {
+  if (first_row < 0 || rows <= 0 || first_row > height - rows ||
+      first_row % kJpegStripRowMultiple != 0) {
+    throw std::invalid_argument("jpeg: rows " + std::to_string(first_row) + " to " +
+                                std::to_string(first_row + rows) + " are not a strip of an image " +
+                                std::to_string(height) + " rows high");
+  }
+}
+
 // TurboJPEG's output, copied out and freed.
 std::vector<std::uint8_t> take_output(void* handle, int status, unsigned char* out,
                                       unsigned long size) {
@@ -54,34 +66,49 @@ JpegEncoder::JpegEncoder() : handle_(make_handle(true)) {}
 JpegEncoder::~JpegEncoder() { tjDestroy(handle_); }
 
 std::vector<std::uint8_t> JpegEncoder::encode(const ImageRgba& image, const JpegOptions& options) {
-  if (image.width <= 0 || image.height <= 0 ||
-      image.pixels.size() != static_cast<std::size_t>(image.width) * image.height * 4) {
-    throw std::invalid_argument("jpeg: the image is empty or its pixels do not match its size");
-  }
-  check_quality(options);
-  unsigned char* out = nullptr;
-  unsigned long size = 0;
-  const int status =
-      tjCompress2(handle_, image.pixels.data(), image.width, 0, image.height, TJPF_RGBA, &out,
-                  &size, subsampling_of(options.subsampling), options.quality, 0);
-  return take_output(handle_, status, out, size);
+  return encode_rows(image, 0, image.height, options);
 }
 
 std::vector<std::uint8_t> JpegEncoder::encode(const ImageYuv420& image,
                                               const JpegOptions& options) {
+  return encode_rows(image, 0, image.height, options);
+}
+
+std::vector<std::uint8_t> JpegEncoder::encode_rows(const ImageRgba& image, int first_row, int rows,
+                                                   const JpegOptions& options) {
+  if (image.width <= 0 || image.height <= 0 ||
+      image.pixels.size() != static_cast<std::size_t>(image.width) * image.height * 4) {
+    throw std::invalid_argument("jpeg: the image is empty or its pixels do not match its size");
+  }
+  check_rows(image.height, first_row, rows);
+  check_quality(options);
+  unsigned char* out = nullptr;
+  unsigned long size = 0;
+  const int status =
+      tjCompress2(handle_, image.pixel(0, first_row), image.width, 0, rows, TJPF_RGBA, &out, &size,
+                  subsampling_of(options.subsampling), options.quality, 0);
+  return take_output(handle_, status, out, size);
+}
+
+std::vector<std::uint8_t> JpegEncoder::encode_rows(const ImageYuv420& image, int first_row,
+                                                   int rows, const JpegOptions& options) {
   if (image.width <= 0 || image.height <= 0 ||
       image.bytes.size() != ImageYuv420::size_for(image.width, image.height)) {
     throw std::invalid_argument("jpeg: the planes are empty or do not match their size");
   }
+  check_rows(image.height, first_row, rows);
   check_quality(options);
   if (options.subsampling != ChromaSubsampling::s420) {
     throw std::invalid_argument("jpeg: YCbCr 4:2:0 planes encode only with 4:2:0 subsampling");
   }
-  const unsigned char* planes[3] = {image.plane(0), image.plane(1), image.plane(2)};
+  const std::size_t luma_offset = static_cast<std::size_t>(first_row) * image.luma_stride();
+  const std::size_t chroma_offset = static_cast<std::size_t>(first_row / 2) * image.chroma_stride();
+  const unsigned char* planes[3] = {image.plane(0) + luma_offset, image.plane(1) + chroma_offset,
+                                    image.plane(2) + chroma_offset};
   const int strides[3] = {image.luma_stride(), image.chroma_stride(), image.chroma_stride()};
   unsigned char* out = nullptr;
   unsigned long size = 0;
-  const int status = tjCompressFromYUVPlanes(handle_, planes, image.width, strides, image.height,
+  const int status = tjCompressFromYUVPlanes(handle_, planes, image.width, strides, rows,
                                              TJSAMP_420, &out, &size, options.quality, 0);
   return take_output(handle_, status, out, size);
 }
@@ -90,22 +117,47 @@ JpegDecoder::JpegDecoder() : handle_(make_handle(false)) {}
 JpegDecoder::~JpegDecoder() { tjDestroy(handle_); }
 
 ImageRgba JpegDecoder::decode(std::span<const std::uint8_t> jpeg) {
+  // After a failed decode TurboJPEG 2.1's handle fails every later one ("Bogus Huffman table
+  // definition" for a good JPEG): a failure gets a fresh handle, so that one bad frame costs
+  // only itself.
+  const auto fail = [this](const std::string& what) {
+    std::string message = what + tjGetErrorStr2(handle_);
+    tjDestroy(handle_);
+    handle_ = make_handle(false);
+    throw std::runtime_error(message);
+  };
   int width = 0, height = 0, subsampling = 0, colorspace = 0;
   if (tjDecompressHeader3(handle_, jpeg.data(), static_cast<unsigned long>(jpeg.size()), &width,
                           &height, &subsampling, &colorspace) != 0) {
-    throw std::runtime_error(std::string("jpeg: not a JPEG image: ") + tjGetErrorStr2(handle_));
+    fail("jpeg: not a JPEG image: ");
   }
   ImageRgba image(width, height);
   if (tjDecompress2(handle_, jpeg.data(), static_cast<unsigned long>(jpeg.size()),
                     image.pixels.data(), width, 0, height, TJPF_RGBA, TJFLAG_FASTDCT) != 0) {
-    throw std::runtime_error(std::string("jpeg: decoding failed: ") + tjGetErrorStr2(handle_));
+    fail("jpeg: decoding failed: ");
   }
   return image;
 }
 
-std::vector<std::uint8_t> encode_jpeg(const Image& image, const JpegOptions& options) {
+namespace {
+JpegEncoder& this_threads_encoder() {
   thread_local JpegEncoder encoder;
-  return std::visit([&](const auto& pixels) { return encoder.encode(pixels, options); }, image);
+  return encoder;
+}
+}  // namespace
+
+std::vector<std::uint8_t> encode_jpeg(const Image& image, const JpegOptions& options) {
+  return std::visit(
+      [&](const auto& pixels) { return this_threads_encoder().encode(pixels, options); }, image);
+}
+
+std::vector<std::uint8_t> encode_jpeg_rows(const Image& image, int first_row, int rows,
+                                           const JpegOptions& options) {
+  return std::visit(
+      [&](const auto& pixels) {
+        return this_threads_encoder().encode_rows(pixels, first_row, rows, options);
+      },
+      image);
 }
 
 ImageRgba decode_jpeg(std::span<const std::uint8_t> jpeg) {

@@ -1,4 +1,4 @@
-// JPEG and PNG: round trips, quality, sizes, bad input, and the encoder pool.
+// JPEG and PNG: round trips, quality, sizes, bad input, strips, and the encoder pool.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -7,6 +7,7 @@
 
 #include "fluidcast/codec/jpeg.h"
 #include "fluidcast/codec/jpeg_encoder_pool.h"
+#include "fluidcast/codec/jpeg_strips.h"
 #include "fluidcast/codec/png.h"
 
 namespace fluidcast::codec {
@@ -80,6 +81,8 @@ TEST(Jpeg, BadInputIsRefusedWithAReason) {
   auto truncated = encode_jpeg(picture, {});
   truncated.resize(truncated.size() / 3);
   EXPECT_THROW(decode_jpeg(truncated), std::runtime_error);
+  // One bad frame costs only itself: this thread's decoder decodes the next good one.
+  EXPECT_EQ(decode_jpeg(encode_jpeg(picture, {})).width, 8);
   EXPECT_THROW(ImageRgba(0, 5), std::invalid_argument);
 }
 
@@ -104,6 +107,88 @@ TEST(Png, RoundTripIsExact) {
   EXPECT_EQ(back.width, 97);
   EXPECT_EQ(back.pixels, picture.pixels);
   EXPECT_THROW(read_png("/nonexistent/frame.png"), std::runtime_error);
+}
+
+// Planes as the GPU writes them, from a pattern with edges in every block.
+ImageYuv420 test_planes(int width, int height) {
+  ImageYuv420 planes(width, height);
+  for (std::size_t i = 0; i < planes.bytes.size(); ++i) {
+    planes.bytes[i] = static_cast<std::uint8_t>((i * 37 + i / 97 * 11) % 251);
+  }
+  return planes;
+}
+
+std::vector<std::vector<std::uint8_t>> strips_of(const Image& image, int strip_rows,
+                                                 const JpegOptions& options) {
+  std::vector<std::vector<std::uint8_t>> strips;
+  const int height = height_of(image);
+  for (int first = 0; first < height; first += strip_rows) {
+    strips.push_back(encode_jpeg_rows(image, first, std::min(strip_rows, height - first), options));
+  }
+  return strips;
+}
+
+bool has_restart_markers(const std::vector<std::uint8_t>& jpeg) {
+  for (std::size_t i = 0; i + 1 < jpeg.size(); ++i) {
+    if (jpeg[i] == 0xFF && jpeg[i + 1] == 0xDD) return true;
+  }
+  return false;
+}
+
+// The strips' scans joined decode to exactly the pixels of one encode of the whole image: odd
+// sizes, a last strip shorter than the rest, RGBA at 4:2:0 and 4:4:4, and the GPU's planes.
+TEST(JpegStrips, JoinedStripsDecodeToTheWholeEncodesPixels) {
+  struct Case {
+    Image image;
+    JpegOptions options;
+    int strip_rows;
+  };
+  const Case cases[] = {{test_picture(101, 57), {85}, 16},
+                        {test_picture(101, 57), {85, ChromaSubsampling::s444}, 32},
+                        {test_picture(640, 360), {80}, jpeg_strip_rows(360, 3)},
+                        {test_planes(173, 75), {80}, 16},
+                        {test_planes(1920, 1080), {80}, jpeg_strip_rows(1080, 8)}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(std::to_string(width_of(c.image)) + "x" + std::to_string(height_of(c.image)) +
+                 " in strips of " + std::to_string(c.strip_rows));
+    const std::vector<std::uint8_t> joined =
+        join_jpeg_strips(strips_of(c.image, c.strip_rows, c.options), c.strip_rows);
+    EXPECT_TRUE(has_restart_markers(joined));
+    const ImageRgba whole = decode_jpeg(encode_jpeg(c.image, c.options));
+    const ImageRgba parts = decode_jpeg(joined);
+    ASSERT_EQ(parts.width, whole.width);
+    ASSERT_EQ(parts.height, whole.height);
+    EXPECT_EQ(parts.pixels, whole.pixels);
+  }
+  EXPECT_EQ(jpeg_strip_rows(1080, 8), 144);  // a multiple of 16: 7 strips of 144, one of 72
+  EXPECT_EQ(jpeg_strip_rows(10, 4), 16);
+}
+
+TEST(JpegStrips, StripsThatDoNotFitTogetherAreRefused) {
+  const ImageRgba picture = test_picture(96, 64);
+  std::vector<std::vector<std::uint8_t>> strips = strips_of(picture, 32, {80});
+  EXPECT_THROW(join_jpeg_strips(strips, 16), std::invalid_argument);  // not the strips' height
+  std::vector<std::vector<std::uint8_t>> other_quality = strips;
+  other_quality[1] = encode_jpeg_rows(picture, 32, 32, {60});
+  EXPECT_THROW(join_jpeg_strips(other_quality, 32), std::invalid_argument);
+  std::vector<std::vector<std::uint8_t>> other_width = strips;
+  other_width[1] = encode_jpeg_rows(test_picture(80, 64), 32, 32, {80});
+  EXPECT_THROW(join_jpeg_strips(other_width, 32), std::invalid_argument);
+  std::vector<std::vector<std::uint8_t>> damaged = strips;
+  damaged[1].resize(10);
+  EXPECT_THROW(join_jpeg_strips(damaged, 32), std::invalid_argument);
+  EXPECT_THROW(encode_jpeg_rows(picture, 8, 16, {80}), std::invalid_argument);   // not a block row
+  EXPECT_THROW(encode_jpeg_rows(picture, 48, 32, {80}), std::invalid_argument);  // past the end
+}
+
+TEST(JpegEncoderPool, EncodesATallFrameInStripsOnSeveralThreads) {
+  JpegEncoderPool pool(3);
+  const ImageRgba picture = test_picture(320, 3 * JpegEncoderPool::kLeastStripRows + 5);
+  const std::vector<std::uint8_t> jpeg = pool.encode(picture, {80}).get();
+  EXPECT_TRUE(has_restart_markers(jpeg));
+  EXPECT_EQ(decode_jpeg(jpeg).pixels, decode_jpeg(encode_jpeg(picture, {80})).pixels);
+  auto bad = pool.encode(picture, {101});
+  EXPECT_THROW(bad.get(), std::invalid_argument);
 }
 
 TEST(JpegEncoderPool, EncodesConcurrentlyWhatOneThreadEncodes) {

@@ -30,6 +30,13 @@ class JpegEncoder {
   // with any subsampling but theirs (4:2:0).
   std::vector<std::uint8_t> encode(const ImageRgba& image, const JpegOptions& options);
   std::vector<std::uint8_t> encode(const ImageYuv420& image, const JpegOptions& options);
+  // Rows [first_row, first_row + rows) alone, as a JPEG of their own (a strip, jpeg_strips.h);
+  // first_row a multiple of kJpegStripRowMultiple. Throws as encode does, and for rows outside
+  // the image.
+  std::vector<std::uint8_t> encode_rows(const ImageRgba& image, int first_row, int rows,
+                                        const JpegOptions& options);
+  std::vector<std::uint8_t> encode_rows(const ImageYuv420& image, int first_row, int rows,
+                                        const JpegOptions& options);
 
  private:
   void* handle_;
@@ -51,6 +58,8 @@ class JpegDecoder {
 
 // With this thread's own encoder or decoder.
 std::vector<std::uint8_t> encode_jpeg(const Image& image, const JpegOptions& options = {});
+std::vector<std::uint8_t> encode_jpeg_rows(const Image& image, int first_row, int rows,
+                                           const JpegOptions& options);
 ImageRgba decode_jpeg(std::span<const std::uint8_t> jpeg);
 
 }  // namespace fluidcast::codec

@@ -1,5 +1,7 @@
 // JPEG encoding on a pool of threads (one per core by default), so that frames from the GPU are
-// encoded while the next ones render, and throughput grows with cores. Each worker reuses its own
+// encoded while the next ones render, and throughput grows with cores. A frame of at least
+// 2 · kLeastStripRows rows is cut into strips encoded on several threads at once and joined
+// (jpeg_strips.h): the same pixels, its encode's latency divided. Each worker reuses its own
 // TurboJPEG handle.
 #pragma once
 
@@ -24,11 +26,14 @@ class JpegEncoderPool {
   JpegEncoderPool& operator=(const JpegEncoderPool&) = delete;
 
   unsigned threads() const { return threads_; }
+  // Rows a strip has at least: fewer would cost more in each strip's set-up than they save.
+  static constexpr int kLeastStripRows = 64;
 
   // The future holds the JPEG, or the exception encoding threw (bad options, say).
   std::future<std::vector<std::uint8_t>> encode(Image image, JpegOptions options);
   // The same, for a caller that must not wait: `done` runs on a pool thread with the JPEG and
-  // the milliseconds encoding took, or with the exception it threw (then the JPEG is empty).
+  // the milliseconds encoding took (from its first strip's start to the JPEG), or with the
+  // exception encoding threw (then the JPEG is empty).
   using EncodeDone =
       std::function<void(std::vector<std::uint8_t> jpeg, double milliseconds, std::exception_ptr)>;
   void encode(Image image, JpegOptions options, EncodeDone done);
