@@ -4,6 +4,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "fluidcast/codec/jpeg_strips.h"
 
@@ -116,25 +117,23 @@ std::vector<std::uint8_t> JpegEncoder::encode_rows(const ImageYuv420& image, int
 JpegDecoder::JpegDecoder() : handle_(make_handle(false)) {}
 JpegDecoder::~JpegDecoder() { tjDestroy(handle_); }
 
+void JpegDecoder::replace_handle_and_throw(const std::string& what) {
+  const std::string message = what + tjGetErrorStr2(handle_);
+  void* fresh = make_handle(false);  // first: a throw here leaves the old handle, still ours
+  tjDestroy(std::exchange(handle_, fresh));
+  throw std::runtime_error(message);
+}
+
 ImageRgba JpegDecoder::decode(std::span<const std::uint8_t> jpeg) {
-  // After a failed decode TurboJPEG 2.1's handle fails every later one ("Bogus Huffman table
-  // definition" for a good JPEG): a failure gets a fresh handle, so that one bad frame costs
-  // only itself.
-  const auto fail = [this](const std::string& what) {
-    std::string message = what + tjGetErrorStr2(handle_);
-    tjDestroy(handle_);
-    handle_ = make_handle(false);
-    throw std::runtime_error(message);
-  };
   int width = 0, height = 0, subsampling = 0, colorspace = 0;
   if (tjDecompressHeader3(handle_, jpeg.data(), static_cast<unsigned long>(jpeg.size()), &width,
                           &height, &subsampling, &colorspace) != 0) {
-    fail("jpeg: not a JPEG image: ");
+    replace_handle_and_throw("jpeg: not a JPEG image: ");
   }
   ImageRgba image(width, height);
   if (tjDecompress2(handle_, jpeg.data(), static_cast<unsigned long>(jpeg.size()),
                     image.pixels.data(), width, 0, height, TJPF_RGBA, TJFLAG_FASTDCT) != 0) {
-    fail("jpeg: decoding failed: ");
+    replace_handle_and_throw("jpeg: decoding failed: ");
   }
   return image;
 }

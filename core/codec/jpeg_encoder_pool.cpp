@@ -6,6 +6,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <stdexcept>
 #include <thread>
 
 #include "fluidcast/codec/jpeg_strips.h"
@@ -62,7 +63,7 @@ void JpegEncoderPool::encode(Image image, JpegOptions options, EncodeDone done) 
   frame->strips.resize(static_cast<std::size_t>(count));
   frame->left = count;
   for (int k = 0; k < count; ++k) {
-    boost::asio::post(pool_, [frame, k, height, count] {
+    boost::asio::post(pool_, [frame, k, height] {
       {
         const std::lock_guard lock(frame->mutex);
         if (!frame->started) frame->started = std::chrono::steady_clock::now();
@@ -71,10 +72,8 @@ void JpegEncoderPool::encode(Image image, JpegOptions options, EncodeDone done) 
       std::vector<std::uint8_t> strip;
       std::exception_ptr error;
       try {
-        strip = count == 1
-                    ? encode_jpeg(frame->image, frame->options)
-                    : encode_jpeg_rows(frame->image, first,
-                                       std::min(frame->strip_rows, height - first), frame->options);
+        strip = encode_jpeg_rows(frame->image, first, std::min(frame->strip_rows, height - first),
+                                 frame->options);
       } catch (...) {
         error = std::current_exception();
       }
@@ -87,7 +86,13 @@ void JpegEncoderPool::encode(Image image, JpegOptions options, EncodeDone done) 
       std::vector<std::uint8_t> jpeg;
       if (!frame->error) {
         try {
-          jpeg = join_jpeg_strips(frame->strips, frame->strip_rows);
+          try {
+            jpeg = join_jpeg_strips(frame->strips, frame->strip_rows);
+          } catch (const std::invalid_argument&) {
+            // Strips that cannot be joined (more blocks than a restart interval counts,
+            // TurboJPEG's environment asking for another kind of JPEG): the frame whole.
+            jpeg = encode_jpeg(frame->image, frame->options);
+          }
         } catch (...) {
           frame->error = std::current_exception();
         }

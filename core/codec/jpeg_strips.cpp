@@ -8,6 +8,7 @@ namespace fluidcast::codec {
 namespace {
 
 constexpr std::uint8_t kMarker = 0xFF;
+constexpr int kMostJpegRows = 65500;  // libjpeg's JPEG_MAX_DIMENSION: decoders refuse more
 constexpr std::uint8_t kSoi = 0xD8, kEoi = 0xD9, kSos = 0xDA, kDri = 0xDD, kSof0 = 0xC0,
                        kRst0 = 0xD0;
 
@@ -46,6 +47,9 @@ Parts parts_of(const std::vector<std::uint8_t>& jpeg) {
       refuse("a strip is not a baseline JPEG");
     }
     if (marker == kSof0) {
+      if (length < 8 || length < 8 + 3 * static_cast<std::size_t>(jpeg[at + 9])) {
+        refuse("a strip's frame header is damaged");
+      }
       parts.sof = at;
       parts.height = read16(jpeg, at + 5);
       parts.width = read16(jpeg, at + 7);
@@ -101,7 +105,7 @@ std::vector<std::uint8_t> join_jpeg_strips(const std::vector<std::vector<std::ui
         p.block_height != head.block_height) {
       refuse("strip " + std::to_string(k) + " is not as wide or not blocked as the first");
     }
-    if (k + 1 < strips.size() && p.height != strip_rows) {
+    if (k + 1 < strips.size() ? p.height != strip_rows : p.height > strip_rows) {
       refuse("strip " + std::to_string(k) + " is " + std::to_string(p.height) + " rows, not " +
              std::to_string(strip_rows));
     }
@@ -114,7 +118,7 @@ std::vector<std::uint8_t> join_jpeg_strips(const std::vector<std::vector<std::ui
     if (!same) refuse("strip " + std::to_string(k) + " was not encoded as the first was");
     height += p.height;
   }
-  if (height > 0xFFFF) refuse("the strips are more rows than a JPEG holds");
+  if (height > kMostJpegRows) refuse("the strips are more rows than a JPEG holds");
 
   std::vector<std::uint8_t> jpeg(first.begin(),
                                  first.begin() + static_cast<std::ptrdiff_t>(head.sos));

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 
 #include "fluidcast/codec/jpeg.h"
@@ -174,6 +175,10 @@ TEST(JpegStrips, StripsThatDoNotFitTogetherAreRefused) {
   std::vector<std::vector<std::uint8_t>> other_width = strips;
   other_width[1] = encode_jpeg_rows(test_picture(80, 64), 32, 32, {80});
   EXPECT_THROW(join_jpeg_strips(other_width, 32), std::invalid_argument);
+  std::vector<std::vector<std::uint8_t>> last_too_tall = strips_of(picture, 16, {80});
+  last_too_tall.back() = encode_jpeg_rows(picture, 32, 32, {80});
+  last_too_tall.erase(last_too_tall.begin() + 2);
+  EXPECT_THROW(join_jpeg_strips(last_too_tall, 16), std::invalid_argument);
   std::vector<std::vector<std::uint8_t>> damaged = strips;
   damaged[1].resize(10);
   EXPECT_THROW(join_jpeg_strips(damaged, 32), std::invalid_argument);
@@ -189,6 +194,19 @@ TEST(JpegEncoderPool, EncodesATallFrameInStripsOnSeveralThreads) {
   EXPECT_EQ(decode_jpeg(jpeg).pixels, decode_jpeg(encode_jpeg(picture, {80})).pixels);
   auto bad = pool.encode(picture, {101});
   EXPECT_THROW(bad.get(), std::invalid_argument);
+}
+
+// TurboJPEG reads TJ_RESTART (and TJ_OPTIMIZE, ...) from the environment: strips it marks that
+// way cannot be joined, and the pool encodes such a frame whole rather than failing it.
+TEST(JpegEncoderPool, AFrameWhoseStripsCannotBeJoinedIsEncodedWhole) {
+  JpegEncoderPool pool(2);
+  const ImageRgba picture = test_picture(160, 2 * JpegEncoderPool::kLeastStripRows);
+  ASSERT_EQ(setenv("TJ_RESTART", "1", 1), 0);
+  EXPECT_TRUE(has_restart_markers(encode_jpeg_rows(picture, 0, 64, {80})));  // read, so tested
+  std::vector<std::uint8_t> jpeg;
+  EXPECT_NO_THROW(jpeg = pool.encode(picture, {80}).get());
+  unsetenv("TJ_RESTART");
+  EXPECT_EQ(decode_jpeg(jpeg).pixels, decode_jpeg(encode_jpeg(picture, {80})).pixels);
 }
 
 TEST(JpegEncoderPool, EncodesConcurrentlyWhatOneThreadEncodes) {

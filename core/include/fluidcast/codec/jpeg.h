@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "fluidcast/codec/image.h"
@@ -53,6 +54,11 @@ class JpegDecoder {
   ImageRgba decode(std::span<const std::uint8_t> jpeg);
 
  private:
+  // After a failed decode TurboJPEG 2.1's handle fails every later one ("Bogus Huffman table
+  // definition" for a good JPEG): a failure gets a fresh handle, so that one bad frame costs
+  // only itself.
+  [[noreturn]] void replace_handle_and_throw(const std::string& what);
+
   void* handle_;
 };
 

@@ -26,7 +26,7 @@ class JpegEncoderPool {
   JpegEncoderPool& operator=(const JpegEncoderPool&) = delete;
 
   unsigned threads() const { return threads_; }
-  // Rows a strip has at least: fewer would cost more in each strip's set-up than they save.
+  // Rows per thread a frame needs to be cut: thinner strips cost more in set-up than they save.
   static constexpr int kLeastStripRows = 64;
 
   // The future holds the JPEG, or the exception encoding threw (bad options, say).
