@@ -1,7 +1,7 @@
 // JPEG encoding on a pool of threads (one per core by default), so that frames from the GPU are
 // encoded while the next ones render, and throughput grows with cores. A frame of at least
 // 2 · kLeastStripRows rows is cut into strips encoded on several threads at once and joined
-// (jpeg_strips.h): the same pixels, its encode's latency divided. Each worker reuses its own
+// (jpeg_strips.h): the same pixels, its encode's latency shortened. Each worker reuses its own
 // TurboJPEG handle.
 #pragma once
 

@@ -1,7 +1,7 @@
 // One frame's JPEG encoded as horizontal strips on several threads: each strip is a baseline JPEG
 // of its own (the same tables, its DC prediction starting afresh), and the strips' scans joined
 // with restart markers between them are the scan of the whole frame — which decodes to the very
-// pixels a single encode gives, while a frame's encode takes a fraction of the time.
+// pixels a single encode gives, while the strips encode at once (bench/results/encode-strips-*).
 #pragma once
 
 #include <cstdint>
