@@ -27,6 +27,12 @@ const std::vector<ParamSpec<SolverParams>>& solver_param_specs() {
        "PBF: average compression max(ρ/ρ0 − 1, 0) a step may leave, walls included; a step "
        "that left more makes the next ones take shorter substeps",
        &P::pbf_density_tolerance, 1e-4, 0.1},
+      {"pbf-max-acceleration", "m/s²",
+       "PBF: most the density corrections may accelerate a particle: the velocity a substep's "
+       "corrections add is capped at this times the substep, while positions are corrected in "
+       "full. Bounds the energy a compressed fluid releases when its substeps shorten (as "
+       "NVIDIA FleX's maxAcceleration); the default leaves a dam break's wall impact as it was",
+       &P::pbf_max_acceleration, 10, 100000},
       {"relaxation", "1",
        "PBF: constraint force mixing ε, as a fraction of Σ|∇C|² of a particle at rest",
        &P::relaxation, 1e-6, 10},
@@ -43,8 +49,8 @@ const std::vector<ParamSpec<SolverParams>>& solver_param_specs() {
        &P::cfl_number, 0.05, 1},
       {"sound-speed", "m/s", "SPH: numerical speed of sound; stiffness B = ρ0 c²/γ",
        &P::sound_speed, 1, 500},
-      {"tait-exponent", "1", "SPH: exponent γ of the Tait equation of state", &P::tait_exponent,
-       1, 7},
+      {"tait-exponent", "1", "SPH: exponent γ of the Tait equation of state", &P::tait_exponent, 1,
+       7},
       {"sph-viscosity", "Pa·s", "SPH: dynamic viscosity μ (Müller 2003 viscosity kernel)",
        &P::sph_viscosity, 0, 100},
       {"artificial-viscosity", "1",

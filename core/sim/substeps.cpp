@@ -18,7 +18,8 @@ PbfSubsteps::PbfSubsteps(const SolverParams& params, float kernel_radius)
     : travel_(params.pbf_travel * kernel_radius),
       tolerance_(params.pbf_density_tolerance),
       max_substeps_(params.max_substeps),
-      longest_substep_(std::numeric_limits<float>::infinity()) {}
+      longest_substep_(std::numeric_limits<float>::infinity()),
+      last_error_(std::numeric_limits<float>::quiet_NaN()) {}
 
 int PbfSubsteps::count(float step, float largest_speed, float largest_collider_speed,
                        float gravity) const {
@@ -28,16 +29,16 @@ int PbfSubsteps::count(float step, float largest_speed, float largest_collider_s
   const float by_density = step / longest_substep_;
   const float substeps = std::max(by_travel, by_density);
   if (!std::isfinite(substeps)) return max_substeps_;
-  return static_cast<int>(
-      std::clamp(std::ceil(substeps), 1.0f, static_cast<float>(max_substeps_)));
+  return static_cast<int>(std::clamp(std::ceil(substeps), 1.0f, static_cast<float>(max_substeps_)));
 }
 
 void PbfSubsteps::observe(float substep, float error) {
   if (!std::isfinite(error) || !(substep > 0.0f)) return;
+  last_error_ = error;
   // The error shrinks at least as Δt² (measured: faster), so this is the longest substep that
   // keeps it within tolerance.
-  const float allowed =
-      error > 0.0f ? substep * std::sqrt(tolerance_ / error) : std::numeric_limits<float>::infinity();
+  const float allowed = error > 0.0f ? substep * std::sqrt(tolerance_ / error)
+                                     : std::numeric_limits<float>::infinity();
   longest_substep_ = std::min(allowed, kLongestGrowth * longest_substep_);
 }
 

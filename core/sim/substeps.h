@@ -13,7 +13,8 @@ namespace fluidcast::sim {
 // - density: the average compression a step leaves, which Jacobi iterations shrink as Δt², stays
 //   within pbf_density_tolerance: each step's measured error sets the longest substep the next
 //   may take (it shortens at once when the error was too large and lengthens by at most a tenth
-//   a step when it was small).
+//   a step when it was small). Figures that arrive late (a GPU's steps in flight) are planned
+//   from only while they were well within the tolerance: see needs_fresh_figures().
 class PbfSubsteps {
  public:
   PbfSubsteps(const SolverParams& params, float kernel_radius);
@@ -28,12 +29,17 @@ class PbfSubsteps {
   void observe(float substep, float error);
   // The longest substep the density bound allows now, s (infinite until a step was observed).
   float longest_substep() const { return longest_substep_; }
+  // Whether the rule should hear of the steps still running before it plans another: none was
+  // observed yet, or the last one left more than half the tolerance. Compression that builds
+  // unseen over a GPU's steps in flight is what made a deep column burst.
+  bool needs_fresh_figures() const { return !(last_error_ <= 0.5f * tolerance_); }
 
  private:
   float travel_;     // m: pbf_travel · h
   float tolerance_;  // pbf_density_tolerance
   int max_substeps_;
   float longest_substep_;
+  float last_error_;  // NaN until a step was observed
 };
 
 // SPH: the longest stable substep: the CFL bound with the speed of sound, the force bound

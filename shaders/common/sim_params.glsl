@@ -61,6 +61,7 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Si
   float softening;
   float substep_travel;  // PBF: most a particle moves in a substep, m (pbf_travel · h)
   uint max_candidates;   // neighbour candidates examined per particle (FluidConstants)
+  float max_acceleration;  // PBF: most the corrections may accelerate a particle, m/s²
 
   vec4 collider_sphere[MAX_COLLIDERS];    // centre at the step's start, radius in w
   vec4 collider_velocity[MAX_COLLIDERS];

@@ -107,6 +107,7 @@ TEST(GpuParamsLayout, SimParamsMatchesTheGlslBlock) {
                                                   FIELD(SimParams, softening),
                                                   FIELD(SimParams, substep_travel),
                                                   FIELD(SimParams, max_candidates),
+                                                  FIELD(SimParams, max_acceleration),
                                                   FIELD(SimParams, collider_sphere),
                                                   FIELD(SimParams, collider_velocity)};
   const auto glsl = member_offsets(shaders::sim_pbf_lambda_comp, "SimParams");
@@ -118,10 +119,9 @@ TEST(GpuParamsLayout, SimParamsMatchesTheGlslBlock) {
 }
 
 TEST(GpuParamsLayout, SimPassMatchesThePushConstants) {
-  const std::map<std::string, std::size_t> cpp = {FIELD(SimPass, params), FIELD(SimPass, dt),
-                                                  FIELD(SimPass, time_into_step),
-                                                  FIELD(SimPass, parity),
-                                                  FIELD(SimPass, record_compression)};
+  const std::map<std::string, std::size_t> cpp = {
+      FIELD(SimPass, params), FIELD(SimPass, dt), FIELD(SimPass, time_into_step),
+      FIELD(SimPass, parity), FIELD(SimPass, record_compression)};
   const auto glsl = member_offsets(shaders::sim_pbf_lambda_comp, "SimPass");
   ASSERT_EQ(glsl.size(), cpp.size());
   for (const auto& [name, offset] : cpp) EXPECT_EQ(glsl.at(name), offset) << name;

@@ -1,12 +1,12 @@
 // PBF's substep rule (substeps.h): the travel bound, the density bound and how it follows the
-// measured compression, and the speed limit that holds the travel bound for a particle flung
-// faster than planned.
+// measured compression, when its figures are too old to plan from, and the speed limit that holds
+// the travel bound for a particle flung faster than planned.
+#include "substeps.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
-
-#include "substeps.h"
 
 namespace fluidcast::sim {
 namespace {
@@ -50,6 +50,20 @@ TEST(PbfSubsteps, LittleCompressionLengthensThemByATenthAStepAtMost) {
   EXPECT_FLOAT_EQ(substeps.longest_substep(), 1.1f * kStep / 2);
   for (int k = 0; k < 20; ++k) substeps.observe(kStep / 2, 0.0f);
   EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f), 1);
+}
+
+// Planning from figures steps old is safe only while they were well within the tolerance.
+TEST(PbfSubsteps, FiguresNearTheBoundAreWaitedFor) {
+  PbfSubsteps substeps = rule(1.0f, 0.01f);
+  EXPECT_TRUE(substeps.needs_fresh_figures());  // nothing observed yet
+  substeps.observe(kStep, 0.004f);
+  EXPECT_FALSE(substeps.needs_fresh_figures());
+  substeps.observe(kStep, 0.006f);
+  EXPECT_TRUE(substeps.needs_fresh_figures());
+  substeps.observe(kStep, std::numeric_limits<float>::quiet_NaN());  // ignored, as in the bound
+  EXPECT_TRUE(substeps.needs_fresh_figures());
+  substeps.observe(kStep / 2, 0.0f);
+  EXPECT_FALSE(substeps.needs_fresh_figures());
 }
 
 TEST(PbfSubsteps, NonFiniteFiguresNeverGiveFewerSubsteps) {

@@ -39,6 +39,7 @@ void PbfSolver::substep(bool last) {
     StageTimer timer(stage_times_.grid_ms);
     sort_by(predicted_, {&predicted_});
   }
+  uncorrected_ = predicted_;
   stage_times_.iteration_ms.resize(static_cast<std::size_t>(params().iterations));
   for (int iteration = 0; iteration < params().iterations; ++iteration) {
     double& iteration_ms = stage_times_.iteration_ms[static_cast<std::size_t>(iteration)];
@@ -160,10 +161,17 @@ void PbfSolver::apply_position_corrections() {
   predicted_.swap(corrected_);
 }
 
+// v = (x* − x) / Δt, but the corrections' part of it, (x* − x*uncorrected) / Δt, is capped at
+// pbf_max_acceleration · Δt: compression that earlier substeps left behind would otherwise come
+// back as velocity that grows as the substeps shorten (a burst) instead of being smoothed out.
 void PbfSolver::update_velocities() {
   const float inv_dt = 1.0f / dt_;
+  const float most = params().pbf_max_acceleration * dt_;
   pool_->for_each(particles_.size(), [&](std::size_t i) {
-    particles_.velocity[i] = (predicted_[i] - particles_.position[i]) * inv_dt;
+    const glm::vec3 uncorrected = (uncorrected_[i] - particles_.position[i]) * inv_dt;
+    const glm::vec3 change = (predicted_[i] - uncorrected_[i]) * inv_dt;
+    const float length = glm::length(change);
+    particles_.velocity[i] = uncorrected + (length > most ? change * (most / length) : change);
   });
 }
 

@@ -5,9 +5,10 @@
 // Jacobi iterations of the density constraint (λ, then Δp with s_corr and collisions) → velocity
 // from the displacement → vorticity confinement and XSPH viscosity.
 //
-// Two choices beyond the paper: the density constraint is unilateral, C = max(ρ/ρ0 − 1, 0), so a
-// surface particle with few neighbours is not pulled inwards; and ε and s_corr are scaled by the
-// rest-state Σ|∇C|², which makes them dimensionless and independent of the particle size.
+// Three choices beyond the paper: the density constraint is unilateral, C = max(ρ/ρ0 − 1, 0), so
+// a surface particle with few neighbours is not pulled inwards; ε and s_corr are scaled by the
+// rest-state Σ|∇C|², which makes them dimensionless and independent of the particle size; and the
+// velocity the corrections add is capped (pbf_max_acceleration, as NVIDIA FleX's maxAcceleration).
 #pragma once
 
 #include "cpu/cpu_solver.h"
@@ -41,6 +42,7 @@ class PbfSolver final : public CpuSolver {
   PbfSubsteps substeps_;
   std::vector<float> compression_;  // scratch of average_compression()
   std::vector<glm::vec3> predicted_, corrected_;
+  std::vector<glm::vec3> uncorrected_;  // predicted_ before the density corrections
   std::vector<float> lambda_;
   std::vector<glm::vec3> vorticity_, smoothed_velocity_;
   std::vector<float> vorticity_norm_;

@@ -33,6 +33,7 @@ struct SimParams {
   float tait_stiffness, tait_exponent, sph_viscosity, artificial_viscosity, softening;
   float substep_travel;
   std::uint32_t max_candidates;
+  float max_acceleration;
 
   alignas(16) glm::vec4 collider_sphere[kMaxColliders];
   glm::vec4 collider_velocity[kMaxColliders];
@@ -47,6 +48,7 @@ static_assert(offsetof(SimParams, relaxation_epsilon) == 144 + 6 * 16 + 13 * 4);
 static_assert(offsetof(SimParams, softening) == 144 + 6 * 16 + 23 * 4);
 static_assert(offsetof(SimParams, substep_travel) == 144 + 6 * 16 + 24 * 4);
 static_assert(offsetof(SimParams, max_candidates) == 144 + 6 * 16 + 25 * 4);
+static_assert(offsetof(SimParams, max_acceleration) == 144 + 6 * 16 + 26 * 4);
 static_assert(offsetof(SimParams, collider_sphere) == 144 + 6 * 16 + 28 * 4);
 static_assert(offsetof(SimParams, collider_velocity) ==
               offsetof(SimParams, collider_sphere) + kMaxColliders * 16);

@@ -77,8 +77,8 @@ class GpuSolver final : public Solver {
   };
   struct Pipelines {
     explicit Pipelines(gpu::Context& context);
-    gpu::ComputePipeline predict, reorder, pbf_lambda, pbf_correct, pbf_velocity, pbf_finish,
-        sph_density, sph_force, sph_integrate;
+    gpu::ComputePipeline predict, reorder, pbf_lambda, pbf_correct, pbf_velocity, pbf_vorticity,
+        pbf_finish, sph_density, sph_force, sph_integrate;
   };
 
   void allocate(std::size_t capacity);

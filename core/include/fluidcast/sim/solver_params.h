@@ -21,12 +21,14 @@ struct SolverParams {
   int iterations = 4;
   float pbf_travel = 1.0f;  // most a particle or collider moves in one substep, as a fraction of h
   float pbf_density_tolerance = 0.01f;  // average ρ/ρ0 − 1 a step may leave, walls included
-  float relaxation = 0.01f;             // ε as a fraction of the rest-state Σ|∇C|²
-  float scorr_strength = 0.1f;          // k of the artificial pressure
-  float scorr_exponent = 4.0f;          // n
-  float scorr_distance = 0.2f;          // Δq / h
-  float vorticity = 0.02f;              // ε of vorticity confinement, m/s
-  float xsph_viscosity = 0.05f;         // c of XSPH
+  float pbf_max_acceleration =
+      300.0f;                    // m/s², most the density corrections may accelerate a particle
+  float relaxation = 0.01f;      // ε as a fraction of the rest-state Σ|∇C|²
+  float scorr_strength = 0.1f;   // k of the artificial pressure
+  float scorr_exponent = 4.0f;   // n
+  float scorr_distance = 0.2f;   // Δq / h
+  float vorticity = 0.02f;       // ε of vorticity confinement, m/s
+  float xsph_viscosity = 0.05f;  // c of XSPH
 
   // SPH (weakly compressible; Müller et al. 2003 kernels, Tait equation of state).
   float cfl_number = 0.4f;             // substeps keep (c+|v|max)·Δt ≤ cfl·h
