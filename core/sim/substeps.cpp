@@ -12,6 +12,10 @@ namespace {
 // from the substep taken, keeps a late small error from undoing an earlier large one).
 constexpr float kLongestGrowth = 1.1f;
 
+// How much more a step left unseen is taken to have compressed the fluid, near the tolerance.
+// Measured in a 175-layer column from rest, while no figures came: 1.2–1.6 a step.
+constexpr float kUnseenGrowth = 1.3f;
+
 }  // namespace
 
 PbfSubsteps::PbfSubsteps(const SolverParams& params, float kernel_radius)
@@ -21,13 +25,18 @@ PbfSubsteps::PbfSubsteps(const SolverParams& params, float kernel_radius)
       longest_substep_(std::numeric_limits<float>::infinity()),
       last_error_(std::numeric_limits<float>::quiet_NaN()) {}
 
-int PbfSubsteps::count(float step, float largest_speed, float largest_collider_speed,
-                       float gravity) const {
+int PbfSubsteps::count(float step, float largest_speed, float largest_collider_speed, float gravity,
+                       int steps_unseen) const {
   // A collider moving faster than the fluid sets the pace too: it must not jump over particles.
   const float speed = std::max(largest_speed + gravity * step, largest_collider_speed);
   const float by_travel = speed * step / travel_;
   const float by_density = step / longest_substep_;
-  const float substeps = std::max(by_travel, by_density);
+  float substeps = std::max(by_travel, by_density);
+  const bool near_bound = !(last_error_ <= 0.5f * tolerance_);  // NaN: nothing observed yet
+  if (near_bound && steps_unseen > 0) {
+    substeps =
+        std::ceil(substeps) * std::pow(kUnseenGrowth, 0.5f * static_cast<float>(steps_unseen));
+  }
   if (!std::isfinite(substeps)) return max_substeps_;
   return static_cast<int>(std::clamp(std::ceil(substeps), 1.0f, static_cast<float>(max_substeps_)));
 }

@@ -13,15 +13,19 @@ namespace fluidcast::sim {
 // - density: the average compression a step leaves, which Jacobi iterations shrink as Δt², stays
 //   within pbf_density_tolerance: each step's measured error sets the longest substep the next
 //   may take (it shortens at once when the error was too large and lengthens by at most a tenth
-//   a step when it was small). Figures that arrive late (a GPU's steps in flight) are planned
-//   from only while they were well within the tolerance: see needs_fresh_figures().
+//   a step when it was small). Figures that arrive late (a GPU's steps in flight) are trusted
+//   only while they were well within the tolerance: see count()'s steps_unseen.
 class PbfSubsteps {
  public:
   PbfSubsteps(const SolverParams& params, float kernel_radius);
 
   // Substeps of a step of `step` seconds, from the newest speeds known. Non-finite speeds give
-  // max_substeps.
-  int count(float step, float largest_speed, float largest_collider_speed, float gravity) const;
+  // max_substeps. `steps_unseen`: steps still running whose figures are not in yet (a GPU's
+  // steps in flight). While the last figures were near the tolerance (above half) or none came
+  // yet, each unseen step counts as one that compressed the fluid 1.3 times more (a deep column
+  // did, unseen, before it burst): 1.3^(unseen/2) times the substeps, as the error goes as Δt².
+  int count(float step, float largest_speed, float largest_collider_speed, float gravity,
+            int steps_unseen = 0) const;
   // The fastest a particle may move in a substep of `substep` seconds, m/s.
   float speed_limit(float substep) const { return travel_ / substep; }
   // After a step whose substeps were `substep` seconds long left an average density error
@@ -29,10 +33,6 @@ class PbfSubsteps {
   void observe(float substep, float error);
   // The longest substep the density bound allows now, s (infinite until a step was observed).
   float longest_substep() const { return longest_substep_; }
-  // Whether the rule should hear of the steps still running before it plans another: none was
-  // observed yet, or the last one left more than half the tolerance. Compression that builds
-  // unseen over a GPU's steps in flight is what made a deep column burst.
-  bool needs_fresh_figures() const { return !(last_error_ <= 0.5f * tolerance_); }
 
  private:
   float travel_;     // m: pbf_travel · h

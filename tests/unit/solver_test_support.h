@@ -90,8 +90,8 @@ inline PoolAtRest watch_pool_at_rest(Solver& solver, double settle, double watch
 // GPU's steps in flight) or allows much of it (`tolerance`); released over ever shorter substeps
 // it came back as a burst: particles at 14–17 m/s along the walls by t = 0.083 s and 2.2–4.3
 // times the kinetic energy the fall had released. The fluid may only turn the potential energy it
-// lost into motion; PBF is not strictly dissipative (s_corr pushes particles apart), and healthy
-// runs measure 0.9–1.23 times, so the bound is 1.5.
+// lost into motion; PBF is not strictly dissipative (s_corr pushes particles apart), and runs
+// that do not burst measure 0.9–1.36 times, so the bound is 1.5.
 struct DeepColumnEnergy {
   double kinetic = 0.0;   // J, at the end
   double released = 0.0;  // J, by the fall: M g Δy of the centre of mass

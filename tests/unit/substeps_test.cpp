@@ -1,6 +1,6 @@
 // PBF's substep rule (substeps.h): the travel bound, the density bound and how it follows the
-// measured compression, when its figures are too old to plan from, and the speed limit that holds
-// the travel bound for a particle flung faster than planned.
+// measured compression, how far it trusts figures of steps still running, and the speed limit that
+// holds the travel bound for a particle flung faster than planned.
 #include "substeps.h"
 
 #include <gtest/gtest.h>
@@ -52,18 +52,20 @@ TEST(PbfSubsteps, LittleCompressionLengthensThemByATenthAStepAtMost) {
   EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f), 1);
 }
 
-// Planning from figures steps old is safe only while they were well within the tolerance.
-TEST(PbfSubsteps, FiguresNearTheBoundAreWaitedFor) {
+// Figures steps old are trusted only while they were well within the tolerance: otherwise each
+// step still running counts as one that compressed the fluid 1.3 times more.
+TEST(PbfSubsteps, StepsUnseenNearTheBoundTakeMoreSubsteps) {
   PbfSubsteps substeps = rule(1.0f, 0.01f);
-  EXPECT_TRUE(substeps.needs_fresh_figures());  // nothing observed yet
-  substeps.observe(kStep, 0.004f);
-  EXPECT_FALSE(substeps.needs_fresh_figures());
-  substeps.observe(kStep, 0.006f);
-  EXPECT_TRUE(substeps.needs_fresh_figures());
+  // Nothing observed yet: 1 substep by travel, 1.3² = 1.69 times for four unseen steps.
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f, 0), 1);
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f, 4), 2);
+  substeps.observe(kStep, 0.004f);  // well within: unseen steps change nothing
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f, 4), 1);
+  substeps.observe(kStep, 0.01f);  // at the tolerance: still one substep, but not when unseen
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f, 0), 1);
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f, 2), 2);
   substeps.observe(kStep, std::numeric_limits<float>::quiet_NaN());  // ignored, as in the bound
-  EXPECT_TRUE(substeps.needs_fresh_figures());
-  substeps.observe(kStep / 2, 0.0f);
-  EXPECT_FALSE(substeps.needs_fresh_figures());
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f, 2), 2);
 }
 
 TEST(PbfSubsteps, NonFiniteFiguresNeverGiveFewerSubsteps) {

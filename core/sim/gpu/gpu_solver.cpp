@@ -353,11 +353,6 @@ SimParams GpuSolver::step_params() const {
 }
 
 int GpuSolver::substeps_for(float seconds) {
-  // The density rule hears of a step only once it has finished, kStepsInFlight steps late at
-  // worst. Near its bound it waits for them: a deep column's compression otherwise grows unseen
-  // for those steps and then bursts (GpuPbfTest.CompressionLeftBehindDoesNotBurst). A calm fluid
-  // keeps its steps in flight.
-  if (kind_ == SolverKind::pbf && pbf_substeps_.needs_fresh_figures()) synchronize();
   float largest_collider_speed = 0.0f;
   for (const Collider& c : colliders()) {
     largest_collider_speed = std::max(largest_collider_speed, glm::length(c.velocity));
@@ -373,7 +368,9 @@ int GpuSolver::substeps_for(float seconds) {
   const float g = glm::length(gravity());
   const float speed = largest_speed_ + float(running) * g * seconds;
   if (kind_ == SolverKind::pbf) {
-    return pbf_substeps_.count(seconds, speed, largest_collider_speed, g);
+    // The density rule hears of a step only once it has finished: near its bound it plans for
+    // the compression the running steps may have added unseen, rather than wait for them.
+    return pbf_substeps_.count(seconds, speed, largest_collider_speed, g, running);
   }
   const float dt = sph_stable_substep(speed, largest_acceleration_, params(), h);
   if (!std::isfinite(dt) || dt <= 0.0f) return params().max_substeps;
