@@ -18,6 +18,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -320,7 +321,11 @@ int serve(const ServerOptions& options) {
   std::optional<GrpcListener> grpc_listener;
   if (options.tls_certificate.empty()) {
     try {
-      grpc_listener.emplace(options.listen, options.grpc_port);
+      // Its total is what descriptors allow (the listener waits when they run out); from one
+      // address, as many as HTTP allows.
+      grpc_listener.emplace(options.listen, options.grpc_port,
+                            ConnectionLimits(std::numeric_limits<std::uint32_t>::max(),
+                                             limits.max_connections_per_address));
     } catch (const std::runtime_error&) {
       return grpc_address_in_use(options);
     }

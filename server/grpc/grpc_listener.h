@@ -1,18 +1,22 @@
 // The plaintext gRPC port, accepted here and each connection handed to gRPC, rather than accepted
 // by gRPC: gRPC 1.51 stops accepting for good after one failed accept ("Failed accept4: Too many
-// open files"), while a Listener waits and goes on once descriptors are back. (gRPC over TLS
-// cannot be handed over this way: with --tls-cert, gRPC listens itself.)
+// open files"), while a Listener waits and goes on once descriptors are back; and a connection
+// over --max-connections-per-address is closed before gRPC sees it. (With --tls-cert gRPC listens
+// itself, with neither: docs/operations.md.)
 #pragma once
 
 #include <grpcpp/server.h>
+#include <sys/types.h>
 
 #include <boost/asio/io_context.hpp>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <string_view>
 #include <thread>
 #include <unordered_map>
 
+#include "net/connection_limits.h"
 #include "net/listener.h"
 
 namespace fluidcast::server {
@@ -20,7 +24,7 @@ namespace fluidcast::server {
 class GrpcListener {
  public:
   // Listens at once (throws std::runtime_error when it cannot); hands nothing over until start().
-  GrpcListener(const std::string& address, unsigned short port);
+  GrpcListener(const std::string& address, unsigned short port, ConnectionLimits limits);
   ~GrpcListener();
   GrpcListener(const GrpcListener&) = delete;
   GrpcListener& operator=(const GrpcListener&) = delete;
@@ -37,12 +41,24 @@ class GrpcListener {
   std::string address_of(std::string_view grpc_peer) const;
 
  private:
+  // A connection handed to gRPC, by its descriptor. gRPC does not say when it closes one: a
+  // descriptor that no longer names the same socket (device and inode) was closed.
+  struct Handed {
+    dev_t device;
+    ino_t inode;
+    std::string address;
+    std::shared_ptr<ConnectionLimits::Slot> slot;
+  };
+  // A slot for a connection from `client`, after forgetting the closed ones if it had none.
+  std::shared_ptr<ConnectionLimits::Slot> admit(const boost::asio::ip::address& client);
+  void forget_closed();  // under mutex_
+
   boost::asio::io_context io_;
   Listener listener_;
+  ConnectionLimits limits_;
   std::thread thread_;
   mutable std::mutex mutex_;
-  // By descriptor: a number is reused only once gRPC has closed the connection that had it.
-  std::unordered_map<int, std::string> addresses_;
+  std::unordered_map<int, Handed> handed_;
 };
 
 }  // namespace fluidcast::server

@@ -22,7 +22,7 @@
 #include <variant>
 #include <vector>
 
-#include "web/connection_limits.h"
+#include "net/connection_limits.h"
 #include "net/listener.h"
 
 namespace fluidcast::server {

@@ -1,7 +1,7 @@
 // What an idle or greedy client can hold of the real server on loopback: streams that send no
-// Hello end at their deadline on both transports, HTTP and WebSocket connections over the limits
-// are closed while the others are served, and when the process runs out of descriptors neither
-// port spins nor stays deaf once they come back.
+// Hello end at their deadline on both transports, HTTP, WebSocket and gRPC connections over the
+// limits are closed while the others are served, and when the process runs out of descriptors
+// neither port spins nor stays deaf once they come back.
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <netinet/in.h>
@@ -41,8 +41,8 @@ v1::Hello small_session() {
   return hello;
 }
 
-// 120 idle connections to the server's gRPC port, which has no limit of its own: with 96
-// descriptors, they take every one left.
+// 120 idle connections to the server's gRPC port, which has no total of its own (the server must
+// be started with a per-address limit above 120): with 96 descriptors, they take every one left.
 std::vector<std::unique_ptr<RawConnection>> flood_grpc_port(const testing::ServerProcess& server) {
   std::vector<std::unique_ptr<RawConnection>> flood;
   const std::string& address = server.grpc_address();
@@ -167,11 +167,31 @@ TEST(ConnectionLimitsTest, ConnectionsOverTheLimitFromOneAddressAreClosedOthersS
   EXPECT_EQ(next.get("/healthz"), "HTTP/1.1 200 OK");
 }
 
+// The same on the plaintext gRPC port: gRPC does not say when it closes a connection, so the
+// server finds which have closed when one is over the limit.
+TEST(ConnectionLimitsTest, GrpcConnectionsOverTheLimitFromOneAddressAreClosedOthersServed) {
+  testing::ServerProcess server({"--max-connections-per-address", "4"});
+  const std::string& address = server.grpc_address();
+  const int grpc_port = std::stoi(address.substr(address.rfind(':') + 1));
+  std::vector<std::unique_ptr<RawConnection>> held;
+  for (int k = 0; k < 4; ++k) held.push_back(std::make_unique<RawConnection>(grpc_port));
+  std::this_thread::sleep_for(milliseconds(200));
+  RawConnection fifth(grpc_port);
+  ASSERT_TRUE(fifth.connected());
+  EXPECT_TRUE(fifth.closed_by_server());
+  EXPECT_FALSE(held[0]->closed_by_server());  // gRPC's SETTINGS, or nothing yet: still open
+  // One leaves: a client streams again in its place.
+  held.pop_back();
+  std::this_thread::sleep_for(milliseconds(500));
+  client::StreamClient viewer(client::connect(address), small_session());
+  EXPECT_FALSE(viewer.next_frame(milliseconds(10000)) == std::nullopt);
+}
+
 TEST(ConnectionLimitsTest, WhenDescriptorsRunOutItWaitsAndServesAgainOnceTheyAreBack) {
   // 96 descriptors in all: connections to the gRPC port (which has no limit of its own) take
   // the rest, and the HTTP port can accept nothing. (gRPC 1.51's own acceptor would stop for good
   // here: the server accepts gRPC's connections itself.)
-  testing::ServerProcess server({}, 96);
+  testing::ServerProcess server({"--max-connections-per-address", "1000"}, 96);
   RawConnection monitor(server.http_port());  // a load balancer's, open before
   ASSERT_EQ(monitor.get("/healthz"), "HTTP/1.1 200 OK");
   auto flood = flood_grpc_port(server);
@@ -211,8 +231,9 @@ TEST(ConnectionLimitsTest, WhenDescriptorsRunOutUnderTlsTheServerIsUnhealthyForG
   const auto folder =
       std::filesystem::temp_directory_path() / ("fluidcast-tls-" + std::to_string(::getpid()));
   const server::TlsFiles tls = server::self_signed_certificate(folder, {});
-  testing::ServerProcess server(
-      {"--tls-cert", tls.certificate.string(), "--tls-key", tls.key.string()}, 96);
+  testing::ServerProcess server({"--tls-cert", tls.certificate.string(), "--tls-key",
+                                 tls.key.string(), "--max-connections-per-address", "1000"},
+                                96);
   RawConnection monitor(server.http_port());
   ASSERT_EQ(monitor.get("/healthz"), "HTTP/1.1 200 OK");
   auto flood = flood_grpc_port(server);

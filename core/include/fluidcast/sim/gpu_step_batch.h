@@ -81,7 +81,10 @@ class GpuStepBatch {
     gpu::CommandSlot commands;
   };
   static constexpr std::size_t kSubmissionsInFlight = 4;
-  static constexpr std::uint32_t kTimestampCapacity = 4096;
+  // A submission with more passes than this goes untimed, and its steps teach their sessions no
+  // cost: room for one PBF step at the default max_substeps (256 substeps of about 20 passes at
+  // 4 iterations). 64 KiB of queries a slot.
+  static constexpr std::uint32_t kTimestampCapacity = 8192;
 
   gpu::Context* context_;
   std::vector<Queued> queued_;

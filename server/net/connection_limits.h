@@ -1,6 +1,7 @@
-// The HTTP side's open connections, in all and from each address, against the operator's limits
+// A port's open connections, in all and from each address, against the operator's limits
 // (ServerLimits::max_connections, max_connections_per_address): a connection over either is
-// closed as soon as it is accepted, before it costs more than its descriptor.
+// closed as soon as it is accepted, before it costs more than its descriptor. The HTTP port and
+// the plaintext gRPC port count theirs each.
 #pragma once
 
 #include <boost/asio/ip/address.hpp>

@@ -1,4 +1,4 @@
-#include "web/connection_limits.h"
+#include "net/connection_limits.h"
 
 namespace fluidcast::server {
 
