@@ -31,7 +31,6 @@
 #include "grpc/fluidcast_service.h"
 #include "grpc/grpc_listener.h"
 #include "grpc/grpc_log.h"
-#include "grpc/peer_address.h"
 #include "log.h"
 #include "options.h"
 #include "session/default_size.h"
@@ -157,27 +156,28 @@ PageTls page_tls(const ServerOptions& options, const std::vector<std::string>& a
   return {files, std::move(context)};
 }
 
-// The gRPC server, listening (on `listener` when there is one, else on its own port); nullptr
-// (and `port` 0) when it cannot listen where it was told.
-std::unique_ptr<grpc::Server> start_grpc(const ServerOptions& options, const ServerLimits& limits,
-                                         FluidcastService& service, GrpcListener* listener,
-                                         int& port) {
+// The gRPC server, with no port of its own: `listener` accepts its connections and hands them
+// over, in TLS with --tls-cert, else in plaintext. The acceptor must outlive the listener's stop.
+struct GrpcServer {
+  std::unique_ptr<grpc::experimental::ExternalConnectionAcceptor> acceptor;
+  std::unique_ptr<grpc::Server> server;  // null when gRPC could not start
+};
+
+GrpcServer start_grpc(const ServerOptions& options, const ServerLimits& limits,
+                      FluidcastService& service, GrpcListener& listener) {
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
-  if (!listener) {
+  std::shared_ptr<grpc::ServerCredentials> credentials = grpc::InsecureServerCredentials();
+  if (!options.tls_certificate.empty()) {
     grpc::SslServerCredentialsOptions tls;
     tls.pem_key_cert_pairs.push_back(
         {read_file(options.tls_key), read_file(options.tls_certificate)});
-    // An IPv6 address in brackets: gRPC reads "::" + ":50051" as a host without a port.
-    const std::string host =
-        options.listen.find(':') == std::string::npos ? options.listen : "[" + options.listen + "]";
-    builder.AddListeningPort(host + ":" + std::to_string(options.grpc_port),
-                             grpc::SslServerCredentials(tls), &port);
+    credentials = grpc::SslServerCredentials(tls);
   }
-  // gRPC sets SO_REUSEPORT by default: a second server on the same port would silently take half
-  // of the new clients. Exclusive, it fails to start instead.
-  builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
+  GrpcServer grpc;
+  grpc.acceptor = builder.experimental().AddExternalConnectionAcceptor(
+      grpc::ServerBuilder::experimental_type::ExternalConnectionType::FROM_FD, credentials);
   builder.RegisterService(&service);
   // A connection carries a stream and a few snapshot calls at a time, not thousands; one with no
   // call for a minute is closed (its descriptor is worth more than a client's reconnect).
@@ -191,13 +191,9 @@ std::unique_ptr<grpc::Server> start_grpc(const ServerOptions& options, const Ser
   // A snapshot of the largest session: 24 bytes a particle, and room for the rest.
   builder.SetMaxReceiveMessageSize(static_cast<int>(
       std::min<std::uint64_t>(INT32_MAX, 24ull * limits.max_particles + (1 << 20))));
-  auto server = builder.BuildAndStart();
-  if (server && listener) {
-    listener->start(*server);
-    port = listener->port();
-  }
-  if (!server) port = 0;
-  return port == 0 ? nullptr : std::move(server);
+  grpc.server = builder.BuildAndStart();
+  if (grpc.server) listener.start(*grpc.acceptor);
+  return grpc;
 }
 
 int grpc_address_in_use(const ServerOptions& options) {
@@ -317,22 +313,18 @@ int serve(const ServerOptions& options) {
   metrics.describe_device(context.info().name, context.info().hardware());
   const ServerLimits limits = limits_for_device(options, context, gpu_solver);
   SessionHub hub(context, gpu_solver, limits, read_token(options.token_file), metrics);
-  // Plaintext gRPC is accepted by a listener of ours (grpc_listener.h); gRPC over TLS by gRPC.
+  // gRPC's connections are accepted by a listener of ours (grpc_listener.h). Their total is
+  // what descriptors allow (the listener waits when they run out); from one address, as many as
+  // HTTP allows.
   std::optional<GrpcListener> grpc_listener;
-  if (options.tls_certificate.empty()) {
-    try {
-      // Its total is what descriptors allow (the listener waits when they run out); from one
-      // address, as many as HTTP allows.
-      grpc_listener.emplace(options.listen, options.grpc_port,
-                            ConnectionLimits(std::numeric_limits<std::uint32_t>::max(),
-                                             limits.max_connections_per_address));
-    } catch (const std::runtime_error&) {
-      return grpc_address_in_use(options);
-    }
+  try {
+    grpc_listener.emplace(options.listen, options.grpc_port,
+                          ConnectionLimits(std::numeric_limits<std::uint32_t>::max(),
+                                           limits.max_connections_per_address));
+  } catch (const std::runtime_error&) {
+    return grpc_address_in_use(options);
   }
-  FluidcastService service(hub, [&grpc_listener](std::string_view peer) {
-    return grpc_listener ? grpc_listener->address_of(peer) : peer_address(peer);
-  });
+  FluidcastService service(hub);
   const std::vector<std::string> addresses = lan_addresses();
   const PageTls tls = page_tls(options, addresses);
 
@@ -341,10 +333,7 @@ int serve(const ServerOptions& options) {
   std::atomic<bool> serving{true};
   HttpServer http(options.listen, options.http_port,
                   {[&] { return metrics.prometheus_text(); },
-                   [&] {
-                     return serving.load() &&
-                            (grpc_listener ? grpc_listener->accepting() : !grpc_acceptor_failed());
-                   },
+                   [&] { return serving.load() && grpc_listener->accepting(); },
                    [&hub](WebStream stream,
                           boost::beast::http::request<boost::beast::http::string_body> request,
                           std::shared_ptr<ConnectionLimits::Slot> slot) {
@@ -353,15 +342,17 @@ int serve(const ServerOptions& options) {
                    page_routes(options.web_root), options.allowed_origins},
                   ConnectionLimits(limits.max_connections, limits.max_connections_per_address),
                   tls.context);
-  int grpc_port = 0;
-  const std::unique_ptr<grpc::Server> server =
-      start_grpc(options, limits, service, grpc_listener ? &*grpc_listener : nullptr, grpc_port);
-  if (!server) return grpc_address_in_use(options);
-  // The listener hands connections to `server`: it stops before `server` goes, however serve()
-  // ends (at shutdown it is stopped earlier, before the streams end).
+  const GrpcServer grpc = start_grpc(options, limits, service, *grpc_listener);
+  if (!grpc.server) {
+    std::fprintf(stderr, "fluidcast-server: gRPC could not start (its log above says why)\n");
+    return 1;
+  }
+  const int grpc_port = grpc_listener->port();
+  // The listener hands connections to `grpc`: it stops before `grpc` goes, however serve() ends
+  // (at shutdown it is stopped earlier, before the streams end).
   const std::unique_ptr<GrpcListener, void (*)(GrpcListener*)> stop_listener(
-      grpc_listener ? &*grpc_listener : nullptr, [](GrpcListener* listener) { listener->stop(); });
-  grpc::HealthCheckServiceInterface* health = server->GetHealthCheckService();
+      &*grpc_listener, [](GrpcListener* listener) { listener->stop(); });
+  grpc::HealthCheckServiceInterface* health = grpc.server->GetHealthCheckService();
   health->SetServingStatus(true);
   log_where_to_connect(options, limits, context.info(), addresses, tls.files, grpc_port,
                        http.port());
@@ -376,8 +367,8 @@ int serve(const ServerOptions& options) {
   drain(signals, signal, options);
   spdlog::info("ending every stream");
   hub.stop();  // every stream ends with UNAVAILABLE; new ones are refused
-  if (grpc_listener) grpc_listener->stop();
-  server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(3));
+  grpc_listener->stop();
+  grpc.server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(3));
   http.stop();
   spdlog::info("stopped");
   return 0;

@@ -106,7 +106,7 @@ ServerOptions read_server_options(CLI::App& app, int argc, const char* const* ar
       ->check(CLI::Range(1u, 1u << 20));
   app.add_option("--max-connections-per-address", l.max_connections_per_address,
                  "HTTP and WebSocket connections open at once from one address, and as many "
-                 "plaintext gRPC connections")
+                 "gRPC connections")
       ->envname("FLUIDCAST_MAX_CONNECTIONS_PER_ADDRESS")
       ->check(CLI::Range(1u, 1u << 20));
   app.add_option("--tls-cert", o.tls_certificate,

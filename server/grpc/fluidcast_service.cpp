@@ -1,5 +1,6 @@
 #include "fluidcast_service.h"
 
+#include "grpc/peer_address.h"
 #include "session/validation.h"
 #include "status.h"
 #include "stream_reactor.h"
@@ -24,7 +25,7 @@ bool refused(grpc::ServerUnaryReactor* reactor, const std::string& given,
 
 grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::ByteBuffer>* FluidcastService::Stream(
     grpc::CallbackServerContext* context) {
-  return new StreamReactor(*hub_, address_of_(context->peer()));  // deletes itself in OnDone
+  return new StreamReactor(*hub_, peer_address(context->peer()));  // deletes itself in OnDone
 }
 
 grpc::ServerUnaryReactor* FluidcastService::GetServerInfo(grpc::CallbackServerContext* context,

@@ -2,10 +2,6 @@
 // the SessionHub.
 #pragma once
 
-#include <functional>
-#include <string>
-#include <string_view>
-
 #include "fluidcast/v1/fluidcast.grpc.pb.h"
 #include "session/session_hub.h"
 
@@ -18,12 +14,7 @@ class FluidcastService final
               v1::Fluidcast::WithCallbackMethod_GetSnapshot<
                   v1::Fluidcast::WithCallbackMethod_PutSnapshot<v1::Fluidcast::Service>>>> {
  public:
-  // What per-address limits count for a call's gRPC peer string (peer_address, or the
-  // GrpcListener's address_of for connections it handed to gRPC).
-  using AddressOf = std::function<std::string(std::string_view grpc_peer)>;
-
-  FluidcastService(SessionHub& hub, AddressOf address_of)
-      : hub_(&hub), address_of_(std::move(address_of)) {}
+  explicit FluidcastService(SessionHub& hub) : hub_(&hub) {}
 
   grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::ByteBuffer>* Stream(
       grpc::CallbackServerContext* context) override;
@@ -39,7 +30,6 @@ class FluidcastService final
 
  private:
   SessionHub* hub_;
-  AddressOf address_of_;
 };
 
 }  // namespace fluidcast::server

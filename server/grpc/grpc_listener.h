@@ -1,18 +1,16 @@
-// The plaintext gRPC port, accepted here and each connection handed to gRPC, rather than accepted
-// by gRPC: gRPC 1.51 stops accepting for good after one failed accept ("Failed accept4: Too many
-// open files"), while a Listener waits and goes on once descriptors are back; and a connection
-// over --max-connections-per-address is closed before gRPC sees it. (With --tls-cert gRPC listens
-// itself, with neither: docs/operations.md.)
+// The gRPC port, accepted here and each connection handed to gRPC (which makes it plaintext or
+// TLS), rather than accepted by gRPC: gRPC 1.51 stops accepting for good after one failed accept
+// ("Failed accept4: Too many open files"), while a Listener waits and goes on once descriptors
+// are back; and a connection over --max-connections-per-address is closed before gRPC sees it.
 #pragma once
 
-#include <grpcpp/server.h>
+#include <grpcpp/server_builder.h>
 #include <sys/types.h>
 
 #include <boost/asio/io_context.hpp>
 #include <memory>
 #include <mutex>
 #include <string>
-#include <string_view>
 #include <thread>
 #include <unordered_map>
 
@@ -29,16 +27,13 @@ class GrpcListener {
   GrpcListener(const GrpcListener&) = delete;
   GrpcListener& operator=(const GrpcListener&) = delete;
 
-  // `server` (built without listening ports) must outlive stop().
-  void start(grpc::Server& server);
+  // Hands connections to `acceptor` (of a server built without listening ports, and started),
+  // which must outlive stop().
+  void start(grpc::experimental::ExternalConnectionAcceptor& acceptor);
   void stop();
 
   unsigned short port() const { return listener_.port(); }
   bool accepting() const { return listener_.accepting(); }
-
-  // The client's address behind a gRPC peer string: gRPC names a connection handed to it
-  // "fd:N", which says nothing of where it came from; any other peer string as peer_address.
-  std::string address_of(std::string_view grpc_peer) const;
 
  private:
   // A connection handed to gRPC, by its descriptor. gRPC does not say when it closes one: a
@@ -46,7 +41,6 @@ class GrpcListener {
   struct Handed {
     dev_t device;
     ino_t inode;
-    std::string address;
     std::shared_ptr<ConnectionLimits::Slot> slot;
   };
   // A slot for a connection from `client`, after forgetting the closed ones if it had none.

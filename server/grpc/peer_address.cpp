@@ -10,8 +10,14 @@ std::string peer_address(std::string_view peer) {
     if (rest.rfind(open, 0) == 0) {
       const auto end = rest.find(close);
       if (end != std::string_view::npos) {
-        return std::string(
-            rest.substr(std::string_view(open).size(), end - std::string_view(open).size()));
+        std::string_view address =
+            rest.substr(std::string_view(open).size(), end - std::string_view(open).size());
+        constexpr std::string_view kMappedIpv4 = "::ffff:";
+        if (address.substr(0, kMappedIpv4.size()) == kMappedIpv4 &&
+            address.find('.') != std::string_view::npos) {
+          address.remove_prefix(kMappedIpv4.size());
+        }
+        return std::string(address);
       }
     }
   }

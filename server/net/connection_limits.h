@@ -1,7 +1,7 @@
 // A port's open connections, in all and from each address, against the operator's limits
 // (ServerLimits::max_connections, max_connections_per_address): a connection over either is
 // closed as soon as it is accepted, before it costs more than its descriptor. The HTTP port and
-// the plaintext gRPC port count theirs each.
+// the gRPC port count theirs each.
 #pragma once
 
 #include <boost/asio/ip/address.hpp>

@@ -36,6 +36,8 @@ class Listener {
 
   unsigned short port() const { return port_; }
   bool accepting() const { return accepting_.load(); }
+  // The listening socket, for an API that is handed its connections (gRPC's) and asks for it.
+  int native_handle() { return acceptor_.native_handle(); }
 
  private:
   void accept();

@@ -38,7 +38,7 @@ struct ServerLimits {
   std::chrono::seconds hello_timeout{10};
   // HTTP and WebSocket connections open at once, in all and from one address; one over either is
   // closed as soon as it is accepted. The total is lowered to half the process's descriptors.
-  // Plaintext gRPC connections are held to the same number from one address (counted apart).
+  // gRPC connections are held to the same number from one address (counted apart).
   std::uint32_t max_connections = 4096;
   std::uint32_t max_connections_per_address = 64;
 };
