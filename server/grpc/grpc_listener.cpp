@@ -43,13 +43,14 @@ std::shared_ptr<ConnectionLimits::Slot> GrpcListener::admit(
     const boost::asio::ip::address& client) {
   if (auto slot = limits_.admit(client)) return slot;
   const std::lock_guard lock(mutex_);
-  forget_closed();
+  forget_closed(client);
   return limits_.admit(client);
 }
 
-void GrpcListener::forget_closed() {
-  std::erase_if(handed_, [](const auto& entry) {
+void GrpcListener::forget_closed(const boost::asio::ip::address& client) {
+  std::erase_if(handed_, [&client](const auto& entry) {
     const auto& [fd, handed] = entry;
+    if (handed.slot->address() != client) return false;
     struct stat status {};
     return fstat(fd, &status) != 0 || status.st_dev != handed.device ||
            status.st_ino != handed.inode;

@@ -43,9 +43,11 @@ class GrpcListener {
     ino_t inode;
     std::shared_ptr<ConnectionLimits::Slot> slot;
   };
-  // A slot for a connection from `client`, after forgetting the closed ones if it had none.
+  // A slot for a connection from `client`, after forgetting its closed ones if it had none.
   std::shared_ptr<ConnectionLimits::Slot> admit(const boost::asio::ip::address& client);
-  void forget_closed();  // under mutex_
+  // Only `client`'s: a client at its limit that keeps connecting costs the accept loop no more
+  // than its own connections. Under mutex_.
+  void forget_closed(const boost::asio::ip::address& client);
 
   boost::asio::io_context io_;
   Listener listener_;

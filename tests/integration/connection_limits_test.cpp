@@ -192,7 +192,7 @@ TEST(ConnectionLimitsTest, GrpcConnectionsOverTheLimitFromOneAddressAreClosedOth
 }
 
 TEST(ConnectionLimitsTest, WhenDescriptorsRunOutItWaitsAndServesAgainOnceTheyAreBack) {
-  // 96 descriptors in all: connections to the gRPC port (which has no limit of its own) take
+  // 96 descriptors in all: connections to the gRPC port (which has no total of its own) take
   // the rest, and the HTTP port can accept nothing. (gRPC 1.51's own acceptor would stop for good
   // here: the server accepts gRPC's connections itself.)
   testing::ServerProcess server({"--max-connections-per-address", "1000"}, 96);
