@@ -26,11 +26,8 @@ void GrpcListener::start(grpc::experimental::ExternalConnectionAcceptor& accepto
     if (fstat(socket.native_handle(), &status) != 0) return;
     const int fd = socket.release();
     fcntl(fd, F_SETFD, FD_CLOEXEC);
-    {
-      const std::lock_guard lock(mutex_);
-      // A number in the table is taken again only once gRPC closed the connection that had it.
-      handed_[fd] = {status.st_dev, status.st_ino, std::move(slot)};
-    }
+    // A number in the table is taken again only once gRPC closed the connection that had it.
+    handed_[fd] = {status.st_dev, status.st_ino, std::move(slot)};
     grpc::experimental::ExternalConnectionAcceptor::NewConnectionParameters connection;
     connection.listener_fd = listening;
     connection.fd = fd;
@@ -42,7 +39,6 @@ void GrpcListener::start(grpc::experimental::ExternalConnectionAcceptor& accepto
 std::shared_ptr<ConnectionLimits::Slot> GrpcListener::admit(
     const boost::asio::ip::address& client) {
   if (auto slot = limits_.admit(client)) return slot;
-  const std::lock_guard lock(mutex_);
   forget_closed(client);
   return limits_.admit(client);
 }

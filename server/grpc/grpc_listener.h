@@ -9,7 +9,6 @@
 
 #include <boost/asio/io_context.hpp>
 #include <memory>
-#include <mutex>
 #include <string>
 #include <thread>
 #include <unordered_map>
@@ -37,7 +36,8 @@ class GrpcListener {
 
  private:
   // A connection handed to gRPC, by its descriptor. gRPC does not say when it closes one: a
-  // descriptor that no longer names the same socket (device and inode) was closed.
+  // descriptor that no longer names the same socket (device and inode) was closed. Touched only
+  // on the listener's one thread.
   struct Handed {
     dev_t device;
     ino_t inode;
@@ -45,15 +45,14 @@ class GrpcListener {
   };
   // A slot for a connection from `client`, after forgetting its closed ones if it had none.
   std::shared_ptr<ConnectionLimits::Slot> admit(const boost::asio::ip::address& client);
-  // Only `client`'s: a client at its limit that keeps connecting costs the accept loop no more
-  // than its own connections. Under mutex_.
+  // Only `client`'s are looked at (fstat): a client at its limit that keeps connecting costs the
+  // accept loop little more than its own connections.
   void forget_closed(const boost::asio::ip::address& client);
 
   boost::asio::io_context io_;
   Listener listener_;
   ConnectionLimits limits_;
   std::thread thread_;
-  mutable std::mutex mutex_;
   std::unordered_map<int, Handed> handed_;
 };
 
