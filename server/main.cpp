@@ -305,8 +305,8 @@ int serve(const ServerOptions& options) {
   const bool gpu_solver = gpu_solver_for(options, context);
   spdlog::info("sessions simulate on the {}",
                gpu_solver ? "GPU" : "CPU (the Vulkan device is a CPU; it renders only)");
-  if (const auto why = render::FrameRenderer::fluid_unsupported(context)) {
-    spdlog::warn("{}; viewers get points", *why);
+  if (const auto why = render::FrameRenderer::mc_unsupported(context)) {
+    spdlog::warn("{}; viewers get ssfr", *why);
   }
 
   Metrics metrics;

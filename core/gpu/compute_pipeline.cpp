@@ -55,12 +55,23 @@ ComputePipeline::ComputePipeline(Context& context, std::span<const std::uint32_t
   pipeline_ = UniquePipeline(device, raw_pipeline);
 }
 
-void ComputePipeline::dispatch_bytes(VkCommandBuffer commands, const void* push,
-                                     std::uint32_t bytes, std::uint64_t items) const {
+void ComputePipeline::check_push(std::uint32_t bytes) const {
   if (bytes != push_constant_bytes_) {
     throw std::logic_error("compute pipeline: push constants of " + std::to_string(bytes) +
                            " bytes for a layout of " + std::to_string(push_constant_bytes_));
   }
+}
+
+void ComputePipeline::bind(VkCommandBuffer commands, const void* push, std::uint32_t bytes) const {
+  vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.get());
+  if (bytes > 0) {
+    vkCmdPushConstants(commands, layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, bytes, push);
+  }
+}
+
+void ComputePipeline::dispatch_bytes(VkCommandBuffer commands, const void* push,
+                                     std::uint32_t bytes, std::uint64_t items) const {
+  check_push(bytes);
   if (items == 0) return;
   const std::uint64_t groups = (items + group_size_ - 1) / group_size_;
   const std::uint64_t x = groups < max_groups_x_ ? groups : max_groups_x_;
@@ -69,10 +80,7 @@ void ComputePipeline::dispatch_bytes(VkCommandBuffer commands, const void* push,
     throw std::invalid_argument("compute pipeline: " + std::to_string(items) +
                                 " invocations exceed the device's workgroup-count limits");
   }
-  vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.get());
-  if (bytes > 0) {
-    vkCmdPushConstants(commands, layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, bytes, push);
-  }
+  bind(commands, push, bytes);
   vkCmdDispatch(commands, static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y), 1);
 }
 

@@ -8,48 +8,34 @@
 namespace fluidcast::render {
 namespace {
 
-constexpr VkPipelineStageFlags kFragmentTests =
-    VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
-constexpr VkAccessFlags kDepthAccess =
-    VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
-
 gpu::UniqueRenderPass make_pass(VkDevice device) {
-  // Distance, thickness and spray: cleared, left ready to be copied out. Then the scene's depth
-  // as its pass left it, kept for later frames of the same camera.
-  VkAttachmentDescription attachments[4] = {
+  // Distance, thickness and spray: cleared, left ready to be copied out.
+  const VkAttachmentDescription attachments[3] = {
       cleared_attachment(FluidTarget::kFloatFormat, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL),
       cleared_attachment(FluidTarget::kFloatFormat, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL),
-      cleared_attachment(FluidTarget::kFloatFormat, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL),
-      cleared_attachment(RenderTarget::kDepthFormat,
-                         VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL)};
-  attachments[3].loadOp = VK_ATTACHMENT_LOAD_OP_LOAD;
-  attachments[3].initialLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+      cleared_attachment(FluidTarget::kFloatFormat, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL)};
   const VkAttachmentReference colour_refs[3] = {{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL},
                                                 {1, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL},
                                                 {2, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL}};
-  const VkAttachmentReference depth_ref{3, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
   VkSubpassDescription subpass{};
   subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
   subpass.colorAttachmentCount = 3;
   subpass.pColorAttachments = colour_refs;
-  subpass.pDepthStencilAttachment = &depth_ref;
-  // Before: the scene pass's depth writes, and the previous frame's copies out of the colour.
-  // After: the copies out, and the next scene pass's depth writes.
+  // Before: the previous frame's copies out of the attachments. After: this frame's.
   VkSubpassDependency before{};
   before.srcSubpass = VK_SUBPASS_EXTERNAL;
   before.dstSubpass = 0;
-  before.srcStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT | kFragmentTests;
-  before.srcAccessMask = VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
-  before.dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | kFragmentTests;
-  before.dstAccessMask =
-      VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | kDepthAccess;
+  before.srcStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
+  before.srcAccessMask = 0;
+  before.dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+  before.dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
   VkSubpassDependency after{};
   after.srcSubpass = 0;
   after.dstSubpass = VK_SUBPASS_EXTERNAL;
-  after.srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | kFragmentTests;
+  after.srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
   after.srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
-  after.dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT | kFragmentTests;
-  after.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT | kDepthAccess;
+  after.dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
+  after.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
   const VkSubpassDependency dependencies[2] = {before, after};
   return make_render_pass(device, attachments, subpass, dependencies);
 }
@@ -76,17 +62,15 @@ FluidTarget::FluidTarget(gpu::Context& context, const RenderTarget& scene)
              VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
              VK_IMAGE_ASPECT_COLOR_BIT),
       pass_(make_pass(context.device())) {
-  const VkImageView views[4] = {distance_.view(), thickness_.view(), spray_.view(),
-                                scene.depth().view()};
+  const VkImageView views[3] = {distance_.view(), thickness_.view(), spray_.view()};
   framebuffer_ = make_framebuffer(context.device(), pass_.get(), views, width_, height_);
 }
 
 void FluidTarget::begin(VkCommandBuffer commands) const {
-  VkClearValue values[4];
+  VkClearValue values[3];
   values[0].color = {{std::numeric_limits<float>::infinity(), 0.0f, 0.0f, 0.0f}};
   values[1].color = {{0.0f, 0.0f, 0.0f, 0.0f}};
   values[2].color = {{0.0f, 0.0f, 0.0f, 0.0f}};
-  values[3].depthStencil = {1.0f, 0};  // unused: the depth is loaded
   begin_render_pass(commands, pass_.get(), framebuffer_.get(), width_, height_, values);
 }
 

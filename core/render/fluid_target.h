@@ -1,8 +1,7 @@
-// Where SSFR draws its particles through the rasterizer, in one pass: the nearest surface's view
-// distance, the water crossed and the spray crossed, each a float per pixel in an attachment of
-// its own, combined by the blend units (minimum, sum, sum) rather than by buffer atomics, and
-// tested against the scene's depth (RenderTarget's, read, never written). Then all three are
-// copied into the buffers the screen-space passes read.
+// Where Marching Cubes draws its mesh, in one pass: the nearest surface's view distance, the water
+// crossed and the spray crossed (none: the mesh is all surface), each a float per pixel in an
+// attachment of its own, combined by the blend units (minimum, sum, sum). Then all three are
+// copied into the buffers the screen-space passes read, as SSFR's particle pass fills them.
 #pragma once
 
 #include "fluidcast/gpu/buffer.h"
@@ -18,13 +17,12 @@ class FluidTarget {
   // Whether the device can blend the float attachments (COLOR_ATTACHMENT_BLEND of R32_SFLOAT),
   // each its own way (independentBlend).
   static bool supported(const gpu::Context& context);
-  // Draws against `scene`'s depth, which must outlive it.
+  // Of `scene`'s size.
   FluidTarget(gpu::Context& context, const RenderTarget& scene);
 
   VkRenderPass render_pass() const { return pass_.get(); }
 
-  // Clears distance to +inf, thickness and spray to 0 and begins the pass (after the scene's
-  // pass).
+  // Clears distance to +inf, thickness and spray to 0 and begins the pass.
   void begin(VkCommandBuffer commands) const;
   void end(VkCommandBuffer commands) const;
   // Distances (+inf where no surface is), thicknesses (m) and spray (particle diameters) into

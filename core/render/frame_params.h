@@ -41,6 +41,15 @@ struct DrawConstants {
 };
 static_assert(offsetof(DrawConstants, ellipsoids) == 40 && sizeof(DrawConstants) == 48);
 
+// shaders/common/ssfr_splat.glsl
+struct SplatConstants {
+  VkDeviceAddress frame, position, shape, distance, thickness, spray, large;
+  std::uint32_t particle_count;
+  std::uint32_t ellipsoids;
+  std::uint32_t large_capacity;
+};
+static_assert(offsetof(SplatConstants, particle_count) == 56 && sizeof(SplatConstants) == 72);
+
 // shaders/common/screen_pass.glsl
 struct ScreenConstants {
   VkDeviceAddress frame, depth_in, depth_out, thickness, spray, scene, image;

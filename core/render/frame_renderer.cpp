@@ -25,6 +25,9 @@ constexpr VkPipelineStageFlags kCompute = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
 constexpr VkPipelineStageFlags kTransfer = VK_PIPELINE_STAGE_TRANSFER_BIT;
 constexpr VkAccessFlags kShaderAccess = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
 constexpr std::uint32_t kScreenGroup = 64;
+// SSFR's particles queued for a workgroup each (ssfr_splat_large.comp), at most: within every
+// device's limit on workgroups in x. Beyond it, the particle's own invocation casts them all.
+constexpr std::uint32_t kLargeSplatCapacity = 65535;
 
 }  // namespace
 
@@ -68,25 +71,28 @@ FrameRenderer::FrameRenderer(gpu::Context& context, std::uint32_t width, std::ui
       points_(std::make_unique<GraphicsPipeline>(context, target_.render_pass(),
                                                  shaders::render_points_vert,
                                                  shaders::render_points_frag, PipelineOptions{})),
+      splat_(context, shaders::render_ssfr_splat_comp, sizeof(SplatConstants), kScreenGroup),
+      splat_large_(context, shaders::render_ssfr_splat_large_comp, sizeof(SplatConstants),
+                   kScreenGroup),
+      splat_resolve_(context, shaders::render_ssfr_resolve_comp, sizeof(SplatConstants),
+                     kScreenGroup),
       smooth_(context, shaders::render_ssfr_smooth_comp, sizeof(ScreenConstants), kScreenGroup),
       shade_(context, shaders::render_ssfr_shade_comp, sizeof(ScreenConstants), kScreenGroup),
       yuv420_(context, shaders::render_yuv420_comp, sizeof(YuvConstants), kScreenGroup),
-      frame_params_(context, sizeof(FrameParams), gpu::MemoryDomain::device) {
+      frame_params_(context, sizeof(FrameParams), gpu::MemoryDomain::device),
+      splat_queue_(context, sizeof(std::uint32_t) * (4 + std::uint64_t{kLargeSplatCapacity}),
+                   gpu::MemoryDomain::device) {
   // On a CPU device the ellipsoids' neighbour loop costs more than the rest of a frame (lavapipe,
   // 2 cores: ~1.6 µs a particle), and a frame is one indivisible piece of the GPU's time.
   ssfr.anisotropic = context.info().hardware();
   if (FluidTarget::supported(context)) {
     fluid_target_ = std::make_unique<FluidTarget>(context, target_);
-    fluid_surface_ = std::make_unique<GraphicsPipeline>(
-        context, fluid_target_->render_pass(), shaders::render_ellipsoids_vert,
-        shaders::render_fluid_surface_frag,
-        PipelineOptions{true, false, true, {Blend::min, Blend::add, Blend::add}});
     // No depth test: the mesh closes just outside the tank's walls, behind the scene, and the
     // thickness needs every face.
     mc_surface_ = std::make_unique<GraphicsPipeline>(
         context, fluid_target_->render_pass(), shaders::render_mc_vert,
         shaders::render_mc_surface_frag,
-        PipelineOptions{false, false, true, {Blend::min, Blend::add, Blend::add}});
+        PipelineOptions{false, {Blend::min, Blend::add, Blend::add}});
   }
   const std::uint64_t per_pixel = std::uint64_t{width} * height * 4;
   for (gpu::Buffer* buffer : {&depth_, &depth_scratch_, &thickness_, &spray_, &scene_, &image_}) {
@@ -103,16 +109,16 @@ FrameRenderer::FrameRenderer(gpu::Context& context, std::uint32_t width, std::ui
   }
 }
 
-std::optional<std::string> FrameRenderer::fluid_unsupported(const gpu::Context& context) {
+std::optional<std::string> FrameRenderer::mc_unsupported(const gpu::Context& context) {
   if (FluidTarget::supported(context)) return std::nullopt;
-  return "renderers ssfr and mc: the device " + context.info().name +
+  return "renderer mc: the device " + context.info().name +
          " cannot blend 32-bit float attachments each its own way (R32_SFLOAT "
          "COLOR_ATTACHMENT_BLEND, independentBlend)";
 }
 
 RendererKind FrameRenderer::drawable(RendererKind kind, std::uint32_t particles) const {
   const RendererKind resolved = resolve(kind, particles);
-  return resolved != RendererKind::points && !fluid_target_ ? RendererKind::points : resolved;
+  return resolved == RendererKind::mc && !fluid_target_ ? RendererKind::ssfr : resolved;
 }
 
 std::uint64_t FrameRenderer::frame_bytes(FrameFormat frame_format) const {
@@ -189,8 +195,8 @@ std::uint64_t FrameRenderer::submit(RendererKind requested, const ParticleView& 
         "renderer: anisotropy's stretch must lie in 1 to 16, its centre smoothing in 0 to 1, its "
         "spray neighbours in 0 to 32");
   }
-  if (kind != RendererKind::points && !fluid_target_) {
-    throw std::invalid_argument(*fluid_unsupported(*context_) + "; use points");
+  if (kind == RendererKind::mc && !fluid_target_) {
+    throw std::invalid_argument(*mc_unsupported(*context_) + "; use ssfr or points");
   }
   if (kind == RendererKind::mc) {
     const int resolution =
@@ -307,7 +313,7 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
   // The solver's writes (compute, transfers) before this frame reads the particles in place; and
   // the previous frame's reads of what frames share (the per-pixel buffers, the anisotropy's
   // grid and ellipsoids) before this one writes them.
-  memory_barrier(commands, kCompute | kTransfer | kDrawStages,
+  memory_barrier(commands, kCompute | kTransfer | kDrawStages | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
                  VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
                  kDrawStages | kTransfer | kCompute,
                  VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
@@ -321,14 +327,14 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
   const bool scene_kept =
       record_scene_and_points(commands, kind, draw, particles.count,
                               SceneKey{frame.view, frame.projection, tank.min, tank.max}, slot);
-  if (kind != RendererKind::points) {
-    // SSFR and MC draw through FluidTarget's attachments, copied into the per-pixel surface
-    // buffers that the filter and the shading read.
+  // The per-pixel surface buffers that the filter and the shading read: SSFR casts its
+  // ellipsoids into them in compute; MC draws through FluidTarget's attachments, copied there.
+  if (kind == RendererKind::ssfr) {
+    record_splat(commands, draw, particles.count);
+  } else if (kind == RendererKind::mc) {
     fluid_target_->begin(commands);
-    if (kind == RendererKind::mc && particles.count > 0) {
+    if (particles.count > 0) {
       mc_surface_->draw_indirect(commands, draw, marching_cubes_->draw_buffer());
-    } else if (kind == RendererKind::ssfr) {
-      fluid_surface_->draw(commands, draw, 6 * particles.count);
     }
     fluid_target_->end(commands);
     fluid_target_->record_read(commands, depth_, thickness_, spray_);
@@ -399,6 +405,28 @@ bool FrameRenderer::record_scene_and_points(VkCommandBuffer commands, RendererKi
   return kept;
 }
 
+void FrameRenderer::record_splat(VkCommandBuffer commands, const DrawConstants& draw,
+                                 std::uint32_t particles) {
+  const std::uint64_t pixel_bytes = std::uint64_t{target_.width()} * target_.height() * 4;
+  constexpr std::uint32_t kInfinityBits = 0x7f800000;  // +inf: no surface
+  vkCmdFillBuffer(commands, depth_.get(), 0, pixel_bytes, kInfinityBits);
+  vkCmdFillBuffer(commands, thickness_.get(), 0, pixel_bytes, 0);
+  vkCmdFillBuffer(commands, spray_.get(), 0, pixel_bytes, 0);
+  const std::uint32_t empty_queue[4] = {0, 1, 1, 0};  // no workgroups (x, y, z), none queued
+  vkCmdUpdateBuffer(commands, splat_queue_.get(), 0, sizeof empty_queue, empty_queue);
+  memory_barrier(commands, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute, kShaderAccess);
+  const SplatConstants splat{
+      draw.frame,       draw.position,          draw.shape, depth_.address(), thickness_.address(),
+      spray_.address(), splat_queue_.address(), particles,  draw.ellipsoids,  kLargeSplatCapacity};
+  splat_.dispatch(commands, splat, particles);
+  memory_barrier(commands, kCompute, VK_ACCESS_SHADER_WRITE_BIT,
+                 kCompute | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
+                 kShaderAccess | VK_ACCESS_INDIRECT_COMMAND_READ_BIT);
+  splat_large_.dispatch_indirect(commands, splat, splat_queue_.get(), 0);
+  memory_barrier(commands, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderAccess);
+  splat_resolve_.dispatch(commands, splat, pixel_bytes / 4);
+}
+
 void FrameRenderer::record_points_read_back(VkCommandBuffer commands, const Slot& slot) {
   VkBufferImageCopy region{};
   region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
@@ -423,7 +451,7 @@ void FrameRenderer::record_fluid_screen(VkCommandBuffer commands, RendererKind k
     vkCmdCopyImageToBuffer(commands, target_.colour().get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                            scene_.get(), 1, &region);
   }
-  memory_barrier(commands, kTransfer | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+  memory_barrier(commands, kTransfer | kCompute,
                  VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT, kCompute,
                  kShaderAccess);
   const std::uint64_t pixels = std::uint64_t{width} * height;

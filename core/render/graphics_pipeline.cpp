@@ -30,10 +30,8 @@ std::vector<VkPipelineColorBlendAttachmentState> blend_attachments(const Pipelin
   std::vector<VkPipelineColorBlendAttachmentState> attachments;
   for (const Blend kind : options.attachments) {
     VkPipelineColorBlendAttachmentState attachment{};
-    attachment.colorWriteMask = options.colour_write
-                                    ? VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
-                                          VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT
-                                    : 0;
+    attachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
+                                VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
     if (kind != Blend::replace) {
       // Factors of one: a sum, or (ignored by the minimum) what min compares.
       attachment.blendEnable = VK_TRUE;
@@ -79,8 +77,7 @@ GraphicsPipeline::GraphicsPipeline(gpu::Context& context, VkRenderPass render_pa
   multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
   VkPipelineDepthStencilStateCreateInfo depth{
       VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-  depth.depthTestEnable = options.depth_test ? VK_TRUE : VK_FALSE;
-  depth.depthWriteEnable = options.depth_write ? VK_TRUE : VK_FALSE;
+  depth.depthTestEnable = depth.depthWriteEnable = options.depth ? VK_TRUE : VK_FALSE;
   depth.depthCompareOp = VK_COMPARE_OP_LESS;
   const std::vector<VkPipelineColorBlendAttachmentState> attachments = blend_attachments(options);
   VkPipelineColorBlendStateCreateInfo blend{

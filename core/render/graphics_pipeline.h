@@ -16,9 +16,7 @@ namespace fluidcast::render {
 enum class Blend { replace, add, min };
 
 struct PipelineOptions {
-  bool depth_test = true;
-  bool depth_write = true;   // else depth-tested only
-  bool colour_write = true;  // else the fragment shader works by side effects (MC surface)
+  bool depth = true;  // tested and written (the scene's pass); else neither (FluidTarget's)
   std::vector<Blend> attachments = {Blend::replace};  // one per colour attachment of the pass
 };
 

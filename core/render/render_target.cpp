@@ -21,13 +21,13 @@ void check_size(const gpu::Context& context, std::uint32_t width, std::uint32_t 
   }
 }
 
-// Clears colour and depth, and stores both: the colour to be copied out, the depth for the
-// fluid's pass (FluidTarget) of this frame and of later frames of the same camera.
+// Clears colour and depth; stores the colour, to be copied out.
 gpu::UniqueRenderPass make_scene_pass(VkDevice device) {
-  const VkAttachmentDescription attachments[2] = {
+  VkAttachmentDescription attachments[2] = {
       cleared_attachment(RenderTarget::kColourFormat, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL),
       cleared_attachment(RenderTarget::kDepthFormat,
                          VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL)};
+  attachments[1].storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
   const VkAttachmentReference colour_ref{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
   const VkAttachmentReference depth_ref{1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
   VkSubpassDescription subpass{};

@@ -15,7 +15,7 @@ void set(v1::Range& range, double min, double max) {
 
 }  // namespace
 
-v1::InputRules input_rules(bool fluid_drawable) {
+v1::InputRules input_rules(bool mc_drawable) {
   using render::OrbitCamera;
   v1::InputRules rules;
   set(*rules.mutable_camera_distance(), 0.0, OrbitCamera::kMaxDistance);
@@ -29,10 +29,9 @@ v1::InputRules input_rules(bool fluid_drawable) {
   rules.set_max_state_particles(kMaxStateParticles);
   for (auto name : sim::scene_names()) rules.add_scenes(std::string(name));
   for (auto name : sim::solver_names()) rules.add_solvers(std::string(name));
-  // A viewer that asks for a renderer the device cannot draw gets points (Frame.renderer).
+  // A viewer that asks for a renderer the device cannot draw gets SSFR (Frame.renderer).
   for (auto name : render::renderer_names()) {
-    if (fluid_drawable || name == "points" || name == "auto")
-      rules.add_renderers(std::string(name));
+    if (mc_drawable || name != "mc") rules.add_renderers(std::string(name));
   }
   return rules;
 }

@@ -22,8 +22,8 @@ inline constexpr std::uint32_t kMaxJpegQuality = 100;
 inline constexpr std::uint32_t kMaxStateParticles = 16384;
 inline constexpr std::uint32_t kStateRequestsPerSecond = 4;
 
-// The table as clients receive it; `fluid_drawable`: the device draws SSFR and Marching Cubes (else
-// it offers "points" and "auto" only).
-v1::InputRules input_rules(bool fluid_drawable);
+// The table as clients receive it; `mc_drawable`: the device draws Marching Cubes (else it is not
+// offered).
+v1::InputRules input_rules(bool mc_drawable);
 
 }  // namespace fluidcast::server

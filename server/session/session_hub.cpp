@@ -275,7 +275,7 @@ v1::ServerInfo SessionHub::info() const {
   limits.set_max_input_events_per_second(limits_.max_input_events_per_second);
   limits.set_resume_grace_seconds(static_cast<std::uint32_t>(limits_.resume_grace.count()));
   limits.set_idle_timeout_seconds(static_cast<std::uint32_t>(limits_.idle_timeout.count()));
-  *info.mutable_rules() = input_rules(!render::FrameRenderer::fluid_unsupported(*context_));
+  *info.mutable_rules() = input_rules(!render::FrameRenderer::mc_unsupported(*context_));
   info.set_token_required(token_.has_value());
   info.set_sessions(session_count_);
   return info;

@@ -4,6 +4,6 @@ layout(push_constant, std430) uniform Draw {
   Vec4s position;
   Vec4s velocity;
   Floats density_ratio;  // points mode: ρ/ρ0 per particle, when colouring by density
-  Vec4s shape;           // SSFR: per particle, two vec4 of its ellipsoid (anisotropy.comp)
-  uint ellipsoids;       // SSFR: 1 when `position` and `shape` are anisotropy.comp's, else spheres
+  Vec4s shape;           // SSFR (its compute splat): two vec4 per particle, anisotropy.comp's
+  uint ellipsoids;       // SSFR: 1 when `position` and `shape` are anisotropy.comp's
 } draw;

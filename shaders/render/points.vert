@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Each particle becomes a camera-facing square of six vertices (no vertex buffer, no point-size
-// limits); the fragment shaders (points, SSFR's spheres) cut a sphere out of it.
+// limits); points.frag cuts a sphere out of it.
 // The square lies in the sphere's centre plane but carries the depth of its front plane, so the
 // sphere's true depth, which the fragment shader writes, is never nearer than the square's: with
 // conservative depth (depth_greater) the depth test still rejects hidden spheres before shading.

@@ -204,15 +204,15 @@ TEST_F(RenderTest, PlanesFromTheGpuEncodeAsWellAsTheRgbaFrame) {
 }
 
 // A device without independent blending (here: lavapipe with the feature left off) cannot draw
-// SSFR or MC: asked for by name they are refused, naming the feature; drawable() and automatic
-// fall back to points.
-TEST(RendererFallback, WithoutIndependentBlendOnlyPointsAndTheRefusalNamesTheFeature) {
+// Marching Cubes: asked for by name it is refused, naming the feature; drawable() and automatic
+// fall back to SSFR, which needs no blending (its particle pass is compute).
+TEST(RendererFallback, WithoutIndependentBlendMarchingCubesGivesWayToSsfr) {
   gpu::ContextOptions options = gpu::options_from_environment();
   options.validation = true;
   options.independent_blend = false;
   options.log = [](const std::string&) {};
   gpu::Context context(options);
-  const auto why = FrameRenderer::fluid_unsupported(context);
+  const auto why = FrameRenderer::mc_unsupported(context);
   ASSERT_TRUE(why.has_value());
   EXPECT_NE(why->find("independentBlend"), std::string::npos) << *why;
   sim::ParticleSet one;
@@ -220,21 +220,24 @@ TEST(RendererFallback, WithoutIndependentBlendOnlyPointsAndTheRefusalNamesTheFea
   ParticleSource source(context);
   const ParticleView view = source.upload(one, 0.02f);
   FrameRenderer renderer(context, 64, 48);
-  for (RendererKind kind : {RendererKind::ssfr, RendererKind::mc, RendererKind::automatic}) {
-    EXPECT_EQ(renderer.drawable(kind, 100000), RendererKind::points);
-  }
-  for (RendererKind kind : {RendererKind::ssfr, RendererKind::mc}) {
-    try {
-      renderer.render(kind, view, kTank, looking_at_tank());
-      ADD_FAILURE() << "drew " << renderer_name(kind) << " without independent blending";
-    } catch (const std::invalid_argument& e) {
-      EXPECT_NE(std::string(e.what()).find("independentBlend"), std::string::npos) << e.what();
+  for (std::uint32_t particles : {1u, 100000u}) {
+    for (RendererKind kind : {RendererKind::ssfr, RendererKind::mc, RendererKind::automatic}) {
+      EXPECT_EQ(renderer.drawable(kind, particles), RendererKind::ssfr);
     }
   }
+  try {
+    renderer.render(RendererKind::mc, view, kTank, looking_at_tank());
+    ADD_FAILURE() << "drew mc without independent blending";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("independentBlend"), std::string::npos) << e.what();
+  }
+  const auto ssfr = rgba(renderer.render(RendererKind::ssfr, view, kTank, looking_at_tank()));
   EXPECT_EQ(rgba(renderer.render(RendererKind::automatic, view, kTank, looking_at_tank())).pixels,
+            ssfr.pixels);
+  EXPECT_NE(ssfr.pixels,
             rgba(renderer.render(RendererKind::points, view, kTank, looking_at_tank())).pixels);
   EXPECT_TRUE(context.validation_errors().empty());
-  EXPECT_FALSE(FrameRenderer::fluid_unsupported(fluidcast::testing::test_context()).has_value());
+  EXPECT_FALSE(FrameRenderer::mc_unsupported(fluidcast::testing::test_context()).has_value());
 }
 
 TEST_F(RenderTest, MarchingCubesShowsTheFluidAtAnyResolutionAndAutoPicksByCount) {

@@ -80,10 +80,9 @@ TEST(ServerTest, HandshakeThenFramesThatDecodeAtTheRequestedSize) {
   EXPECT_EQ(server.stop(), 0);
 }
 
-// On a device that cannot draw the fluid renderers (here lavapipe with independent blending left
-// off), the server offers points only, and a viewer that asks for SSFR gets points, as its frames
-// say.
-TEST(ServerTest, ARendererTheDeviceCannotDrawFallsBackToPoints) {
+// On a device that cannot draw Marching Cubes (here lavapipe with independent blending left off),
+// the server does not offer it, and a viewer that asks for it gets SSFR, as its frames say.
+TEST(ServerTest, ARendererTheDeviceCannotDrawFallsBackToSsfr) {
   setenv("FLUIDCAST_INDEPENDENT_BLEND", "0", 1);
   testing::ServerProcess server;
   unsetenv("FLUIDCAST_INDEPENDENT_BLEND");
@@ -93,11 +92,11 @@ TEST(ServerTest, ARendererTheDeviceCannotDrawFallsBackToPoints) {
   ASSERT_TRUE(v1::Fluidcast::NewStub(channel)->GetServerInfo(&context, {}, &info).ok());
   EXPECT_EQ(
       std::vector<std::string>(info.rules().renderers().begin(), info.rules().renderers().end()),
-      (std::vector<std::string>{"points", "auto"}));
+      (std::vector<std::string>{"points", "ssfr", "auto"}));
   v1::Hello hello = small_hello();
-  hello.mutable_quality()->set_renderer("ssfr");
+  hello.mutable_quality()->set_renderer("mc");
   StreamClient stream(channel, hello);
-  for (int k = 0; k < 2; ++k) EXPECT_EQ(frame_from(stream).renderer(), "points");
+  for (int k = 0; k < 2; ++k) EXPECT_EQ(frame_from(stream).renderer(), "ssfr");
   EXPECT_TRUE(stream.finish().ok());
   EXPECT_EQ(server.stop(), 0);
 }

@@ -284,7 +284,7 @@ TEST(ValidationTest, TheAdvertisedRulesAreTheEnforcedOnes) {
     message.mutable_command()->mutable_quality()->set_renderer(name);
     EXPECT_NO_THROW(validate_event(message, limits, Access::control)) << name;
   }
-  EXPECT_EQ(input_rules(false).renderers_size(), 2);  // points and auto
+  EXPECT_EQ(input_rules(false).renderers_size(), 3);  // points, ssfr and auto
 }
 
 TEST(ValidationTest, TheRateLimitAllowsASecondsBurstThenTheRate) {

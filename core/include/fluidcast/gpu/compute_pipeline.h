@@ -28,10 +28,22 @@ class ComputePipeline {
     static_assert(sizeof(Push) <= 128, "push constants beyond the guaranteed 128 bytes");
     dispatch_bytes(commands, &push, sizeof(Push), items);
   }
+  // Binds the pipeline and dispatches the workgroups a VkDispatchIndirectCommand at `offset` in
+  // `arguments` says, as the GPU left them (each count within the device's limits).
+  template <class Push>
+  void dispatch_indirect(VkCommandBuffer commands, const Push& push, VkBuffer arguments,
+                         VkDeviceSize offset) const {
+    static_assert(sizeof(Push) <= 128, "push constants beyond the guaranteed 128 bytes");
+    check_push(sizeof(Push));
+    bind(commands, &push, sizeof(Push));
+    vkCmdDispatchIndirect(commands, arguments, offset);
+  }
 
  private:
   void dispatch_bytes(VkCommandBuffer commands, const void* push, std::uint32_t bytes,
                       std::uint64_t items) const;
+  void check_push(std::uint32_t bytes) const;  // throws std::logic_error for the wrong size
+  void bind(VkCommandBuffer commands, const void* push, std::uint32_t bytes) const;
 
   UniquePipelineLayout layout_;
   UniquePipeline pipeline_;

@@ -142,11 +142,11 @@ class FrameRenderer {
   FrameRenderer(gpu::Context& context, std::uint32_t width, std::uint32_t height);
   ~FrameRenderer();
 
-  // Why the device cannot draw SSFR and Marching Cubes (a sentence naming the missing feature);
-  // nothing when it can. Points it always can.
-  static std::optional<std::string> fluid_unsupported(const gpu::Context& context);
-  // What `kind` draws for this many particles on this device: automatic resolved, and points in
-  // place of a renderer the device cannot draw.
+  // Why the device cannot draw Marching Cubes (a sentence naming the missing feature); nothing
+  // when it can. Points and SSFR it always can.
+  static std::optional<std::string> mc_unsupported(const gpu::Context& context);
+  // What `kind` draws for this many particles on this device: automatic resolved, and SSFR in
+  // place of Marching Cubes where the device cannot draw that.
   RendererKind drawable(RendererKind kind, std::uint32_t particles) const;
 
   PointsStyle points;
@@ -169,7 +169,7 @@ class FrameRenderer {
   // kFramesInFlight frames already in flight, first waits for the oldest and keeps its image for
   // take_oldest(); of kept images beyond kFramesInFlight, the oldest are dropped (counted).
   // Throws std::invalid_argument for a camera that is not finite or out of range, and for a
-  // renderer the device cannot draw (fluid_unsupported says why).
+  // renderer the device cannot draw (mc_unsupported says why).
   std::uint64_t submit(RendererKind kind, const ParticleView& particles, const sim::Box& tank,
                        const OrbitCamera& camera);
   // The oldest frame submitted and not yet taken, in the format it was submitted with, waiting
@@ -226,6 +226,8 @@ class FrameRenderer {
   bool record_scene_and_points(VkCommandBuffer commands, RendererKind kind,
                                const DrawConstants& draw, std::uint32_t particles,
                                const SceneKey& scene, Slot& slot);
+  // SSFR: the particles' ellipsoids into the surface buffers (depth_, thickness_, spray_).
+  void record_splat(VkCommandBuffer commands, const DrawConstants& draw, std::uint32_t particles);
   void record_points_read_back(VkCommandBuffer commands, const Slot& slot);
   // SSFR and MC: the depth filter, shading and the read-back (with the probe).
   void record_fluid_screen(VkCommandBuffer commands, RendererKind kind, bool scene_kept,
@@ -239,14 +241,15 @@ class FrameRenderer {
   gpu::Context* context_;
   RenderTarget target_;
   std::unique_ptr<GraphicsPipeline> background_, points_;
-  // SSFR's spheres and Marching Cubes' mesh: none where the device cannot blend float
-  // attachments.
+  // Marching Cubes' mesh: none where the device cannot blend float attachments.
   std::unique_ptr<FluidTarget> fluid_target_;
-  std::unique_ptr<GraphicsPipeline> fluid_surface_, mc_surface_;
+  std::unique_ptr<GraphicsPipeline> mc_surface_;
   std::unique_ptr<MarchingCubes> marching_cubes_;  // built for the tank of the first mc frame
   std::unique_ptr<Anisotropy> anisotropy_;         // made for the first anisotropic frame
-  gpu::ComputePipeline smooth_, shade_, yuv420_;
+  gpu::ComputePipeline splat_, splat_large_, splat_resolve_, smooth_, shade_, yuv420_;
   gpu::Buffer frame_params_;
+  // SSFR's particle pass: the dispatch of ssfr_splat_large.comp and the particles it casts.
+  gpu::Buffer splat_queue_;
   // SSFR and MC, one value per pixel: nearest fluid distance (and a filtered copy), thickness,
   // spray, the scene behind, and the finished frame.
   gpu::Buffer depth_, depth_scratch_, thickness_, spray_, scene_, image_;

@@ -18,12 +18,10 @@ class RenderTarget {
   std::uint32_t height() const { return colour_.height(); }
   VkRenderPass render_pass() const { return pass_.get(); }
   const gpu::Image& colour() const { return colour_; }
-  // The scene's depth, which SSFR's sphere pass tests against (FluidTarget).
-  const gpu::Image& depth() const { return depth_; }
 
   // Begins the render pass, clearing the colour to `background` and the depth; viewport and
-  // scissor cover the target. The pass ends with the colour image ready to be copied from, and
-  // the depth kept (the fluid's pass tests against it, in later frames of the same camera too).
+  // scissor cover the target. The pass ends with the colour image ready to be copied from; the
+  // depth serves within the pass (points over the scene).
   void begin(VkCommandBuffer commands, const float background[4]) const;
   void end(VkCommandBuffer commands) const;
 
