@@ -41,14 +41,17 @@ struct DrawConstants {
 };
 static_assert(offsetof(DrawConstants, ellipsoids) == 40 && sizeof(DrawConstants) == 48);
 
-// shaders/common/ssfr_splat.glsl
+// shaders/common/particle_splat.glsl
+enum class SplatMode : std::uint32_t { ssfr, points_distance, points_colour };
 struct SplatConstants {
-  VkDeviceAddress frame, position, shape, distance, thickness, spray, large;
+  VkDeviceAddress frame, position, velocity, density_ratio, shape, distance, thickness, spray,
+      image, large;
   std::uint32_t particle_count;
   std::uint32_t ellipsoids;
   std::uint32_t large_capacity;
+  std::uint32_t mode;  // a SplatMode
 };
-static_assert(offsetof(SplatConstants, particle_count) == 56 && sizeof(SplatConstants) == 72);
+static_assert(offsetof(SplatConstants, particle_count) == 80 && sizeof(SplatConstants) == 96);
 
 // shaders/common/screen_pass.glsl
 struct ScreenConstants {

@@ -24,7 +24,9 @@ constexpr VkPipelineStageFlags kDrawStages =
 constexpr VkPipelineStageFlags kCompute = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
 constexpr VkPipelineStageFlags kTransfer = VK_PIPELINE_STAGE_TRANSFER_BIT;
 constexpr VkAccessFlags kShaderAccess = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
+constexpr VkPipelineStageFlags kIndirect = VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT;
 constexpr std::uint32_t kScreenGroup = 64;
+constexpr std::uint32_t kInfinityBits = 0x7f800000;  // +inf, a float: no surface at the pixel
 // SSFR's particles queued for a workgroup each (ssfr_splat_large.comp), at most: within every
 // device's limit on workgroups in x. Beyond it, the particle's own invocation casts them all.
 constexpr std::uint32_t kLargeSplatCapacity = 65535;
@@ -68,11 +70,8 @@ FrameRenderer::FrameRenderer(gpu::Context& context, std::uint32_t width, std::ui
       background_(std::make_unique<GraphicsPipeline>(
           context, target_.render_pass(), shaders::render_background_vert,
           shaders::render_background_frag, PipelineOptions{})),
-      points_(std::make_unique<GraphicsPipeline>(context, target_.render_pass(),
-                                                 shaders::render_points_vert,
-                                                 shaders::render_points_frag, PipelineOptions{})),
-      splat_(context, shaders::render_ssfr_splat_comp, sizeof(SplatConstants), kScreenGroup),
-      splat_large_(context, shaders::render_ssfr_splat_large_comp, sizeof(SplatConstants),
+      splat_(context, shaders::render_particle_splat_comp, sizeof(SplatConstants), kScreenGroup),
+      splat_large_(context, shaders::render_particle_splat_large_comp, sizeof(SplatConstants),
                    kScreenGroup),
       splat_resolve_(context, shaders::render_ssfr_resolve_comp, sizeof(SplatConstants),
                      kScreenGroup),
@@ -91,8 +90,7 @@ FrameRenderer::FrameRenderer(gpu::Context& context, std::uint32_t width, std::ui
     // thickness needs every face.
     mc_surface_ = std::make_unique<GraphicsPipeline>(
         context, fluid_target_->render_pass(), shaders::render_mc_vert,
-        shaders::render_mc_surface_frag,
-        PipelineOptions{false, {Blend::min, Blend::add, Blend::add}});
+        shaders::render_mc_surface_frag, PipelineOptions{{Blend::min, Blend::add, Blend::add}});
   }
   const std::uint64_t per_pixel = std::uint64_t{width} * height * 4;
   for (gpu::Buffer* buffer : {&depth_, &depth_scratch_, &thickness_, &spray_, &scene_, &image_}) {
@@ -312,26 +310,27 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
   slot.projection = frame.projection;
   // The solver's writes (compute, transfers) before this frame reads the particles in place; and
   // the previous frame's reads of what frames share (the per-pixel buffers, the anisotropy's
-  // grid and ellipsoids) before this one writes them.
-  memory_barrier(commands, kCompute | kTransfer | kDrawStages | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
+  // grid and ellipsoids, the particle passes' queue) before this one writes them.
+  memory_barrier(commands, kCompute | kTransfer | kDrawStages | kIndirect,
                  VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
                  kDrawStages | kTransfer | kCompute,
                  VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
   vkCmdUpdateBuffer(commands, frame_params_.get(), 0, sizeof(frame), &frame);
-  memory_barrier(commands, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, kDrawStages, kShaderAccess);
+  memory_barrier(commands, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, kDrawStages | kCompute,
+                 kShaderAccess);
 
   slot.timestamps.reset(commands);
   slot.timed.clear();
   slot.timestamps.mark(commands);
   const DrawConstants draw = record_shapes(commands, kind, particles, tank, slot);
-  const bool scene_kept =
-      record_scene_and_points(commands, kind, draw, particles.count,
-                              SceneKey{frame.view, frame.projection, tank.min, tank.max}, slot);
-  // The per-pixel surface buffers that the filter and the shading read: SSFR casts its
-  // ellipsoids into them in compute; MC draws through FluidTarget's attachments, copied there.
-  if (kind == RendererKind::ssfr) {
-    record_splat(commands, draw, particles.count);
-  } else if (kind == RendererKind::mc) {
+  record_scene(commands, draw, SceneKey{frame.view, frame.projection, tank.min, tank.max}, slot);
+  // Points into the finished frame; SSFR and MC into the per-pixel surface buffers that the
+  // filter and the shading read (SSFR in compute, MC through FluidTarget's attachments).
+  if (kind == RendererKind::points) {
+    record_points(commands, draw, particles.count);
+  } else if (kind == RendererKind::ssfr) {
+    record_ssfr_particles(commands, draw, particles.count);
+  } else {
     fluid_target_->begin(commands);
     if (particles.count > 0) {
       mc_surface_->draw_indirect(commands, draw, marching_cubes_->draw_buffer());
@@ -340,11 +339,8 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
     fluid_target_->record_read(commands, depth_, thickness_, spray_);
   }
   slot.mark(commands, &RenderTimes::particles_ms);
-  if (kind == RendererKind::points) {
-    record_points_read_back(commands, slot);
-  } else {
-    record_fluid_screen(commands, kind, scene_kept, slot);
-  }
+  if (kind != RendererKind::points) record_fluid_screen(commands, kind, slot);
+  record_read_back(commands, slot);
   slot.mark(commands, &RenderTimes::readback_ms);
   // A GPU solver's next step writes what this frame read (write after read); and the host reads
   // the copy.
@@ -381,76 +377,82 @@ DrawConstants FrameRenderer::record_shapes(VkCommandBuffer commands, RendererKin
   return draw;
 }
 
-bool FrameRenderer::record_scene_and_points(VkCommandBuffer commands, RendererKind kind,
-                                            const DrawConstants& draw, std::uint32_t particles,
-                                            const SceneKey& scene, Slot& slot) {
-  // The scene depends on the camera and the tank only: while they stay, fluid frames keep the
-  // scene's depth in the attachment and its colour in scene_ from the frame that drew it.
-  const bool fluid = kind != RendererKind::points;
-  const bool kept = fluid && scene_drawn_for_ == scene;
-  // The scene's pass draws the scene, and points over it; a fluid over a kept scene needs none
-  // (its pass tests against the depth the scene's pass left).
-  const float clear[4] = {0.0f, 0.0f, 0.0f, 1.0f};
-  if (!kept) {
+void FrameRenderer::record_scene(VkCommandBuffer commands, const DrawConstants& draw,
+                                 const SceneKey& scene, Slot& slot) {
+  // The scene depends on the camera and the tank only: while they stay, frames keep its colour
+  // in scene_ from the frame that drew it.
+  if (scene_drawn_for_ != scene) {
+    const float clear[4] = {0.0f, 0.0f, 0.0f, 1.0f};
     target_.begin(commands, clear);
     background_->draw(commands, draw, 3);
-  }
-  scene_drawn_for_ = fluid ? std::optional(scene) : std::nullopt;
-  slot.mark(commands, &RenderTimes::scene_ms);
-  if (!kept) {
-    // Points write colour and depth over the scene.
-    if (kind == RendererKind::points) points_->draw(commands, draw, 6 * particles);
     target_.end(commands);
+    VkBufferImageCopy region{};
+    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    region.imageExtent = {target_.width(), target_.height(), 1};
+    vkCmdCopyImageToBuffer(commands, target_.colour().get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                           scene_.get(), 1, &region);
+    memory_barrier(commands, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, kTransfer | kCompute,
+                   VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_SHADER_READ_BIT);
+    scene_drawn_for_ = scene;
   }
-  return kept;
+  slot.mark(commands, &RenderTimes::scene_ms);
 }
 
-void FrameRenderer::record_splat(VkCommandBuffer commands, const DrawConstants& draw,
-                                 std::uint32_t particles) {
-  const std::uint64_t pixel_bytes = std::uint64_t{target_.width()} * target_.height() * 4;
-  constexpr std::uint32_t kInfinityBits = 0x7f800000;  // +inf: no surface
-  vkCmdFillBuffer(commands, depth_.get(), 0, pixel_bytes, kInfinityBits);
-  vkCmdFillBuffer(commands, thickness_.get(), 0, pixel_bytes, 0);
-  vkCmdFillBuffer(commands, spray_.get(), 0, pixel_bytes, 0);
+SplatConstants FrameRenderer::splat_constants(const DrawConstants& draw, std::uint32_t particles,
+                                              SplatMode mode) const {
+  return SplatConstants{draw.frame,
+                        draw.position,
+                        draw.velocity,
+                        draw.density_ratio,
+                        draw.shape,
+                        depth_.address(),
+                        thickness_.address(),
+                        spray_.address(),
+                        image_.address(),
+                        splat_queue_.address(),
+                        particles,
+                        draw.ellipsoids,
+                        kLargeSplatCapacity,
+                        static_cast<std::uint32_t>(mode)};
+}
+
+void FrameRenderer::record_particle_pass(VkCommandBuffer commands,
+                                         const SplatConstants& splat) const {
   const std::uint32_t empty_queue[4] = {0, 1, 1, 0};  // no workgroups (x, y, z), none queued
   vkCmdUpdateBuffer(commands, splat_queue_.get(), 0, sizeof empty_queue, empty_queue);
   memory_barrier(commands, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute, kShaderAccess);
-  const SplatConstants splat{
-      draw.frame,       draw.position,          draw.shape, depth_.address(), thickness_.address(),
-      spray_.address(), splat_queue_.address(), particles,  draw.ellipsoids,  kLargeSplatCapacity};
-  splat_.dispatch(commands, splat, particles);
-  memory_barrier(commands, kCompute, VK_ACCESS_SHADER_WRITE_BIT,
-                 kCompute | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
+  splat_.dispatch(commands, splat, splat.particle_count);
+  memory_barrier(commands, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute | kIndirect,
                  kShaderAccess | VK_ACCESS_INDIRECT_COMMAND_READ_BIT);
   splat_large_.dispatch_indirect(commands, splat, splat_queue_.get(), 0);
-  memory_barrier(commands, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderAccess);
+  // Its writes before what reads them; its reads of the queue before the next pass resets it.
+  memory_barrier(commands, kCompute | kIndirect, VK_ACCESS_SHADER_WRITE_BIT, kCompute | kTransfer,
+                 kShaderAccess | VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
+}
+
+void FrameRenderer::record_ssfr_particles(VkCommandBuffer commands, const DrawConstants& draw,
+                                          std::uint32_t particles) {
+  const std::uint64_t pixel_bytes = std::uint64_t{target_.width()} * target_.height() * 4;
+  vkCmdFillBuffer(commands, depth_.get(), 0, pixel_bytes, kInfinityBits);
+  vkCmdFillBuffer(commands, thickness_.get(), 0, pixel_bytes, 0);
+  vkCmdFillBuffer(commands, spray_.get(), 0, pixel_bytes, 0);
+  const SplatConstants splat = splat_constants(draw, particles, SplatMode::ssfr);
+  record_particle_pass(commands, splat);
   splat_resolve_.dispatch(commands, splat, pixel_bytes / 4);
 }
 
-void FrameRenderer::record_points_read_back(VkCommandBuffer commands, const Slot& slot) {
-  VkBufferImageCopy region{};
-  region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-  region.imageExtent = {target_.width(), target_.height(), 1};
-  const bool planar = slot.format == FrameFormat::yuv420;
-  vkCmdCopyImageToBuffer(commands, target_.colour().get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                         planar ? image_.get() : slot.readback.get(), 1, &region);
-  if (planar) {
-    memory_barrier(commands, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute,
-                   VK_ACCESS_SHADER_READ_BIT);
-    record_yuv420_read_back(commands, slot);
-  }
+void FrameRenderer::record_points(VkCommandBuffer commands, const DrawConstants& draw,
+                                  std::uint32_t particles) {
+  const std::uint64_t pixel_bytes = std::uint64_t{target_.width()} * target_.height() * 4;
+  vkCmdFillBuffer(commands, depth_.get(), 0, pixel_bytes, kInfinityBits);
+  const VkBufferCopy scene{0, 0, pixel_bytes};
+  vkCmdCopyBuffer(commands, scene_.get(), image_.get(), 1, &scene);
+  record_particle_pass(commands, splat_constants(draw, particles, SplatMode::points_distance));
+  record_particle_pass(commands, splat_constants(draw, particles, SplatMode::points_colour));
 }
 
-void FrameRenderer::record_fluid_screen(VkCommandBuffer commands, RendererKind kind,
-                                        bool scene_kept, Slot& slot) {
+void FrameRenderer::record_fluid_screen(VkCommandBuffer commands, RendererKind kind, Slot& slot) {
   const std::uint32_t width = target_.width(), height = target_.height();
-  if (!scene_kept) {
-    VkBufferImageCopy region{};
-    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-    region.imageExtent = {width, height, 1};
-    vkCmdCopyImageToBuffer(commands, target_.colour().get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                           scene_.get(), 1, &region);
-  }
   memory_barrier(commands, kTransfer | kCompute,
                  VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT, kCompute,
                  kShaderAccess);
@@ -477,13 +479,18 @@ void FrameRenderer::record_fluid_screen(VkCommandBuffer commands, RendererKind k
   slot.mark(commands, &RenderTimes::smoothing_ms);
   screen.depth_in = depth_.address();
   shade_.dispatch(commands, screen, pixels);
-  memory_barrier(commands, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute | kTransfer,
-                 VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT);
   slot.mark(commands, &RenderTimes::shading_ms);
+}
+
+void FrameRenderer::record_read_back(VkCommandBuffer commands, const Slot& slot) {
+  const std::uint32_t width = target_.width(), height = target_.height();
+  memory_barrier(commands, kCompute | kTransfer,
+                 VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, kCompute | kTransfer,
+                 VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT);
   if (slot.format == FrameFormat::yuv420) {
     record_yuv420_read_back(commands, slot);
   } else {
-    const VkBufferCopy copy{0, 0, pixels * 4};
+    const VkBufferCopy copy{0, 0, std::uint64_t{width} * height * 4};
     vkCmdCopyBuffer(commands, image_.get(), slot.readback.get(), 1, &copy);
   }
   if (slot.probe) {  // the surface's distance under the finger, after the frame

@@ -16,7 +16,6 @@ namespace fluidcast::render {
 enum class Blend { replace, add, min };
 
 struct PipelineOptions {
-  bool depth = true;  // tested and written (the scene's pass); else neither (FluidTarget's)
   std::vector<Blend> attachments = {Blend::replace};  // one per colour attachment of the pass
 };
 

@@ -21,34 +21,23 @@ void check_size(const gpu::Context& context, std::uint32_t width, std::uint32_t 
   }
 }
 
-// Clears colour and depth; stores the colour, to be copied out.
+// Clears the colour and stores it, to be copied out.
 gpu::UniqueRenderPass make_scene_pass(VkDevice device) {
-  VkAttachmentDescription attachments[2] = {
-      cleared_attachment(RenderTarget::kColourFormat, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL),
-      cleared_attachment(RenderTarget::kDepthFormat,
-                         VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL)};
-  attachments[1].storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+  const VkAttachmentDescription attachments[1] = {
+      cleared_attachment(RenderTarget::kColourFormat, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL)};
   const VkAttachmentReference colour_ref{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
-  const VkAttachmentReference depth_ref{1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
   VkSubpassDescription subpass{};
   subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
   subpass.colorAttachmentCount = 1;
   subpass.pColorAttachments = &colour_ref;
-  subpass.pDepthStencilAttachment = &depth_ref;
-  // The previous frame's copy out of the colour image, and its depth use, come before this
-  // frame's clear or depth tests.
+  // The previous frame's copy out of the colour image comes before this frame's clear.
   VkSubpassDependency dependency{};
   dependency.srcSubpass = VK_SUBPASS_EXTERNAL;
   dependency.dstSubpass = 0;
-  dependency.srcStageMask =
-      VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
-  dependency.srcAccessMask = VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
-  dependency.dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
-                            VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT |
-                            VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
-  dependency.dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT |
-                             VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
-                             VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+  dependency.srcStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
+  dependency.srcAccessMask = 0;
+  dependency.dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+  dependency.dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
   // And the colour written here comes before the copy to the host.
   VkSubpassDependency to_copy{};
   to_copy.srcSubpass = 0;
@@ -67,19 +56,16 @@ RenderTarget::RenderTarget(gpu::Context& context, std::uint32_t width, std::uint
     : colour_((check_size(context, width, height),
                gpu::Image(context, width, height, kColourFormat,
                           VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                          VK_IMAGE_ASPECT_COLOR_BIT))),
-      depth_(context, width, height, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
-             VK_IMAGE_ASPECT_DEPTH_BIT) {
+                          VK_IMAGE_ASPECT_COLOR_BIT))) {
   pass_ = make_scene_pass(context.device());
 
-  const VkImageView views[2] = {colour_.view(), depth_.view()};
+  const VkImageView views[1] = {colour_.view()};
   framebuffer_ = make_framebuffer(context.device(), pass_.get(), views, width, height);
 }
 
 void RenderTarget::begin(VkCommandBuffer commands, const float background[4]) const {
-  VkClearValue clear[2];
+  VkClearValue clear[1];
   clear[0].color = {{background[0], background[1], background[2], background[3]}};
-  clear[1].depthStencil = {1.0f, 0};
   begin_render_pass(commands, pass_.get(), framebuffer_.get(), width(), height(), clear);
 }
 

@@ -2,7 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 // The scene around the fluid, ray-cast per pixel so that it needs no meshes: the tank's far
 // walls (glass with a faint 10 cm grid) and its tiled floor, a larger floor outside it, and a
-// sky. Its depth goes into the depth buffer, so that the fluid is drawn in front of it.
+// sky.
 #include "common/frame.glsl"
 #include "common/draw_pass.glsl"
 #include "common/scene.glsl"
@@ -30,12 +30,10 @@ void main() {
   const vec3 t_near = min(t0, t1), t_far = max(t0, t1);
   const float enter = max(max(t_near.x, t_near.y), t_near.z);
   const float leave = min(min(t_far.x, t_far.y), t_far.z);
-  float t = -1.0;
   vec3 shade;
   if (leave > max(enter, 0.0)) {
-    t = leave;
-    const vec3 p = eye + t * ray;
-    if (abs(p.y - tank_min.y) < 1e-4 * (1.0 + t)) {  // the tank's floor: light tiles
+    const vec3 p = eye + leave * ray;
+    if (abs(p.y - tank_min.y) < 1e-4 * (1.0 + leave)) {  // the tank's floor: light tiles
       const vec2 tile = floor(p.xz / 0.1);
       const float checker = mod(tile.x + tile.y, 2.0);
       shade = mix(vec3(0.80, 0.78, 0.72), vec3(0.55, 0.52, 0.48), checker);
@@ -45,7 +43,7 @@ void main() {
       shade = mix(vec3(0.70, 0.80, 0.86), vec3(0.35, 0.45, 0.55), line);
     }
   } else if (ray.y < 0.0) {  // the room's floor, below the tank
-    t = (tank_min.y - 0.001 - eye.y) / ray.y;
+    const float t = (tank_min.y - 0.001 - eye.y) / ray.y;
     const vec3 p = eye + t * ray;
     const vec2 tile = floor(p.xz / 0.5);
     const float fade = exp(-0.05 * t);
@@ -54,11 +52,4 @@ void main() {
     shade = sky(ray);
   }
   colour = vec4(shade, 1.0);
-  if (t > 0.0) {
-    const vec4 clip = projection * draw.frame.view * vec4(eye + t * ray, 1.0);
-    // The room's floor reaches past the far plane: keep it just in front of the cleared 1.0.
-    gl_FragDepth = min(clip.z / clip.w, 0.99999994);
-  } else {
-    gl_FragDepth = 0.99999994;
-  }
 }

@@ -2,7 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 // After SSFR's particle pass: each pixel's water and spray, summed in fixed point, as the floats
 // the filter and the shading read (in place).
-#include "common/ssfr_splat.glsl"
+#include "common/particle_splat.glsl"
 
 void main() {
   const uint at = invocation();

@@ -37,9 +37,9 @@ TEST_F(RenderTest, AnEmptySceneIsTheSameInEveryMode) {
   EXPECT_GT(colours.size(), 20u);
 }
 
-// The scene is drawn once per camera and kept for the fluid frames after it: a kept scene must
-// give the very image a fresh one does, and a moved camera, a points frame (which draws over the
-// scene) or another tank must not keep a stale one.
+// The scene is drawn once per camera and kept for the frames after it: a kept scene must give the
+// very image a fresh one does, in every mode, and a moved camera or another tank must not keep a
+// stale one.
 TEST_F(RenderTest, AKeptSceneGivesTheSameFrameAsAFreshOne) {
   auto pool = drop_of(1500);
   ParticleSource source(context());
@@ -47,7 +47,7 @@ TEST_F(RenderTest, AKeptSceneGivesTheSameFrameAsAFreshOne) {
   const OrbitCamera near = camera_on(pool->tank(), 2.0f);
   OrbitCamera turned = near;
   turned.yaw_degrees += 30.0f;
-  for (auto kind : {RendererKind::ssfr, RendererKind::mc}) {
+  for (auto kind : {RendererKind::ssfr, RendererKind::mc, RendererKind::points}) {
     FrameRenderer fresh_renderer(context(), 160, 90);
     const auto fresh = rgba(fresh_renderer.render(kind, view, pool->tank(), near));
     FrameRenderer renderer(context(), 160, 90);

@@ -29,6 +29,8 @@ class FluidTarget;
 class GraphicsPipeline;
 class MarchingCubes;
 struct DrawConstants;
+struct SplatConstants;
+enum class SplatMode : std::uint32_t;
 struct FrameParams;
 
 // automatic: Marching Cubes below kMarchingCubesBelow particles, SSFR from there (the talk's rule:
@@ -222,16 +224,22 @@ class FrameRenderer {
   // What the fluid is drawn from: the particles, Marching Cubes' mesh or SSFR's ellipsoids.
   DrawConstants record_shapes(VkCommandBuffer commands, RendererKind kind,
                               const ParticleView& particles, const sim::Box& tank, Slot& slot);
-  // Returns whether the scene was kept from an earlier frame (a fluid frame, the same camera).
-  bool record_scene_and_points(VkCommandBuffer commands, RendererKind kind,
-                               const DrawConstants& draw, std::uint32_t particles,
-                               const SceneKey& scene, Slot& slot);
+  // The scene into scene_, unless it holds this one already.
+  void record_scene(VkCommandBuffer commands, const DrawConstants& draw, const SceneKey& scene,
+                    Slot& slot);
+  SplatConstants splat_constants(const DrawConstants& draw, std::uint32_t particles,
+                                 SplatMode mode) const;
+  // One particle pass (particle_splat.comp), the queue of large particles included.
+  void record_particle_pass(VkCommandBuffer commands, const SplatConstants& splat) const;
   // SSFR: the particles' ellipsoids into the surface buffers (depth_, thickness_, spray_).
-  void record_splat(VkCommandBuffer commands, const DrawConstants& draw, std::uint32_t particles);
-  void record_points_read_back(VkCommandBuffer commands, const Slot& slot);
-  // SSFR and MC: the depth filter, shading and the read-back (with the probe).
-  void record_fluid_screen(VkCommandBuffer commands, RendererKind kind, bool scene_kept,
-                           Slot& slot);
+  void record_ssfr_particles(VkCommandBuffer commands, const DrawConstants& draw,
+                             std::uint32_t particles);
+  // Points: the scene, and the particles over it, into image_.
+  void record_points(VkCommandBuffer commands, const DrawConstants& draw, std::uint32_t particles);
+  // SSFR and MC: the depth filter and the shading into image_.
+  void record_fluid_screen(VkCommandBuffer commands, RendererKind kind, Slot& slot);
+  // image_ into the slot's read-back, and the probe's distance after it.
+  void record_read_back(VkCommandBuffer commands, const Slot& slot);
   // Converts image_ into planes_ and copies those to the slot's read-back.
   void record_yuv420_read_back(VkCommandBuffer commands, const Slot& slot);
   std::uint64_t frame_bytes(FrameFormat format) const;  // in a read-back, before the probe
@@ -240,7 +248,7 @@ class FrameRenderer {
 
   gpu::Context* context_;
   RenderTarget target_;
-  std::unique_ptr<GraphicsPipeline> background_, points_;
+  std::unique_ptr<GraphicsPipeline> background_;
   // Marching Cubes' mesh: none where the device cannot blend float attachments.
   std::unique_ptr<FluidTarget> fluid_target_;
   std::unique_ptr<GraphicsPipeline> mc_surface_;
@@ -248,14 +256,15 @@ class FrameRenderer {
   std::unique_ptr<Anisotropy> anisotropy_;         // made for the first anisotropic frame
   gpu::ComputePipeline splat_, splat_large_, splat_resolve_, smooth_, shade_, yuv420_;
   gpu::Buffer frame_params_;
-  // SSFR's particle pass: the dispatch of ssfr_splat_large.comp and the particles it casts.
+  // The particle passes' queue: the dispatch of particle_splat_large.comp and the particles it
+  // casts.
   gpu::Buffer splat_queue_;
-  // SSFR and MC, one value per pixel: nearest fluid distance (and a filtered copy), thickness,
-  // spray, the scene behind, and the finished frame.
+  // One value per pixel: the nearest particle's or surface's distance (and a filtered copy),
+  // thickness and spray (SSFR and MC), the scene, and the finished frame.
   gpu::Buffer depth_, depth_scratch_, thickness_, spray_, scene_, image_;
   gpu::Buffer planes_;  // the finished frame as YCbCr 4:2:0 (codec::ImageYuv420's layout)
   std::vector<Slot> slots_;
-  // The camera and tank whose scene the depth attachment and scene_ hold, if they hold one.
+  // The camera and tank whose scene scene_ holds, if it holds one.
   std::optional<SceneKey> scene_drawn_for_;
   std::uint64_t next_frame_ = 0;
   std::deque<codec::Image> kept_;  // finished frames collected early, oldest first

@@ -1,5 +1,5 @@
-// Where a frame is drawn, with no window: a colour image (RGBA8, copied to the host after the
-// frame) and a depth image, with the render pass and framebuffer that clear and fill them.
+// Where the scene around the fluid is drawn, with no window: a colour image (RGBA8, copied out
+// after its pass), with the render pass and framebuffer that clear and fill it.
 #pragma once
 
 #include "fluidcast/gpu/image.h"
@@ -9,7 +9,6 @@ namespace fluidcast::render {
 class RenderTarget {
  public:
   static constexpr VkFormat kColourFormat = VK_FORMAT_R8G8B8A8_UNORM;
-  static constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
 
   // Throws std::invalid_argument for a size of zero or beyond the device's limits, naming them.
   RenderTarget(gpu::Context& context, std::uint32_t width, std::uint32_t height);
@@ -19,14 +18,13 @@ class RenderTarget {
   VkRenderPass render_pass() const { return pass_.get(); }
   const gpu::Image& colour() const { return colour_; }
 
-  // Begins the render pass, clearing the colour to `background` and the depth; viewport and
-  // scissor cover the target. The pass ends with the colour image ready to be copied from; the
-  // depth serves within the pass (points over the scene).
+  // Begins the render pass, clearing the colour to `background`; viewport and scissor cover the
+  // target. The pass ends with the colour image ready to be copied from.
   void begin(VkCommandBuffer commands, const float background[4]) const;
   void end(VkCommandBuffer commands) const;
 
  private:
-  gpu::Image colour_, depth_;
+  gpu::Image colour_;
   gpu::UniqueRenderPass pass_;
   gpu::UniqueFramebuffer framebuffer_;
 };

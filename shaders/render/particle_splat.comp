@@ -1,9 +1,9 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// SSFR's particle pass (common/ssfr_splat.glsl): one invocation per particle. A small one's
-// pixels are cast here, one after the other; a larger one is queued for ssfr_splat_large, whose
-// workgroup shares its pixels, unless the queue is full.
-#include "common/ssfr_splat.glsl"
+// The particle passes (common/particle_splat.glsl): one invocation per particle. A small one's
+// pixels are cast here, one after the other; a larger one is queued for particle_splat_large,
+// whose workgroup shares its pixels, unless the queue is full.
+#include "common/particle_splat.glsl"
 
 void main() {
   const uint index = invocation();
