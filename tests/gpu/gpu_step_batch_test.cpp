@@ -63,6 +63,27 @@ TEST_F(GpuStepBatchTest, StepsOfEverySolverGoInOneSubmission) {
   }
 }
 
+// The PBF density rule counts the steps that have not finished: with none of its figures seen yet,
+// a solver with two steps waiting in the batch plans more substeps than with none, though the
+// fluid rests and what gravity adds over the two steps leaves the travel bound under one
+// substep (the rule itself: PbfSubsteps.StepsUnseenNearTheBoundTakeMoreSubsteps). Steps waiting
+// unsubmitted are certain not to have finished, as a GPU's fast ones are not.
+TEST_F(GpuStepBatchTest, StepsNotYetFinishedCountForThePbfDensityRule) {
+  GpuStepBatch batch(context());
+  SceneParams scene;
+  scene.kind = SceneKind::pool;
+  scene.particles = 1000;
+  const auto solver =
+      make_gpu_solver(SolverKind::pbf, context(), build_scene(scene), SolverParams{}, &batch);
+  const float step = solver->params().time_step;
+  EXPECT_EQ(solver->substeps_for(step), 1);
+  solver->step(step, 1);
+  solver->step(step, 1);
+  EXPECT_EQ(solver->substeps_for(step), 2) << "1.3 times one substep, rounded up";
+  batch.submit();
+  solver->synchronize();
+}
+
 // The largest distance between the same particle in two fluids.
 float largest_difference(const ParticleSet& a, const ParticleSet& b) {
   EXPECT_EQ(a.size(), b.size());
