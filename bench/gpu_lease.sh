@@ -4,7 +4,8 @@
 #   ../shared/tools/gpu-bundle build fluidcast-server fluidcast-bench-load fluidcast-bench-gpu \
 #     fluidcast-bench-render fluidcast-validate gpu_context_test gpu_neighbour_grid_test \
 #     gpu_solver_test gpu_step_batch_test solver_inputs_test render_test render_golden_test \
-#     render_surface_test anisotropy_test default_size_test timestamps_test fluidcast-sim
+#     render_surface_test ssfr_splat_test anisotropy_test default_size_test timestamps_test \
+#     fluidcast-sim
 # and on the device (carry .gpu):  source .gpu/env.sh && BIN=.gpu/bin bench/gpu_lease.sh PART $OUT
 # PART: tests   every GPU test with the validation layer on (a message fails its test)
 #       solver  fluidcast-bench-gpu: the solver table and many sessions batched against serial
@@ -41,8 +42,8 @@ case "$part" in
   tests)
     status=0
     for test in gpu_context_test gpu_neighbour_grid_test gpu_solver_test gpu_step_batch_test \
-      solver_inputs_test render_test render_golden_test render_surface_test anisotropy_test \
-      default_size_test timestamps_test; do
+      solver_inputs_test render_test render_golden_test render_surface_test ssfr_splat_test \
+      anisotropy_test default_size_test timestamps_test; do
       echo "== $test" >>"$out/tests.log"
       FLUIDCAST_VALIDATION=1 "$bin/$test" >>"$out/tests.log" 2>&1 || status=1
     done
