@@ -80,7 +80,7 @@ void Anisotropy::record(VkCommandBuffer commands, const ParticleView& particles,
   compute_to_compute(commands);
   pass_.dispatch(commands, constants, particles.count);
   gpu::memory_barrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                      VK_PIPELINE_STAGE_VERTEX_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
+                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
 }
 
 }  // namespace fluidcast::render

@@ -32,8 +32,8 @@ class Anisotropy {
 
   explicit Anisotropy(gpu::Context& context);
 
-  // Records the grid's build and the ellipsoids of `particles` (count > 0) in `tank`; when the
-  // commands reach the vertex shaders, centres() and shapes() hold them (anisotropy.comp's
+  // Records the grid's build and the ellipsoids of `particles` (count > 0) in `tank`; for the
+  // compute passes recorded after it, centres() and shapes() hold them (anisotropy.comp's
   // layout). Throws std::invalid_argument when the tank needs more grid cells than a grid has.
   void record(VkCommandBuffer commands, const ParticleView& particles, const sim::Box& tank,
               const SsfrStyle& style);

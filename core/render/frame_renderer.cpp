@@ -27,7 +27,7 @@ constexpr VkAccessFlags kShaderAccess = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SH
 constexpr VkPipelineStageFlags kIndirect = VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT;
 constexpr std::uint32_t kScreenGroup = 64;
 constexpr std::uint32_t kInfinityBits = 0x7f800000;  // +inf, a float: no surface at the pixel
-// SSFR's particles queued for a workgroup each (ssfr_splat_large.comp), at most: within every
+// Particles queued for a workgroup each (particle_splat_large.comp), at most: within every
 // device's limit on workgroups in x. Beyond it, the particle's own invocation casts them all.
 constexpr std::uint32_t kLargeSplatCapacity = 65535;
 

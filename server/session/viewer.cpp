@@ -132,7 +132,7 @@ double Viewer::input_wait_ms(Clock::time_point tick_start) {
 void Viewer::submit(const render::ParticleView& particles, const sim::Box& tank, Shows shows,
                     Clock::time_point now) {
   flow_.rendered(now);
-  // A renderer the device cannot draw falls back to points, and the frame says so.
+  // A renderer the device cannot draw falls back to ssfr, and the frame says so.
   const render::RendererKind kind = renderer_->drawable(renderer_kind_, particles.count);
   renderer_->submit(kind, particles, tank, camera_);
   shows.renderer = std::string(render::renderer_name(kind));

@@ -42,7 +42,12 @@ const float kSprayUnit = 1.0 / 65536.0;
 // Particles over more pixels go to particle_splat_large, a workgroup each, not one thread's loop.
 const uint kInlinePixels = 64u;
 
+// What a particle's pixels need, loaded once: through buffer references each pixel would load
+// it again.
 struct Particle {
+  vec2 size;            // the frame's, in pixels
+  vec2 projection_xy;   // projection[0][0] and [1][1]
+  float radius;         // the particles'
   vec3 view_centre;
   mat3 to_unit;    // SSFR: a view-space offset → the unit sphere
   bool is_spray;   // SSFR: adds to the spray, not the surface
@@ -52,11 +57,12 @@ struct Particle {
 };
 
 // The pixel's ray in view space, scaled to reach z = −1 (ssfr_shade.comp's view_position).
-vec3 pixel_ray(ivec2 pixel) {
-  const mat4 projection = splat.frame.projection;
-  const vec2 size = vec2(splat.frame.width, splat.frame.height);
-  const vec2 ndc = (vec2(pixel) + 0.5) / size * 2.0 - 1.0;
-  return vec3(ndc.x / projection[0][0], ndc.y / projection[1][1], -1.0);
+// Precise, as all that the points' distance is made of: their second pass finds the particle that
+// won the first by comparing bits, and the two passes' pipelines must not round differently.
+vec3 pixel_ray(Particle p, ivec2 pixel) {
+  precise const vec2 ndc = (vec2(pixel) + 0.5) / p.size * 2.0 - 1.0;
+  precise const vec3 ray = vec3(ndc / p.projection_xy, -1.0);
+  return ray;
 }
 
 // Where a sphere of radius r, its centre u across and w ahead of the eye (w > r), ends across
@@ -85,6 +91,9 @@ bool particle_in_view(uint index, out Particle p) {
   const mat4 projection = splat.frame.projection;
   const float radius = splat.frame.particle_radius;
   const vec2 size = vec2(splat.frame.width, splat.frame.height);
+  p.size = size;
+  p.projection_xy = vec2(projection[0][0], projection[1][1]);
+  p.radius = radius;
   const vec4 centre = splat.position.v[index];
   mat3 G = mat3(1.0 / radius);  // world offset → unit sphere
   float extent = radius;         // the longest semi-axis
@@ -118,8 +127,10 @@ bool particle_in_view(uint index, out Particle p) {
     a = (low.xy / low.w + 1.0) * 0.5 * size - 0.5;
     b = (high.xy / high.w + 1.0) * 0.5 * size - 0.5;
   }
-  p.first = max(ivec2(ceil(min(a, b))), ivec2(0));
-  p.last = min(ivec2(floor(max(a, b))), ivec2(size) - 1);
+  if (any(isnan(a)) || any(isnan(b))) return false;
+  // Clamped as floats: a float beyond an int's range has no defined conversion.
+  p.first = ivec2(clamp(ceil(min(a, b)), vec2(0.0), size));
+  p.last = ivec2(clamp(floor(max(a, b)), vec2(-1.0), size - 1.0));
   return all(lessThanEqual(p.first, p.last));
 }
 
@@ -140,7 +151,7 @@ void cast_ellipsoid(Particle p, uint at, vec3 on_plane) {
   const float root = sqrt(discriminant);
   const float enter = (-b - root) / a, chord = 2.0 * root / a;
   if (p.is_spray) {
-    const float diameters = chord / (2.0 * splat.frame.particle_radius);
+    const float diameters = chord / (2.0 * p.radius);
     atomicAdd(splat.spray.v[at], uint(diameters / kSprayUnit + 0.5));
     return;
   }
@@ -153,11 +164,11 @@ void cast_ellipsoid(Particle p, uint at, vec3 on_plane) {
 // Points: the impostor's disc where the pixel's ray crosses the centre's plane, its depth and
 // light a sphere's.
 void cast_impostor(Particle p, uint at, vec3 on_plane) {
-  const vec2 across = (on_plane.xy - p.view_centre.xy) / splat.frame.particle_radius;
-  const float r2 = dot(across, across);
+  precise const vec2 across = (on_plane.xy - p.view_centre.xy) / p.radius;
+  precise const float r2 = dot(across, across);
   if (r2 > 1.0) return;
-  const vec3 normal = vec3(across, sqrt(1.0 - r2));
-  const float distance = -(p.view_centre.z + normal.z * splat.frame.particle_radius);
+  precise const vec3 normal = vec3(across, sqrt(1.0 - r2));
+  precise const float distance = -(p.view_centre.z + normal.z * p.radius);
   if (splat.mode == kPointsDistance) {
     atomicMin(splat.distance.v[at], floatBitsToUint(distance));
   } else if (splat.distance.v[at] == floatBitsToUint(distance)) {
@@ -171,10 +182,11 @@ void cast_impostor(Particle p, uint at, vec3 on_plane) {
 void splat_pixels(Particle p, uint from, uint step) {
   const uint columns = uint(p.last.x - p.first.x + 1);
   const uint count = pixels_of(p);
+  const uint width = uint(p.size.x);
   for (uint k = from; k < count; k += step) {
     const ivec2 pixel = p.first + ivec2(k % columns, k / columns);
-    const uint at = uint(pixel.y) * splat.frame.width + uint(pixel.x);
-    const vec3 on_plane = pixel_ray(pixel) * -p.view_centre.z;
+    const uint at = uint(pixel.y) * width + uint(pixel.x);
+    precise const vec3 on_plane = pixel_ray(p, pixel) * -p.view_centre.z;
     if (splat.mode == kSsfr) {
       cast_ellipsoid(p, at, on_plane);
     } else {

@@ -1,9 +1,9 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Marching Cubes into float attachments (FluidTarget), copied where SSFR's particle pass writes,
-// so the mesh gets the same shading: the nearest camera-facing surface by minimum blending, and the water crossed as
-// Σ back-face distances − Σ front-face distances by additive blending (a closed mesh sums to its
-// thickness). No depth test: the mesh closes just outside the tank's walls, behind the scene.
+// so the mesh gets the same shading: the nearest camera-facing surface by minimum blending, and
+// the water crossed as Σ back-face distances − Σ front-face distances by additive blending (a
+// closed mesh sums to its thickness). No depth test: the mesh closes just outside the tank's walls, behind the scene.
 #include "common/frame.glsl"
 #include "common/draw_pass.glsl"
 

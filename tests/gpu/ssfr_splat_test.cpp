@@ -1,9 +1,10 @@
-// SSFR's particle pass (ssfr_splat.comp and ssfr_splat_large.comp) against the same spheres
+// SSFR's particle pass (particle_splat.comp and particle_splat_large.comp) against the same spheres
 // ray-cast on the CPU in double precision: the nearest surface's view distance at every pixel,
 // for particles small enough for one invocation, large enough for a workgroup each, and more
 // large ones than the queue of workgroups holds.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -58,33 +59,40 @@ glm::vec3 in_view(const glm::mat4& view, const glm::mat4& projection, float u, f
   return glm::vec3(glm::inverse(view) * in_eye);
 }
 
+constexpr int kWidth = 320, kHeight = 240;
+constexpr float kRadius = 0.03f;
+
+// The left of the frame: 90,000 near particles, each over more pixels than one invocation casts
+// (about 11 to 17 across), more than the queue of workgroups holds (65,535); the right: far ones,
+// a few pixels across, each cast by its own invocation. At rest: points draws them in one colour.
+std::vector<glm::vec3> near_and_far(const glm::mat4& view, const glm::mat4& projection) {
+  std::mt19937 random(7);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  std::vector<glm::vec3> centres;
+  for (int k = 0; k < 90000; ++k) {
+    centres.push_back(in_view(view, projection, -0.95f + 0.95f * unit(random),
+                              -0.95f + 1.9f * unit(random), 1.0f + 0.6f * unit(random)));
+  }
+  for (int k = 0; k < 3000; ++k) {
+    centres.push_back(in_view(view, projection, 0.1f + unit(random), -1.0f + 2.0f * unit(random),
+                              3.0f + unit(random)));
+  }
+  return centres;
+}
+
+sim::ParticleSet at_rest(const std::vector<glm::vec3>& centres) {
+  sim::ParticleSet particles;
+  for (const glm::vec3& centre : centres) particles.append(centre, {0, 0, 0}, 0);
+  return particles;
+}
+
 TEST_F(RenderTest, TheParticlePassGivesTheNearestSurfaceOfEverySphere) {
-  constexpr int kWidth = 320, kHeight = 240;
-  constexpr float kRadius = 0.03f;
   const OrbitCamera camera = looking_at_tank();
   const glm::mat4 view = camera.view();
   const glm::mat4 projection = camera.projection(float(kWidth) / kHeight);
-  std::mt19937 random(7);
-  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-  sim::ParticleSet particles;
-  std::vector<glm::vec3> centres;
-  const auto add = [&](glm::vec3 position) {
-    particles.append(position, {0, 0, 0}, 0);
-    centres.push_back(position);
-  };
-  // The left of the frame: 90,000 near particles, each over more pixels than one invocation
-  // casts (about 11 to 17 across), more than the queue of workgroups holds (65,535); the right:
-  // far ones, a few pixels across, each cast by its own invocation.
-  for (int k = 0; k < 90000; ++k) {
-    add(in_view(view, projection, -0.95f + 0.95f * unit(random), -0.95f + 1.9f * unit(random),
-                1.0f + 0.6f * unit(random)));
-  }
-  for (int k = 0; k < 3000; ++k) {
-    add(in_view(view, projection, 0.1f + unit(random), -1.0f + 2.0f * unit(random),
-                3.0f + unit(random)));
-  }
+  const std::vector<glm::vec3> centres = near_and_far(view, projection);
   ParticleSource source(context());
-  const ParticleView drawn = source.upload(particles, kRadius);
+  const ParticleView drawn = source.upload(at_rest(centres), kRadius);
   FrameRenderer renderer(context(), kWidth, kHeight);
   renderer.ssfr.anisotropic = false;
   renderer.ssfr.smoothing_passes = 0;  // the distances as the particle pass left them
@@ -104,6 +112,49 @@ TEST_F(RenderTest, TheParticlePassGivesTheNearestSurfaceOfEverySphere) {
       << agree << " of " << expected.size() << " pixels agree";
   EXPECT_GT(covered_left, std::size_t(0.9 * kWidth / 2 * kHeight));
   EXPECT_GT(covered_right, std::size_t(0.2 * kWidth / 2 * kHeight));
+}
+
+// Points: each particle a disc facing the camera in the plane of its centre. Wherever a disc
+// covers a pixel's centre, the pixel shows a particle, not the scene: the second pass, which
+// colours the pixel by the particle whose distance the first pass kept, finds it, however each
+// pass cast it (its own invocation, a queued workgroup, or its own again past the queue's end).
+TEST_F(RenderTest, PointsCoverEveryPixelTheirDiscsCover) {
+  const OrbitCamera camera = looking_at_tank();
+  const glm::mat4 view = camera.view();
+  const glm::mat4 projection = camera.projection(float(kWidth) / kHeight);
+  const std::vector<glm::vec3> centres = near_and_far(view, projection);
+  ParticleSource source(context());
+  const ParticleView drawn = source.upload(at_rest(centres), kRadius);
+  FrameRenderer renderer(context(), kWidth, kHeight);
+  const auto scene = rgba(renderer.render(RendererKind::points, {}, kTank, camera));
+  const auto points = rgba(renderer.render(RendererKind::points, drawn, kTank, camera));
+  keep(points, "points_splat");
+  std::vector<bool> covered(std::size_t(kWidth) * kHeight, false);
+  const double px = projection[0][0], py = projection[1][1];
+  for (const glm::vec3& world : centres) {
+    const glm::dvec3 c = glm::dvec3(view * glm::vec4(world, 1.0f));
+    for (int y = 0; y < kHeight; ++y) {
+      const double ray_y = (((y + 0.5) / kHeight) * 2.0 - 1.0) / py * -c.z;
+      if (std::abs(ray_y - c.y) > kRadius) continue;
+      for (int x = 0; x < kWidth; ++x) {
+        const double ray_x = (((x + 0.5) / kWidth) * 2.0 - 1.0) / px * -c.z;
+        const double dx = ray_x - c.x, dy = ray_y - c.y;
+        if (dx * dx + dy * dy <= 0.999 * kRadius * kRadius)
+          covered[std::size_t(y) * kWidth + x] = true;
+      }
+    }
+  }
+  std::size_t covered_pixels = 0, holes = 0;
+  for (std::size_t i = 0; i < covered.size(); ++i) {
+    if (!covered[i]) continue;
+    ++covered_pixels;
+    if (std::equal(points.pixels.begin() + 4 * i, points.pixels.begin() + 4 * i + 3,
+                   scene.pixels.begin() + 4 * i)) {
+      ++holes;
+    }
+  }
+  EXPECT_GT(covered_pixels, std::size_t(kWidth * kHeight / 2));
+  EXPECT_EQ(holes, 0u) << "of " << covered_pixels << " pixels the discs cover";
 }
 
 }  // namespace

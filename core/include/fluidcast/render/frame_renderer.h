@@ -103,10 +103,11 @@ struct SsfrStyle {
 
 // GPU milliseconds of one frame's passes, from timestamps (0 where the device has none).
 struct RenderTimes {
-  double scene_ms = 0;         // the ray-cast tank, floor and sky (near 0 while the camera stays)
-  double particles_ms = 0;     // points: the spheres; SSFR: surface depth and thickness
+  double scene_ms = 0;         // the ray-cast tank, floor and sky, and its copy (near 0 while the
+                               // camera stays)
+  double particles_ms = 0;     // points: the spheres; SSFR: surface depth, thickness and spray
   double smoothing_ms = 0;     // SSFR: the depth filter passes
-  double shading_ms = 0;       // SSFR: normals and shading (and the copy of the scene it refracts)
+  double shading_ms = 0;       // SSFR: normals and shading
   double readback_ms = 0;      // the finished frame to host-visible memory (and to YCbCr planes)
   double anisotropy_ms = 0;    // SSFR: the grid over the particles and their ellipsoids
   double mc_field_ms = 0;      // MC: the scalar field splatted from the particles
