@@ -13,6 +13,7 @@
 #include "frame_params.h"
 #include "graphics_pipeline.h"
 #include "marching_cubes.h"
+#include "screen_pipelines.h"
 
 namespace fluidcast::render {
 namespace {
@@ -25,7 +26,6 @@ constexpr VkPipelineStageFlags kCompute = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
 constexpr VkPipelineStageFlags kTransfer = VK_PIPELINE_STAGE_TRANSFER_BIT;
 constexpr VkAccessFlags kShaderAccess = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
 constexpr VkPipelineStageFlags kIndirect = VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT;
-constexpr std::uint32_t kScreenGroup = 64;
 constexpr std::uint32_t kInfinityBits = 0x7f800000;  // +inf, a float: no surface at the pixel
 // Particles queued for a workgroup each (particle_splat_large.comp), at most: within every
 // device's limit on workgroups in x. Beyond it, the particle's own invocation casts them all.
@@ -70,14 +70,7 @@ FrameRenderer::FrameRenderer(gpu::Context& context, std::uint32_t width, std::ui
       background_(std::make_unique<GraphicsPipeline>(
           context, target_.render_pass(), shaders::render_background_vert,
           shaders::render_background_frag, PipelineOptions{})),
-      splat_(context, shaders::render_particle_splat_comp, sizeof(SplatConstants), kScreenGroup),
-      splat_large_(context, shaders::render_particle_splat_large_comp, sizeof(SplatConstants),
-                   kScreenGroup),
-      splat_resolve_(context, shaders::render_ssfr_resolve_comp, sizeof(SplatConstants),
-                     kScreenGroup),
-      smooth_(context, shaders::render_ssfr_smooth_comp, sizeof(ScreenConstants), kScreenGroup),
-      shade_(context, shaders::render_ssfr_shade_comp, sizeof(ScreenConstants), kScreenGroup),
-      yuv420_(context, shaders::render_yuv420_comp, sizeof(YuvConstants), kScreenGroup),
+      pipelines_(ScreenPipelines::shared(context)),
       frame_params_(context, sizeof(FrameParams), gpu::MemoryDomain::device),
       splat_queue_(context, sizeof(std::uint32_t) * (4 + std::uint64_t{kLargeSplatCapacity}),
                    gpu::MemoryDomain::device) {
@@ -421,10 +414,10 @@ void FrameRenderer::record_particle_pass(VkCommandBuffer commands,
   const std::uint32_t empty_queue[4] = {0, 1, 1, 0};  // no workgroups (x, y, z), none queued
   vkCmdUpdateBuffer(commands, splat_queue_.get(), 0, sizeof empty_queue, empty_queue);
   memory_barrier(commands, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute, kShaderAccess);
-  splat_.dispatch(commands, splat, splat.particle_count);
+  pipelines_->splat.dispatch(commands, splat, splat.particle_count);
   memory_barrier(commands, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute | kIndirect,
                  kShaderAccess | VK_ACCESS_INDIRECT_COMMAND_READ_BIT);
-  splat_large_.dispatch_indirect(commands, splat, splat_queue_.get(), 0);
+  pipelines_->splat_large.dispatch_indirect(commands, splat, splat_queue_.get(), 0);
   // Its writes before what reads them; its reads of the queue before the next pass resets it.
   memory_barrier(commands, kCompute | kIndirect, VK_ACCESS_SHADER_WRITE_BIT, kCompute | kTransfer,
                  kShaderAccess | VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
@@ -438,7 +431,7 @@ void FrameRenderer::record_ssfr_particles(VkCommandBuffer commands, const DrawCo
   vkCmdFillBuffer(commands, spray_.get(), 0, pixel_bytes, 0);
   const SplatConstants splat = splat_constants(draw, particles, SplatMode::ssfr);
   record_particle_pass(commands, splat);
-  splat_resolve_.dispatch(commands, splat, pixel_bytes / 4);
+  pipelines_->splat_resolve.dispatch(commands, splat, pixel_bytes / 4);
 }
 
 void FrameRenderer::record_points(VkCommandBuffer commands, const DrawConstants& draw,
@@ -473,12 +466,12 @@ void FrameRenderer::record_fluid_screen(VkCommandBuffer commands, RendererKind k
     screen.axis = static_cast<std::uint32_t>(pass % 2);
     screen.depth_in = pass % 2 == 0 ? depth_.address() : depth_scratch_.address();
     screen.depth_out = pass % 2 == 0 ? depth_scratch_.address() : depth_.address();
-    smooth_.dispatch(commands, screen, pixels);
+    pipelines_->smooth.dispatch(commands, screen, pixels);
     memory_barrier(commands, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderAccess);
   }
   slot.mark(commands, &RenderTimes::smoothing_ms);
   screen.depth_in = depth_.address();
-  shade_.dispatch(commands, screen, pixels);
+  pipelines_->shade.dispatch(commands, screen, pixels);
   slot.mark(commands, &RenderTimes::shading_ms);
 }
 
@@ -512,7 +505,7 @@ void FrameRenderer::record_yuv420_read_back(VkCommandBuffer commands, const Slot
                              static_cast<std::uint32_t>(shape.luma_stride()),
                              static_cast<std::uint32_t>(shape.chroma_rows())};
   const std::uint64_t blocks = std::uint64_t(shape.luma_stride() / 8) * shape.chroma_rows();
-  yuv420_.dispatch(commands, convert, blocks);
+  pipelines_->yuv420.dispatch(commands, convert, blocks);
   memory_barrier(commands, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kTransfer,
                  VK_ACCESS_TRANSFER_READ_BIT);
   const VkBufferCopy copy{0, 0, frame_bytes(FrameFormat::yuv420)};

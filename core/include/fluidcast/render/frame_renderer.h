@@ -17,7 +17,6 @@
 #include "fluidcast/codec/image.h"
 #include "fluidcast/gpu/buffer.h"
 #include "fluidcast/gpu/command_slot.h"
-#include "fluidcast/gpu/compute_pipeline.h"
 #include "fluidcast/render/camera.h"
 #include "fluidcast/render/render_target.h"
 #include "fluidcast/sim/particles.h"
@@ -27,6 +26,7 @@ namespace fluidcast::render {
 class Anisotropy;
 class FluidTarget;
 class GraphicsPipeline;
+struct ScreenPipelines;
 class MarchingCubes;
 struct DrawConstants;
 struct SplatConstants;
@@ -253,9 +253,9 @@ class FrameRenderer {
   // Marching Cubes' mesh: none where the device cannot blend float attachments.
   std::unique_ptr<FluidTarget> fluid_target_;
   std::unique_ptr<GraphicsPipeline> mc_surface_;
-  std::unique_ptr<MarchingCubes> marching_cubes_;  // built for the tank of the first mc frame
-  std::unique_ptr<Anisotropy> anisotropy_;         // made for the first anisotropic frame
-  gpu::ComputePipeline splat_, splat_large_, splat_resolve_, smooth_, shade_, yuv420_;
+  std::unique_ptr<MarchingCubes> marching_cubes_;     // built for the tank of the first mc frame
+  std::unique_ptr<Anisotropy> anisotropy_;            // made for the first anisotropic frame
+  std::shared_ptr<const ScreenPipelines> pipelines_;  // the device's, shared
   gpu::Buffer frame_params_;
   // The particle passes' queue: the dispatch of particle_splat_large.comp and the particles it
   // casts.
