@@ -86,13 +86,18 @@ sim::ParticleSet at_rest(const std::vector<glm::vec3>& centres) {
   return particles;
 }
 
-TEST_F(RenderTest, TheParticlePassGivesTheNearestSurfaceOfEverySphere) {
+// The near and far particles, uploaded, and the camera that sees them.
+class ParticlePassTest : public RenderTest {
+ protected:
   const OrbitCamera camera = looking_at_tank();
   const glm::mat4 view = camera.view();
   const glm::mat4 projection = camera.projection(float(kWidth) / kHeight);
   const std::vector<glm::vec3> centres = near_and_far(view, projection);
-  ParticleSource source(context());
+  ParticleSource source{context()};
   const ParticleView drawn = source.upload(at_rest(centres), kRadius);
+};
+
+TEST_F(ParticlePassTest, TheParticlePassGivesTheNearestSurfaceOfEverySphere) {
   FrameRenderer renderer(context(), kWidth, kHeight);
   renderer.ssfr.anisotropic = false;
   renderer.ssfr.smoothing_passes = 0;  // the distances as the particle pass left them
@@ -118,13 +123,7 @@ TEST_F(RenderTest, TheParticlePassGivesTheNearestSurfaceOfEverySphere) {
 // covers a pixel's centre, the pixel shows a particle, not the scene: the second pass, which
 // colours the pixel by the particle whose distance the first pass kept, finds it, however each
 // pass cast it (its own invocation, a queued workgroup, or its own again past the queue's end).
-TEST_F(RenderTest, PointsCoverEveryPixelTheirDiscsCover) {
-  const OrbitCamera camera = looking_at_tank();
-  const glm::mat4 view = camera.view();
-  const glm::mat4 projection = camera.projection(float(kWidth) / kHeight);
-  const std::vector<glm::vec3> centres = near_and_far(view, projection);
-  ParticleSource source(context());
-  const ParticleView drawn = source.upload(at_rest(centres), kRadius);
+TEST_F(ParticlePassTest, PointsCoverEveryPixelTheirDiscsCover) {
   FrameRenderer renderer(context(), kWidth, kHeight);
   const auto scene = rgba(renderer.render(RendererKind::points, {}, kTank, camera));
   const auto points = rgba(renderer.render(RendererKind::points, drawn, kTank, camera));
