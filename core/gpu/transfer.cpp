@@ -3,6 +3,7 @@
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace fluidcast::gpu {
 namespace {
@@ -17,32 +18,73 @@ void check_range(const Buffer& buffer, std::size_t bytes, VkDeviceSize offset) {
 
 }  // namespace
 
-void upload_bytes(Context& context, const Buffer& destination, std::span<const std::byte> bytes,
-                  VkDeviceSize offset) {
-  if (bytes.empty()) return;
-  check_range(destination, bytes.size(), offset);
-  const Buffer staging(context, bytes.size(), MemoryDomain::upload);
-  std::memcpy(staging.mapped<std::byte>().data(), bytes.data(), bytes.size());
+void upload_all(Context& context, std::span<const Upload> uploads) {
+  std::size_t total = 0;
+  for (const Upload& upload : uploads) {
+    check_range(upload.destination, upload.bytes.size(), upload.offset);
+    total += upload.bytes.size();
+  }
+  if (total == 0) return;
+  const Buffer staging(context, total, MemoryDomain::upload);
+  std::byte* const staged = staging.mapped<std::byte>().data();
+  std::vector<VkBufferCopy> regions;
+  VkDeviceSize at = 0;
+  for (const Upload& upload : uploads) {
+    std::memcpy(staged + at, upload.bytes.data(), upload.bytes.size());
+    regions.push_back({at, upload.offset, upload.bytes.size()});
+    at += upload.bytes.size();
+  }
   context.run_now([&](VkCommandBuffer commands) {
     compute_to_transfer_barrier(commands);
-    const VkBufferCopy region{0, offset, bytes.size()};
-    vkCmdCopyBuffer(commands, staging.get(), destination.get(), 1, &region);
+    for (std::size_t k = 0; k < uploads.size(); ++k) {
+      if (regions[k].size > 0) {
+        vkCmdCopyBuffer(commands, staging.get(), uploads[k].destination.get(), 1, &regions[k]);
+      }
+    }
     transfer_to_compute_barrier(commands);
   });
 }
 
-void download_bytes(Context& context, const Buffer& source, std::span<std::byte> bytes,
-                    VkDeviceSize offset) {
-  if (bytes.empty()) return;
-  check_range(source, bytes.size(), offset);
-  const Buffer staging(context, bytes.size(), MemoryDomain::readback);
+void download_all(Context& context, std::span<const Download> downloads) {
+  std::size_t total = 0;
+  for (const Download& download : downloads) {
+    check_range(download.source, download.bytes.size(), download.offset);
+    total += download.bytes.size();
+  }
+  if (total == 0) return;
+  const Buffer staging(context, total, MemoryDomain::readback);
+  std::vector<VkBufferCopy> regions;
+  VkDeviceSize at = 0;
+  for (const Download& download : downloads) {
+    regions.push_back({download.offset, at, download.bytes.size()});
+    at += download.bytes.size();
+  }
   context.run_now([&](VkCommandBuffer commands) {
     compute_to_transfer_barrier(commands);
-    const VkBufferCopy region{offset, 0, bytes.size()};
-    vkCmdCopyBuffer(commands, source.get(), staging.get(), 1, &region);
+    for (std::size_t k = 0; k < downloads.size(); ++k) {
+      if (regions[k].size > 0) {
+        vkCmdCopyBuffer(commands, downloads[k].source.get(), staging.get(), 1, &regions[k]);
+      }
+    }
     to_host_barrier(commands);
   });
-  std::memcpy(bytes.data(), staging.mapped<std::byte>().data(), bytes.size());
+  const std::byte* const staged = staging.mapped<std::byte>().data();
+  for (std::size_t k = 0; k < downloads.size(); ++k) {
+    std::memcpy(downloads[k].bytes.data(), staged + regions[k].dstOffset,
+                downloads[k].bytes.size());
+  }
+}
+
+void upload_bytes(Context& context, const Buffer& destination, std::span<const std::byte> bytes,
+                  VkDeviceSize offset) {
+  const Upload upload{destination, bytes, offset};
+  upload_all(context, {&upload, 1});
+}
+
+void download_bytes(Context& context, const Buffer& source, std::span<std::byte> bytes,
+                    VkDeviceSize offset) {
+  const Download download{source, bytes, offset};
+  download_all(context, {&download, 1});
 }
 
 }  // namespace fluidcast::gpu

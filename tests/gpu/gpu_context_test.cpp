@@ -60,6 +60,34 @@ TEST_F(GpuContextTest, BuffersRoundTripThroughTheDevice) {
                std::out_of_range);
 }
 
+// Several ranges of several buffers in one submission, each where it belongs; a range beyond its
+// buffer is refused before anything moves.
+TEST_F(GpuContextTest, SeveralRangesTravelInOneSubmission) {
+  const Buffer a(context(), 64, MemoryDomain::device), b(context(), 32, MemoryDomain::device);
+  const std::vector<std::uint32_t> first{1, 2, 3, 4}, second{5, 6}, third{7, 8, 9};
+  const std::uint64_t before = context().last_submitted();
+  const Upload uploads[] = {{a, std::as_bytes(std::span(first))},
+                            {b, std::as_bytes(std::span(second)), 8},
+                            {a, {}, 0},
+                            {a, std::as_bytes(std::span(third)), 40}};
+  upload_all(context(), uploads);
+  EXPECT_EQ(context().last_submitted(), before + 1);
+  std::vector<std::uint32_t> got_a(16), got_b(2);
+  const Download downloads[] = {{a, std::as_writable_bytes(std::span(got_a))},
+                                {b, std::as_writable_bytes(std::span(got_b)), 8}};
+  download_all(context(), downloads);
+  EXPECT_EQ(context().last_submitted(), before + 2);
+  EXPECT_EQ(std::vector<std::uint32_t>(got_a.begin(), got_a.begin() + 4), first);
+  EXPECT_EQ(std::vector<std::uint32_t>(got_a.begin() + 10, got_a.begin() + 13), third);
+  EXPECT_EQ(got_b, second);
+  const std::vector<std::uint32_t> ones(4, 1);
+  const Upload too_far[] = {{a, std::as_bytes(std::span(ones))},
+                            {b, std::as_bytes(std::span(ones)), 24}};
+  EXPECT_THROW(upload_all(context(), too_far), std::out_of_range);
+  EXPECT_EQ(context().last_submitted(), before + 2);
+  EXPECT_EQ(download<std::uint32_t>(context(), a, 4), first);
+}
+
 TEST_F(GpuContextTest, SmallBuffersShareABlockAndLargeOnesGetTheirOwn) {
   MemoryAllocator& memory = context().memory();
   const std::size_t blocks_before = memory.block_count();

@@ -166,9 +166,11 @@ void GpuSolver::load_particles(const ParticleSet& particles) {
     largest_speed2 =
         std::max(largest_speed2, glm::dot(particles.velocity[i], particles.velocity[i]));
   }
-  gpu::upload<glm::vec4>(*context_, buffers_.position, positions);
-  gpu::upload<glm::vec4>(*context_, buffers_.velocity, velocities);
-  gpu::upload<std::uint32_t>(*context_, buffers_.id, particles.id);
+  const gpu::Upload uploads[] = {
+      {buffers_.position, std::as_bytes(std::span<const glm::vec4>(positions))},
+      {buffers_.velocity, std::as_bytes(std::span<const glm::vec4>(velocities))},
+      {buffers_.id, std::as_bytes(std::span<const std::uint32_t>(particles.id))}};
+  gpu::upload_all(*context_, uploads);
   count_ = n;
   largest_speed_ = std::sqrt(largest_speed2);
   largest_acceleration_ = 0.0f;
@@ -177,10 +179,14 @@ void GpuSolver::load_particles(const ParticleSet& particles) {
 ParticleSet GpuSolver::snapshot() const {
   // Queue order puts the copy after every submitted step.
   submit_queued();
-  const auto positions = gpu::download<glm::vec4>(*context_, buffers_.position, count_);
-  const auto velocities = gpu::download<glm::vec4>(*context_, buffers_.velocity, count_);
+  std::vector<glm::vec4> positions(count_), velocities(count_);
   ParticleSet set;
-  set.id = gpu::download<std::uint32_t>(*context_, buffers_.id, count_);
+  set.id.resize(count_);
+  const gpu::Download downloads[] = {
+      {buffers_.position, std::as_writable_bytes(std::span<glm::vec4>(positions))},
+      {buffers_.velocity, std::as_writable_bytes(std::span<glm::vec4>(velocities))},
+      {buffers_.id, std::as_writable_bytes(std::span<std::uint32_t>(set.id))}};
+  gpu::download_all(*context_, downloads);
   set.position.resize(count_);
   set.velocity.resize(count_);
   for (std::size_t i = 0; i < count_; ++i) {

@@ -10,6 +10,24 @@
 
 namespace fluidcast::gpu {
 
+// Bytes for a device buffer at an offset, or from one.
+struct Upload {
+  const Buffer& destination;
+  std::span<const std::byte> bytes;
+  VkDeviceSize offset = 0;
+};
+struct Download {
+  const Buffer& source;
+  std::span<std::byte> bytes;
+  VkDeviceSize offset = 0;
+};
+
+// All of them through one staging buffer in one submission, and one wait: each wait also waits
+// for everything queued before it. Throws std::out_of_range for a range beyond its buffer,
+// before anything is copied.
+void upload_all(Context& context, std::span<const Upload> uploads);
+void download_all(Context& context, std::span<const Download> downloads);
+
 void upload_bytes(Context& context, const Buffer& destination, std::span<const std::byte> bytes,
                   VkDeviceSize offset = 0);
 void download_bytes(Context& context, const Buffer& source, std::span<std::byte> bytes,
