@@ -16,14 +16,22 @@ void check_range(const Buffer& buffer, std::size_t bytes, VkDeviceSize offset) {
   }
 }
 
+// The bytes of all `transfers`, once each is known to fit the buffer `device_side` names.
+template <class Transfer, class DeviceSide>
+std::size_t checked_total(std::span<const Transfer> transfers, DeviceSide device_side) {
+  std::size_t total = 0;
+  for (const Transfer& transfer : transfers) {
+    check_range(device_side(transfer), transfer.bytes.size(), transfer.offset);
+    total += transfer.bytes.size();
+  }
+  return total;
+}
+
 }  // namespace
 
 void upload_all(Context& context, std::span<const Upload> uploads) {
-  std::size_t total = 0;
-  for (const Upload& upload : uploads) {
-    check_range(upload.destination, upload.bytes.size(), upload.offset);
-    total += upload.bytes.size();
-  }
+  const std::size_t total = checked_total(
+      uploads, [](const Upload& upload) -> const Buffer& { return upload.destination; });
   if (total == 0) return;
   const Buffer staging(context, total, MemoryDomain::upload);
   std::byte* const staged = staging.mapped<std::byte>().data();
@@ -46,11 +54,8 @@ void upload_all(Context& context, std::span<const Upload> uploads) {
 }
 
 void download_all(Context& context, std::span<const Download> downloads) {
-  std::size_t total = 0;
-  for (const Download& download : downloads) {
-    check_range(download.source, download.bytes.size(), download.offset);
-    total += download.bytes.size();
-  }
+  const std::size_t total = checked_total(
+      downloads, [](const Download& download) -> const Buffer& { return download.source; });
   if (total == 0) return;
   const Buffer staging(context, total, MemoryDomain::readback);
   std::vector<VkBufferCopy> regions;
