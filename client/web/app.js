@@ -29,7 +29,7 @@ const state = window.fluidcast = {
   handoffs: 0,      // times the page continued a streamed fluid by itself
   handoffGapMs: 0,  // the last one's gap: from the last frame streamed to the first drawn here
   local: null,      // local mode's figures: fps, stepMs, speed, particles, scene, solver
-  streamedCentre: null,  // the centre of mass of the newest state streamed (m), while asked for
+  streamed: null,   // the newest state streamed (while asked for): centre of mass (m), time (s)
   // Drops the connection as a lost network would (for tests, and to try the reconnect).
   drop: () => { if (socket) socket.close(); },
 };
@@ -216,7 +216,7 @@ function receive(bytes) {
     askForStates();
   } else if (message.state) {
     newestState = message.state;
-    state.streamedCentre = centreOfMass(newestState.positions);
+    state.streamed = { centre: centreOfMass(newestState.positions), time: newestState.time };
   } else if (message.frame) {
     showFrame(message.frame);
   } else if (message.end) {
@@ -378,7 +378,7 @@ let statsTimer = 0;
 function askForStates() {
   clearInterval(stateTimer);
   newestState = null;
-  state.streamedCentre = null;
+  state.streamed = null;
   // A watcher does not hand the fluid back: that would start a copy of someone else's session.
   const mine = state.access && state.access.control;
   const most = mine ? Math.min(kHandoffParticles, state.rules ? state.rules.maxStateParticles : 0) : 0;

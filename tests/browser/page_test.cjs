@@ -285,24 +285,31 @@ async function main() {
     await secure.click('#tilt');
     await secure.click('#menu');
     // The water's centre of mass, from the states the page keeps for a handoff: the image alone
-    // cannot tell a tilt from the slosh of a reset fluid when the machine is loaded.
-    const centre = () => secure.evaluate(() => window.fluidcast.streamedCentre);
+    // cannot tell a tilt from the slosh of a reset fluid when the machine is loaded. Spans are
+    // simulated time, not the clock's: on two loaded cores the fluid runs slower than real time.
+    await waitFor(secure, () => window.fluidcast.streamed, 'a streamed state');
+    const centreAfter = async (seconds) => {
+      const from = await secure.evaluate(() => window.fluidcast.streamed.time);
+      await waitFor(secure, `window.fluidcast.streamed.time >= ${from + seconds}`,
+                    `${seconds} s of simulated time`, 120000);
+      return secure.evaluate(() => window.fluidcast.streamed.centre);
+    };
     const distance = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
-    await sleep(2500);
-    const settling = await centre();
-    await sleep(1500);
-    const level = await centre();
+    const settling = await centreAfter(2.5);
+    const level = await centreAfter(1.5);
     const stillness = distance(settling, level);
     await setAccelerometer(-9.81, 0, 0);  // turned on its side: gravity along the screen's +x
-    await sleep(5000);
-    const tilted = distance(level, await centre());
+    const tiltedAt = Date.now();
+    const tilted = distance(level, await centreAfter(5));
+    const tiltWallSeconds = (Date.now() - tiltedAt) / 1000;
     await secure.screenshot({ path: path.join(out, 'browser_tilt.png') });
     const sent = await secure.evaluate(() => window.fluidcast.tilt);
     check(sent && Math.abs(sent.x - 9.81) < 0.2 && Math.abs(sent.y) < 0.2,
           `the emulated sensor's tilt is sent as gravity along the screen's x (${JSON.stringify(sent)})`);
     check(tilted > 3 * stillness + 0.02,
           `the tilt tips the water (its centre of mass moves ${(100 * tilted).toFixed(1)} cm, ` +
-          `${(100 * stillness).toFixed(1)} cm as long before)`);
+          `${(100 * stillness).toFixed(1)} cm in the 1.5 s before; the 5 simulated seconds took ` +
+          `${tiltWallSeconds.toFixed(1)} s of the clock)`);
     await secureContext.close();
 
     // Local mode: the fluid simulated in the page by the solver in WebAssembly and drawn with
