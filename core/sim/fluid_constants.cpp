@@ -1,6 +1,7 @@
 #include "fluidcast/sim/fluid_constants.h"
 
 #include <cmath>
+#include <numbers>
 
 #include "fluidcast/sim/kernels.h"
 #include "fluidcast/sim/neighbour_grid.h"
@@ -29,6 +30,9 @@ FluidConstants derive_fluid_constants(float spacing, const SolverParams& params)
   const double window = (2.0 * cells + 1.0) / cells * params.kernel_ratio;  // in spacings
   c.max_candidates = static_cast<std::uint32_t>(
       std::ceil(FluidConstants::kCandidatesOverRest * window * window * window));
+  const double ratio = params.kernel_ratio;
+  c.max_neighbours = static_cast<std::uint32_t>(std::ceil(
+      FluidConstants::kNeighboursOverRest * 4.0 / 3.0 * std::numbers::pi * ratio * ratio * ratio));
   return c;
 }
 

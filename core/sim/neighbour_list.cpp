@@ -27,7 +27,7 @@ void NeighbourList::prepare(ForkJoinPool& pool, std::span<const glm::vec3> posit
 
 void NeighbourList::build(ForkJoinPool& pool, const NeighbourGrid& grid,
                           std::span<const glm::vec3> positions, float radius,
-                          std::uint32_t max_candidates) {
+                          std::uint32_t max_candidates, std::uint32_t max_neighbours) {
   const std::size_t n = positions.size();
   const float r2 = radius * radius;
   prepare(pool, positions);
@@ -41,7 +41,7 @@ void NeighbourList::build(ForkJoinPool& pool, const NeighbourGrid& grid,
       offset_[i] = used;
       std::uint32_t examined = 0;
       grid.for_each_candidate_range(p, [&](std::uint32_t begin, std::uint32_t end) {
-        if (examined >= max_candidates) return;
+        if (examined >= max_candidates || used - offset_[i] >= max_neighbours) return;
         end = begin + std::min(end - begin, max_candidates - examined);
         examined += end - begin;
         // Room for every candidate, so the loop below can write without a branch.
@@ -62,7 +62,7 @@ void NeighbourList::build(ForkJoinPool& pool, const NeighbourGrid& grid,
           slot[found] = begin + k;
           found += hit[k] & (begin + k != i);
         }
-        used += found;
+        used += std::min<std::size_t>(found, max_neighbours - (used - offset_[i]));
       });
       count_[i] = static_cast<std::uint32_t>(used - offset_[i]);
     }

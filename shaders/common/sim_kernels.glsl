@@ -11,6 +11,9 @@ ivec3 K_grid_dims;
 uint K_max_candidates;
 Uints K_cell_start;
 Uints K_sorted_cell;
+uint K_particle_count;
+Uints K_neighbours;
+Uints K_neighbour_count;
 
 void load_constants() {
   K_h = P.h;
@@ -23,6 +26,9 @@ void load_constants() {
   K_max_candidates = P.max_candidates;
   K_cell_start = P.cell_start;
   K_sorted_cell = P.sorted_cell;
+  K_particle_count = P.particle_count;
+  K_neighbours = P.neighbours;
+  K_neighbour_count = P.neighbour_count;
 }
 
 float poly6(float r2) {
@@ -106,9 +112,8 @@ vec3 constrain(vec3 p, inout vec3 v, bool adjust_velocity) {
   return clamp(p, inner_min.xyz, inner_max.xyz);
 }
 
-// The cell slot k was sorted into. The candidate windows come from these cells, not from the
-// current positions: the same for every pass of a substep, as the CPU solvers' neighbour lists
-// are, and symmetric (j is a candidate of k exactly when k is one of j).
+// The cell slot k was sorted into: its candidate window (symmetric: j is a candidate of k exactly
+// when k is one of j).
 ivec3 sorted_cell(uint k) {
   const uint c = K_sorted_cell.v[k];
   const uint row = uint(K_grid_dims.x), layer = row * uint(K_grid_dims.y);
@@ -120,6 +125,14 @@ ivec3 sorted_cell(uint k) {
 //   FOR_EACH_CANDIDATE(cell, j) { ... }
 #define FOR_EACH_CANDIDATE(cell, j) \
   FOR_EACH_CANDIDATE_IN(K_cell_start, K_grid_dims, cell, j, K_max_candidates)
+
+// This substep's neighbours of sorted slot k, as neighbours.comp listed them from the positions
+// the substep began with (the CPU solvers' lists, NeighbourList, are the same):
+//   for (uint e = 0u, count = neighbour_count(k); e < count; ++e) {
+//     const uint j = neighbour(k, e); ...
+// Slot-major, so that the invocations of a workgroup read one list entry each from one row.
+uint neighbour_count(uint k) { return K_neighbour_count.v[k]; }
+uint neighbour(uint k, uint e) { return K_neighbours.v[k + e * K_particle_count]; }
 
 // The largest value over the dispatch, into P.stats.v[slot]: one global atomic per workgroup.
 // Every invocation must call it (no early return before).

@@ -27,6 +27,8 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Si
   Uints stats;         // [0] bits of the largest |v|², [1] of the largest |a|, [2..3] PBF: the
                        // compression summed, 64 bits in units of 2^-20 (StatsSlot in gpu_sim_params.h)
   Floats density_ratio;  // ρ/ρ0 per particle in state order, from the last solver pass (render)
+  Uints neighbours;      // this substep's neighbours of sorted slot k: slot k + s · particle_count
+  Uints neighbour_count; //   for s below neighbour_count.v[k] (at most max_neighbours)
 
   vec4 tank_min;
   vec4 tank_max;
@@ -62,6 +64,7 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Si
   float substep_travel;  // PBF: most a particle moves in a substep, m (pbf_travel · h)
   uint max_candidates;   // neighbour candidates examined per particle (FluidConstants)
   float max_acceleration;  // PBF: most the corrections may accelerate a particle, m/s²
+  uint max_neighbours;   // neighbours listed per particle, at most (FluidConstants)
 
   vec4 collider_sphere[MAX_COLLIDERS];    // centre at the step's start, radius in w
   vec4 collider_velocity[MAX_COLLIDERS];

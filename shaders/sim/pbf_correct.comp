@@ -18,11 +18,11 @@ void main() {
   const float scorr_scale = P.scorr_scale, inv_w_dq = P.inv_w_dq, exponent = P.scorr_exponent;
   const bool exponent_is_four = exponent == 4.0;
   vec3 delta = vec3(0.0);
-  const ivec3 cell = sorted_cell(k);
-  FOR_EACH_CANDIDATE(cell, j) {
+  for (uint e = 0u, count = neighbour_count(k); e < count; ++e) {
+    const uint j = neighbour(k, e);
     const vec3 r = p - x.v[j].xyz;
     const float r2 = dot(r, r);
-    if (!(r2 < K_h2) || j == k) continue;
+    if (!(r2 < K_h2)) continue;
     const float s = poly6(r2) * inv_w_dq;
     const float s2 = s * s;
     const float scorr = -scorr_scale * (exponent_is_four ? s2 * s2 : pow(s, exponent));

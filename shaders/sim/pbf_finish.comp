@@ -25,11 +25,11 @@ void main() {
       float density = poly6(0.0);
       const vec4 omega = confine ? vorticity.v[k] : vec4(0.0);
       vec3 eta = vec3(0.0), smoothing = vec3(0.0);
-      const ivec3 cell = sorted_cell(k);
-      FOR_EACH_CANDIDATE(cell, j) {
+      for (uint e = 0u, count = neighbour_count(k); e < count; ++e) {
+        const uint j = neighbour(k, e);
         const vec3 r = p - x.v[j].xyz;
         const float r2 = dot(r, r);
-        if (!(r2 < K_h2) || j == k) continue;
+        if (!(r2 < K_h2)) continue;
         if (confine) {
           const vec4 omega_j = vorticity.v[j];
           eta += (omega_j.w - omega.w) * spiky_gradient(r, r2);

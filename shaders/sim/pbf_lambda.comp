@@ -16,11 +16,11 @@ void main() {
   float density = poly6(0.0);
   vec3 gradient_i = vec3(0.0);
   float sum_squares = 0.0;
-  const ivec3 cell = sorted_cell(k);
-  FOR_EACH_CANDIDATE(cell, j) {
+  for (uint e = 0u, count = neighbour_count(k); e < count; ++e) {
+    const uint j = neighbour(k, e);
     const vec3 r = p - x.v[j].xyz;
     const float r2 = dot(r, r);
-    if (!(r2 < K_h2) || j == k) continue;
+    if (!(r2 < K_h2)) continue;
     density += poly6(r2);
     const vec3 g = rest_volume * spiky_gradient(r, r2);
     gradient_i += g;

@@ -15,11 +15,11 @@ void main() {
   const vec3 p = x.v[k].xyz;
   const vec3 v = velocities.v[k].xyz;
   vec3 omega = vec3(0.0);
-  const ivec3 cell = sorted_cell(k);
-  FOR_EACH_CANDIDATE(cell, j) {
+  for (uint e = 0u, count = neighbour_count(k); e < count; ++e) {
+    const uint j = neighbour(k, e);
     const vec3 r = p - x.v[j].xyz;
     const float r2 = dot(r, r);
-    if (!(r2 < K_h2) || j == k) continue;
+    if (!(r2 < K_h2)) continue;
     omega += cross(velocities.v[j].xyz - v, -spiky_gradient(r, r2));
   }
   omega *= P.rest_volume;

@@ -13,11 +13,11 @@ void main() {
   Vec4s x = P.sorted_position;
   const vec3 p = x.v[k].xyz;
   float sum = poly6(0.0);
-  const ivec3 cell = sorted_cell(k);
-  FOR_EACH_CANDIDATE(cell, j) {
+  for (uint e = 0u, count = neighbour_count(k); e < count; ++e) {
+    const uint j = neighbour(k, e);
     const vec3 r = p - x.v[j].xyz;
     const float r2 = dot(r, r);
-    if (!(r2 < K_h2) || j == k) continue;
+    if (!(r2 < K_h2)) continue;
     sum += poly6(r2);
   }
   const float density = P.mass * sum + walls(p).x;

@@ -19,11 +19,11 @@ void main() {
     const vec2 own = density.v[k];
     const float pressure_term_i = own.y / (own.x * own.x);
     vec3 pressure_acceleration = vec3(0.0), viscous_sum = vec3(0.0);
-    const ivec3 cell = sorted_cell(k);
-    FOR_EACH_CANDIDATE(cell, j) {
+    for (uint e = 0u, count = neighbour_count(k); e < count; ++e) {
+      const uint j = neighbour(k, e);
       const vec3 r = p - x.v[j].xyz;
       const float r2 = dot(r, r);
-      if (!(r2 < K_h2) || j == k) continue;
+      if (!(r2 < K_h2)) continue;
       const float distance = sqrt(r2);
       const vec2 other = density.v[j];
       const vec3 vj = velocity.v[j].xyz;

@@ -75,6 +75,8 @@ TEST(GpuParamsLayout, SimParamsMatchesTheGlslBlock) {
                                                   FIELD(SimParams, sorted_cell),
                                                   FIELD(SimParams, stats),
                                                   FIELD(SimParams, density_ratio),
+                                                  FIELD(SimParams, neighbours),
+                                                  FIELD(SimParams, neighbour_count),
                                                   FIELD(SimParams, tank_min),
                                                   FIELD(SimParams, tank_max),
                                                   FIELD(SimParams, inner_min),
@@ -108,6 +110,7 @@ TEST(GpuParamsLayout, SimParamsMatchesTheGlslBlock) {
                                                   FIELD(SimParams, substep_travel),
                                                   FIELD(SimParams, max_candidates),
                                                   FIELD(SimParams, max_acceleration),
+                                                  FIELD(SimParams, max_neighbours),
                                                   FIELD(SimParams, collider_sphere),
                                                   FIELD(SimParams, collider_velocity)};
   const auto glsl = member_offsets(shaders::sim_pbf_lambda_comp, "SimParams");

@@ -40,7 +40,8 @@ Pairs through_grid(const std::vector<glm::vec3>& original, float radius, unsigne
   apply_order(grid.order(), sorted, scratch);
   ForkJoinPool pool(threads);
   NeighbourList list;
-  list.build(pool, grid, sorted, radius, std::numeric_limits<std::uint32_t>::max());
+  constexpr std::uint32_t unlimited = std::numeric_limits<std::uint32_t>::max();
+  list.build(pool, grid, sorted, radius, unlimited, unlimited);
   Pairs pairs;
   const auto order = grid.order();
   for (std::size_t k = 0; k < sorted.size(); ++k) {
@@ -77,10 +78,29 @@ TEST(NeighbourList, AClumpExaminesAtMostTheCapPerParticle) {
   ForkJoinPool pool(2);
   NeighbourList list;
   constexpr std::uint32_t cap = 200;
-  list.build(pool, grid, sorted, kRadius, cap);
+  list.build(pool, grid, sorted, kRadius, cap, std::numeric_limits<std::uint32_t>::max());
   for (std::size_t k = 0; k < sorted.size(); ++k) ASSERT_LE(list.of(k).size(), cap);
   EXPECT_LE(list.pair_count(), clump.size() * cap);
   EXPECT_GE(list.pair_count(), clump.size() * (cap - 1));  // the cap, not fewer
+}
+
+// The same clump with room for fewer neighbours than it examines: each list holds exactly its
+// first max_neighbours, in index order, as the GPU solver's fixed-length lists do.
+TEST(NeighbourList, AClumpListsAtMostTheNeighbourCapPerParticle) {
+  const std::vector<glm::vec3> clump(3000, glm::vec3(0.5f, 0.3f, 0.2f));
+  NeighbourGrid grid(kDomain, kRadius);
+  grid.build(clump);
+  ForkJoinPool pool(2);
+  NeighbourList list;
+  constexpr std::uint32_t most = 50;
+  list.build(pool, grid, clump, kRadius, 200, most);
+  for (std::size_t k = 0; k < clump.size(); ++k) {
+    const auto neighbours = list.of(k);
+    ASSERT_EQ(neighbours.size(), most) << k;
+    EXPECT_EQ(neighbours.front(), k == 0 ? 1u : 0u);
+    EXPECT_TRUE(std::is_sorted(neighbours.begin(), neighbours.end()));
+  }
+  EXPECT_EQ(list.pair_count(), clump.size() * most);
 }
 
 TEST(FluidConstants, TheCandidateCapIsFourTimesAFluidAtRest) {
@@ -88,6 +108,13 @@ TEST(FluidConstants, TheCandidateCapIsFourTimesAFluidAtRest) {
   params.kernel_ratio = 2.0f;
   // 5 cells of h/2 a side: 2.5 h = 5 spacings, 125 lattice sites.
   EXPECT_EQ(derive_fluid_constants(0.01f, params).max_candidates, 500u);
+}
+
+TEST(FluidConstants, TheNeighbourCapIsTwiceAFluidAtRest) {
+  SolverParams params;
+  params.kernel_ratio = 2.0f;
+  // A sphere of radius h = 2 spacings holds 4/3 π 8 = 33.5 spacings' cubes.
+  EXPECT_EQ(derive_fluid_constants(0.01f, params).max_neighbours, 68u);
 }
 
 TEST(NeighbourGrid, EmptySet) {

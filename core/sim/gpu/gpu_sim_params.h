@@ -22,6 +22,7 @@ struct SimParams {
   VkDeviceAddress predicted, iterate0, iterate1, lambda, vorticity;
   VkDeviceAddress density, acceleration;
   VkDeviceAddress order, cell_start, sorted_cell, stats, density_ratio;
+  VkDeviceAddress neighbours, neighbour_count;
 
   alignas(16) glm::vec4 tank_min, tank_max, inner_min, inner_max, gravity;
   glm::ivec4 grid_dims;
@@ -34,22 +35,25 @@ struct SimParams {
   float substep_travel;
   std::uint32_t max_candidates;
   float max_acceleration;
+  std::uint32_t max_neighbours;
 
   alignas(16) glm::vec4 collider_sphere[kMaxColliders];
   glm::vec4 collider_velocity[kMaxColliders];
 };
 static_assert(offsetof(SimParams, stats) == 16 * 8);
 static_assert(offsetof(SimParams, density_ratio) == 17 * 8);
-static_assert(offsetof(SimParams, tank_min) == 144);
-static_assert(offsetof(SimParams, grid_dims) == 144 + 5 * 16);
-static_assert(offsetof(SimParams, solver) == 144 + 6 * 16);
-static_assert(offsetof(SimParams, h) == 144 + 6 * 16 + 12);
-static_assert(offsetof(SimParams, relaxation_epsilon) == 144 + 6 * 16 + 13 * 4);
-static_assert(offsetof(SimParams, softening) == 144 + 6 * 16 + 23 * 4);
-static_assert(offsetof(SimParams, substep_travel) == 144 + 6 * 16 + 24 * 4);
-static_assert(offsetof(SimParams, max_candidates) == 144 + 6 * 16 + 25 * 4);
-static_assert(offsetof(SimParams, max_acceleration) == 144 + 6 * 16 + 26 * 4);
-static_assert(offsetof(SimParams, collider_sphere) == 144 + 6 * 16 + 28 * 4);
+static_assert(offsetof(SimParams, neighbour_count) == 19 * 8);
+static_assert(offsetof(SimParams, tank_min) == 160);
+static_assert(offsetof(SimParams, grid_dims) == 160 + 5 * 16);
+static_assert(offsetof(SimParams, solver) == 160 + 6 * 16);
+static_assert(offsetof(SimParams, h) == 160 + 6 * 16 + 12);
+static_assert(offsetof(SimParams, relaxation_epsilon) == 160 + 6 * 16 + 13 * 4);
+static_assert(offsetof(SimParams, softening) == 160 + 6 * 16 + 23 * 4);
+static_assert(offsetof(SimParams, substep_travel) == 160 + 6 * 16 + 24 * 4);
+static_assert(offsetof(SimParams, max_candidates) == 160 + 6 * 16 + 25 * 4);
+static_assert(offsetof(SimParams, max_acceleration) == 160 + 6 * 16 + 26 * 4);
+static_assert(offsetof(SimParams, max_neighbours) == 160 + 6 * 16 + 27 * 4);
+static_assert(offsetof(SimParams, collider_sphere) == 160 + 6 * 16 + 28 * 4);
 static_assert(offsetof(SimParams, collider_velocity) ==
               offsetof(SimParams, collider_sphere) + kMaxColliders * 16);
 static_assert(sizeof(SimParams) % 4 == 0, "vkCmdUpdateBuffer takes whole words");

@@ -21,12 +21,14 @@ static_assert(kGroup <= 128, "record_sum (sim_kernels.glsl) sums a workgroup in 
 // Of the device-local heap, what a simulation may plan to use: the driver and other work need some.
 constexpr double kUsableMemoryShare = 0.9;
 
-std::uint64_t bytes_per_particle(SolverKind kind) {
+std::uint64_t bytes_per_particle(SolverKind kind, std::uint32_t max_neighbours) {
   // position, velocity, id, their sorted copies, and the density ratio for the renderer
   constexpr std::uint64_t state = 2 * (16 + 16 + 4) + 4;
   constexpr std::uint64_t pbf = 16 + 16 + 16 + 4 + 16;  // predicted, two iterates, λ, ω
   constexpr std::uint64_t sph = 8 + 16;                 // density and pressure, acceleration
-  return state + (kind == SolverKind::pbf ? pbf : sph) + GpuNeighbourGrid::bytes_per_particle();
+  const std::uint64_t list = 4 * (std::uint64_t{max_neighbours} + 1);  // and its length
+  return state + (kind == SolverKind::pbf ? pbf : sph) + list +
+         GpuNeighbourGrid::bytes_per_particle();
 }
 
 float float_from_bits(std::uint32_t bits) {
@@ -43,6 +45,7 @@ GpuSolver::InFlight::InFlight(gpu::Context& context)
 GpuSolver::Pipelines::Pipelines(gpu::Context& c)
     : predict(c, shaders::sim_predict_comp, sizeof(SimPass), kGroup),
       reorder(c, shaders::sim_reorder_comp, sizeof(SimPass), kGroup),
+      neighbours(c, shaders::sim_neighbours_comp, sizeof(SimPass), kGroup),
       pbf_lambda(c, shaders::sim_pbf_lambda_comp, sizeof(SimPass), kGroup),
       pbf_correct(c, shaders::sim_pbf_correct_comp, sizeof(SimPass), kGroup),
       pbf_velocity(c, shaders::sim_pbf_velocity_comp, sizeof(SimPass), kGroup),
@@ -99,14 +102,15 @@ void GpuSolver::submit_queued() const {
 }
 
 std::uint64_t GpuSolver::bytes_needed(std::size_t particles) const {
-  return particles * bytes_per_particle(kind_) +
+  return particles * bytes_per_particle(kind_, fluid().max_neighbours) +
          GpuNeighbourGrid::bytes_for_cells(grid_.geometry().cell_count());
 }
 
 std::size_t GpuSolver::particles_that_fit() const {
   const std::uint64_t grid_bytes = bytes_needed(0);
-  return memory_budget_ > grid_bytes ? (memory_budget_ - grid_bytes) / bytes_per_particle(kind_)
-                                     : 0;
+  return memory_budget_ > grid_bytes
+             ? (memory_budget_ - grid_bytes) / bytes_per_particle(kind_, fluid().max_neighbours)
+             : 0;
 }
 
 void GpuSolver::allocate(std::size_t capacity) {
@@ -141,6 +145,8 @@ void GpuSolver::allocate(std::size_t capacity) {
   b.density = device(pbf ? 0 : 8);
   b.acceleration = device(pbf ? 0 : 16);
   b.density_ratio = device(4);
+  b.neighbours = device(4 * std::uint64_t{fluid().max_neighbours});
+  b.neighbour_count = device(4);
   grid_.reserve(capacity);                                  // may throw: then nothing has changed
   context_->retire(std::exchange(buffers_, std::move(b)));  // steps and frames may still read them
   capacity_ = capacity;
@@ -306,6 +312,8 @@ void GpuSolver::set_addresses(SimParams& p) const {
   p.sorted_cell = grid_.sorted_cell().address();
   p.stats = stats_buffer_.address();
   p.density_ratio = buffers_.density_ratio.address();
+  p.neighbours = buffers_.neighbours.address();
+  p.neighbour_count = buffers_.neighbour_count.address();
 }
 
 SimParams GpuSolver::step_params() const {
@@ -351,6 +359,7 @@ SimParams GpuSolver::step_params() const {
   p.substep_travel = params().pbf_travel * kernels.radius();
   p.max_acceleration = params().pbf_max_acceleration;
   p.max_candidates = fluid().max_candidates;
+  p.max_neighbours = fluid().max_neighbours;
   for (std::size_t c = 0; c < colliders().size(); ++c) {
     p.collider_sphere[c] = glm::vec4(colliders()[c].centre, colliders()[c].radius);
     p.collider_velocity[c] = glm::vec4(colliders()[c].velocity, 0.0f);
@@ -441,6 +450,7 @@ void GpuSolver::append_pbf_substep(Passes& passes, const SimPass& pass, bool las
                     }});
   grid_.append_build(passes, buffers_.predicted.address(), n, static_cast<int>(Stage::grid));
   add(Stage::grid, 0, pipelines_.reorder, pass);
+  add(Stage::grid, 0, pipelines_.neighbours, pass);
 
   SimPass iteration = pass;
   for (int k = 0; k < params().iterations; ++k) {
@@ -463,6 +473,7 @@ void GpuSolver::append_sph_substep(Passes& passes, const SimPass& pass,
   };
   grid_.append_build(passes, buffers_.position.address(), n, static_cast<int>(Stage::grid));
   add(Stage::grid, pipelines_.reorder);
+  add(Stage::grid, pipelines_.neighbours);
   add(Stage::solve, pipelines_.sph_density);
   add(Stage::solve, pipelines_.sph_force);
   // The integration does not read the grid: the next substep's may be cleared beside it.

@@ -6,11 +6,10 @@
 // compression left) of the newest finished step, which the GPU records with one atomic per
 // workgroup.
 // The formulas are the CPU solvers' (cpu/pbf_solver.cpp, cpu/sph_solver.cpp): see there for the
-// papers. Two differences: SPH substeps are equal within a step, as their count is recorded up
-// front, where the CPU solver adapts each substep to the state it has just computed; and the
-// neighbours are not listed but found in each pass, among the particles of the cells around the
-// cell each one was sorted into (fixed for the substep, as the CPU lists are), by the distance
-// now, so that a pair that comes within h during the PBF iterations counts from then on.
+// papers, and the neighbours are listed once per substep as the CPU solvers list them (within h at
+// the substep's start, at most FluidConstants::max_neighbours each). One difference: SPH
+// substeps are equal within a step, as their count is recorded up front, where the CPU solver
+// adapts each substep to the state it has just computed.
 #pragma once
 
 #include <array>
@@ -77,8 +76,8 @@ class GpuSolver final : public Solver {
   };
   struct Pipelines {
     explicit Pipelines(gpu::Context& context);
-    gpu::ComputePipeline predict, reorder, pbf_lambda, pbf_correct, pbf_velocity, pbf_vorticity,
-        pbf_finish, sph_density, sph_force, sph_integrate;
+    gpu::ComputePipeline predict, reorder, neighbours, pbf_lambda, pbf_correct, pbf_velocity,
+        pbf_vorticity, pbf_finish, sph_density, sph_force, sph_integrate;
   };
 
   void allocate(std::size_t capacity);
@@ -109,6 +108,7 @@ class GpuSolver final : public Solver {
     gpu::Buffer predicted, iterate0, iterate1, lambda, vorticity;  // PBF
     gpu::Buffer density, acceleration;                             // SPH
     gpu::Buffer density_ratio;                                     // both, for the renderer
+    gpu::Buffer neighbours, neighbour_count;                       // both: this substep's lists
   } buffers_;
   gpu::Buffer params_buffer_, stats_buffer_;
   // Steps in flight, a ring: a frame loop may submit this many in one tick without waiting.

@@ -16,6 +16,12 @@ struct FluidConstants {
   // a fluid near rest never reaches it.
   std::uint32_t max_candidates = 0;
   static constexpr double kCandidatesOverRest = 4.0;
+  // Neighbours listed per particle, at most: kNeighboursOverRest times what a fluid at rest has
+  // within h (the kernel's sphere over a spacing's cube). The GPU keeps a list of this length per
+  // particle; a particle with more is in a clump twice as dense as water, whose first ones
+  // already push it apart.
+  std::uint32_t max_neighbours = 0;
+  static constexpr double kNeighboursOverRest = 2.0;
 
   float particle_radius() const { return 0.5f * spacing; }
   float rest_volume() const { return particle_mass / rest_density; }

@@ -16,10 +16,10 @@ class NeighbourList {
  public:
   // `positions` must be in the grid's sorted order (after apply_order). A particle is not its
   // own neighbour. Each list is in increasing index order. At most `max_candidates` slots are
-  // examined per particle (FluidConstants::max_candidates): in a clump its list is cut short,
-  // and the work and memory stay linear in the count.
+  // examined per particle and at most `max_neighbours` listed (FluidConstants, the GPU solver's
+  // rule too): in a clump a list is cut short, and the work and memory stay linear in the count.
   void build(ForkJoinPool& pool, const NeighbourGrid& grid, std::span<const glm::vec3> positions,
-             float radius, std::uint32_t max_candidates);
+             float radius, std::uint32_t max_candidates, std::uint32_t max_neighbours);
 
   std::span<const std::uint32_t> of(std::size_t i) const { return {begin_[i], count_[i]}; }
   std::size_t size() const { return count_.size(); }
