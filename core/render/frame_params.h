@@ -36,10 +36,9 @@ static_assert(sizeof(FrameParams) % 16 == 0);
 
 // shaders/common/draw_pass.glsl
 struct DrawConstants {
-  VkDeviceAddress frame, position, velocity, density_ratio, shape;
-  std::uint32_t ellipsoids;
+  VkDeviceAddress frame, vertices;
 };
-static_assert(offsetof(DrawConstants, ellipsoids) == 40 && sizeof(DrawConstants) == 48);
+static_assert(offsetof(DrawConstants, vertices) == 8 && sizeof(DrawConstants) == 16);
 
 // shaders/common/particle_splat.glsl
 enum class SplatMode : std::uint32_t { ssfr, points_distance, points_colour };

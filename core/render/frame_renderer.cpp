@@ -315,18 +315,19 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
   slot.timestamps.reset(commands);
   slot.timed.clear();
   slot.timestamps.mark(commands);
-  const DrawConstants draw = record_shapes(commands, kind, particles, tank, slot);
-  record_scene(commands, draw, SceneKey{frame.view, frame.projection, tank.min, tank.max}, slot);
+  const ParticleShapes shapes = record_shapes(commands, kind, particles, tank, slot);
+  record_scene(commands, SceneKey{frame.view, frame.projection, tank.min, tank.max}, slot);
   // Points into the finished frame; SSFR and MC into the per-pixel surface buffers that the
   // filter and the shading read (SSFR in compute, MC through FluidTarget's attachments).
   if (kind == RendererKind::points) {
-    record_points(commands, draw, particles.count);
+    record_points(commands, shapes, particles.count);
   } else if (kind == RendererKind::ssfr) {
-    record_ssfr_particles(commands, draw, particles.count);
+    record_ssfr_particles(commands, shapes, particles.count);
   } else {
     fluid_target_->begin(commands);
     if (particles.count > 0) {
-      mc_surface_->draw_indirect(commands, draw, marching_cubes_->draw_buffer());
+      mc_surface_->draw_indirect(commands, {frame_params_.address(), marching_cubes_->vertices()},
+                                 marching_cubes_->draw_buffer());
     }
     fluid_target_->end(commands);
     fluid_target_->record_read(commands, depth_, thickness_, spray_);
@@ -342,42 +343,35 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
                  VK_ACCESS_HOST_READ_BIT);
 }
 
-DrawConstants FrameRenderer::record_shapes(VkCommandBuffer commands, RendererKind kind,
-                                           const ParticleView& particles, const sim::Box& tank,
-                                           Slot& slot) {
-  // For the mesh, `position` is the vertex buffer; for ellipsoids, their centres.
-  DrawConstants draw{frame_params_.address(),
-                     particles.position,
-                     particles.velocity,
-                     particles.density_ratio,
-                     0,
-                     0};
-  if (particles.count == 0) return draw;
+FrameRenderer::ParticleShapes FrameRenderer::record_shapes(VkCommandBuffer commands,
+                                                           RendererKind kind,
+                                                           const ParticleView& particles,
+                                                           const sim::Box& tank, Slot& slot) {
+  ParticleShapes shapes{particles.position, particles.velocity, particles.density_ratio, 0, false};
+  if (particles.count == 0) return shapes;
   if (kind == RendererKind::mc) {
     marching_cubes_->record_field(commands, particles, mc.threshold);
     slot.mark(commands, &RenderTimes::mc_field_ms);
     marching_cubes_->record_triangles(commands, particles, mc.threshold);
     slot.mark(commands, &RenderTimes::mc_triangles_ms);
-    draw.position = marching_cubes_->vertices();
   } else if (kind == RendererKind::ssfr && ssfr.anisotropic) {
     if (!anisotropy_) anisotropy_ = std::make_unique<Anisotropy>(*context_);
     anisotropy_->record(commands, particles, tank, ssfr);
     slot.mark(commands, &RenderTimes::anisotropy_ms);
-    draw.position = anisotropy_->centres().address();
-    draw.shape = anisotropy_->shapes().address();
-    draw.ellipsoids = 1;
+    shapes.position = anisotropy_->centres().address();
+    shapes.shape = anisotropy_->shapes().address();
+    shapes.ellipsoids = true;
   }
-  return draw;
+  return shapes;
 }
 
-void FrameRenderer::record_scene(VkCommandBuffer commands, const DrawConstants& draw,
-                                 const SceneKey& scene, Slot& slot) {
+void FrameRenderer::record_scene(VkCommandBuffer commands, const SceneKey& scene, Slot& slot) {
   // The scene depends on the camera and the tank only: while they stay, frames keep its colour
   // in scene_ from the frame that drew it.
   if (scene_drawn_for_ != scene) {
     const float clear[4] = {0.0f, 0.0f, 0.0f, 1.0f};
     target_.begin(commands, clear);
-    background_->draw(commands, draw, 3);
+    background_->draw(commands, {frame_params_.address(), 0}, 3);
     target_.end(commands);
     VkBufferImageCopy region{};
     region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
@@ -391,20 +385,20 @@ void FrameRenderer::record_scene(VkCommandBuffer commands, const DrawConstants& 
   slot.mark(commands, &RenderTimes::scene_ms);
 }
 
-SplatConstants FrameRenderer::splat_constants(const DrawConstants& draw, std::uint32_t particles,
+SplatConstants FrameRenderer::splat_constants(const ParticleShapes& shapes, std::uint32_t particles,
                                               SplatMode mode) const {
-  return SplatConstants{draw.frame,
-                        draw.position,
-                        draw.velocity,
-                        draw.density_ratio,
-                        draw.shape,
+  return SplatConstants{frame_params_.address(),
+                        shapes.position,
+                        shapes.velocity,
+                        shapes.density_ratio,
+                        shapes.shape,
                         depth_.address(),
                         thickness_.address(),
                         spray_.address(),
                         image_.address(),
                         splat_queue_.address(),
                         particles,
-                        draw.ellipsoids,
+                        shapes.ellipsoids ? 1u : 0u,
                         kLargeSplatCapacity,
                         static_cast<std::uint32_t>(mode)};
 }
@@ -423,25 +417,25 @@ void FrameRenderer::record_particle_pass(VkCommandBuffer commands,
                  kShaderAccess | VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
 }
 
-void FrameRenderer::record_ssfr_particles(VkCommandBuffer commands, const DrawConstants& draw,
+void FrameRenderer::record_ssfr_particles(VkCommandBuffer commands, const ParticleShapes& shapes,
                                           std::uint32_t particles) {
   const std::uint64_t pixel_bytes = std::uint64_t{target_.width()} * target_.height() * 4;
   vkCmdFillBuffer(commands, depth_.get(), 0, pixel_bytes, kInfinityBits);
   vkCmdFillBuffer(commands, thickness_.get(), 0, pixel_bytes, 0);
   vkCmdFillBuffer(commands, spray_.get(), 0, pixel_bytes, 0);
-  const SplatConstants splat = splat_constants(draw, particles, SplatMode::ssfr);
+  const SplatConstants splat = splat_constants(shapes, particles, SplatMode::ssfr);
   record_particle_pass(commands, splat);
   pipelines_->splat_resolve.dispatch(commands, splat, pixel_bytes / 4);
 }
 
-void FrameRenderer::record_points(VkCommandBuffer commands, const DrawConstants& draw,
+void FrameRenderer::record_points(VkCommandBuffer commands, const ParticleShapes& shapes,
                                   std::uint32_t particles) {
   const std::uint64_t pixel_bytes = std::uint64_t{target_.width()} * target_.height() * 4;
   vkCmdFillBuffer(commands, depth_.get(), 0, pixel_bytes, kInfinityBits);
   const VkBufferCopy scene{0, 0, pixel_bytes};
   vkCmdCopyBuffer(commands, scene_.get(), image_.get(), 1, &scene);
-  record_particle_pass(commands, splat_constants(draw, particles, SplatMode::points_distance));
-  record_particle_pass(commands, splat_constants(draw, particles, SplatMode::points_colour));
+  record_particle_pass(commands, splat_constants(shapes, particles, SplatMode::points_distance));
+  record_particle_pass(commands, splat_constants(shapes, particles, SplatMode::points_colour));
 }
 
 void FrameRenderer::record_fluid_screen(VkCommandBuffer commands, RendererKind kind, Slot& slot) {

@@ -55,8 +55,7 @@ double measure_ms_per_substep(gpu::Context& context, bool gpu_solver, std::uint3
     const double wall_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begun).count();
     const sim::StageTimes& times = solver->stage_times();
-    const double gpu_ms =
-        times.grid_ms + times.predict_ms + times.solve_ms + times.velocity_ms + times.viscosity_ms;
+    const double gpu_ms = times.total_ms();
     least = std::min(least, gpu_solver && times.substeps > 0
                                 ? gpu_ms / static_cast<double>(times.substeps)
                                 : wall_ms / substeps);

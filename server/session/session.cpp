@@ -23,10 +23,6 @@ constexpr double kMaxOwedSteps = 4.0;
 // Frames smaller than this (a 320×240 frame is 0.077) do not set the device's price per pixel.
 constexpr double kLeastPricedMegapixels = 0.05;
 
-double total_ms(const sim::StageTimes& times) {
-  return times.grid_ms + times.predict_ms + times.solve_ms + times.velocity_ms + times.viscosity_ms;
-}
-
 double milliseconds(Clock::duration duration) {
   return std::chrono::duration<double, std::milli>(duration).count();
 }
@@ -355,7 +351,7 @@ void Session::simulate(const GpuGrant& grant) {
   // by the clock around them, whole (its stage timers leave out the pool's waits).
   solver_->count_finished_steps();
   if (services_.gpu_solver) {
-    measure_steps(total_ms(solver_->stage_times()), solver_->stage_times().substeps);
+    measure_steps(solver_->stage_times().total_ms(), solver_->stage_times().substeps);
   }
   solver_->clear_stage_times();
   if (paused_ || viewers_.empty()) {

@@ -28,7 +28,6 @@ class FluidTarget;
 class GraphicsPipeline;
 struct ScreenPipelines;
 class MarchingCubes;
-struct DrawConstants;
 struct SplatConstants;
 enum class SplatMode : std::uint32_t;
 struct FrameParams;
@@ -222,21 +221,27 @@ class FrameRenderer {
                            const OrbitCamera& camera) const;
   void record(VkCommandBuffer commands, RendererKind kind, const ParticleView& particles,
               const sim::Box& tank, const OrbitCamera& camera, Slot& slot);
-  // What the fluid is drawn from: the particles, Marching Cubes' mesh or SSFR's ellipsoids.
-  DrawConstants record_shapes(VkCommandBuffer commands, RendererKind kind,
-                              const ParticleView& particles, const sim::Box& tank, Slot& slot);
+  // What the particle passes splat: the particles, or SSFR's ellipsoids (centres and shapes).
+  struct ParticleShapes {
+    VkDeviceAddress position, velocity, density_ratio, shape;
+    bool ellipsoids;
+  };
+  // The shapes the fluid is drawn from: for MC its mesh (marching_cubes_), for SSFR with
+  // anisotropy the ellipsoids.
+  ParticleShapes record_shapes(VkCommandBuffer commands, RendererKind kind,
+                               const ParticleView& particles, const sim::Box& tank, Slot& slot);
   // The scene into scene_, unless it holds this one already.
-  void record_scene(VkCommandBuffer commands, const DrawConstants& draw, const SceneKey& scene,
-                    Slot& slot);
-  SplatConstants splat_constants(const DrawConstants& draw, std::uint32_t particles,
+  void record_scene(VkCommandBuffer commands, const SceneKey& scene, Slot& slot);
+  SplatConstants splat_constants(const ParticleShapes& shapes, std::uint32_t particles,
                                  SplatMode mode) const;
   // One particle pass (particle_splat.comp), the queue of large particles included.
   void record_particle_pass(VkCommandBuffer commands, const SplatConstants& splat) const;
   // SSFR: the particles' ellipsoids into the surface buffers (depth_, thickness_, spray_).
-  void record_ssfr_particles(VkCommandBuffer commands, const DrawConstants& draw,
+  void record_ssfr_particles(VkCommandBuffer commands, const ParticleShapes& shapes,
                              std::uint32_t particles);
   // Points: the scene, and the particles over it, into image_.
-  void record_points(VkCommandBuffer commands, const DrawConstants& draw, std::uint32_t particles);
+  void record_points(VkCommandBuffer commands, const ParticleShapes& shapes,
+                     std::uint32_t particles);
   // SSFR and MC: the depth filter and the shading into image_.
   void record_fluid_screen(VkCommandBuffer commands, RendererKind kind, Slot& slot);
   // image_ into the slot's read-back, and the probe's distance after it.

@@ -57,6 +57,9 @@ struct StageTimes {
   double viscosity_ms = 0;  // PBF: vorticity confinement and XSPH viscosity
   std::vector<double> iteration_ms;  // PBF: each density iteration, summed over substeps
   std::uint64_t substeps = 0;
+
+  // Every stage (the iterations are part of solve_ms).
+  double total_ms() const { return grid_ms + predict_ms + solve_ms + velocity_ms + viscosity_ms; }
 };
 
 class Solver {
