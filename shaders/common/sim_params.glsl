@@ -15,9 +15,8 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Si
   Vec4s sorted_velocity;
   Uints sorted_id;
   Vec4s predicted;     // PBF: predicted positions in state order (the sort key)
-  Vec4s iterate0;      // PBF: predicted positions in sorted order, ping-pong over the iterations
-  Vec4s iterate1;
-  Floats lambda;       // PBF
+  Vec4s iterate;       // PBF: predicted positions in sorted order, corrected by each iteration
+  Vec4s iterate_lambda;  // PBF: the iteration's positions with their λ in w (one load a neighbour)
   Vec4s vorticity;     // PBF: ω, and |ω| in w
   Vec2s density;       // SPH: density and pressure
   Vec4s acceleration;  // SPH
@@ -74,7 +73,6 @@ layout(push_constant, std430) uniform SimPass {
   SimParams params;
   float dt;              // this substep's length, s
   float time_into_step;  // where the colliders are: seconds into the step
-  uint parity;           // PBF: which iterate buffer holds the current positions
   uint record_compression;  // PBF finish pass: add up the compression in P.stats.v[2..3]
 } pass;
 

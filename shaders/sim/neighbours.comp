@@ -13,7 +13,7 @@ void main() {
   load_constants();
   const uint k = invocation();
   if (k >= P.particle_count) return;
-  Vec4s x = P.solver == SOLVER_PBF ? P.iterate0 : P.sorted_position;
+  Vec4s x = P.solver == SOLVER_PBF ? P.iterate : P.sorted_position;
   const vec3 p = x.v[k].xyz;
   const uint most = P.max_neighbours;
   uint count = 0u;

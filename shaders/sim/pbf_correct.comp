@@ -10,25 +10,25 @@ void main() {
   load_constants();
   const uint k = invocation();
   if (k >= P.particle_count) return;
-  Vec4s x = pass.parity == 0u ? P.iterate0 : P.iterate1;
-  Vec4s corrected = pass.parity == 0u ? P.iterate1 : P.iterate0;
-  const vec3 p = x.v[k].xyz;
-  Floats lambda = P.lambda;
-  const float lambda_i = lambda.v[k];
+  Vec4s x = P.iterate_lambda;
+  const vec4 own = x.v[k];
+  const vec3 p = own.xyz;
+  const float lambda_i = own.w;
   const float scorr_scale = P.scorr_scale, inv_w_dq = P.inv_w_dq, exponent = P.scorr_exponent;
   const bool exponent_is_four = exponent == 4.0;
   vec3 delta = vec3(0.0);
   for (uint e = 0u, count = neighbour_count(k); e < count; ++e) {
     const uint j = neighbour(k, e);
-    const vec3 r = p - x.v[j].xyz;
+    const vec4 other = x.v[j];
+    const vec3 r = p - other.xyz;
     const float r2 = dot(r, r);
     if (!(r2 < K_h2)) continue;
     const float s = poly6(r2) * inv_w_dq;
     const float s2 = s * s;
     const float scorr = -scorr_scale * (exponent_is_four ? s2 * s2 : pow(s, exponent));
-    delta += (lambda_i + lambda.v[j] + scorr) * spiky_gradient(r, r2);
+    delta += (lambda_i + other.w + scorr) * spiky_gradient(r, r2);
   }
   const vec3 wall_push = lambda_i * P.inv_rest_density * walls(p).yzw;
   vec3 unused;
-  corrected.v[k] = vec4(constrain(p + P.rest_volume * delta + wall_push, unused, false), 0.0);
+  P.iterate.v[k] = vec4(constrain(p + P.rest_volume * delta + wall_push, unused, false), 0.0);
 }

@@ -14,7 +14,7 @@ void main() {
   const uint k = invocation();
   float speed2 = 0.0, compression = 0.0;
   if (k < P.particle_count) {
-    Vec4s x = pass.parity == 0u ? P.iterate0 : P.iterate1;
+    Vec4s x = P.iterate;
     const vec3 p = x.v[k].xyz;
     Vec4s velocities = P.sorted_velocity, vorticity = P.vorticity;
     const vec3 v = velocities.v[k].xyz;

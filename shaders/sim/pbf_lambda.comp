@@ -10,7 +10,7 @@ void main() {
   load_constants();
   const uint k = invocation();
   if (k >= P.particle_count) return;
-  Vec4s x = pass.parity == 0u ? P.iterate0 : P.iterate1;
+  Vec4s x = P.iterate;
   const vec3 p = x.v[k].xyz;
   const float rest_volume = P.rest_volume;
   float density = poly6(0.0);
@@ -31,6 +31,7 @@ void main() {
   const float ratio = (P.mass * density + wall.x) * P.inv_rest_density;
   P.density_ratio.v[k] = ratio;  // sorted slot k is state index k once the substep ends
   const float constraint = max(ratio - 1.0, 0.0);
-  P.lambda.v[k] = constraint == 0.0 ? 0.0
+  const float lambda = constraint == 0.0 ? 0.0
       : -constraint / (sum_squares + dot(gradient_i, gradient_i) + P.relaxation_epsilon);
+  P.iterate_lambda.v[k] = vec4(p, lambda);
 }

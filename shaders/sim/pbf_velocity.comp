@@ -9,7 +9,7 @@
 void main() {
   const uint k = invocation();
   if (k >= P.particle_count) return;
-  Vec4s x = pass.parity == 0u ? P.iterate0 : P.iterate1;
+  Vec4s x = P.iterate;
   const vec3 start = P.sorted_position.v[k].xyz;
   const vec3 uncorrected_position = P.predicted.v[P.order.v[k]].xyz;
   const float inv_dt = 1.0 / pass.dt;

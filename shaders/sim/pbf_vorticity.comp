@@ -10,7 +10,7 @@ void main() {
   load_constants();
   const uint k = invocation();
   if (k >= P.particle_count) return;
-  Vec4s x = pass.parity == 0u ? P.iterate0 : P.iterate1;
+  Vec4s x = P.iterate;
   Vec4s velocities = P.sorted_velocity;
   const vec3 p = x.v[k].xyz;
   const vec3 v = velocities.v[k].xyz;

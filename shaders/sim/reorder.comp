@@ -12,5 +12,5 @@ void main() {
   P.sorted_position.v[k] = P.position.v[i];
   P.sorted_velocity.v[k] = P.velocity.v[i];
   P.sorted_id.v[k] = P.id.v[i];
-  if (P.solver == SOLVER_PBF) P.iterate0.v[k] = P.predicted.v[i];
+  if (P.solver == SOLVER_PBF) P.iterate.v[k] = P.predicted.v[i];
 }

@@ -64,9 +64,8 @@ TEST(GpuParamsLayout, SimParamsMatchesTheGlslBlock) {
                                                   FIELD(SimParams, sorted_velocity),
                                                   FIELD(SimParams, sorted_id),
                                                   FIELD(SimParams, predicted),
-                                                  FIELD(SimParams, iterate0),
-                                                  FIELD(SimParams, iterate1),
-                                                  FIELD(SimParams, lambda),
+                                                  FIELD(SimParams, iterate),
+                                                  FIELD(SimParams, iterate_lambda),
                                                   FIELD(SimParams, vorticity),
                                                   FIELD(SimParams, density),
                                                   FIELD(SimParams, acceleration),
@@ -122,9 +121,9 @@ TEST(GpuParamsLayout, SimParamsMatchesTheGlslBlock) {
 }
 
 TEST(GpuParamsLayout, SimPassMatchesThePushConstants) {
-  const std::map<std::string, std::size_t> cpp = {
-      FIELD(SimPass, params), FIELD(SimPass, dt), FIELD(SimPass, time_into_step),
-      FIELD(SimPass, parity), FIELD(SimPass, record_compression)};
+  const std::map<std::string, std::size_t> cpp = {FIELD(SimPass, params), FIELD(SimPass, dt),
+                                                  FIELD(SimPass, time_into_step),
+                                                  FIELD(SimPass, record_compression)};
   const auto glsl = member_offsets(shaders::sim_pbf_lambda_comp, "SimPass");
   ASSERT_EQ(glsl.size(), cpp.size());
   for (const auto& [name, offset] : cpp) EXPECT_EQ(glsl.at(name), offset) << name;

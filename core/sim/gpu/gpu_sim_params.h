@@ -19,7 +19,7 @@ static_assert(kMaxColliders == 16, "MAX_COLLIDERS in sim_params.glsl");
 struct SimParams {
   VkDeviceAddress position, velocity, id;
   VkDeviceAddress sorted_position, sorted_velocity, sorted_id;
-  VkDeviceAddress predicted, iterate0, iterate1, lambda, vorticity;
+  VkDeviceAddress predicted, iterate, iterate_lambda, vorticity;
   VkDeviceAddress density, acceleration;
   VkDeviceAddress order, cell_start, sorted_cell, stats, density_ratio;
   VkDeviceAddress neighbours, neighbour_count;
@@ -40,9 +40,9 @@ struct SimParams {
   alignas(16) glm::vec4 collider_sphere[kMaxColliders];
   glm::vec4 collider_velocity[kMaxColliders];
 };
-static_assert(offsetof(SimParams, stats) == 16 * 8);
-static_assert(offsetof(SimParams, density_ratio) == 17 * 8);
-static_assert(offsetof(SimParams, neighbour_count) == 19 * 8);
+static_assert(offsetof(SimParams, stats) == 15 * 8);
+static_assert(offsetof(SimParams, density_ratio) == 16 * 8);
+static_assert(offsetof(SimParams, neighbour_count) == 18 * 8);
 static_assert(offsetof(SimParams, tank_min) == 160);
 static_assert(offsetof(SimParams, grid_dims) == 160 + 5 * 16);
 static_assert(offsetof(SimParams, solver) == 160 + 6 * 16);
@@ -63,11 +63,9 @@ struct SimPass {
   VkDeviceAddress params;
   float dt;
   float time_into_step;
-  std::uint32_t parity;
   std::uint32_t record_compression;
 };
-static_assert(offsetof(SimPass, dt) == 8 && offsetof(SimPass, parity) == 16 &&
-              offsetof(SimPass, record_compression) == 20);
+static_assert(offsetof(SimPass, dt) == 8 && offsetof(SimPass, record_compression) == 16);
 
 // The statistics a step leaves in P.stats, read back by the host.
 enum StatsSlot : std::uint32_t {

@@ -24,8 +24,8 @@ constexpr double kUsableMemoryShare = 0.9;
 std::uint64_t bytes_per_particle(SolverKind kind, std::uint32_t max_neighbours) {
   // position, velocity, id, their sorted copies, and the density ratio for the renderer
   constexpr std::uint64_t state = 2 * (16 + 16 + 4) + 4;
-  constexpr std::uint64_t pbf = 16 + 16 + 16 + 4 + 16;  // predicted, two iterates, λ, ω
-  constexpr std::uint64_t sph = 8 + 16;                 // density and pressure, acceleration
+  constexpr std::uint64_t pbf = 16 + 16 + 16 + 16;  // predicted, iterate, iterate with λ, ω
+  constexpr std::uint64_t sph = 8 + 16;             // density and pressure, acceleration
   const std::uint64_t list = 4 * (std::uint64_t{max_neighbours} + 1);  // and its length
   return state + (kind == SolverKind::pbf ? pbf : sph) + list +
          GpuNeighbourGrid::bytes_per_particle();
@@ -138,9 +138,8 @@ void GpuSolver::allocate(std::size_t capacity) {
   b.sorted_id = device(4);
   const bool pbf = kind_ == SolverKind::pbf;
   b.predicted = device(pbf ? 16 : 0);
-  b.iterate0 = device(pbf ? 16 : 0);
-  b.iterate1 = device(pbf ? 16 : 0);
-  b.lambda = device(pbf ? 4 : 0);
+  b.iterate = device(pbf ? 16 : 0);
+  b.iterate_lambda = device(pbf ? 16 : 0);
   b.vorticity = device(pbf ? 16 : 0);
   b.density = device(pbf ? 0 : 8);
   b.acceleration = device(pbf ? 0 : 16);
@@ -301,9 +300,8 @@ void GpuSolver::set_addresses(SimParams& p) const {
   p.sorted_velocity = buffers_.sorted_velocity.address();
   p.sorted_id = buffers_.sorted_id.address();
   p.predicted = buffers_.predicted.address();
-  p.iterate0 = buffers_.iterate0.address();
-  p.iterate1 = buffers_.iterate1.address();
-  p.lambda = buffers_.lambda.address();
+  p.iterate = buffers_.iterate.address();
+  p.iterate_lambda = buffers_.iterate_lambda.address();
   p.vorticity = buffers_.vorticity.address();
   p.density = buffers_.density.address();
   p.acceleration = buffers_.acceleration.address();
@@ -413,7 +411,7 @@ void GpuSolver::advance(float seconds, int substeps) {
                       if (!pbf) grid_.record_clear(c);
                     }});
   for (int s = 0; s < substeps; ++s) {
-    const SimPass pass{params_buffer_.address(), dt, static_cast<float>(s + 1) * dt, 0, 0};
+    const SimPass pass{params_buffer_.address(), dt, static_cast<float>(s + 1) * dt, 0};
     const bool last = s + 1 == substeps;
     if (pbf) {
       append_pbf_substep(passes, pass, last);
@@ -452,16 +450,15 @@ void GpuSolver::append_pbf_substep(Passes& passes, const SimPass& pass, bool las
   add(Stage::grid, 0, pipelines_.reorder, pass);
   add(Stage::grid, 0, pipelines_.neighbours, pass);
 
-  SimPass iteration = pass;
   for (int k = 0; k < params().iterations; ++k) {
-    add(Stage::iteration, k, pipelines_.pbf_lambda, iteration);
-    add(Stage::iteration, k, pipelines_.pbf_correct, iteration);
-    iteration.parity ^= 1;
+    add(Stage::iteration, k, pipelines_.pbf_lambda, pass);
+    add(Stage::iteration, k, pipelines_.pbf_correct, pass);
   }
-  add(Stage::velocity, 0, pipelines_.pbf_velocity, iteration);
-  if (params().vorticity > 0.0f) add(Stage::velocity, 0, pipelines_.pbf_vorticity, iteration);
-  iteration.record_compression = last ? 1 : 0;
-  add(Stage::viscosity, 0, pipelines_.pbf_finish, iteration);
+  add(Stage::velocity, 0, pipelines_.pbf_velocity, pass);
+  if (params().vorticity > 0.0f) add(Stage::velocity, 0, pipelines_.pbf_vorticity, pass);
+  SimPass finish = pass;
+  finish.record_compression = last ? 1 : 0;
+  add(Stage::viscosity, 0, pipelines_.pbf_finish, finish);
 }
 
 void GpuSolver::append_sph_substep(Passes& passes, const SimPass& pass,

@@ -105,10 +105,10 @@ class GpuSolver final : public Solver {
   std::size_t capacity_ = 0;
   struct Buffers {
     gpu::Buffer position, velocity, id, sorted_position, sorted_velocity, sorted_id;
-    gpu::Buffer predicted, iterate0, iterate1, lambda, vorticity;  // PBF
-    gpu::Buffer density, acceleration;                             // SPH
-    gpu::Buffer density_ratio;                                     // both, for the renderer
-    gpu::Buffer neighbours, neighbour_count;                       // both: this substep's lists
+    gpu::Buffer predicted, iterate, iterate_lambda, vorticity;  // PBF
+    gpu::Buffer density, acceleration;                          // SPH
+    gpu::Buffer density_ratio;                                  // both, for the renderer
+    gpu::Buffer neighbours, neighbour_count;                    // both: this substep's lists
   } buffers_;
   gpu::Buffer params_buffer_, stats_buffer_;
   // Steps in flight, a ring: a frame loop may submit this many in one tick without waiting.
