@@ -27,6 +27,7 @@ void run_dam_break(benchmark::State& state, SolverKind kind) {
   const double steps = static_cast<double>(state.iterations());
   state.counters["steps_per_s"] = Counter(steps, Counter::kIsRate);
   state.counters["grid_ms"] = t.grid_ms / steps;
+  state.counters["neighbours_ms"] = t.neighbours_ms / steps;
   state.counters["predict_ms"] = t.predict_ms / steps;
   state.counters["solve_ms"] = t.solve_ms / steps;
   state.counters["velocity_ms"] = t.velocity_ms / steps;

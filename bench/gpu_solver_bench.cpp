@@ -57,6 +57,7 @@ void run_dam_break(benchmark::State& state, SolverKind kind, int steps_per_itera
   state.counters["steps_per_s"] = steps / seconds;
   state.counters["substeps"] = static_cast<double>(t.substeps) / steps;
   state.counters["grid_ms"] = t.grid_ms / steps;
+  state.counters["neighbours_ms"] = t.neighbours_ms / steps;
   state.counters["predict_ms"] = t.predict_ms / steps;
   state.counters["solve_ms"] = t.solve_ms / steps;
   for (std::size_t k = 0; k < t.iteration_ms.size(); ++k) {

@@ -51,9 +51,9 @@ if runs and "frames_per_s" in runs[0]:
         print(f"| {r['name'].split('/')[0]} | {f['width']}×{f['height']} | {f['particles']} | "
               f"{r['planes_readback_ms']:.3f} | {r['planes_encode_ms']:.2f} | {strips} | {rough} |")
 elif runs and "gpu_ms" in runs[0]:
-    print("| solver | particles | iterations | substeps/step | steps/s | GPU ms/step | grid | predict | "
-          "iterations (each) | velocity | viscosity |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    print("| solver | particles | iterations | substeps/step | steps/s | GPU ms/step | grid | neighbours | "
+          "predict | iterations (each) | velocity | viscosity |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for r in runs:
         f = fields_of(r)
         solver = r["name"].split("/")[0]
@@ -61,17 +61,18 @@ elif runs and "gpu_ms" in runs[0]:
         each = " / ".join(f"{r[k]:.3f}" for k in sorted((k for k in r if k.startswith("iteration") and k.endswith("_ms")), key=lambda k: int(k[9:-3])))
         print(f"| {solver} | {f['particles']} | {f['iterations'] if solver == 'Pbf' else '–'} | "
               f"{r['substeps']:.2f} | {r['steps_per_s']:.1f} | {r['gpu_ms']:.3f} | {r['grid_ms']:.3f} | "
-              f"{r['predict_ms']:.3f} | {each or solve} | "
+              f"{r.get('neighbours_ms', 0):.3f} | {r['predict_ms']:.3f} | {each or solve} | "
               f"{r['velocity_ms']:.3f} | {r['viscosity_ms']:.3f} |")
 else:
-    print("| solver | particles | iterations | dt (ms) | substeps/step | steps/s | grid ms | predict ms | solve ms | velocity ms |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+    print("| solver | particles | iterations | dt (ms) | substeps/step | steps/s | grid ms | neighbours ms | predict ms | solve ms | velocity ms |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     for r in runs:
         f = fields_of(r)
         solver = r["name"].split("/")[0]
         print(f"| {solver} | {f['particles']} | {f['iterations'] if solver == 'Pbf' else '–'} | "
               f"{int(f['dt_us']) / 1000:g} | {r['substeps']:.2f} | {r['steps_per_s']:.1f} | "
-              f"{r['grid_ms']:.2f} | {r['predict_ms']:.2f} | {r['solve_ms']:.2f} | {r['velocity_ms']:.2f} |")
+              f"{r['grid_ms']:.2f} | {r.get('neighbours_ms', 0):.2f} | {r['predict_ms']:.2f} | {r['solve_ms']:.2f} | "
+              f"{r['velocity_ms']:.2f} |")
 
 if sessions:
     print()

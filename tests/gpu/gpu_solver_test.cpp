@@ -104,6 +104,7 @@ TEST_P(GpuSolverTest, StageTimesComeFromTheGpu) {
   const StageTimes& t = solver->stage_times();
   EXPECT_GT(t.substeps, 0u);
   EXPECT_GT(t.grid_ms, 0.0);
+  EXPECT_GT(t.neighbours_ms, 0.0);
   EXPECT_GT(t.predict_ms, 0.0);
   EXPECT_GT(t.solve_ms, 0.0);
   if (GetParam() == SolverKind::pbf) {

@@ -51,7 +51,10 @@ void CpuSolver::sort_by(std::vector<glm::vec3>& key,
   apply_order(order, particles_.velocity, reorder_scratch_);
   apply_order(order, particles_.id, id_scratch_);
   for (auto* array : solver_arrays) apply_order(order, *array, reorder_scratch_);
-  neighbours_.build(*pool_, grid_, key, kernels_.radius(), fluid().max_candidates,
+}
+
+void CpuSolver::list_neighbours(std::span<const glm::vec3> sorted) {
+  neighbours_.build(*pool_, grid_, sorted, kernels_.radius(), fluid().max_candidates,
                     fluid().max_neighbours);
 }
 

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <initializer_list>
 #include <memory>
+#include <span>
 
 #include "fluidcast/sim/fork_join_pool.h"
 #include "fluidcast/sim/kernels.h"
@@ -29,10 +30,11 @@ class CpuSolver : public Solver {
   void load_particles(const ParticleSet& particles) override;
 
   // Sorts the particles by the cells of `key` and reorders particles_ and every array in
-  // `solver_arrays` (which must hold `key` unless key is particles_.position); then finds each
-  // particle's neighbours within h from the reordered `key`.
+  // `solver_arrays` (which must hold `key` unless key is particles_.position).
   void sort_by(std::vector<glm::vec3>& key,
                std::initializer_list<std::vector<glm::vec3>*> solver_arrays);
+  // Lists each particle's neighbours within h at `sorted` (positions in the order sort_by left).
+  void list_neighbours(std::span<const glm::vec3> sorted);
 
   // What the six tank walls add at p, modelled as fluid at rest behind each wall: the density
   // ρ0·Σ wall_volume, and its gradient. Along edges and in corners the half-spaces of two or three

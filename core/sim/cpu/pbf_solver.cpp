@@ -39,6 +39,10 @@ void PbfSolver::substep(bool last) {
     StageTimer timer(stage_times_.grid_ms);
     sort_by(predicted_, {&predicted_});
   }
+  {
+    StageTimer timer(stage_times_.neighbours_ms);
+    list_neighbours(predicted_);
+  }
   uncorrected_ = predicted_;
   stage_times_.iteration_ms.resize(static_cast<std::size_t>(params().iterations));
   for (int iteration = 0; iteration < params().iterations; ++iteration) {

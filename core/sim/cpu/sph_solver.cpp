@@ -34,6 +34,10 @@ void SphSolver::advance(float seconds, int /*planned_substeps*/) {
       StageTimer timer(stage_times_.grid_ms);
       sort_by(particles_.position, {});
     }
+    {
+      StageTimer timer(stage_times_.neighbours_ms);
+      list_neighbours(particles_.position);
+    }
     float max_acceleration;
     {
       StageTimer timer(stage_times_.solve_ms);

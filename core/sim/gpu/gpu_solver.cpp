@@ -270,6 +270,9 @@ void GpuSolver::harvest(InFlight& slot) {
       case Stage::grid:
         stage_times_.grid_ms += ms;
         break;
+      case Stage::neighbours:
+        stage_times_.neighbours_ms += ms;
+        break;
       case Stage::predict:
         stage_times_.predict_ms += ms;
         break;
@@ -448,7 +451,7 @@ void GpuSolver::append_pbf_substep(Passes& passes, const SimPass& pass, bool las
                     }});
   grid_.append_build(passes, buffers_.predicted.address(), n, static_cast<int>(Stage::grid));
   add(Stage::grid, 0, pipelines_.reorder, pass);
-  add(Stage::grid, 0, pipelines_.neighbours, pass);
+  add(Stage::neighbours, 0, pipelines_.neighbours, pass);
 
   for (int k = 0; k < params().iterations; ++k) {
     add(Stage::iteration, k, pipelines_.pbf_lambda, pass);
@@ -470,7 +473,7 @@ void GpuSolver::append_sph_substep(Passes& passes, const SimPass& pass,
   };
   grid_.append_build(passes, buffers_.position.address(), n, static_cast<int>(Stage::grid));
   add(Stage::grid, pipelines_.reorder);
-  add(Stage::grid, pipelines_.neighbours);
+  add(Stage::neighbours, pipelines_.neighbours);
   add(Stage::solve, pipelines_.sph_density);
   add(Stage::solve, pipelines_.sph_force);
   // The integration does not read the grid: the next substep's may be cleared beside it.

@@ -60,7 +60,7 @@ class GpuSolver final : public Solver {
   void load_particles(const ParticleSet& particles) override;
 
  private:
-  enum class Stage { grid, predict, iteration, velocity, viscosity, solve };
+  enum class Stage { grid, neighbours, predict, iteration, velocity, viscosity, solve };
   struct InFlight {
     explicit InFlight(gpu::Context& context);
     gpu::Buffer stats;  // readback: StatsSlot

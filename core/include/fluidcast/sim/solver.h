@@ -50,16 +50,19 @@ inline bool within_limit(glm::vec3 v, float limit) {
 // count_finished_steps()); `substeps` counts the substeps of the same steps (on the GPU, of the
 // steps that carried timestamps).
 struct StageTimes {
-  double grid_ms = 0;       // counting sort, reorder, neighbour lists
-  double predict_ms = 0;    // PBF: forces and prediction; SPH: time integration and collisions
-  double solve_ms = 0;      // PBF: the density iterations; SPH: density, pressure and forces
-  double velocity_ms = 0;   // PBF: velocity update and vorticity; SPH (CPU): CFL bound
-  double viscosity_ms = 0;  // PBF: vorticity confinement and XSPH viscosity
+  double grid_ms = 0;        // counting sort and reorder
+  double neighbours_ms = 0;  // each particle's neighbours listed
+  double predict_ms = 0;     // PBF: forces and prediction; SPH: time integration and collisions
+  double solve_ms = 0;       // PBF: the density iterations; SPH: density, pressure and forces
+  double velocity_ms = 0;    // PBF: velocity update and vorticity; SPH (CPU): CFL bound
+  double viscosity_ms = 0;   // PBF: vorticity confinement and XSPH viscosity
   std::vector<double> iteration_ms;  // PBF: each density iteration, summed over substeps
   std::uint64_t substeps = 0;
 
   // Every stage (the iterations are part of solve_ms).
-  double total_ms() const { return grid_ms + predict_ms + solve_ms + velocity_ms + viscosity_ms; }
+  double total_ms() const {
+    return grid_ms + neighbours_ms + predict_ms + solve_ms + velocity_ms + viscosity_ms;
+  }
 };
 
 class Solver {
