@@ -8,7 +8,9 @@ const std::vector<ParamSpec<SolverParams>>& solver_param_specs() {
       {"time-step", "s", "Simulated time advanced by one step", &P::time_step, 1e-5, 0.05},
       {"rest-density", "kg/m³", "Rest density ρ0 of the fluid", &P::rest_density, 100, 20000},
       {"kernel-ratio", "1",
-       "Kernel radius h over particle spacing d; 2 gives about 33 neighbours at rest",
+       "Kernel radius h over particle spacing d; 2 gives about 33 neighbours at rest. The work of "
+       "every pass grows with its cube, and so does the GPU's list of neighbours (room for twice "
+       "as many as at rest, 4 bytes each: 272 bytes a particle at 2)",
        &P::kernel_ratio, 1.5, 4},
       {"max-particles", "1", "Most particles a simulation may hold (add_particles refuses more)",
        &P::max_particles, 1, 1 << 24},
