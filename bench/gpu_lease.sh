@@ -1,13 +1,10 @@
 #!/usr/bin/env bash
 # Everything a session measures on a lent GPU machine, in parts that each fit one device call
-# (10 minutes) and bring back at most a few files. Build here first, then bundle:
-#   ../shared/tools/gpu-bundle build fluidcast-server fluidcast-bench-load fluidcast-bench-gpu \
-#     fluidcast-bench-render fluidcast-validate gpu_context_test gpu_neighbour_grid_test \
-#     gpu_solver_test gpu_step_batch_test solver_inputs_test render_test render_golden_test \
-#     render_surface_test ssfr_splat_test anisotropy_test default_size_test timestamps_test \
-#     fluidcast-sim
+# (10 minutes) and bring back at most a few files. Build here first, then bundle what it runs:
+#   ../shared/tools/gpu-bundle build $(bench/gpu_lease.sh programs)
 # and on the device (carry .gpu):  source .gpu/env.sh && BIN=.gpu/bin bench/gpu_lease.sh PART $OUT
-# PART: tests   every GPU test with the validation layer on (a message fails its test)
+# PART: programs  the programs the parts run (for the bundle), on standard output
+#       tests   every GPU test with the validation layer on (a message fails its test)
 #       solver  fluidcast-bench-gpu: the solver table and many sessions batched against serial
 #       render  fluidcast-bench-render: passes, encode from RGBA and from planes, roughness; and
 #               the dam break at 216k and 1M, t = 0.5 s, with spheres and ellipsoids, as PNG
@@ -26,8 +23,18 @@
 # cases, to prove the script here on lavapipe.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-part=${1:?usage: bench/gpu_lease.sh tests|solver|render|loop|validate|burst OUT [--smoke]}
-out=${2:?usage: bench/gpu_lease.sh tests|solver|render|loop|validate|burst OUT [--smoke]}
+gpu_tests=(gpu_context_test gpu_neighbour_grid_test gpu_solver_test gpu_step_batch_test
+  solver_inputs_test render_test render_golden_test render_surface_test ssfr_splat_test
+  anisotropy_test default_size_test timestamps_test)
+programs=(fluidcast-server fluidcast-sim fluidcast-validate fluidcast-bench-gpu
+  fluidcast-bench-render fluidcast-bench-load fluidcast-bench-soak "${gpu_tests[@]}")
+usage="usage: bench/gpu_lease.sh programs|tests|solver|render|loop|validate|burst OUT [--smoke]"
+part=${1:?$usage}
+if [[ "$part" == programs ]]; then
+  echo "${programs[@]}"
+  exit 0
+fi
+out=${2:?$usage}
 smoke=${3:-}
 bin=${BIN:-build/bin}
 mkdir -p "$out"
@@ -41,9 +48,7 @@ table() {  # JSON of a benchmark program into its Markdown table
 case "$part" in
   tests)
     status=0
-    for test in gpu_context_test gpu_neighbour_grid_test gpu_solver_test gpu_step_batch_test \
-      solver_inputs_test render_test render_golden_test render_surface_test ssfr_splat_test \
-      anisotropy_test default_size_test timestamps_test; do
+    for test in "${gpu_tests[@]}"; do
       echo "== $test" >>"$out/tests.log"
       FLUIDCAST_VALIDATION=1 "$bin/$test" >>"$out/tests.log" 2>&1 || status=1
     done
