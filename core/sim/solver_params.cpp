@@ -10,7 +10,7 @@ const std::vector<ParamSpec<SolverParams>>& solver_param_specs() {
       {"kernel-ratio", "1",
        "Kernel radius h over particle spacing d; 2 gives about 33 neighbours at rest. The work of "
        "every pass grows with its cube, and so does the GPU's list of neighbours (room for twice "
-       "as many as at rest, 4 bytes each: 272 bytes a particle at 2)",
+       "as many as at rest, 4 bytes each, and its length: 276 bytes a particle at 2)",
        &P::kernel_ratio, 1.5, 4},
       {"max-particles", "1", "Most particles a simulation may hold (add_particles refuses more)",
        &P::max_particles, 1, 1 << 24},

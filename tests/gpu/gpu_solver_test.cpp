@@ -136,6 +136,22 @@ TEST_P(GpuSolverTest, MoreParticlesThanTheMemoryBudgetAreRefusedUpFront) {
       1000u);
 }
 
+// However much memory there is, the neighbour lists' 32-bit index bounds the count: at kernel
+// ratio 4 a particle lists up to 537 neighbours, and 2^31 entries hold 3,999,038 particles' lists.
+TEST_P(GpuSolverTest, TheNeighbourListsIndexBoundsTheParticlesThatFit) {
+  SceneParams scene;
+  scene.kind = SceneKind::pool;
+  scene.particles = 1000;
+  SolverParams params;
+  params.kernel_ratio = 4.0f;
+  const std::uint64_t terabyte = std::uint64_t{1} << 40;
+  const gpu_solver::GpuSolver solver(GetParam(), context(), build_scene(scene), params, nullptr,
+                                     terabyte);
+  ASSERT_EQ(solver.fluid().max_neighbours, 537u);
+  EXPECT_EQ(solver.particles_listable(), 3999038u);
+  EXPECT_EQ(solver.particles_that_fit(), 3999038u);
+}
+
 // As Pbf.CompressionLeftBehindDoesNotBurst (unit/pbf_test.cpp), on the GPU with the default
 // tolerance and its steps in flight, as the server runs it: 1.36 times the released energy
 // (1.19 after 20 steps, as the CPU solver), 3.0 times (14 m/s) while the rule trusted figures

@@ -103,6 +103,29 @@ TEST(NeighbourList, AClumpListsAtMostTheNeighbourCapPerParticle) {
   EXPECT_EQ(list.pair_count(), clump.size() * most);
 }
 
+// The cap counts across a particle's rows of cells: 30 particles in a lower row, 3000 in the row
+// above within the radius. Every list holds 50: a lower particle's 29 others and 21 from above,
+// an upper particle's 30 from below first and then 20 of its own.
+TEST(NeighbourList, TheNeighbourCapCountsAcrossRowsOfCells) {
+  std::vector<glm::vec3> points(30, glm::vec3(0.5f, 0.3f, 0.2f));
+  points.resize(3030, glm::vec3(0.5f, 0.3f + 0.6f * kRadius, 0.2f));
+  NeighbourGrid grid(kDomain, kRadius);
+  grid.build(points);
+  std::vector<glm::vec3> sorted = points, scratch;
+  apply_order(grid.order(), sorted, scratch);
+  ForkJoinPool pool(2);
+  NeighbourList list;
+  constexpr std::uint32_t most = 50;
+  list.build(pool, grid, sorted, kRadius, std::numeric_limits<std::uint32_t>::max(), most);
+  const auto lower = [&](std::uint32_t j) { return sorted[j].y < 0.3f + 0.3f * kRadius; };
+  for (std::uint32_t k = 0; k < sorted.size(); ++k) {
+    const auto neighbours = list.of(k);
+    ASSERT_EQ(neighbours.size(), most) << k;
+    const auto below = std::count_if(neighbours.begin(), neighbours.end(), lower);
+    EXPECT_EQ(below, lower(k) ? 29 : 30) << k;
+  }
+}
+
 TEST(FluidConstants, TheCandidateCapIsFourTimesAFluidAtRest) {
   SolverParams params;
   params.kernel_ratio = 2.0f;

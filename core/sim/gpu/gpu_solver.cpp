@@ -20,6 +20,8 @@ constexpr std::uint32_t kGroup = GpuNeighbourGrid::kGroupSize;
 static_assert(kGroup <= 128, "record_sum (sim_kernels.glsl) sums a workgroup in 32 bits");
 // Of the device-local heap, what a simulation may plan to use: the driver and other work need some.
 constexpr double kUsableMemoryShare = 0.9;
+// The shaders index the neighbour lists with a 32-bit index that SPIR-V may take as signed.
+constexpr std::uint64_t kMostListEntries = 0x7fffffff;
 
 std::uint64_t bytes_per_particle(SolverKind kind, std::uint32_t max_neighbours) {
   // position, velocity, id, their sorted copies, and the density ratio for the renderer
@@ -106,11 +108,17 @@ std::uint64_t GpuSolver::bytes_needed(std::size_t particles) const {
          GpuNeighbourGrid::bytes_for_cells(grid_.geometry().cell_count());
 }
 
+std::size_t GpuSolver::particles_listable() const {
+  return kMostListEntries / fluid().max_neighbours;
+}
+
 std::size_t GpuSolver::particles_that_fit() const {
   const std::uint64_t grid_bytes = bytes_needed(0);
-  return memory_budget_ > grid_bytes
-             ? (memory_budget_ - grid_bytes) / bytes_per_particle(kind_, fluid().max_neighbours)
-             : 0;
+  const std::uint64_t in_memory =
+      memory_budget_ > grid_bytes
+          ? (memory_budget_ - grid_bytes) / bytes_per_particle(kind_, fluid().max_neighbours)
+          : 0;
+  return std::min<std::uint64_t>(in_memory, particles_listable());
 }
 
 void GpuSolver::allocate(std::size_t capacity) {
@@ -120,6 +128,14 @@ void GpuSolver::allocate(std::size_t capacity) {
       std::snprintf(text, sizeof text, "%.1f MiB", static_cast<double>(bytes) / (1 << 20));
       return std::string(text);
     };
+    if (capacity > particles_listable()) {
+      char ratio[16];
+      std::snprintf(ratio, sizeof ratio, "%g", static_cast<double>(params().kernel_ratio));
+      throw ParamError("{particles}: " + std::to_string(capacity) + " particles at kernel ratio " +
+                       ratio + " need neighbour lists of more entries than the GPU solver " +
+                       "indexes (2^31); at most " + std::to_string(particles_listable()) +
+                       " at this ratio");
+    }
     throw ParamError("{particles}: " + std::to_string(capacity) + " particles need " +
                      mib(bytes_needed(capacity)) + " of GPU memory, over the budget of " +
                      mib(memory_budget_) + " on " + context_->info().name + " (" +
