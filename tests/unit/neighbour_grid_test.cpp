@@ -33,21 +33,36 @@ Pairs brute_force(const std::vector<glm::vec3>& p, float radius) {
   return pairs;
 }
 
-Pairs through_grid(const std::vector<glm::vec3>& original, float radius, unsigned threads) {
-  NeighbourGrid grid(kDomain, radius);
-  grid.build(original);
-  std::vector<glm::vec3> sorted = original, scratch;
-  apply_order(grid.order(), sorted, scratch);
-  ForkJoinPool pool(threads);
+constexpr std::uint32_t kUnlimited = std::numeric_limits<std::uint32_t>::max();
+
+// Points sorted by the grid's cells, as a solver sorts them, and their lists.
+struct Listed {
+  std::vector<glm::vec3> sorted;
+  std::vector<std::uint32_t> order;  // as NeighbourGrid::order()
   NeighbourList list;
-  constexpr std::uint32_t unlimited = std::numeric_limits<std::uint32_t>::max();
-  list.build(pool, grid, sorted, radius, unlimited, unlimited);
+};
+
+Listed list_through_grid(const std::vector<glm::vec3>& points, float radius, unsigned threads,
+                         std::uint32_t max_candidates, std::uint32_t max_neighbours) {
+  NeighbourGrid grid(kDomain, radius);
+  grid.build(points);
+  Listed listed;
+  listed.order.assign(grid.order().begin(), grid.order().end());
+  listed.sorted = points;
+  std::vector<glm::vec3> scratch;
+  apply_order(grid.order(), listed.sorted, scratch);
+  ForkJoinPool pool(threads);
+  listed.list.build(pool, grid, listed.sorted, radius, max_candidates, max_neighbours);
+  return listed;
+}
+
+Pairs through_grid(const std::vector<glm::vec3>& original, float radius, unsigned threads) {
+  const Listed listed = list_through_grid(original, radius, threads, kUnlimited, kUnlimited);
   Pairs pairs;
-  const auto order = grid.order();
-  for (std::size_t k = 0; k < sorted.size(); ++k) {
-    const auto neighbours = list.of(k);
+  for (std::size_t k = 0; k < listed.sorted.size(); ++k) {
+    const auto neighbours = listed.list.of(k);
     EXPECT_TRUE(std::is_sorted(neighbours.begin(), neighbours.end()));
-    for (std::uint32_t j : neighbours) pairs.insert({order[k], order[j]});
+    for (std::uint32_t j : neighbours) pairs.insert({listed.order[k], listed.order[j]});
   }
   return pairs;
 }
@@ -71,15 +86,10 @@ void expect_matches_brute_force(const std::vector<glm::vec3>& p) {
 // and the lists take memory linear in n.
 TEST(NeighbourList, AClumpExaminesAtMostTheCapPerParticle) {
   const std::vector<glm::vec3> clump(3000, glm::vec3(0.5f, 0.3f, 0.2f));
-  NeighbourGrid grid(kDomain, kRadius);
-  grid.build(clump);
-  std::vector<glm::vec3> sorted = clump, scratch;
-  apply_order(grid.order(), sorted, scratch);
-  ForkJoinPool pool(2);
-  NeighbourList list;
   constexpr std::uint32_t cap = 200;
-  list.build(pool, grid, sorted, kRadius, cap, std::numeric_limits<std::uint32_t>::max());
-  for (std::size_t k = 0; k < sorted.size(); ++k) ASSERT_LE(list.of(k).size(), cap);
+  const Listed listed = list_through_grid(clump, kRadius, 2, cap, kUnlimited);
+  const NeighbourList& list = listed.list;
+  for (std::size_t k = 0; k < clump.size(); ++k) ASSERT_LE(list.of(k).size(), cap);
   EXPECT_LE(list.pair_count(), clump.size() * cap);
   EXPECT_GE(list.pair_count(), clump.size() * (cap - 1));  // the cap, not fewer
 }
@@ -88,12 +98,9 @@ TEST(NeighbourList, AClumpExaminesAtMostTheCapPerParticle) {
 // first max_neighbours, in index order, as the GPU solver's fixed-length lists do.
 TEST(NeighbourList, AClumpListsAtMostTheNeighbourCapPerParticle) {
   const std::vector<glm::vec3> clump(3000, glm::vec3(0.5f, 0.3f, 0.2f));
-  NeighbourGrid grid(kDomain, kRadius);
-  grid.build(clump);
-  ForkJoinPool pool(2);
-  NeighbourList list;
   constexpr std::uint32_t most = 50;
-  list.build(pool, grid, clump, kRadius, 200, most);
+  const Listed listed = list_through_grid(clump, kRadius, 2, 200, most);
+  const NeighbourList& list = listed.list;
   for (std::size_t k = 0; k < clump.size(); ++k) {
     const auto neighbours = list.of(k);
     ASSERT_EQ(neighbours.size(), most) << k;
@@ -109,14 +116,10 @@ TEST(NeighbourList, AClumpListsAtMostTheNeighbourCapPerParticle) {
 TEST(NeighbourList, TheNeighbourCapCountsAcrossRowsOfCells) {
   std::vector<glm::vec3> points(30, glm::vec3(0.5f, 0.3f, 0.2f));
   points.resize(3030, glm::vec3(0.5f, 0.3f + 0.6f * kRadius, 0.2f));
-  NeighbourGrid grid(kDomain, kRadius);
-  grid.build(points);
-  std::vector<glm::vec3> sorted = points, scratch;
-  apply_order(grid.order(), sorted, scratch);
-  ForkJoinPool pool(2);
-  NeighbourList list;
   constexpr std::uint32_t most = 50;
-  list.build(pool, grid, sorted, kRadius, std::numeric_limits<std::uint32_t>::max(), most);
+  const Listed listed = list_through_grid(points, kRadius, 2, kUnlimited, most);
+  const std::vector<glm::vec3>& sorted = listed.sorted;
+  const NeighbourList& list = listed.list;
   const auto lower = [&](std::uint32_t j) { return sorted[j].y < 0.3f + 0.3f * kRadius; };
   for (std::uint32_t k = 0; k < sorted.size(); ++k) {
     const auto neighbours = list.of(k);
