@@ -102,7 +102,7 @@ void PbfSolver::compute_lambdas() {
       const float r2 = glm::dot(r, r);
       const float w = kernels_.poly6(r2);
       const glm::vec3 spiky = kernels_.spiky_gradient(r, r2);
-      *pair++ = {spiky, w};
+      (pair++)->set(spiky, w);
       density += w;
       const glm::vec3 g = volume * spiky;
       gradient_i += g;
@@ -195,7 +195,7 @@ void PbfSolver::compute_vorticity() {
       const glm::vec3 r = p - predicted_[j];
       const float r2 = glm::dot(r, r);
       const glm::vec3 spiky = kernels_.spiky_gradient(r, r2);
-      *pair++ = {spiky, kernels_.poly6(r2)};
+      (pair++)->set(spiky, kernels_.poly6(r2));
       // ∇_j W_ij = −∇_i W_ij
       omega += glm::cross(v[j] - v[i], -spiky);
     }
