@@ -1,9 +1,62 @@
 #include "fluidcast/sim/neighbour_list.h"
 
 #include <algorithm>
+#include <array>
+#include <cstring>
 #include <utility>
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
 
 namespace fluidcast::sim {
+
+namespace {
+
+using Floats = float __attribute__((vector_size(16)));
+using Ints = std::int32_t __attribute__((vector_size(16)));
+
+// For each 4-bit mask, its lanes packed to the front and how many there are:
+// kPacked[0b0110] = {{1, 2, …}, 2}. A table, not std::popcount: without -mpopcnt that is a call.
+struct PackedLanes {
+  std::array<std::int32_t, 4> lanes;
+  std::uint32_t count;
+};
+constexpr auto kPacked = [] {
+  std::array<PackedLanes, 16> packed{};
+  for (unsigned mask = 0; mask < 16; ++mask)
+    for (int lane = 0; lane < 4; ++lane)
+      if (mask & (1u << lane)) packed[mask].lanes[packed[mask].count++] = lane;
+  return packed;
+}();
+
+Floats load(const float* from) {
+  Floats v;
+  std::memcpy(&v, from, sizeof v);
+  return v;
+}
+
+// The indices first + lane of the mask's lanes, written to to[0..popcount): four slots are
+// written whatever the mask, so `to` needs room for four.
+void store_packed(std::uint32_t* to, std::uint32_t first, unsigned mask) {
+  Ints lanes;
+  std::memcpy(&lanes, kPacked[mask].lanes.data(), sizeof lanes);
+  const Ints indices = lanes + static_cast<std::int32_t>(first);
+  std::memcpy(to, &indices, sizeof indices);
+}
+
+}  // namespace
+
+unsigned NeighbourList::within(glm::vec3 p, float r2, std::uint32_t first) const {
+  const Floats dx = p.x - load(xs_.data() + first);
+  const Floats dy = p.y - load(ys_.data() + first);
+  const Floats dz = p.z - load(zs_.data() + first);
+  const Ints in = dx * dx + dy * dy + dz * dz < r2;
+#if defined(__SSE__)
+  return static_cast<unsigned>(_mm_movemask_ps(reinterpret_cast<__m128>(in)));
+#else
+  return static_cast<unsigned>((in[0] & 1) | (in[1] & 2) | (in[2] & 4) | (in[3] & 8));
+#endif
+}
 
 void NeighbourList::prepare(ForkJoinPool& pool, std::span<const glm::vec3> positions) {
   const std::size_t n = positions.size();
@@ -12,12 +65,12 @@ void NeighbourList::prepare(ForkJoinPool& pool, std::span<const glm::vec3> posit
   offset_.resize(n);
   first_pair_.resize(n);
   chunk_indices_.resize(pool.size());
-  chunk_hits_.resize(pool.size());
   chunk_used_.assign(pool.size(), 0);
   // Coordinates as separate arrays, so the distance test over a row of cells vectorises.
-  xs_.resize(n);
-  ys_.resize(n);
-  zs_.resize(n);
+  // A block may read up to three entries past the last; its mask drops them.
+  xs_.resize(n + kBlock - 1);
+  ys_.resize(n + kBlock - 1);
+  zs_.resize(n + kBlock - 1);
   pool.for_each(n, [&](std::size_t i) {
     xs_[i] = positions[i].x;
     ys_[i] = positions[i].y;
@@ -33,7 +86,6 @@ void NeighbourList::build(ForkJoinPool& pool, const NeighbourGrid& grid,
   prepare(pool, positions);
   pool.for_chunks(n, [&](unsigned chunk, std::size_t first, std::size_t last) {
     std::vector<std::uint32_t>& out = chunk_indices_[chunk];
-    std::vector<std::uint32_t>& hits = chunk_hits_[chunk];
     // Offsets first: `out` may reallocate while it grows.
     std::size_t used = 0;
     for (std::size_t i = first; i < last; ++i) {
@@ -44,23 +96,19 @@ void NeighbourList::build(ForkJoinPool& pool, const NeighbourGrid& grid,
         if (examined >= max_candidates || used - offset_[i] >= max_neighbours) return;
         end = begin + std::min(end - begin, max_candidates - examined);
         examined += end - begin;
-        // Room for every candidate, so the loop below can write without a branch.
-        if (out.size() < used + (end - begin)) out.resize(2 * (used + (end - begin)));
+        // Room for every candidate and one block past them: a block's four slots are written
+        // whole, hits or not.
         const std::uint32_t length = end - begin;
-        if (hits.size() < length) hits.resize(2 * length);
-        const float* x = xs_.data() + begin;
-        const float* y = ys_.data() + begin;
-        const float* z = zs_.data() + begin;
-        std::uint32_t* hit = hits.data();
-        for (std::uint32_t k = 0; k < length; ++k) {
-          const float dx = p.x - x[k], dy = p.y - y[k], dz = p.z - z[k];
-          hit[k] = dx * dx + dy * dy + dz * dz < r2;
-        }
+        if (out.size() < used + length + kBlock) out.resize(2 * (used + length + kBlock));
         std::uint32_t* slot = out.data() + used;
         std::size_t found = 0;
-        for (std::uint32_t k = 0; k < length; ++k) {
-          slot[found] = begin + k;
-          found += hit[k] & (begin + k != i);
+        for (std::uint32_t k = 0; k < length; k += kBlock) {
+          const std::uint32_t first_index = begin + k;
+          unsigned hits = within(p, r2, first_index);
+          if (length - k < kBlock) hits &= (1u << (length - k)) - 1u;
+          if (i - first_index < kBlock) hits &= ~(1u << (i - first_index));
+          store_packed(slot + found, first_index, hits);
+          found += kPacked[hits].count;
         }
         used += std::min<std::size_t>(found, max_neighbours - (used - offset_[i]));
       });

@@ -30,13 +30,16 @@ class NeighbourList {
   std::size_t first_pair(std::size_t i) const { return first_pair_[i]; }
 
  private:
+  // Candidates are tested four at a time, each block giving a mask of those within the radius.
+  static constexpr std::uint32_t kBlock = 4;
+
   // Sizes the lists for `positions` and copies their coordinates into xs_, ys_, zs_.
   void prepare(ForkJoinPool& pool, std::span<const glm::vec3> positions);
+  // Bit b set when candidate first + b lies within √r2 of p.
+  unsigned within(glm::vec3 p, float r2, std::uint32_t first) const;
 
   // One buffer per chunk of the pool, so threads never share a growing vector.
   std::vector<std::vector<std::uint32_t>> chunk_indices_;
-  std::vector<std::vector<std::uint32_t>>
-      chunk_hits_;  // not uint8_t: a char store may alias the coordinates and blocks vectorisation
   std::vector<float> xs_, ys_, zs_;
   std::vector<const std::uint32_t*> begin_;
   std::vector<std::uint32_t> count_;
