@@ -4,58 +4,45 @@
 #include <array>
 #include <cstring>
 #include <utility>
-#if defined(__SSE__)
-#include <xmmintrin.h>
-#endif
 
 namespace fluidcast::sim {
 
 namespace {
 
-using Floats = float __attribute__((vector_size(16)));
-using Ints = std::int32_t __attribute__((vector_size(16)));
+using lanes::Floats;
+using lanes::Ints;
+using lanes::kWidth;
 
 // For each 4-bit mask, its lanes packed to the front and how many there are:
 // kPacked[0b0110] = {{1, 2, …}, 2}. A table, not std::popcount: without -mpopcnt that is a call.
 struct PackedLanes {
-  std::array<std::int32_t, 4> lanes;
+  std::array<std::int32_t, kWidth> front;
   std::uint32_t count;
 };
 constexpr auto kPacked = [] {
-  std::array<PackedLanes, 16> packed{};
-  for (unsigned mask = 0; mask < 16; ++mask)
-    for (int lane = 0; lane < 4; ++lane)
-      if (mask & (1u << lane)) packed[mask].lanes[packed[mask].count++] = lane;
+  std::array<PackedLanes, 1u << kWidth> packed{};
+  for (unsigned mask = 0; mask < (1u << kWidth); ++mask)
+    for (std::int32_t lane = 0; lane < static_cast<std::int32_t>(kWidth); ++lane)
+      if (mask & (1u << lane)) packed[mask].front[packed[mask].count++] = lane;
   return packed;
 }();
-
-Floats load(const float* from) {
-  Floats v;
-  std::memcpy(&v, from, sizeof v);
-  return v;
-}
 
 // The indices first + lane of the mask's lanes, written to to[0..popcount): four slots are
 // written whatever the mask, so `to` needs room for four.
 void store_packed(std::uint32_t* to, std::uint32_t first, unsigned mask) {
-  Ints lanes;
-  std::memcpy(&lanes, kPacked[mask].lanes.data(), sizeof lanes);
-  const Ints indices = lanes + static_cast<std::int32_t>(first);
+  Ints offsets;
+  std::memcpy(&offsets, kPacked[mask].front.data(), sizeof offsets);
+  const Ints indices = offsets + static_cast<std::int32_t>(first);
   std::memcpy(to, &indices, sizeof indices);
 }
 
 }  // namespace
 
 unsigned NeighbourList::within(glm::vec3 p, float r2, std::uint32_t first) const {
-  const Floats dx = p.x - load(xs_.data() + first);
-  const Floats dy = p.y - load(ys_.data() + first);
-  const Floats dz = p.z - load(zs_.data() + first);
-  const Ints in = dx * dx + dy * dy + dz * dz < r2;
-#if defined(__SSE__)
-  return static_cast<unsigned>(_mm_movemask_ps(reinterpret_cast<__m128>(in)));
-#else
-  return static_cast<unsigned>((in[0] & 1) | (in[1] & 2) | (in[2] & 4) | (in[3] & 8));
-#endif
+  const Floats dx = p.x - lanes::load(xs_.data() + first);
+  const Floats dy = p.y - lanes::load(ys_.data() + first);
+  const Floats dz = p.z - lanes::load(zs_.data() + first);
+  return lanes::mask(dx * dx + dy * dy + dz * dz < r2);
 }
 
 void NeighbourList::prepare(ForkJoinPool& pool, std::span<const glm::vec3> positions) {
@@ -68,9 +55,9 @@ void NeighbourList::prepare(ForkJoinPool& pool, std::span<const glm::vec3> posit
   chunk_used_.assign(pool.size(), 0);
   // Coordinates as separate arrays, so the distance test over a row of cells vectorises.
   // A block may read up to three entries past the last; its mask drops them.
-  xs_.resize(n + kBlock - 1);
-  ys_.resize(n + kBlock - 1);
-  zs_.resize(n + kBlock - 1);
+  xs_.resize(n + kWidth - 1);
+  ys_.resize(n + kWidth - 1);
+  zs_.resize(n + kWidth - 1);
   pool.for_each(n, [&](std::size_t i) {
     xs_[i] = positions[i].x;
     ys_[i] = positions[i].y;
@@ -99,20 +86,22 @@ void NeighbourList::build(ForkJoinPool& pool, const NeighbourGrid& grid,
         // Room for every candidate and one block past them: a block's four slots are written
         // whole, hits or not.
         const std::uint32_t length = end - begin;
-        if (out.size() < used + length + kBlock) out.resize(2 * (used + length + kBlock));
+        if (out.size() < used + length + kWidth) out.resize(2 * (used + length + kWidth));
         std::uint32_t* slot = out.data() + used;
         std::size_t found = 0;
-        for (std::uint32_t k = 0; k < length; k += kBlock) {
+        for (std::uint32_t k = 0; k < length; k += kWidth) {
           const std::uint32_t first_index = begin + k;
           unsigned hits = within(p, r2, first_index);
-          if (length - k < kBlock) hits &= (1u << (length - k)) - 1u;
-          if (i - first_index < kBlock) hits &= ~(1u << (i - first_index));
+          if (length - k < kWidth) hits &= (1u << (length - k)) - 1u;
+          if (i - first_index < kWidth) hits &= ~(1u << (i - first_index));
           store_packed(slot + found, first_index, hits);
           found += kPacked[hits].count;
         }
         used += std::min<std::size_t>(found, max_neighbours - (used - offset_[i]));
       });
       count_[i] = static_cast<std::uint32_t>(used - offset_[i]);
+      if (out.size() < used + kWidth) out.resize(2 * (used + kWidth));
+      while ((used - offset_[i]) % kWidth != 0) out[used++] = static_cast<std::uint32_t>(i);
     }
     chunk_used_[chunk] = used;
     for (std::size_t i = first; i < last; ++i) begin_[i] = out.data() + offset_[i];

@@ -63,8 +63,7 @@ TEST(Kernels, SpikyGradientMatchesFiniteDifferences) {
       minus[axis] -= step;
       const double numeric =
           (k.spiky(float(glm::length(plus))) - k.spiky(float(glm::length(minus)))) / (2 * step);
-      EXPECT_NEAR(analytic[axis], numeric, 2e-3 * std::abs(k.spiky(0.0f)) / kH)
-          << "axis " << axis;
+      EXPECT_NEAR(analytic[axis], numeric, 2e-3 * std::abs(k.spiky(0.0f)) / kH) << "axis " << axis;
     }
   }
 }
@@ -73,6 +72,28 @@ TEST(Kernels, SpikyGradientIsZeroForCoincidentParticles) {
   const Kernels k(kH);
   const glm::vec3 g = k.spiky_gradient(glm::vec3(0.0f), 0.0f);
   EXPECT_EQ(g, glm::vec3(0.0f));
+}
+
+// The solvers' loops evaluate four pairs at a time: each lane must be what one pair gives,
+// zero included (coincident, at h, beyond, NaN).
+TEST(Kernels, FourLanesGiveWhatOnePairGives) {
+  const Kernels k(kH);
+  const float cases[] = {0.0f,    1e-30f,         0.1f * kH * kH, 0.5f * kH * kH, 0.999f * kH * kH,
+                         kH * kH, 2.0f * kH * kH, std::nanf("")};
+  for (std::size_t first = 0; first + lanes::kWidth <= std::size(cases); ++first) {
+    const lanes::Floats r2 = lanes::load(cases + first);
+    const lanes::Floats w = k.poly6(r2), f = k.spiky_gradient_factor(r2);
+    for (std::uint32_t lane = 0; lane < lanes::kWidth; ++lane) {
+      const float one = cases[first + lane];
+      EXPECT_EQ(w[lane], k.poly6(one)) << "r² = " << one;
+      EXPECT_NEAR(f[lane], k.spiky_gradient_factor(one), 1e-6f * std::abs(f[lane])) << one;
+      EXPECT_FALSE(std::isnan(f[lane])) << one;
+    }
+  }
+  EXPECT_EQ(k.spiky_gradient_factor(0.0f), 0.0f);
+  EXPECT_EQ(k.spiky_gradient_factor(kH * kH), 0.0f);
+  EXPECT_GT(k.poly6(0.5f * kH * kH), 0.0f);
+  EXPECT_LT(k.spiky_gradient_factor(0.5f * kH * kH), 0.0f);
 }
 
 TEST(Kernels, ViscosityLaplacianMatchesFiniteDifferences) {

@@ -107,7 +107,29 @@ TEST(NeighbourList, AClumpListsAtMostTheNeighbourCapPerParticle) {
     EXPECT_EQ(neighbours.front(), k == 0 ? 1u : 0u);
     EXPECT_TRUE(std::is_sorted(neighbours.begin(), neighbours.end()));
   }
-  EXPECT_EQ(list.pair_count(), clump.size() * most);
+  EXPECT_EQ(list.pair_count(), clump.size() * 52);  // 50 padded to whole blocks of 4
+}
+
+// Loops that take four neighbours at a time read each list padded to whole blocks, with the
+// particle's own index in the padding, and keep per-pair values at first_pair: every list's
+// blocks start on a block and no two lists' blocks overlap.
+TEST(NeighbourList, ListsArePaddedToWholeBlocksOfTheirOwnIndex) {
+  const Listed listed =
+      list_through_grid(random_points(2000, kDomain, 7), kRadius, 2, kUnlimited, kUnlimited);
+  const NeighbourList& list = listed.list;
+  std::size_t next_pair = 0;
+  for (std::size_t k = 0; k < list.size(); ++k) {
+    const auto listed_k = list.of(k);
+    const auto blocks = list.blocks_of(k);
+    ASSERT_EQ(blocks.size() % lanes::kWidth, 0u) << k;
+    ASSERT_LT(blocks.size() - listed_k.size(), lanes::kWidth) << k;
+    ASSERT_TRUE(std::equal(listed_k.begin(), listed_k.end(), blocks.begin())) << k;
+    for (std::size_t e = listed_k.size(); e < blocks.size(); ++e) ASSERT_EQ(blocks[e], k) << k;
+    ASSERT_EQ(list.first_pair(k) % lanes::kWidth, 0u) << k;
+    ASSERT_GE(list.first_pair(k), next_pair) << k;   // in order and apart: the pool's chunks keep
+    next_pair = list.first_pair(k) + blocks.size();  // particles in order
+  }
+  EXPECT_LE(next_pair, list.pair_count());
 }
 
 // The cap counts across a particle's rows of cells: 30 particles in a lower row, 3000 in the row

@@ -46,21 +46,19 @@ class PbfSolver final : public CpuSolver {
   std::vector<float> lambda_;
   std::vector<glm::vec3> vorticity_, smoothed_velocity_;
   std::vector<float> vorticity_norm_;
-  // Per neighbour pair: ∇W_spiky and W_poly6, computed by compute_lambdas (and compute_vorticity)
-  // and reused by the pass after it, which sees the same positions.
-  struct PairKernel {
-    glm::vec3 gradient;
-    float poly6;
-    // Float by float: g++ copies a glm::vec3 through the stack and reloads it 8 bytes at a time,
-    // a store-forwarding stall that was half of compute_lambdas' time.
-    void set(glm::vec3 g, float w) {
-      gradient.x = g.x;
-      gradient.y = g.y;
-      gradient.z = g.z;
-      poly6 = w;
-    }
+  // Per neighbour pair, lanes::kWidth pairs a block (NeighbourList::blocks_of): ∇W_spiky and
+  // W_poly6, computed by compute_lambdas (and compute_vorticity) and reused by the pass after it,
+  // which sees the same positions. The lanes past a list hold zeros.
+  struct PairBlock {
+    lanes::Floats gradient_x, gradient_y, gradient_z, poly6;
   };
-  std::vector<PairKernel> pair_kernels_;
+  std::vector<PairBlock> pair_blocks_;
+  PairBlock* first_block(std::size_t i) {
+    return pair_blocks_.data() + neighbours_.first_pair(i) / lanes::kWidth;
+  }
+  // p − predicted_[j] for the block of neighbours of i at list + k; its lanes past the list are
+  // put 2h away, where every kernel is 0.
+  lanes::Vec3 offsets(std::size_t i, std::span<const std::uint32_t> list, std::size_t k) const;
 };
 
 }  // namespace fluidcast::sim::cpu

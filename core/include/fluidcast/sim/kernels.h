@@ -5,22 +5,10 @@
 #include <cmath>
 #include <glm/glm.hpp>
 #include <numbers>
-#if defined(__SSE__)
-#include <xmmintrin.h>
-#endif
+
+#include "fluidcast/sim/lanes.h"
 
 namespace fluidcast::sim {
-
-// 1/√x to about 1e-7 relative: the hardware estimate and one Newton step, several times faster than
-// sqrt followed by a division in the solvers' inner loops. x must be positive and finite.
-inline float inverse_sqrt(float x) {
-#if defined(__SSE__)
-  const float estimate = _mm_cvtss_f32(_mm_rsqrt_ss(_mm_set_ss(x)));
-  return estimate * (1.5f - 0.5f * x * estimate * estimate);
-#else
-  return 1.0f / std::sqrt(x);
-#endif
-}
 
 class Kernels {
  public:
@@ -38,11 +26,12 @@ class Kernels {
   float spiky_coefficient() const { return spiky_; }
   float viscosity_laplacian_coefficient() const { return viscosity_laplacian_; }
 
-  // poly6 W(r) from r², so the density loop needs no square root.
-  float poly6(float r2) const {
-    if (!(r2 < h2_)) return 0.0f;  // also for NaN
-    const float x = h2_ - r2;
-    return poly6_ * x * x * x;
+  // poly6 W(r) from r², so the density loop needs no square root; of one pair (float) or of four
+  // (lanes::Floats). 0 beyond h and for NaN.
+  template <class F>
+  F poly6(F r2) const {
+    const F x = h2_ - r2;
+    return lanes::select(r2 < h2_, poly6_ * x * x * x, F{});
   }
 
   float spiky(float r) const {
@@ -54,10 +43,14 @@ class Kernels {
   // ∇W_spiky at offset r_vec = p_i − p_j with |r_vec|² = r2; zero at r = 0, where its direction is
   // undefined (coincident particles must not produce a NaN).
   glm::vec3 spiky_gradient(glm::vec3 r_vec, float r2) const {
-    if (!(r2 < h2_) || r2 <= 1e-24f) return glm::vec3(0.0f);
-    const float inv_r = inverse_sqrt(r2);
-    const float x = h_ - r2 * inv_r;
-    return (-3.0f * spiky_ * x * x * inv_r) * r_vec;
+    return spiky_gradient_factor(r2) * r_vec;
+  }
+  // f with ∇W_spiky = f · r_vec, of one pair or of four; 0 beyond h, at r = 0 and for NaN.
+  template <class F>
+  F spiky_gradient_factor(F r2) const {
+    const F inv_r = lanes::inverse_sqrt(r2);
+    const F x = h_ - r2 * inv_r;
+    return lanes::select((r2 < h2_) & (r2 > 1e-24f), -3.0f * spiky_ * x * x * inv_r, F{});
   }
 
   // A flat wall at distance s from a particle, with the half-space behind it full of fluid at rest.

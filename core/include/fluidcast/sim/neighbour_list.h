@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "fluidcast/sim/fork_join_pool.h"
+#include "fluidcast/sim/lanes.h"
 #include "fluidcast/sim/neighbour_grid.h"
 
 namespace fluidcast::sim {
@@ -24,18 +25,23 @@ class NeighbourList {
   std::span<const std::uint32_t> of(std::size_t i) const { return {begin_[i], count_[i]}; }
   std::size_t size() const { return count_.size(); }
 
-  // Every (i, j) entry has an index in [0, pair_count()): of(i)[k] is pair first_pair(i) + k.
-  // Solvers keep per-pair values (kernel gradients) in arrays of this size.
+  // of(i) padded to whole blocks of lanes::kWidth, for loops that take four neighbours at a
+  // time: the entries past count hold i itself (a valid index; a loop masks them off).
+  std::span<const std::uint32_t> blocks_of(std::size_t i) const {
+    return {begin_[i], (count_[i] + lanes::kWidth - 1) / lanes::kWidth * lanes::kWidth};
+  }
+
+  // Every padded entry has an index in [0, pair_count()): blocks_of(i)[k] is pair first_pair(i)
+  // + k, and first_pair(i) is a multiple of lanes::kWidth. Solvers keep per-pair values (kernel
+  // gradients) in arrays of this size.
   std::size_t pair_count() const { return pair_count_; }
   std::size_t first_pair(std::size_t i) const { return first_pair_[i]; }
 
  private:
-  // Candidates are tested four at a time, each block giving a mask of those within the radius.
-  static constexpr std::uint32_t kBlock = 4;
-
   // Sizes the lists for `positions` and copies their coordinates into xs_, ys_, zs_.
   void prepare(ForkJoinPool& pool, std::span<const glm::vec3> positions);
-  // Bit b set when candidate first + b lies within √r2 of p.
+  // Bit b set when candidate first + b lies within √r2 of p: candidates are tested lanes::kWidth
+  // at a time.
   unsigned within(glm::vec3 p, float r2, std::uint32_t first) const;
 
   // One buffer per chunk of the pool, so threads never share a growing vector.
