@@ -36,14 +36,16 @@ void store_packed(std::uint32_t* to, std::uint32_t first, unsigned mask) {
   std::memcpy(to, &indices, sizeof indices);
 }
 
-}  // namespace
-
-unsigned NeighbourList::within(glm::vec3 p, float r2, std::uint32_t first) const {
-  const Floats dx = p.x - lanes::load(xs_.data() + first);
-  const Floats dy = p.y - lanes::load(ys_.data() + first);
-  const Floats dz = p.z - lanes::load(zs_.data() + first);
+// Bit b set when candidate first + b, of coordinates xs, ys, zs, lies within √r2 of p.
+unsigned within(const float* xs, const float* ys, const float* zs, glm::vec3 p, float r2,
+                std::uint32_t first) {
+  const Floats dx = p.x - lanes::load(xs + first);
+  const Floats dy = p.y - lanes::load(ys + first);
+  const Floats dz = p.z - lanes::load(zs + first);
   return lanes::mask(dx * dx + dy * dy + dz * dz < r2);
 }
+
+}  // namespace
 
 void NeighbourList::prepare(ForkJoinPool& pool, std::span<const glm::vec3> positions) {
   const std::size_t n = positions.size();
@@ -71,16 +73,19 @@ void NeighbourList::build(ForkJoinPool& pool, const NeighbourGrid& grid,
   const std::size_t n = positions.size();
   const float r2 = radius * radius;
   prepare(pool, positions);
+  // Locals, not members: the packed stores may alias anything, and members would be reloaded.
+  const float *xs = xs_.data(), *ys = ys_.data(), *zs = zs_.data();
   pool.for_chunks(n, [&](unsigned chunk, std::size_t first, std::size_t last) {
     std::vector<std::uint32_t>& out = chunk_indices_[chunk];
     // Offsets first: `out` may reallocate while it grows.
     std::size_t used = 0;
     for (std::size_t i = first; i < last; ++i) {
       const glm::vec3 p = positions[i];
-      offset_[i] = used;
+      const std::size_t start = used;
+      offset_[i] = start;
       std::uint32_t examined = 0;
       grid.for_each_candidate_range(p, [&](std::uint32_t begin, std::uint32_t end) {
-        if (examined >= max_candidates || used - offset_[i] >= max_neighbours) return;
+        if (examined >= max_candidates || used - start >= max_neighbours) return;
         end = begin + std::min(end - begin, max_candidates - examined);
         examined += end - begin;
         // Room for every candidate and one block past them: a block's four slots are written
@@ -91,17 +96,17 @@ void NeighbourList::build(ForkJoinPool& pool, const NeighbourGrid& grid,
         std::size_t found = 0;
         for (std::uint32_t k = 0; k < length; k += kWidth) {
           const std::uint32_t first_index = begin + k;
-          unsigned hits = within(p, r2, first_index);
+          unsigned hits = within(xs, ys, zs, p, r2, first_index);
           if (length - k < kWidth) hits &= (1u << (length - k)) - 1u;
           if (i - first_index < kWidth) hits &= ~(1u << (i - first_index));
           store_packed(slot + found, first_index, hits);
           found += kPacked[hits].count;
         }
-        used += std::min<std::size_t>(found, max_neighbours - (used - offset_[i]));
+        used += std::min<std::size_t>(found, max_neighbours - (used - start));
       });
-      count_[i] = static_cast<std::uint32_t>(used - offset_[i]);
+      count_[i] = static_cast<std::uint32_t>(used - start);
       if (out.size() < used + kWidth) out.resize(2 * (used + kWidth));
-      while ((used - offset_[i]) % kWidth != 0) out[used++] = static_cast<std::uint32_t>(i);
+      while ((used - start) % kWidth != 0) out[used++] = static_cast<std::uint32_t>(i);
     }
     chunk_used_[chunk] = used;
     for (std::size_t i = first; i < last; ++i) begin_[i] = out.data() + offset_[i];

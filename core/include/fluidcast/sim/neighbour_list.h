@@ -40,9 +40,6 @@ class NeighbourList {
  private:
   // Sizes the lists for `positions` and copies their coordinates into xs_, ys_, zs_.
   void prepare(ForkJoinPool& pool, std::span<const glm::vec3> positions);
-  // Bit b set when candidate first + b lies within √r2 of p: candidates are tested lanes::kWidth
-  // at a time.
-  unsigned within(glm::vec3 p, float r2, std::uint32_t first) const;
 
   // One buffer per chunk of the pool, so threads never share a growing vector.
   std::vector<std::vector<std::uint32_t>> chunk_indices_;
