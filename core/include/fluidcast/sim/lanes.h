@@ -9,6 +9,8 @@
 #include <glm/glm.hpp>
 #if defined(__SSE__)
 #include <xmmintrin.h>
+#elif defined(__wasm_simd128__)
+#include <wasm_simd128.h>
 #endif
 
 namespace fluidcast::sim::lanes {
@@ -31,6 +33,8 @@ inline void store(float* to, Floats v) { std::memcpy(to, &v, sizeof v); }
 inline unsigned mask(Ints condition) {
 #if defined(__SSE__)
   return static_cast<unsigned>(_mm_movemask_ps(reinterpret_cast<__m128>(condition)));
+#elif defined(__wasm_simd128__)
+  return static_cast<unsigned>(wasm_i32x4_bitmask(reinterpret_cast<v128_t>(condition)));
 #else
   return static_cast<unsigned>((condition[0] & 1) | (condition[1] & 2) | (condition[2] & 4) |
                                (condition[3] & 8));
@@ -93,6 +97,8 @@ inline Floats inverse_sqrt(Floats x) {
 #if defined(__SSE__)
   const Floats estimate = reinterpret_cast<Floats>(_mm_rsqrt_ps(reinterpret_cast<__m128>(x)));
   return estimate * (1.5f - 0.5f * x * estimate * estimate);
+#elif defined(__wasm_simd128__)
+  return 1.0f / reinterpret_cast<Floats>(wasm_f32x4_sqrt(reinterpret_cast<v128_t>(x)));
 #else
   Floats result;
   for (std::uint32_t lane = 0; lane < kWidth; ++lane) result[lane] = 1.0f / std::sqrt(x[lane]);
