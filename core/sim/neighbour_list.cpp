@@ -77,7 +77,16 @@ void NeighbourList::build(ForkJoinPool& pool, const NeighbourGrid& grid,
   const float *xs = xs_.data(), *ys = ys_.data(), *zs = zs_.data();
   pool.for_chunks(n, [&](unsigned chunk, std::size_t first, std::size_t last) {
     std::vector<std::uint32_t>& out = chunk_indices_[chunk];
-    // Offsets first: `out` may reallocate while it grows.
+    // Its data and size in locals, which the packed stores cannot alias; offsets first, as `out`
+    // may reallocate while it grows.
+    std::uint32_t* data = out.data();
+    std::size_t room = out.size();
+    const auto make_room = [&](std::size_t needed) {
+      if (room >= needed) return;
+      out.resize(2 * needed);
+      data = out.data();
+      room = out.size();
+    };
     std::size_t used = 0;
     for (std::size_t i = first; i < last; ++i) {
       const glm::vec3 p = positions[i];
@@ -91,8 +100,8 @@ void NeighbourList::build(ForkJoinPool& pool, const NeighbourGrid& grid,
         // Room for every candidate and one block past them: a block's four slots are written
         // whole, hits or not.
         const std::uint32_t length = end - begin;
-        if (out.size() < used + length + kWidth) out.resize(2 * (used + length + kWidth));
-        std::uint32_t* slot = out.data() + used;
+        make_room(used + length + kWidth);
+        std::uint32_t* slot = data + used;
         std::size_t found = 0;
         for (std::uint32_t k = 0; k < length; k += kWidth) {
           const std::uint32_t first_index = begin + k;
@@ -105,11 +114,11 @@ void NeighbourList::build(ForkJoinPool& pool, const NeighbourGrid& grid,
         used += std::min<std::size_t>(found, max_neighbours - (used - start));
       });
       count_[i] = static_cast<std::uint32_t>(used - start);
-      if (out.size() < used + kWidth) out.resize(2 * (used + kWidth));
-      while ((used - start) % kWidth != 0) out[used++] = static_cast<std::uint32_t>(i);
+      make_room(used + kWidth);
+      while ((used - start) % kWidth != 0) data[used++] = static_cast<std::uint32_t>(i);
     }
     chunk_used_[chunk] = used;
-    for (std::size_t i = first; i < last; ++i) begin_[i] = out.data() + offset_[i];
+    for (std::size_t i = first; i < last; ++i) begin_[i] = data + offset_[i];
   });
   // The same n splits into the same chunks, so chunk bases can be added in a second pass.
   std::vector<std::size_t>& base = chunk_used_;
