@@ -116,19 +116,18 @@ void PbfSolver::compute_lambdas() {
       const lanes::Vec3 spiky = kernels_.spiky_gradient_factor(r2) * r;
       *block = {spiky.x, spiky.y, spiky.z, w};
       density += w;
-      const lanes::Vec3 g = (lanes::Floats{} + volume) * spiky;
-      gradient += g;
-      sum_squares += lanes::dot(g, g);
+      gradient += spiky;  // V times both sums, once below
+      sum_squares += lanes::dot(spiky, spiky);
     }
     const auto wall = walls(p);
-    const glm::vec3 gradient_i = lanes::sum(gradient) + inv_rest_density * wall.gradient;
+    const glm::vec3 gradient_i = volume * lanes::sum(gradient) + inv_rest_density * wall.gradient;
     const float constraint = std::max(
         (mass * (self_density + lanes::sum(density)) + wall.density) * inv_rest_density - 1.0f,
         0.0f);
     lambda_[i] = constraint == 0.0f
                      ? 0.0f
-                     : -constraint / (lanes::sum(sum_squares) + glm::dot(gradient_i, gradient_i) +
-                                      relaxation_epsilon_);
+                     : -constraint / (volume * volume * lanes::sum(sum_squares) +
+                                      glm::dot(gradient_i, gradient_i) + relaxation_epsilon_);
   });
 }
 
