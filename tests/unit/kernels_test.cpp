@@ -83,11 +83,14 @@ TEST(Kernels, FourLanesGiveWhatOnePairGives) {
   for (std::size_t first = 0; first + lanes::kWidth <= std::size(cases); ++first) {
     const lanes::Floats r2 = lanes::load(cases + first);
     const lanes::Floats w = k.poly6(r2), f = k.spiky_gradient_factor(r2);
+    const lanes::Floats laplacian = k.viscosity_laplacian(lanes::sqrt(r2));
     for (std::uint32_t lane = 0; lane < lanes::kWidth; ++lane) {
       const float one = cases[first + lane];
       EXPECT_EQ(w[lane], k.poly6(one)) << "r² = " << one;
       EXPECT_NEAR(f[lane], k.spiky_gradient_factor(one), 1e-6f * std::abs(f[lane])) << one;
       EXPECT_FALSE(std::isnan(f[lane])) << one;
+      EXPECT_EQ(laplacian[lane], k.viscosity_laplacian(std::sqrt(one))) << one;
+      EXPECT_FALSE(std::isnan(laplacian[lane])) << one;
     }
   }
   EXPECT_EQ(k.spiky_gradient_factor(0.0f), 0.0f);

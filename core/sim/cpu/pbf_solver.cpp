@@ -83,17 +83,6 @@ void PbfSolver::predict() {
   });
 }
 
-// Inlined by force: GCC calls it otherwise, and the result's round trip through memory was a
-// third of compute_vorticity's time.
-[[gnu::always_inline]] inline lanes::Vec3 PbfSolver::offsets(std::size_t i,
-                                                             std::span<const std::uint32_t> list,
-                                                             std::size_t k) const {
-  lanes::Vec3 r = predicted_[i] - lanes::gather(predicted_.data(), list.data() + k);
-  const auto listed = static_cast<std::int32_t>(neighbours_.of(i).size() - k);
-  r.x = lanes::select(lanes::kLaneIndex < listed, r.x, lanes::Floats{} + 2.0f * kernels_.radius());
-  return r;
-}
-
 void PbfSolver::compute_lambdas() {
   const std::size_t n = particles_.size();
   lambda_.resize(n);
@@ -110,7 +99,7 @@ void PbfSolver::compute_lambdas() {
     PairBlock* block = first_block(i);
     const auto list = neighbours_.blocks_of(i);
     for (std::size_t k = 0; k < list.size(); k += lanes::kWidth, ++block) {
-      const lanes::Vec3 r = offsets(i, list, k);
+      const lanes::Vec3 r = offsets(predicted_.data(), i, list, k);
       const lanes::Floats r2 = lanes::dot(r, r);
       const lanes::Floats w = kernels_.poly6(r2);
       const lanes::Vec3 spiky = kernels_.spiky_gradient_factor(r2) * r;
@@ -142,7 +131,7 @@ float PbfSolver::average_compression() {
     lanes::Floats density{};
     const auto list = neighbours_.blocks_of(i);
     for (std::size_t k = 0; k < list.size(); k += lanes::kWidth) {
-      const lanes::Vec3 r = offsets(i, list, k);
+      const lanes::Vec3 r = offsets(predicted_.data(), i, list, k);
       density += kernels_.poly6(lanes::dot(r, r));
     }
     compression_[i] =
@@ -212,7 +201,7 @@ void PbfSolver::compute_vorticity() {
     PairBlock* block = first_block(i);
     const auto list = neighbours_.blocks_of(i);
     for (std::size_t k = 0; k < list.size(); k += lanes::kWidth, ++block) {
-      const lanes::Vec3 r = offsets(i, list, k);
+      const lanes::Vec3 r = offsets(predicted_.data(), i, list, k);
       const lanes::Floats r2 = lanes::dot(r, r);
       const lanes::Vec3 spiky = kernels_.spiky_gradient_factor(r2) * r;
       *block = {spiky.x, spiky.y, spiky.z, kernels_.poly6(r2)};

@@ -56,9 +56,6 @@ class PbfSolver final : public CpuSolver {
   PairBlock* first_block(std::size_t i) {
     return pair_blocks_.data() + neighbours_.first_pair(i) / lanes::kWidth;
   }
-  // p − predicted_[j] for the block of neighbours of i at list + k; its lanes past the list are
-  // put 2h away, where every kernel is 0.
-  lanes::Vec3 offsets(std::size_t i, std::span<const std::uint32_t> list, std::size_t k) const;
 };
 
 }  // namespace fluidcast::sim::cpu

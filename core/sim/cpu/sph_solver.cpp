@@ -67,12 +67,13 @@ void SphSolver::compute_densities_and_pressures() {
   const float self = kernels_.poly6(0.0f);
   const auto& x = particles_.position;
   pool_->for_each(n, [&](std::size_t i) {
-    float sum = self;
-    for (std::uint32_t j : neighbours_.of(i)) {
-      const glm::vec3 r = x[i] - x[j];
-      sum += kernels_.poly6(glm::dot(r, r));
+    lanes::Floats sum{};
+    const auto list = neighbours_.blocks_of(i);
+    for (std::size_t k = 0; k < list.size(); k += lanes::kWidth) {
+      const lanes::Vec3 r = offsets(x.data(), i, list, k);
+      sum += kernels_.poly6(lanes::dot(r, r));
     }
-    density_[i] = mass * sum + walls(x[i]).density;
+    density_[i] = mass * (self + lanes::sum(sum)) + walls(x[i]).density;
     pressure_[i] = tait_pressure(density_[i], params());
   });
 }
@@ -97,24 +98,30 @@ float SphSolver::compute_accelerations() {
     float largest = 0.0f;
     for (std::size_t i = begin; i < end; ++i) {
       const float pressure_term_i = pressure_[i] / (density_[i] * density_[i]);
-      glm::vec3 pressure_acceleration(0.0f), viscous_sum(0.0f);
-      for (std::uint32_t j : neighbours_.of(i)) {
-        const glm::vec3 r = x[i] - x[j];
-        const float r2 = glm::dot(r, r);
-        const float distance = std::sqrt(r2);
-        float pair = pressure_term_i + pressure_[j] / (density_[j] * density_[j]);
-        const float approach = glm::dot(v[i] - v[j], r);
-        if (approach < 0.0f) {
-          pair -= artificial / (density_[i] + density_[j]) * approach /
-                  (distance * distance + softening);
-        }
-        pressure_acceleration -= pair * kernels_.spiky_gradient(r, r2);
-        viscous_sum += (v[j] - v[i]) * (kernels_.viscosity_laplacian(distance) / density_[j]);
+      lanes::Vec3 pressure_sum{}, viscous_sum{};
+      const auto list = neighbours_.blocks_of(i);
+      for (std::size_t k = 0; k < list.size(); k += lanes::kWidth) {
+        const std::uint32_t* j = list.data() + k;
+        const lanes::Vec3 r = offsets(x.data(), i, list, k);
+        const lanes::Floats r2 = lanes::dot(r, r);
+        const lanes::Floats distance = lanes::sqrt(r2);
+        const lanes::Floats density_j = lanes::gather(density_.data(), j);
+        const lanes::Vec3 velocity_j = lanes::gather(v.data(), j);
+        const lanes::Floats approach = lanes::dot(v[i] - velocity_j, r);
+        const lanes::Floats pair = pressure_term_i +
+                                   lanes::gather(pressure_.data(), j) / (density_j * density_j) -
+                                   lanes::select(approach < 0.0f,
+                                                 artificial / (density_[i] + density_j) * approach /
+                                                     (distance * distance + softening),
+                                                 lanes::Floats{});
+        pressure_sum += (pair * kernels_.spiky_gradient_factor(r2)) * r;
+        viscous_sum += (kernels_.viscosity_laplacian(distance) / density_j) * (velocity_j - v[i]);
       }
+      const glm::vec3 pressure_acceleration = -lanes::sum(pressure_sum);
       // The walls act as the missing fluid, mirrored: same pressure and density as particle i.
       const glm::vec3 wall_acceleration = -2.0f * pressure_term_i * walls(x[i]).gradient;
       const glm::vec3 a = g + mass * pressure_acceleration + wall_acceleration +
-                          (viscosity * mass / density_[i]) * viscous_sum;
+                          (viscosity * mass / density_[i]) * lanes::sum(viscous_sum);
       acceleration_[i] = a;
       largest = std::max(largest, glm::length(a));
     }

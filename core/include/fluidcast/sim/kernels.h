@@ -71,9 +71,10 @@ class Kernels {
     return 1.5f * x * x * x * x * (h_ + 4.0f * s) / pow6(h_);
   }
 
-  // ∇²W_viscosity(r) = 45 / (π h⁶) · (h − r).
-  float viscosity_laplacian(float r) const {
-    return r >= h_ ? 0.0f : viscosity_laplacian_ * (h_ - r);
+  // ∇²W_viscosity(r) = 45 / (π h⁶) · (h − r), of one pair or of four; 0 beyond h and for NaN.
+  template <class F>
+  F viscosity_laplacian(F r) const {
+    return lanes::select(r < h_, viscosity_laplacian_ * (h_ - r), F{});
   }
 
  private:

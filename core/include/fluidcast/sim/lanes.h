@@ -83,6 +83,18 @@ inline Vec3 gather(const glm::vec3* data, const std::uint32_t* index) {
   return {Floats{a.x, b.x, c.x, d.x}, Floats{a.y, b.y, c.y, d.y}, Floats{a.z, b.z, c.z, d.z}};
 }
 
+inline Floats sqrt(Floats x) {
+#if defined(__SSE__)
+  return reinterpret_cast<Floats>(_mm_sqrt_ps(reinterpret_cast<__m128>(x)));
+#elif defined(__wasm_simd128__)
+  return reinterpret_cast<Floats>(wasm_f32x4_sqrt(reinterpret_cast<v128_t>(x)));
+#else
+  Floats result;
+  for (std::uint32_t lane = 0; lane < kWidth; ++lane) result[lane] = std::sqrt(x[lane]);
+  return result;
+#endif
+}
+
 // 1/√x to about 1e-7 relative: the hardware estimate and one Newton step, several times faster than
 // sqrt followed by a division. x must be positive and finite for a finite result.
 inline float inverse_sqrt(float x) {
