@@ -99,14 +99,10 @@ void PbfSolver::compute_lambdas() {
     PairBlock* block = first_block(i);
     const auto list = neighbours_.blocks_of(i);
     for (std::size_t k = 0; k < list.size(); k += lanes::kWidth, ++block) {
-      const lanes::Vec3 r = offsets(predicted_.data(), i, list, k);
-      const lanes::Floats r2 = lanes::dot(r, r);
-      const lanes::Floats w = kernels_.poly6(r2);
-      const lanes::Vec3 spiky = kernels_.spiky_gradient_factor(r2) * r;
-      *block = {spiky.x, spiky.y, spiky.z, w};
-      density += w;
-      gradient += spiky;  // V times both sums, once below
-      sum_squares += lanes::dot(spiky, spiky);
+      *block = kernels_of_block(i, list, k);
+      density += block->poly6;
+      gradient += block->gradient;  // V times both sums, once below
+      sum_squares += lanes::dot(block->gradient, block->gradient);
     }
     const auto wall = walls(p);
     const glm::vec3 gradient_i = volume * lanes::sum(gradient) + inv_rest_density * wall.gradient;
@@ -165,7 +161,7 @@ void PbfSolver::apply_position_corrections() {
           s_power[lane] = std::pow(s[lane], exponent);
       const lanes::Floats factor =
           lambda_i + lanes::gather(lambda_.data(), list.data() + k) - scorr_scale_ * s_power;
-      delta += factor * lanes::Vec3{block->gradient_x, block->gradient_y, block->gradient_z};
+      delta += factor * block->gradient;
     }
     // The walls hold no λ of their own: only this particle's constraint pushes it off them.
     const glm::vec3 wall_push = lambda_i * inv_rest_density * walls(p).gradient;
@@ -201,12 +197,9 @@ void PbfSolver::compute_vorticity() {
     PairBlock* block = first_block(i);
     const auto list = neighbours_.blocks_of(i);
     for (std::size_t k = 0; k < list.size(); k += lanes::kWidth, ++block) {
-      const lanes::Vec3 r = offsets(predicted_.data(), i, list, k);
-      const lanes::Floats r2 = lanes::dot(r, r);
-      const lanes::Vec3 spiky = kernels_.spiky_gradient_factor(r2) * r;
-      *block = {spiky.x, spiky.y, spiky.z, kernels_.poly6(r2)};
+      *block = kernels_of_block(i, list, k);
       // ∇_j W_ij = −∇_i W_ij
-      omega += lanes::cross(lanes::gather(v, list.data() + k) - v[i], spiky);
+      omega += lanes::cross(lanes::gather(v, list.data() + k) - v[i], block->gradient);
     }
     vorticity_[i] = -volume * lanes::sum(omega);
     vorticity_norm_[i] = glm::length(vorticity_[i]);
@@ -230,8 +223,7 @@ void PbfSolver::apply_confinement_and_viscosity() {
     const auto list = neighbours_.blocks_of(i);
     for (std::size_t k = 0; k < list.size(); k += lanes::kWidth, ++block) {
       const std::uint32_t* j = list.data() + k;
-      eta += (lanes::gather(vorticity_norm_.data(), j) - omega_i) *
-             lanes::Vec3{block->gradient_x, block->gradient_y, block->gradient_z};
+      eta += (lanes::gather(vorticity_norm_.data(), j) - omega_i) * block->gradient;
       smoothing += block->poly6 * (lanes::gather(v, j) - v[i]);
     }
     glm::vec3 velocity = v[i] + xsph * volume * lanes::sum(smoothing);

@@ -50,8 +50,17 @@ class PbfSolver final : public CpuSolver {
   // W_poly6, computed by compute_lambdas (and compute_vorticity) and reused by the pass after it,
   // which sees the same positions. The lanes past a list hold zeros.
   struct PairBlock {
-    lanes::Floats gradient_x, gradient_y, gradient_z, poly6;
+    lanes::Vec3 gradient;
+    lanes::Floats poly6;
   };
+  // The kernels between i and the block of its neighbours at list + k, at the predicted positions.
+  [[gnu::always_inline]] PairBlock kernels_of_block(std::size_t i,
+                                                    std::span<const std::uint32_t> list,
+                                                    std::size_t k) const {
+    const lanes::Vec3 r = offsets(predicted_.data(), i, list, k);
+    const lanes::Floats r2 = lanes::dot(r, r);
+    return {kernels_.spiky_gradient_factor(r2) * r, kernels_.poly6(r2)};
+  }
   std::vector<PairBlock> pair_blocks_;
   PairBlock* first_block(std::size_t i) {
     return pair_blocks_.data() + neighbours_.first_pair(i) / lanes::kWidth;
