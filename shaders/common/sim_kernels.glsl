@@ -44,7 +44,7 @@ vec3 spiky_gradient(vec3 r, float r2) {
   return (-3.0 * K_spiky * x * x * inv_r) * r;
 }
 
-float viscosity_laplacian(float r) { return r >= K_h ? 0.0 : K_viscosity_laplacian * (K_h - r); }
+float viscosity_laplacian(float r) { return r < K_h ? K_viscosity_laplacian * (K_h - r) : 0.0; }
 
 float wall_antiderivative(float z) {
   const float z2 = z * z, h2 = K_h2, h4 = h2 * h2;

@@ -75,28 +75,38 @@ TEST(Kernels, SpikyGradientIsZeroForCoincidentParticles) {
 }
 
 // The solvers' loops evaluate four pairs at a time: each lane must be what one pair gives,
-// zero included (coincident, at h, beyond, NaN).
+// zero included (coincident, at h, beyond, NaN: a NaN neighbour must give 0, not NaN).
 TEST(Kernels, FourLanesGiveWhatOnePairGives) {
   const Kernels k(kH);
-  const float cases[] = {0.0f,    1e-30f,         0.1f * kH * kH, 0.5f * kH * kH, 0.999f * kH * kH,
-                         kH * kH, 2.0f * kH * kH, std::nanf("")};
-  for (std::size_t first = 0; first + lanes::kWidth <= std::size(cases); ++first) {
-    const lanes::Floats r2 = lanes::load(cases + first);
-    const lanes::Floats w = k.poly6(r2), f = k.spiky_gradient_factor(r2);
+  const float distances[] = {0.0f,        1e-15f, 0.3f * kH, 0.7f * kH,
+                             0.999f * kH, kH,     1.5f * kH, std::nanf("")};
+  for (std::size_t first = 0; first + lanes::kWidth <= std::size(distances); ++first) {
+    lanes::Vec3 r{};
+    for (std::uint32_t lane = 0; lane < lanes::kWidth; ++lane) {
+      r.x[lane] = 0.6f * distances[first + lane];
+      r.y[lane] = 0.8f * distances[first + lane];
+    }
+    const lanes::Floats r2 = lanes::dot(r, r);
+    const lanes::Floats w = k.poly6(r2);
+    const lanes::Vec3 g = k.spiky_gradient(r, r2);
     const lanes::Floats laplacian = k.viscosity_laplacian(lanes::sqrt(r2));
     for (std::uint32_t lane = 0; lane < lanes::kWidth; ++lane) {
-      const float one = cases[first + lane];
-      EXPECT_EQ(w[lane], k.poly6(one)) << "r² = " << one;
-      EXPECT_NEAR(f[lane], k.spiky_gradient_factor(one), 1e-6f * std::abs(f[lane])) << one;
-      EXPECT_FALSE(std::isnan(f[lane])) << one;
-      EXPECT_EQ(laplacian[lane], k.viscosity_laplacian(std::sqrt(one))) << one;
-      EXPECT_FALSE(std::isnan(laplacian[lane])) << one;
+      const glm::vec3 one_r(r.x[lane], r.y[lane], 0.0f);
+      const float one_r2 = r2[lane];
+      const glm::vec3 one_g = k.spiky_gradient(one_r, one_r2);
+      EXPECT_EQ(w[lane], k.poly6(one_r2)) << "r² = " << one_r2;
+      EXPECT_NEAR(g.x[lane], one_g.x, 1e-6f * std::abs(one_g.x)) << one_r2;
+      EXPECT_NEAR(g.y[lane], one_g.y, 1e-6f * std::abs(one_g.y)) << one_r2;
+      EXPECT_EQ(g.z[lane], 0.0f) << one_r2;
+      EXPECT_EQ(laplacian[lane], k.viscosity_laplacian(std::sqrt(one_r2))) << one_r2;
+      EXPECT_FALSE(std::isnan(g.x[lane]) || std::isnan(g.y[lane]) || std::isnan(w[lane]) ||
+                   std::isnan(laplacian[lane]))
+          << one_r2;
     }
   }
-  EXPECT_EQ(k.spiky_gradient_factor(0.0f), 0.0f);
-  EXPECT_EQ(k.spiky_gradient_factor(kH * kH), 0.0f);
-  EXPECT_GT(k.poly6(0.5f * kH * kH), 0.0f);
-  EXPECT_LT(k.spiky_gradient_factor(0.5f * kH * kH), 0.0f);
+  const glm::vec3 nan(std::nanf(""), 0.0f, 0.0f);
+  EXPECT_EQ(k.spiky_gradient(nan, glm::dot(nan, nan)), glm::vec3(0.0f));
+  EXPECT_LT(k.spiky_gradient(glm::vec3(0.5f * kH, 0.0f, 0.0f), 0.25f * kH * kH).x, 0.0f);
 }
 
 TEST(Kernels, ViscosityLaplacianMatchesFiniteDifferences) {

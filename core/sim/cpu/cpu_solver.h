@@ -69,6 +69,17 @@ class CpuSolver : public Solver {
     return r;
   }
 
+  // Σ_j W_poly6(|x_i − x_j|) over i's neighbours j at `positions` (i itself not included).
+  float neighbour_poly6_sum(const glm::vec3* positions, std::size_t i) const {
+    lanes::Floats sum{};
+    const auto list = neighbours_.blocks_of(i);
+    for (std::size_t k = 0; k < list.size(); k += lanes::kWidth) {
+      const lanes::Vec3 r = offsets(positions, i, list, k);
+      sum += kernels_.poly6(lanes::dot(r, r));
+    }
+    return lanes::sum(sum);
+  }
+
   // The largest |v| over all particles (0 when there are none).
   float max_speed();
 

@@ -124,17 +124,9 @@ float PbfSolver::average_compression() {
   const float inv_rest_density = 1.0f / fluid().rest_density;
   const float self_density = kernels_.poly6(0.0f);
   pool_->for_each(n, [&](std::size_t i) {
-    lanes::Floats density{};
-    const auto list = neighbours_.blocks_of(i);
-    for (std::size_t k = 0; k < list.size(); k += lanes::kWidth) {
-      const lanes::Vec3 r = offsets(predicted_.data(), i, list, k);
-      density += kernels_.poly6(lanes::dot(r, r));
-    }
+    const float density = self_density + neighbour_poly6_sum(predicted_.data(), i);
     compression_[i] =
-        std::max((mass * (self_density + lanes::sum(density)) + walls(predicted_[i]).density) *
-                         inv_rest_density -
-                     1.0f,
-                 0.0f);
+        std::max((mass * density + walls(predicted_[i]).density) * inv_rest_density - 1.0f, 0.0f);
   });
   const double sum = std::accumulate(compression_.begin(), compression_.end(), 0.0);
   return static_cast<float>(sum / static_cast<double>(n));

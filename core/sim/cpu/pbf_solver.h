@@ -59,7 +59,7 @@ class PbfSolver final : public CpuSolver {
                                                     std::size_t k) const {
     const lanes::Vec3 r = offsets(predicted_.data(), i, list, k);
     const lanes::Floats r2 = lanes::dot(r, r);
-    return {kernels_.spiky_gradient_factor(r2) * r, kernels_.poly6(r2)};
+    return {kernels_.spiky_gradient(r, r2), kernels_.poly6(r2)};
   }
   std::vector<PairBlock> pair_blocks_;
   PairBlock* first_block(std::size_t i) {

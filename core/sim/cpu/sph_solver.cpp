@@ -67,13 +67,7 @@ void SphSolver::compute_densities_and_pressures() {
   const float self = kernels_.poly6(0.0f);
   const auto& x = particles_.position;
   pool_->for_each(n, [&](std::size_t i) {
-    lanes::Floats sum{};
-    const auto list = neighbours_.blocks_of(i);
-    for (std::size_t k = 0; k < list.size(); k += lanes::kWidth) {
-      const lanes::Vec3 r = offsets(x.data(), i, list, k);
-      sum += kernels_.poly6(lanes::dot(r, r));
-    }
-    density_[i] = mass * (self + lanes::sum(sum)) + walls(x[i]).density;
+    density_[i] = mass * (self + neighbour_poly6_sum(x.data(), i)) + walls(x[i]).density;
     pressure_[i] = tait_pressure(density_[i], params());
   });
 }
@@ -114,7 +108,7 @@ float SphSolver::compute_accelerations() {
                                                  artificial / (density_[i] + density_j) * approach /
                                                      (distance * distance + softening),
                                                  lanes::Floats{});
-        pressure_sum += (pair * kernels_.spiky_gradient_factor(r2)) * r;
+        pressure_sum += pair * kernels_.spiky_gradient(r, r2);
         viscous_sum += (kernels_.viscosity_laplacian(distance) / density_j) * (velocity_j - v[i]);
       }
       const glm::vec3 pressure_acceleration = -lanes::sum(pressure_sum);

@@ -28,7 +28,7 @@ class Kernels {
 
   // poly6 W(r) from r², so the density loop needs no square root; of one pair (float) or of four
   // (lanes::Floats). 0 beyond h and for NaN.
-  template <class F>
+  template <lanes::OneOrFour F>
   F poly6(F r2) const {
     const F x = h2_ - r2;
     return lanes::select(r2 < h2_, poly6_ * x * x * x, F{});
@@ -40,17 +40,15 @@ class Kernels {
     return spiky_ * x * x * x;
   }
 
-  // ∇W_spiky at offset r_vec = p_i − p_j with |r_vec|² = r2; zero at r = 0, where its direction is
-  // undefined (coincident particles must not produce a NaN).
-  glm::vec3 spiky_gradient(glm::vec3 r_vec, float r2) const {
-    return spiky_gradient_factor(r2) * r_vec;
-  }
-  // f with ∇W_spiky = f · r_vec, of one pair or of four; 0 beyond h, at r = 0 and for NaN.
-  template <class F>
-  F spiky_gradient_factor(F r2) const {
+  // ∇W_spiky at offset r_vec = p_i − p_j with |r_vec|² = r2, of one pair (glm::vec3, float) or of
+  // four (lanes::Vec3, lanes::Floats); zero beyond h, for NaN and at r = 0, where its direction is
+  // undefined (coincident particles must not produce a NaN). The zero is selected, not multiplied
+  // in: 0 · NaN would let a NaN neighbour through.
+  template <class V, lanes::OneOrFour F>
+  V spiky_gradient(V r_vec, F r2) const {
     const F inv_r = lanes::inverse_sqrt(r2);
     const F x = h_ - r2 * inv_r;
-    return lanes::select((r2 < h2_) & (r2 > 1e-24f), -3.0f * spiky_ * x * x * inv_r, F{});
+    return lanes::select((r2 < h2_) & (r2 > 1e-24f), (-3.0f * spiky_ * x * x * inv_r) * r_vec, V{});
   }
 
   // A flat wall at distance s from a particle, with the half-space behind it full of fluid at rest.
@@ -72,7 +70,7 @@ class Kernels {
   }
 
   // ∇²W_viscosity(r) = 45 / (π h⁶) · (h − r), of one pair or of four; 0 beyond h and for NaN.
-  template <class F>
+  template <lanes::OneOrFour F>
   F viscosity_laplacian(F r) const {
     return lanes::select(r < h_, viscosity_laplacian_ * (h_ - r), F{});
   }

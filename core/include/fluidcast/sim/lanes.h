@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cmath>
+#include <concepts>
 #include <cstdint>
 #include <cstring>
 #include <glm/glm.hpp>
@@ -18,7 +19,11 @@ namespace fluidcast::sim::lanes {
 inline constexpr std::uint32_t kWidth = 4;
 
 using Floats = float __attribute__((vector_size(16)));
-using Ints = std::int32_t __attribute__((vector_size(16)));  // a comparison's lanes: −1 or 0
+using Ints = decltype(Floats{} < Floats{});  // a comparison's lanes: −1 or 0
+
+// One pair (float) or four (Floats): what the kernels accept.
+template <class F>
+concept OneOrFour = std::same_as<F, float> || std::same_as<F, Floats>;
 
 inline constexpr Ints kLaneIndex = {0, 1, 2, 3};
 
@@ -27,7 +32,6 @@ inline Floats load(const float* from) {
   std::memcpy(&v, from, sizeof v);
   return v;
 }
-inline void store(float* to, Floats v) { std::memcpy(to, &v, sizeof v); }
 
 // Bit b set where lane b of a comparison is true.
 inline unsigned mask(Ints condition) {
@@ -56,7 +60,6 @@ inline float sum(Floats v) { return (v[0] + v[1]) + (v[2] + v[3]); }
 struct Vec3 {
   Floats x, y, z;
 };
-inline Vec3 operator-(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
 inline Vec3 operator-(glm::vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
 inline Vec3 operator-(Vec3 a, glm::vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
 inline Vec3 operator*(Floats s, Vec3 v) { return {s * v.x, s * v.y, s * v.z}; }
@@ -69,6 +72,13 @@ inline Vec3& operator+=(Vec3& a, Vec3 b) {
   a.y += b.y;
   a.z += b.z;
   return a;
+}
+inline glm::vec3 select(bool condition, glm::vec3 if_true, glm::vec3 if_false) {
+  return condition ? if_true : if_false;
+}
+inline Vec3 select(Ints condition, Vec3 if_true, Vec3 if_false) {
+  return {select(condition, if_true.x, if_false.x), select(condition, if_true.y, if_false.y),
+          select(condition, if_true.z, if_false.z)};
 }
 // The sum over the lanes.
 inline glm::vec3 sum(Vec3 v) { return {sum(v.x), sum(v.y), sum(v.z)}; }
@@ -89,7 +99,7 @@ inline Floats sqrt(Floats x) {
 #elif defined(__wasm_simd128__)
   return reinterpret_cast<Floats>(wasm_f32x4_sqrt(reinterpret_cast<v128_t>(x)));
 #else
-  Floats result;
+  Floats result{};
   for (std::uint32_t lane = 0; lane < kWidth; ++lane) result[lane] = std::sqrt(x[lane]);
   return result;
 #endif
@@ -112,7 +122,7 @@ inline Floats inverse_sqrt(Floats x) {
 #elif defined(__wasm_simd128__)
   return 1.0f / reinterpret_cast<Floats>(wasm_f32x4_sqrt(reinterpret_cast<v128_t>(x)));
 #else
-  Floats result;
+  Floats result{};
   for (std::uint32_t lane = 0; lane < kWidth; ++lane) result[lane] = 1.0f / std::sqrt(x[lane]);
   return result;
 #endif
