@@ -1,5 +1,6 @@
-// For each particle, the indices of the others within a radius, found once per step through the
-// grid and then read by every solver pass (PBF reads them ~2·iterations + 3 times a step).
+// For each particle, the indices of the others within a radius, found once per substep through
+// the grid and then read by every solver pass (PBF reads them 2·iterations + 2 or 3 times a
+// substep).
 #pragma once
 
 #include <cstdint>
