@@ -119,12 +119,8 @@ inline Floats inverse_sqrt(Floats x) {
 #if defined(__SSE__)
   const Floats estimate = reinterpret_cast<Floats>(_mm_rsqrt_ps(reinterpret_cast<__m128>(x)));
   return estimate * (1.5f - 0.5f * x * estimate * estimate);
-#elif defined(__wasm_simd128__)
-  return 1.0f / reinterpret_cast<Floats>(wasm_f32x4_sqrt(reinterpret_cast<v128_t>(x)));
 #else
-  Floats result{};
-  for (std::uint32_t lane = 0; lane < kWidth; ++lane) result[lane] = 1.0f / std::sqrt(x[lane]);
-  return result;
+  return 1.0f / sqrt(x);
 #endif
 }
 
