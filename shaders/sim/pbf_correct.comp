@@ -1,7 +1,8 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // PBF: the position correction Δp with s_corr (tensile instability), pushed off the walls by
-// the particle's own λ, then constrained; as PbfSolver::apply_position_corrections.
+// the particle's own λ, weighted (the last iteration's by pbf_last_correction_weight), then
+// constrained; as PbfSolver::apply_position_corrections.
 #include "common/core.glsl"
 #include "common/sim_params.glsl"
 #include "common/sim_kernels.glsl"
@@ -30,5 +31,6 @@ void main() {
   }
   const vec3 wall_push = lambda_i * P.inv_rest_density * walls(p).yzw;
   vec3 unused;
-  P.iterate.v[k] = vec4(constrain(p + P.rest_volume * delta + wall_push, unused, false), 0.0);
+  const vec3 correction = pass.correction_weight * (P.rest_volume * delta + wall_push);
+  P.iterate.v[k] = vec4(constrain(p + correction, unused, false), 0.0);
 }

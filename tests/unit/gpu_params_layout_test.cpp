@@ -121,9 +121,9 @@ TEST(GpuParamsLayout, SimParamsMatchesTheGlslBlock) {
 }
 
 TEST(GpuParamsLayout, SimPassMatchesThePushConstants) {
-  const std::map<std::string, std::size_t> cpp = {FIELD(SimPass, params), FIELD(SimPass, dt),
-                                                  FIELD(SimPass, time_into_step),
-                                                  FIELD(SimPass, record_compression)};
+  const std::map<std::string, std::size_t> cpp = {
+      FIELD(SimPass, params), FIELD(SimPass, dt), FIELD(SimPass, time_into_step),
+      FIELD(SimPass, record_compression), FIELD(SimPass, correction_weight)};
   const auto glsl = member_offsets(shaders::sim_pbf_lambda_comp, "SimPass");
   ASSERT_EQ(glsl.size(), cpp.size());
   for (const auto& [name, offset] : cpp) EXPECT_EQ(glsl.at(name), offset) << name;

@@ -25,6 +25,23 @@ TEST(Pbf, PoolAtRestStaysAtRest) {
   EXPECT_LT(pool.final_rms_speed, 0.05);
 }
 
+// Jacobi iterations applied in full leave each particle about as far past its target as it began
+// short of it; the last one applied by half cancels that. With the default 4 iterations and the
+// same substeps, the settled 2000-particle pool's largest density error measured 1.7 % in full
+// and 1.2 % by half.
+TEST(Pbf, TheLastCorrectionByHalfDampsTheLargestDensityError) {
+  const auto worst_with = [](float weight) {
+    SolverParams params;
+    params.pbf_last_correction_weight = weight;
+    auto solver = make_solver(SolverKind::pbf, SceneKind::pool, 2000, params);
+    return testing::watch_pool_at_rest(*solver, 0.5, 1.0).worst_density_error;
+  };
+  const double in_full = worst_with(1.0f);
+  const double by_half = worst_with(0.5f);
+  EXPECT_LT(by_half, 0.8 * in_full);
+  EXPECT_LT(by_half, 0.02);
+}
+
 TEST(Pbf, SubstepsKeepFastFlowStable) {
   auto solver = make_solver(SolverKind::pbf, SceneKind::dam_break, 3000);
   run_for(*solver, 2.0);

@@ -51,7 +51,8 @@ void PbfSolver::substep(bool last) {
     {
       StageTimer timer(iteration_ms);
       compute_lambdas();
-      apply_position_corrections();
+      const bool last_iteration = iteration + 1 == params().iterations;
+      apply_position_corrections(last_iteration ? params().pbf_last_correction_weight : 1.0f);
     }
     stage_times_.solve_ms += iteration_ms - before;
   }
@@ -132,7 +133,7 @@ float PbfSolver::average_compression() {
   return static_cast<float>(sum / static_cast<double>(n));
 }
 
-void PbfSolver::apply_position_corrections() {
+void PbfSolver::apply_position_corrections(float weight) {
   const std::size_t n = particles_.size();
   corrected_.resize(n);
   const float volume = fluid().rest_volume();
@@ -157,7 +158,7 @@ void PbfSolver::apply_position_corrections() {
     }
     // The walls hold no λ of their own: only this particle's constraint pushes it off them.
     const glm::vec3 wall_push = lambda_i * inv_rest_density * walls(p).gradient;
-    corrected_[i] = constrain_position(p + volume * lanes::sum(delta) + wall_push);
+    corrected_[i] = constrain_position(p + weight * (volume * lanes::sum(delta) + wall_push));
   });
   predicted_.swap(corrected_);
 }

@@ -30,7 +30,9 @@ class PbfSolver final : public CpuSolver {
   // Mean over particles of max(ρ/ρ0 − 1, 0) at the corrected positions, walls included: what the
   // substep leaves, for the substep rule.
   float average_compression();
-  void apply_position_corrections();
+  // Moves each particle by `weight` times its Δp (SolverParams::pbf_last_correction_weight in the
+  // last iteration, else 1).
+  void apply_position_corrections(float weight);
   void update_velocities();
   void compute_vorticity();
   void apply_confinement_and_viscosity();

@@ -64,8 +64,10 @@ struct SimPass {
   float dt;
   float time_into_step;
   std::uint32_t record_compression;
+  float correction_weight;
 };
-static_assert(offsetof(SimPass, dt) == 8 && offsetof(SimPass, record_compression) == 16);
+static_assert(offsetof(SimPass, dt) == 8 && offsetof(SimPass, record_compression) == 16 &&
+              offsetof(SimPass, correction_weight) == 20);
 
 // The statistics a step leaves in P.stats, read back by the host.
 enum StatsSlot : std::uint32_t {

@@ -430,7 +430,7 @@ void GpuSolver::advance(float seconds, int substeps) {
                       if (!pbf) grid_.record_clear(c);
                     }});
   for (int s = 0; s < substeps; ++s) {
-    const SimPass pass{params_buffer_.address(), dt, static_cast<float>(s + 1) * dt, 0};
+    const SimPass pass{params_buffer_.address(), dt, static_cast<float>(s + 1) * dt, 0, 1.0f};
     const bool last = s + 1 == substeps;
     if (pbf) {
       append_pbf_substep(passes, pass, last);
@@ -469,9 +469,12 @@ void GpuSolver::append_pbf_substep(Passes& passes, const SimPass& pass, bool las
   add(Stage::grid, 0, pipelines_.reorder, pass);
   add(Stage::neighbours, 0, pipelines_.neighbours, pass);
 
+  SimPass last_correction = pass;
+  last_correction.correction_weight = params().pbf_last_correction_weight;
   for (int k = 0; k < params().iterations; ++k) {
     add(Stage::iteration, k, pipelines_.pbf_lambda, pass);
-    add(Stage::iteration, k, pipelines_.pbf_correct, pass);
+    add(Stage::iteration, k, pipelines_.pbf_correct,
+        k + 1 == params().iterations ? last_correction : pass);
   }
   add(Stage::velocity, 0, pipelines_.pbf_velocity, pass);
   if (params().vorticity > 0.0f) add(Stage::velocity, 0, pipelines_.pbf_vorticity, pass);
