@@ -24,8 +24,8 @@ const std::vector<ParamSpec<SolverParams>>& solver_param_specs() {
       {"pbf-last-correction-weight", "1",
        "PBF: share of the last iteration's position corrections applied (weighted Jacobi). "
        "Jacobi iterations in full leave a particle-scale oscillation, each particle pushed about "
-       "as far past its neighbours' target as it began short of it; 0.5 cancels it and halves "
-       "the largest density error of a resting pool and of a dam break, for about a tenth more "
+       "as far past its neighbours' target as it began short of it; 0.5 cancels it: a resting "
+       "pool's largest density error 2.0 → 1.2 %, a dam break's about halved, for 10–18 % more "
        "substeps (a smaller share of the average error is corrected); 1 applies them in full",
        &P::pbf_last_correction_weight, 0.25, 1},
       {"pbf-travel", "1",
@@ -38,8 +38,8 @@ const std::vector<ParamSpec<SolverParams>>& solver_param_specs() {
        &P::pbf_density_tolerance, 1e-4, 0.1},
       {"pbf-max-acceleration", "m/s²",
        "PBF: most the density corrections may accelerate a particle: the velocity a substep's "
-       "corrections add is capped at this times the substep, while positions are corrected in "
-       "full. Bounds the energy a compressed fluid releases when its substeps shorten (as "
+       "corrections add is capped at this times the substep, while the positions are not. "
+       "Bounds the energy a compressed fluid releases when its substeps shorten (as "
        "NVIDIA FleX's maxAcceleration); the default leaves a dam break's wall impact as it was",
        &P::pbf_max_acceleration, 10, 100000},
       {"relaxation", "1",

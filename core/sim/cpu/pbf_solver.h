@@ -5,10 +5,11 @@
 // Jacobi iterations of the density constraint (λ, then Δp with s_corr and collisions) → velocity
 // from the displacement → vorticity confinement and XSPH viscosity.
 //
-// Three choices beyond the paper: the density constraint is unilateral, C = max(ρ/ρ0 − 1, 0), so
+// Four choices beyond the paper: the density constraint is unilateral, C = max(ρ/ρ0 − 1, 0), so
 // a surface particle with few neighbours is not pulled inwards; ε and s_corr are scaled by the
-// rest-state Σ|∇C|², which makes them dimensionless and independent of the particle size; and the
-// velocity the corrections add is capped (pbf_max_acceleration, as NVIDIA FleX's maxAcceleration).
+// rest-state Σ|∇C|², which makes them dimensionless and independent of the particle size; the
+// velocity the corrections add is capped (pbf_max_acceleration, as NVIDIA FleX's maxAcceleration);
+// and the last iteration's corrections are applied by pbf_last_correction_weight (weighted Jacobi).
 #pragma once
 
 #include "cpu/cpu_solver.h"
