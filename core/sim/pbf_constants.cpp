@@ -27,6 +27,13 @@ float rest_gradient_norm(const Kernels& kernels, const FluidConstants& fluid) {
 
 }  // namespace
 
+float pbf_correction_weight(const SolverParams& params, int iteration) {
+  if (params.iterations < 2) return 1.0f;
+  if (iteration == 0) return 2.0f - params.pbf_last_correction_weight;
+  if (iteration + 1 == params.iterations) return params.pbf_last_correction_weight;
+  return 1.0f;
+}
+
 PbfConstants derive_pbf_constants(const SolverParams& params, const FluidConstants& fluid) {
   const Kernels kernels(fluid.kernel_radius);
   const float rest_norm = rest_gradient_norm(kernels, fluid);

@@ -74,7 +74,7 @@ layout(push_constant, std430) uniform SimPass {
   float dt;              // this substep's length, s
   float time_into_step;  // where the colliders are: seconds into the step
   uint record_compression;  // PBF finish pass: add up the compression in P.stats.v[2..3]
-  float correction_weight;  // PBF correction pass: share of Δp applied (pbf_last_correction_weight)
+  float correction_weight;  // PBF correction pass: share of Δp applied (pbf_correction_weight)
 } pass;
 
 #define P pass.params

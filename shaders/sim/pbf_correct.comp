@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // PBF: the position correction Δp with s_corr (tensile instability), pushed off the walls by
-// the particle's own λ, weighted (the last iteration's by pbf_last_correction_weight), then
+// the particle's own λ, weighted (pbf_correction_weight: the first and last iterations'), then
 // constrained; as PbfSolver::apply_position_corrections.
 #include "common/core.glsl"
 #include "common/sim_params.glsl"

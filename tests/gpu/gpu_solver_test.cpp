@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 
 #include "../unit/solver_test_support.h"
@@ -165,12 +166,26 @@ TEST_F(GpuPbfTest, CompressionLeftBehindDoesNotBurst) {
   EXPECT_LT(e.kinetic, 1.5 * e.released);
 }
 
-// The weight reaches the correction pass: measured on lavapipe 1.9 % in full, 1.3 % by half.
-TEST_F(GpuPbfTest, TheLastCorrectionByHalfDampsTheLargestDensityError) {
-  const double in_full = testing::pool_worst_density_error(Backend::gpu, 1.0f);
-  const double by_half = testing::pool_worst_density_error(Backend::gpu, 0.5f);
-  EXPECT_LT(by_half, 0.85 * in_full);
-  EXPECT_LT(by_half, 0.02);
+// The iterations' weights reach the correction pass: six steps of a dam break, in lockstep, give
+// the CPU's kinetic energy with the corrections weighted and in full (measured: the weights move
+// it by 0.8 %, the backends differ by 3·10⁻⁷).
+TEST_F(GpuPbfTest, TheIterationsAreWeightedAsOnTheCpu) {
+  const auto kinetic_energy = [](Backend backend, float last_correction_weight) {
+    SolverParams params;
+    params.pbf_last_correction_weight = last_correction_weight;
+    auto solver = make_solver(SolverKind::pbf, SceneKind::dam_break, 1000, params, backend);
+    for (int step = 0; step < 6; ++step) {
+      solver->step();
+      solver->synchronize();
+    }
+    return stats(*solver).kinetic_energy;
+  };
+  const double cpu_weighted = kinetic_energy(Backend::cpu, 0.5f);
+  const double cpu_in_full = kinetic_energy(Backend::cpu, 1.0f);
+  const double by_the_weights = std::abs(cpu_weighted - cpu_in_full);
+  ASSERT_GT(by_the_weights, 1e-3 * cpu_in_full);
+  EXPECT_NEAR(kinetic_energy(Backend::gpu, 0.5f), cpu_weighted, 0.05 * by_the_weights);
+  EXPECT_NEAR(kinetic_energy(Backend::gpu, 1.0f), cpu_in_full, 0.05 * by_the_weights);
 }
 
 INSTANTIATE_TEST_SUITE_P(BothSolvers, GpuSolverTest,

@@ -92,15 +92,6 @@ inline PoolAtRest watch_pool_at_rest(Solver& solver, double settle, double watch
 // times the kinetic energy the fall had released. The fluid may only turn the potential energy it
 // lost into motion; PBF is not strictly dissipative (s_corr pushes particles apart), and runs
 // that do not burst measure 0.9–1.36 times, so the bound is 1.5.
-// The largest density error of a 2000-particle PBF pool, settled for 0.5 s and watched for 1 s,
-// with the last iteration's corrections applied by `weight`.
-inline double pool_worst_density_error(Backend backend, float last_correction_weight) {
-  SolverParams params;
-  params.pbf_last_correction_weight = last_correction_weight;
-  auto solver = make_solver(SolverKind::pbf, SceneKind::pool, 2000, params, backend);
-  return watch_pool_at_rest(*solver, 0.5, 1.0).worst_density_error;
-}
-
 struct DeepColumnEnergy {
   double kinetic = 0.0;   // J, at the end
   double released = 0.0;  // J, by the fall: M g Δy of the centre of mass

@@ -51,8 +51,7 @@ void PbfSolver::substep(bool last) {
     {
       StageTimer timer(iteration_ms);
       compute_lambdas();
-      const bool last_iteration = iteration + 1 == params().iterations;
-      apply_position_corrections(last_iteration ? params().pbf_last_correction_weight : 1.0f);
+      apply_position_corrections(pbf_correction_weight(params(), iteration));
     }
     stage_times_.solve_ms += iteration_ms - before;
   }

@@ -9,7 +9,7 @@
 // a surface particle with few neighbours is not pulled inwards; ε and s_corr are scaled by the
 // rest-state Σ|∇C|², which makes them dimensionless and independent of the particle size; the
 // velocity the corrections add is capped (pbf_max_acceleration, as NVIDIA FleX's maxAcceleration);
-// and the last iteration's corrections are applied by pbf_last_correction_weight (weighted Jacobi).
+// and the first and last iterations' corrections are weighted (pbf_correction_weight).
 #pragma once
 
 #include "cpu/cpu_solver.h"
@@ -31,8 +31,7 @@ class PbfSolver final : public CpuSolver {
   // Mean over particles of max(ρ/ρ0 − 1, 0) at the corrected positions, walls included: what the
   // substep leaves, for the substep rule.
   float average_compression();
-  // Moves each particle by `weight` times its Δp (SolverParams::pbf_last_correction_weight in the
-  // last iteration, else 1).
+  // Moves each particle by `weight` times its Δp (pbf_correction_weight).
   void apply_position_corrections(float weight);
   void update_velocities();
   void compute_vorticity();

@@ -469,12 +469,11 @@ void GpuSolver::append_pbf_substep(Passes& passes, const SimPass& pass, bool las
   add(Stage::grid, 0, pipelines_.reorder, pass);
   add(Stage::neighbours, 0, pipelines_.neighbours, pass);
 
-  SimPass last_correction = pass;
-  last_correction.correction_weight = params().pbf_last_correction_weight;
   for (int k = 0; k < params().iterations; ++k) {
+    SimPass correction = pass;
+    correction.correction_weight = pbf_correction_weight(params(), k);
     add(Stage::iteration, k, pipelines_.pbf_lambda, pass);
-    add(Stage::iteration, k, pipelines_.pbf_correct,
-        k + 1 == params().iterations ? last_correction : pass);
+    add(Stage::iteration, k, pipelines_.pbf_correct, correction);
   }
   add(Stage::velocity, 0, pipelines_.pbf_velocity, pass);
   if (params().vorticity > 0.0f) add(Stage::velocity, 0, pipelines_.pbf_vorticity, pass);
