@@ -16,7 +16,8 @@
 #               the corrections' velocity cap and the rule's wait for fresh figures):
 #               fluidcast-sim to t = 0.5 s (its substeps, centre of mass height and largest speed
 #               at the end) at 216k to 2M; at 1M with 2 and 8 iterations, without the density
-#               bound on substeps (--pbf-density-tolerance 0.1), without the cap, with statistics
+#               bound on substeps (--pbf-density-tolerance 0.1), without the cap, with every
+#               iteration's corrections in full (--pbf-jacobi-damping 0), with statistics
 #               read back every step, and as point frames. The CPU solver's 1M reference is in
 #               bench/results/h100-2026-11-25.md (centre of mass 0.114 m high at t = 0.5 s)
 # Times on an H100 (2026-11-25): tests 43 s, solver 12 s, render 27 s. Each writes its log and tables under OUT. --smoke (third argument) runs the benchmarks' small
@@ -101,6 +102,7 @@ case "$part" in
     sim "p$big-it8" --particles "$big" --iterations 8
     sim "p$big-no-density-bound" --particles "$big" --pbf-density-tolerance 0.1
     sim "p$big-uncapped" --particles "$big" --pbf-max-acceleration 100000
+    sim "p$big-undamped" --particles "$big" --pbf-jacobi-damping 0
     # Statistics read back every step, so that the substep rule sees each step's compression
     # before planning the next (no steps in flight), as on the CPU.
     sim "p$big-synchronous" --particles "$big" --stats "$out/p$big-synchronous.csv"

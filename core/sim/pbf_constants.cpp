@@ -29,8 +29,8 @@ float rest_gradient_norm(const Kernels& kernels, const FluidConstants& fluid) {
 
 float pbf_correction_weight(const SolverParams& params, int iteration) {
   if (params.iterations < 2) return 1.0f;
-  if (iteration == 0) return 2.0f - params.pbf_last_correction_weight;
-  if (iteration + 1 == params.iterations) return params.pbf_last_correction_weight;
+  if (iteration == 0) return 1.0f + params.pbf_jacobi_damping;
+  if (iteration + 1 == params.iterations) return 1.0f - params.pbf_jacobi_damping;
   return 1.0f;
 }
 

@@ -18,9 +18,10 @@ struct PbfConstants {
 PbfConstants derive_pbf_constants(const SolverParams& params, const FluidConstants& fluid);
 
 // The share of iteration `iteration`'s position corrections applied (weighted Jacobi): the last by
-// pbf_last_correction_weight w, which damps the particle-scale oscillation that iterations in full
-// leave; the first by 2 − w, so that the smooth part of the error is corrected as much as in full.
-// One iteration is applied in full: it has nothing to be balanced against.
+// 1 − pbf_jacobi_damping, which damps the particle-scale oscillation that iterations in full leave
+// (0.5 cancels it); the first by 1 + pbf_jacobi_damping, so that the weights sum as in full and
+// the smooth part of the error is corrected as much. One iteration is applied in full: it has
+// nothing to be balanced against.
 float pbf_correction_weight(const SolverParams& params, int iteration);
 
 }  // namespace fluidcast::sim

@@ -21,14 +21,14 @@ const std::vector<ParamSpec<SolverParams>>& solver_param_specs() {
        &P::max_substeps, 1, 100000},
       {"iterations", "1", "PBF: Jacobi iterations of the density constraint per substep",
        &P::iterations, 1, 100},
-      {"pbf-last-correction-weight", "1",
-       "PBF: share of the last iteration's position corrections applied, and 2 − this of the "
-       "first's (weighted Jacobi; one iteration is applied in full). Iterations in full leave a "
-       "particle-scale oscillation, each particle pushed about as far past its neighbours' target "
-       "as it began short of it; 0.5 cancels it, while the first iteration's 1.5 keeps the smooth "
-       "error corrected as in full: a resting pool's largest density error 2.0 → 1.3 %, a dam "
-       "break's 15–17 → 9–12 %, substeps as many or fewer; 1 applies every iteration in full",
-       &P::pbf_last_correction_weight, 0.25, 1},
+      {"pbf-jacobi-damping", "1",
+       "PBF: d: the first Jacobi iteration's position corrections are applied by 1 + d, the "
+       "last's by 1 − d (one iteration: in full). Iterations in full leave a particle-scale "
+       "oscillation, each particle pushed about as far past its neighbours' target as it began "
+       "short of it; 0.5 cancels it, while the weights' sum keeps the smooth error corrected as "
+       "in full: a resting pool's largest density error 2.0 → 1.3 %, a dam break's 14–17 → "
+       "9–12 %, substeps as many or fewer; 0 applies every iteration in full",
+       &P::pbf_jacobi_damping, 0, 0.5},
       {"pbf-travel", "1",
        "PBF: most a particle or collider may move in one substep, as a fraction of h; a particle "
        "flung faster is slowed to it. Above 1 particles begin to pass through each other",

@@ -30,31 +30,37 @@ TEST(Pbf, PoolAtRestStaysAtRest) {
 // Jacobi iterations applied in full leave each particle about as far past its target as it began
 // short of it; the last one applied by half (and the first by 1.5) cancels that. With the default
 // 4 iterations the settled 2000-particle pool's largest density error measured 1.7 % in full and
-// 1.3 % weighted.
-TEST(Pbf, WeightedIterationsDampTheLargestDensityError) {
-  const auto worst_with = [](float last_correction_weight) {
+// 1.3 % damped.
+TEST(Pbf, JacobiDampingLowersTheLargestDensityError) {
+  const auto worst_with = [](float damping) {
     SolverParams params;
-    params.pbf_last_correction_weight = last_correction_weight;
+    params.pbf_jacobi_damping = damping;
     auto solver = make_solver(SolverKind::pbf, SceneKind::pool, 2000, params);
     return testing::watch_pool_at_rest(*solver, 0.5, 1.0).worst_density_error;
   };
-  const double in_full = worst_with(1.0f);
-  const double weighted = worst_with(0.5f);
-  EXPECT_LT(weighted, 0.85 * in_full);
-  EXPECT_LT(weighted, 0.02);
+  const double in_full = worst_with(0.0f);
+  const double damped = worst_with(0.5f);
+  EXPECT_LT(damped, 0.85 * in_full);
+  EXPECT_LT(damped, 0.02);
 }
 
-TEST(Pbf, OnlyTheFirstAndLastIterationsAreWeightedAndTheWeightsSumAsInFull) {
+TEST(Pbf, JacobiDampingWeighsTheFirstAndLastIterationsAndKeepsTheirSum) {
   SolverParams params;
-  params.pbf_last_correction_weight = 0.5f;
+  params.pbf_jacobi_damping = 0.5f;
   params.iterations = 4;
   const std::vector<float> four = {
       pbf_correction_weight(params, 0), pbf_correction_weight(params, 1),
       pbf_correction_weight(params, 2), pbf_correction_weight(params, 3)};
   EXPECT_EQ(four, (std::vector<float>{1.5f, 1.0f, 1.0f, 0.5f}));
-  params.iterations = 2;
-  EXPECT_EQ(pbf_correction_weight(params, 0), 1.5f);
-  EXPECT_EQ(pbf_correction_weight(params, 1), 0.5f);
+  for (const float damping : {0.0f, 0.25f, 0.5f}) {
+    params.pbf_jacobi_damping = damping;
+    for (int iterations = 2; iterations <= 5; ++iterations) {
+      params.iterations = iterations;
+      float sum = 0.0f;
+      for (int k = 0; k < iterations; ++k) sum += pbf_correction_weight(params, k);
+      EXPECT_EQ(sum, static_cast<float>(iterations)) << "damping " << damping;
+    }
+  }
   params.iterations = 1;
   EXPECT_EQ(pbf_correction_weight(params, 0), 1.0f);
 }
