@@ -19,8 +19,7 @@ struct SolverParams {
 
   // PBF (Macklin & Müller 2013).
   int iterations = 4;
-  float pbf_jacobi_damping =
-      0.5f;                 // d: the first iteration's corrections by 1 + d, the last's 1 − d
+  float pbf_jacobi_damping = 0.5f;  // d: the first iteration's Δp by 1 + d, the last's by 1 − d
   float pbf_travel = 1.0f;  // most a particle or collider moves in one substep, as a fraction of h
   float pbf_density_tolerance = 0.01f;  // average ρ/ρ0 − 1 a step may leave, walls included
   float pbf_max_acceleration =
