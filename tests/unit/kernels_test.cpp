@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 
 namespace fluidcast::sim {
@@ -72,6 +73,40 @@ TEST(Kernels, SpikyGradientIsZeroForCoincidentParticles) {
   const Kernels k(kH);
   const glm::vec3 g = k.spiky_gradient(glm::vec3(0.0f), 0.0f);
   EXPECT_EQ(g, glm::vec3(0.0f));
+}
+
+// The lanes' own operations, on whichever path this build compiled (SSE, or the portable one in
+// kernels_generic_lanes_test).
+TEST(Lanes, MaskSetsTheBitOfEachTrueLane) {
+  for (unsigned pattern = 0; pattern < 16; ++pattern) {
+    lanes::Floats v{};
+    for (std::uint32_t lane = 0; lane < lanes::kWidth; ++lane) v[lane] = (pattern >> lane) & 1u;
+    EXPECT_EQ(lanes::mask(v > 0.5f), pattern);
+  }
+}
+
+TEST(Lanes, SquareRootsAgreeWithTheScalarOnes) {
+  const lanes::Floats x{1e-30f, 0.25f, 2.0f, 3e10f};
+  const lanes::Floats root = lanes::sqrt(x);
+  const lanes::Floats inverse = lanes::inverse_sqrt(x);
+  for (std::uint32_t lane = 0; lane < lanes::kWidth; ++lane) {
+    EXPECT_EQ(root[lane], std::sqrt(x[lane]));
+    const double exact = 1.0 / std::sqrt(double(x[lane]));
+    EXPECT_NEAR(inverse[lane], exact, 3e-7 * exact) << x[lane];
+    EXPECT_EQ(lanes::inverse_sqrt(x[lane]), inverse[lane]) << x[lane];
+  }
+}
+
+TEST(Lanes, GatherAndSelectPickTheirLanes) {
+  const float data[] = {10.0f, 11.0f, 12.0f, 13.0f, 14.0f};
+  const std::uint32_t index[] = {4, 0, 2, 2};
+  const lanes::Floats gathered = lanes::gather(data, index);
+  const lanes::Floats chosen = lanes::select(lanes::kLaneIndex < 2, gathered, lanes::Floats{});
+  EXPECT_EQ(chosen[0], 14.0f);
+  EXPECT_EQ(chosen[1], 10.0f);
+  EXPECT_EQ(chosen[2], 0.0f);
+  EXPECT_EQ(chosen[3], 0.0f);
+  EXPECT_EQ(lanes::sum(gathered), 14.0f + 10.0f + 12.0f + 12.0f);
 }
 
 // The solvers' loops evaluate four pairs at a time: each lane must be what one pair gives,

@@ -1,6 +1,8 @@
 // Four floats processed as one, for the CPU solvers' inner loops over neighbours: GCC's and
 // Clang's vector extensions, which compile to SSE on x86 and to SIMD128 in the page's WebAssembly.
 // The scalar overloads let one formula (Kernels) serve a single pair and a block of four.
+// FLUIDCAST_LANES_GENERIC selects the portable path (any other target's) on x86 and in
+// WebAssembly too, so that the tests run it.
 #pragma once
 
 #include <cmath>
@@ -8,9 +10,11 @@
 #include <cstdint>
 #include <cstring>
 #include <glm/glm.hpp>
-#if defined(__SSE__)
+#if defined(__SSE__) && !defined(FLUIDCAST_LANES_GENERIC)
+#define FLUIDCAST_LANES_SSE
 #include <xmmintrin.h>
-#elif defined(__wasm_simd128__)
+#elif defined(__wasm_simd128__) && !defined(FLUIDCAST_LANES_GENERIC)
+#define FLUIDCAST_LANES_SIMD128
 #include <wasm_simd128.h>
 #endif
 
@@ -35,9 +39,9 @@ inline Floats load(const float* from) {
 
 // Bit b set where lane b of a comparison is true.
 inline unsigned mask(Ints condition) {
-#if defined(__SSE__)
+#if defined(FLUIDCAST_LANES_SSE)
   return static_cast<unsigned>(_mm_movemask_ps(reinterpret_cast<__m128>(condition)));
-#elif defined(__wasm_simd128__)
+#elif defined(FLUIDCAST_LANES_SIMD128)
   return static_cast<unsigned>(wasm_i32x4_bitmask(reinterpret_cast<v128_t>(condition)));
 #else
   return static_cast<unsigned>((condition[0] & 1) | (condition[1] & 2) | (condition[2] & 4) |
@@ -94,9 +98,9 @@ inline Vec3 gather(const glm::vec3* data, const std::uint32_t* index) {
 }
 
 inline Floats sqrt(Floats x) {
-#if defined(__SSE__)
+#if defined(FLUIDCAST_LANES_SSE)
   return reinterpret_cast<Floats>(_mm_sqrt_ps(reinterpret_cast<__m128>(x)));
-#elif defined(__wasm_simd128__)
+#elif defined(FLUIDCAST_LANES_SIMD128)
   return reinterpret_cast<Floats>(wasm_f32x4_sqrt(reinterpret_cast<v128_t>(x)));
 #else
   Floats result{};
@@ -108,7 +112,7 @@ inline Floats sqrt(Floats x) {
 // 1/√x to about 1e-7 relative: the hardware estimate and one Newton step, several times faster than
 // sqrt followed by a division. x must be positive and finite for a finite result.
 inline float inverse_sqrt(float x) {
-#if defined(__SSE__)
+#if defined(FLUIDCAST_LANES_SSE)
   const float estimate = _mm_cvtss_f32(_mm_rsqrt_ss(_mm_set_ss(x)));
   return estimate * (1.5f - 0.5f * x * estimate * estimate);
 #else
@@ -116,7 +120,7 @@ inline float inverse_sqrt(float x) {
 #endif
 }
 inline Floats inverse_sqrt(Floats x) {
-#if defined(__SSE__)
+#if defined(FLUIDCAST_LANES_SSE)
   const Floats estimate = reinterpret_cast<Floats>(_mm_rsqrt_ps(reinterpret_cast<__m128>(x)));
   return estimate * (1.5f - 0.5f * x * estimate * estimate);
 #else
