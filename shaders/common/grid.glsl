@@ -11,6 +11,28 @@ ivec3 grid_cell_coords(vec3 p, vec3 origin, float inv_cell_size, ivec3 dims) {
 
 uint grid_cell_index(ivec3 c, ivec3 dims) { return uint(c.x + dims.x * (c.y + dims.y * c.z)); }
 
+// Counting sort, step 1, for particle i at p: its cell, and its rank in the cell from an atomic
+// count into cell_start (cleared before). The grid's own pass runs it, and PBF's prediction as it
+// predicts, to save a pass. origin: xyz the grid's origin, w 1 / cell size.
+void grid_count(uint i, vec3 p, vec4 origin, ivec3 dims, Uints cell_of, Uints rank,
+                Uints cell_start) {
+  const uint cell = grid_cell_index(grid_cell_coords(p, origin.xyz, origin.w, dims), dims);
+  cell_of.v[i] = cell;
+  rank.v[i] = atomicAdd(cell_start.v[cell], 1u);
+}
+
+// Counting sort, step 4, once the counts are prefix-summed: particle i's sorted slot, its cell's
+// start plus its rank; the slot records the particle and its cell. The grid's own pass runs it,
+// and the solvers' reorder, which moves the particle there in the same pass.
+uint grid_scatter(uint i, Uints cell_of, Uints rank, Uints cell_start, Uints order,
+                  Uints sorted_cell) {
+  const uint cell = cell_of.v[i];
+  const uint slot = cell_start.v[cell] + rank.v[i];
+  order.v[slot] = i;
+  sorted_cell.v[slot] = cell;
+  return slot;
+}
+
 // Elements per invocation of the prefix sum (GpuNeighbourGrid::kScanItemsPerInvocation).
 #define SCAN_ITEMS_PER_INVOCATION 4
 

@@ -6,7 +6,7 @@
 
 // What the inner loops read, loaded once per invocation by load_constants() (first thing in
 // main), so that the loops do not reload it through the parameter block's reference.
-float K_h, K_h2, K_poly6, K_spiky, K_viscosity_laplacian;
+float K_h, K_h2, K_poly6, K_spiky, K_viscosity_laplacian, K_rest_volume;
 ivec3 K_grid_dims;
 uint K_max_candidates;
 Uints K_cell_start;
@@ -21,6 +21,7 @@ void load_constants() {
   K_poly6 = P.poly6;
   K_spiky = P.spiky;
   K_viscosity_laplacian = P.viscosity_laplacian;
+  K_rest_volume = P.rest_volume;
   const ivec4 dims = P.grid_dims;
   K_grid_dims = dims.xyz;
   K_max_candidates = P.max_candidates;

@@ -23,6 +23,8 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Si
   Uints order;         // the grid: sorted slot → particle
   Uints cell_start;    // the grid: first sorted slot of each cell, and one past the last
   Uints sorted_cell;   // the grid: the cell each sorted slot was sorted into
+  Uints cell_of;       // the grid: each particle's cell, counted by the prediction (PBF)
+  Uints rank;          // the grid: each particle's place in its cell, from the count
   Uints stats;         // [0] bits of the largest |v|², [1] of the largest |a|, [2..3] PBF: the
                        // compression summed, 64 bits in units of 2^-20 (StatsSlot in gpu_sim_params.h)
   Floats density_ratio;  // ρ/ρ0 per particle in state order, from the last solver pass (render)
@@ -35,6 +37,7 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Si
   vec4 inner_max;
   vec4 gravity;
   ivec4 grid_dims;
+  vec4 grid_origin;    // the grid: xyz its origin, w 1 / cell size
 
   uint solver;
   uint particle_count;
@@ -75,6 +78,7 @@ layout(push_constant, std430) uniform SimPass {
   float time_into_step;  // where the colliders are: seconds into the step
   uint record_compression;  // PBF finish pass: add up the compression in P.stats.v[2..3]
   float correction_weight;  // PBF correction pass: share of Δp applied (pbf_correction_weight)
+  uint write_velocity;      // PBF correction pass: the last iteration's, which sets the velocity
 } pass;
 
 #define P pass.params

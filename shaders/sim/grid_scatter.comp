@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Counting sort, step 4: each particle's sorted slot is its cell's start plus its rank; the slot
-// records the particle and its cell.
+// Counting sort, step 4: each particle's sorted slot records the particle and its cell
+// (grid_scatter).
 #include "common/core.glsl"
 #include "common/grid.glsl"
 #include "common/grid_pass.glsl"
@@ -9,8 +9,5 @@
 void main() {
   const uint i = invocation();
   if (i >= pass.particle_count) return;
-  const uint cell = pass.cell_of.v[i];
-  const uint slot = pass.cell_start.v[cell] + pass.rank.v[i];
-  pass.order.v[slot] = i;
-  pass.sorted_cell.v[slot] = cell;
+  grid_scatter(i, pass.cell_of, pass.rank, pass.cell_start, pass.order, pass.sorted_cell);
 }

@@ -2,10 +2,24 @@
 #extension GL_GOOGLE_include_directive : require
 // PBF: the position correction Δp with s_corr (tensile instability), pushed off the walls by
 // the particle's own λ, weighted (pbf_correction_weight: the first and last iterations'), then
-// constrained; as PbfSolver::apply_position_corrections.
+// constrained; as PbfSolver::apply_position_corrections. The last iteration also sets the
+// velocity from the corrected position, as PbfSolver::update_velocities (velocity_from).
 #include "common/core.glsl"
 #include "common/sim_params.glsl"
 #include "common/sim_kernels.glsl"
+
+// In sorted order: v = (x* − x) / Δt, with the corrections' part of it capped at
+// max_acceleration · Δt. The uncorrected prediction is still in P.predicted, in state order.
+vec3 velocity_from(uint k, vec3 corrected) {
+  const vec3 start = P.sorted_position.v[k].xyz;
+  const vec3 uncorrected_position = P.predicted.v[P.order.v[k]].xyz;
+  const float inv_dt = 1.0 / pass.dt;
+  const vec3 uncorrected = (uncorrected_position - start) * inv_dt;
+  const vec3 change = (corrected - uncorrected_position) * inv_dt;
+  const float most = P.max_acceleration * pass.dt;
+  const float change_length = length(change);
+  return uncorrected + (change_length > most ? change * (most / change_length) : change);
+}
 
 void main() {
   load_constants();
@@ -32,5 +46,7 @@ void main() {
   const vec3 wall_push = lambda_i * P.inv_rest_density * walls(p).yzw;
   vec3 unused;
   const vec3 correction = pass.correction_weight * (P.rest_volume * delta + wall_push);
-  P.iterate.v[k] = vec4(constrain(p + correction, unused, false), 0.0);
+  const vec3 corrected = constrain(p + correction, unused, false);
+  P.iterate.v[k] = vec4(corrected, 0.0);
+  if (pass.write_velocity != 0u) P.sorted_velocity.v[k] = vec4(velocity_from(k, corrected), 0.0);
 }

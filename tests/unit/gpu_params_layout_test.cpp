@@ -72,6 +72,8 @@ TEST(GpuParamsLayout, SimParamsMatchesTheGlslBlock) {
                                                   FIELD(SimParams, order),
                                                   FIELD(SimParams, cell_start),
                                                   FIELD(SimParams, sorted_cell),
+                                                  FIELD(SimParams, cell_of),
+                                                  FIELD(SimParams, rank),
                                                   FIELD(SimParams, stats),
                                                   FIELD(SimParams, density_ratio),
                                                   FIELD(SimParams, neighbours),
@@ -82,6 +84,7 @@ TEST(GpuParamsLayout, SimParamsMatchesTheGlslBlock) {
                                                   FIELD(SimParams, inner_max),
                                                   FIELD(SimParams, gravity),
                                                   FIELD(SimParams, grid_dims),
+                                                  FIELD(SimParams, grid_origin),
                                                   FIELD(SimParams, solver),
                                                   FIELD(SimParams, particle_count),
                                                   FIELD(SimParams, collider_count),
@@ -121,9 +124,12 @@ TEST(GpuParamsLayout, SimParamsMatchesTheGlslBlock) {
 }
 
 TEST(GpuParamsLayout, SimPassMatchesThePushConstants) {
-  const std::map<std::string, std::size_t> cpp = {
-      FIELD(SimPass, params), FIELD(SimPass, dt), FIELD(SimPass, time_into_step),
-      FIELD(SimPass, record_compression), FIELD(SimPass, correction_weight)};
+  const std::map<std::string, std::size_t> cpp = {FIELD(SimPass, params),
+                                                  FIELD(SimPass, dt),
+                                                  FIELD(SimPass, time_into_step),
+                                                  FIELD(SimPass, record_compression),
+                                                  FIELD(SimPass, correction_weight),
+                                                  FIELD(SimPass, write_velocity)};
   const auto glsl = member_offsets(shaders::sim_pbf_lambda_comp, "SimPass");
   ASSERT_EQ(glsl.size(), cpp.size());
   for (const auto& [name, offset] : cpp) EXPECT_EQ(glsl.at(name), offset) << name;

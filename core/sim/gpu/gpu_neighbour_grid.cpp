@@ -33,6 +33,20 @@ std::uint32_t blocks(std::uint32_t count) {
   return (count + GpuNeighbourGrid::kScanBlock - 1) / GpuNeighbourGrid::kScanBlock;
 }
 
+GridPass grid_pass(const GpuNeighbourGrid& grid, VkDeviceAddress key, std::uint32_t count) {
+  GridPass pass{};
+  pass.key = key;
+  pass.cell_of = grid.cell_of().address();
+  pass.rank = grid.rank().address();
+  pass.cell_start = grid.cell_start().address();
+  pass.order = grid.order().address();
+  pass.sorted_cell = grid.sorted_cell().address();
+  pass.origin = glm::vec4(grid.geometry().origin, grid.geometry().inv_cell_size);
+  pass.dims = glm::ivec4(grid.geometry().dims, 0);
+  pass.particle_count = count;
+  return pass;
+}
+
 }  // namespace
 
 std::uint64_t GpuNeighbourGrid::bytes_for_cells(std::size_t cells) {
@@ -85,21 +99,24 @@ void GpuNeighbourGrid::record_clear(VkCommandBuffer commands) const {
 
 void GpuNeighbourGrid::append_build(std::vector<GpuStepBatch::Pass>& passes, VkDeviceAddress key,
                                     std::uint32_t count, int stage) const {
-  GridPass pass{};
-  pass.key = key;
-  pass.cell_of = cell_of_.address();
-  pass.rank = rank_.address();
-  pass.cell_start = cell_start_.address();
-  pass.order = order_.address();
-  pass.sorted_cell = sorted_cell_.address();
-  pass.origin = glm::vec4(geometry_.origin, geometry_.inv_cell_size);
-  pass.dims = glm::ivec4(geometry_.dims, 0);
-  pass.particle_count = count;
+  append_count(passes, key, count, stage);
+  append_scan(passes, stage);
+  passes.push_back({stage, 0, [this, pass = grid_pass(*this, key, count)](VkCommandBuffer c) {
+                      scatter_.dispatch(c, pass, pass.particle_count);
+                    }});
+}
+
+void GpuNeighbourGrid::append_count(std::vector<GpuStepBatch::Pass>& passes, VkDeviceAddress key,
+                                    std::uint32_t count, int stage) const {
+  passes.push_back({stage, 0, [this, pass = grid_pass(*this, key, count)](VkCommandBuffer c) {
+                      count_.dispatch(c, pass, pass.particle_count);
+                    }});
+}
+
+void GpuNeighbourGrid::append_scan(std::vector<GpuStepBatch::Pass>& passes, int stage) const {
   const auto add = [&](std::function<void(VkCommandBuffer)> record) {
     passes.push_back({stage, 0, std::move(record)});
   };
-  add([this, pass](VkCommandBuffer c) { count_.dispatch(c, pass, pass.particle_count); });
-
   // Up the levels: scan each in place, writing its block totals into the next.
   const std::size_t levels = level_counts_.size();
   for (std::size_t k = 0; k < levels; ++k) {
@@ -120,8 +137,6 @@ void GpuNeighbourGrid::append_build(std::vector<GpuStepBatch::Pass>& passes, VkD
     scan_add.count = level_counts_[k];
     add([this, scan_add](VkCommandBuffer c) { scan_add_.dispatch(c, scan_add, scan_add.count); });
   }
-
-  add([this, pass](VkCommandBuffer c) { scatter_.dispatch(c, pass, pass.particle_count); });
 }
 
 }  // namespace fluidcast::sim::gpu_solver

@@ -21,11 +21,12 @@ struct SimParams {
   VkDeviceAddress sorted_position, sorted_velocity, sorted_id;
   VkDeviceAddress predicted, iterate, iterate_lambda, vorticity;
   VkDeviceAddress density, acceleration;
-  VkDeviceAddress order, cell_start, sorted_cell, stats, density_ratio;
+  VkDeviceAddress order, cell_start, sorted_cell, cell_of, rank, stats, density_ratio;
   VkDeviceAddress neighbours, neighbour_count;
 
   alignas(16) glm::vec4 tank_min, tank_max, inner_min, inner_max, gravity;
   glm::ivec4 grid_dims;
+  glm::vec4 grid_origin;
 
   std::uint32_t solver, particle_count, collider_count;
   float h, h2, poly6, spiky, viscosity_laplacian, mass, rest_density, inv_rest_density, rest_volume,
@@ -40,20 +41,21 @@ struct SimParams {
   alignas(16) glm::vec4 collider_sphere[kMaxColliders];
   glm::vec4 collider_velocity[kMaxColliders];
 };
-static_assert(offsetof(SimParams, stats) == 15 * 8);
-static_assert(offsetof(SimParams, density_ratio) == 16 * 8);
-static_assert(offsetof(SimParams, neighbour_count) == 18 * 8);
-static_assert(offsetof(SimParams, tank_min) == 160);
-static_assert(offsetof(SimParams, grid_dims) == 160 + 5 * 16);
-static_assert(offsetof(SimParams, solver) == 160 + 6 * 16);
-static_assert(offsetof(SimParams, h) == 160 + 6 * 16 + 12);
-static_assert(offsetof(SimParams, relaxation_epsilon) == 160 + 6 * 16 + 13 * 4);
-static_assert(offsetof(SimParams, softening) == 160 + 6 * 16 + 23 * 4);
-static_assert(offsetof(SimParams, substep_travel) == 160 + 6 * 16 + 24 * 4);
-static_assert(offsetof(SimParams, max_candidates) == 160 + 6 * 16 + 25 * 4);
-static_assert(offsetof(SimParams, max_acceleration) == 160 + 6 * 16 + 26 * 4);
-static_assert(offsetof(SimParams, max_neighbours) == 160 + 6 * 16 + 27 * 4);
-static_assert(offsetof(SimParams, collider_sphere) == 160 + 6 * 16 + 28 * 4);
+static_assert(offsetof(SimParams, stats) == 17 * 8);
+static_assert(offsetof(SimParams, density_ratio) == 18 * 8);
+static_assert(offsetof(SimParams, neighbour_count) == 20 * 8);
+static_assert(offsetof(SimParams, tank_min) == 176);
+static_assert(offsetof(SimParams, grid_dims) == 176 + 5 * 16);
+static_assert(offsetof(SimParams, grid_origin) == 176 + 6 * 16);
+static_assert(offsetof(SimParams, solver) == 176 + 7 * 16);
+static_assert(offsetof(SimParams, h) == 176 + 7 * 16 + 12);
+static_assert(offsetof(SimParams, relaxation_epsilon) == 176 + 7 * 16 + 13 * 4);
+static_assert(offsetof(SimParams, softening) == 176 + 7 * 16 + 23 * 4);
+static_assert(offsetof(SimParams, substep_travel) == 176 + 7 * 16 + 24 * 4);
+static_assert(offsetof(SimParams, max_candidates) == 176 + 7 * 16 + 25 * 4);
+static_assert(offsetof(SimParams, max_acceleration) == 176 + 7 * 16 + 26 * 4);
+static_assert(offsetof(SimParams, max_neighbours) == 176 + 7 * 16 + 27 * 4);
+static_assert(offsetof(SimParams, collider_sphere) == 176 + 7 * 16 + 28 * 4);
 static_assert(offsetof(SimParams, collider_velocity) ==
               offsetof(SimParams, collider_sphere) + kMaxColliders * 16);
 static_assert(sizeof(SimParams) % 4 == 0, "vkCmdUpdateBuffer takes whole words");
@@ -65,9 +67,11 @@ struct SimPass {
   float time_into_step;
   std::uint32_t record_compression;
   float correction_weight;
+  std::uint32_t write_velocity;
 };
 static_assert(offsetof(SimPass, dt) == 8 && offsetof(SimPass, record_compression) == 16 &&
-              offsetof(SimPass, correction_weight) == 20);
+              offsetof(SimPass, correction_weight) == 20 &&
+              offsetof(SimPass, write_velocity) == 24);
 
 // The statistics a step leaves in P.stats, read back by the host.
 enum StatsSlot : std::uint32_t {

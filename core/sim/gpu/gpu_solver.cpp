@@ -50,10 +50,8 @@ GpuSolver::Pipelines::Pipelines(gpu::Context& c)
       neighbours(c, shaders::sim_neighbours_comp, sizeof(SimPass), kGroup),
       pbf_lambda(c, shaders::sim_pbf_lambda_comp, sizeof(SimPass), kGroup),
       pbf_correct(c, shaders::sim_pbf_correct_comp, sizeof(SimPass), kGroup),
-      pbf_velocity(c, shaders::sim_pbf_velocity_comp, sizeof(SimPass), kGroup),
       pbf_vorticity(c, shaders::sim_pbf_vorticity_comp, sizeof(SimPass), kGroup),
       pbf_finish(c, shaders::sim_pbf_finish_comp, sizeof(SimPass), kGroup),
-      sph_density(c, shaders::sim_sph_density_comp, sizeof(SimPass), kGroup),
       sph_force(c, shaders::sim_sph_force_comp, sizeof(SimPass), kGroup),
       sph_integrate(c, shaders::sim_sph_integrate_comp, sizeof(SimPass), kGroup) {}
 
@@ -327,6 +325,8 @@ void GpuSolver::set_addresses(SimParams& p) const {
   p.order = grid_.order().address();
   p.cell_start = grid_.cell_start().address();
   p.sorted_cell = grid_.sorted_cell().address();
+  p.cell_of = grid_.cell_of().address();
+  p.rank = grid_.rank().address();
   p.stats = stats_buffer_.address();
   p.density_ratio = buffers_.density_ratio.address();
   p.neighbours = buffers_.neighbours.address();
@@ -346,6 +346,7 @@ SimParams GpuSolver::step_params() const {
   p.inner_max = glm::vec4(tank().max - radius, 0.0f);
   p.gravity = glm::vec4(gravity(), 0.0f);
   p.grid_dims = glm::ivec4(grid.dims, 0);
+  p.grid_origin = glm::vec4(grid.origin, grid.inv_cell_size);
 
   p.solver = kind_ == SolverKind::pbf ? kSolverPbf : kSolverSph;
   p.particle_count = static_cast<std::uint32_t>(count_);
@@ -421,16 +422,17 @@ void GpuSolver::advance(float seconds, int substeps) {
   const float dt = seconds / static_cast<float>(substeps);
   const bool pbf = kind_ == SolverKind::pbf;
   Passes passes;
-  // First the step's parameters and a clean slate for its figures (and SPH's first grid).
+  // First the step's parameters, a clean slate for its figures, and the first substep's grid
+  // cleared for its count (each substep's last pass clears it for the next).
   passes.push_back({static_cast<int>(pbf ? Stage::predict : Stage::grid), 0,
-                    [this, params_block = step_params(), pbf](VkCommandBuffer c) {
+                    [this, params_block = step_params()](VkCommandBuffer c) {
                       vkCmdUpdateBuffer(c, params_buffer_.get(), 0, sizeof(SimParams),
                                         &params_block);
                       vkCmdFillBuffer(c, stats_buffer_.get(), 0, VK_WHOLE_SIZE, 0);
-                      if (!pbf) grid_.record_clear(c);
+                      grid_.record_clear(c);
                     }});
   for (int s = 0; s < substeps; ++s) {
-    const SimPass pass{params_buffer_.address(), dt, static_cast<float>(s + 1) * dt, 0, 1.0f};
+    const SimPass pass{params_buffer_.address(), dt, static_cast<float>(s + 1) * dt, 0, 1.0f, 0};
     const bool last = s + 1 == substeps;
     if (pbf) {
       append_pbf_substep(passes, pass, last);
@@ -460,26 +462,31 @@ void GpuSolver::append_pbf_substep(Passes& passes, const SimPass& pass, bool las
     passes.push_back({static_cast<int>(stage), index,
                       [&pipeline, push, n](VkCommandBuffer c) { pipeline.dispatch(c, push, n); }});
   };
-  // The prediction, and the grid cleared for the build that sorts by it.
-  passes.push_back({static_cast<int>(Stage::predict), 0, [this, pass, n](VkCommandBuffer c) {
-                      pipelines_.predict.dispatch(c, pass, n);
-                      grid_.record_clear(c);
-                    }});
-  grid_.append_build(passes, buffers_.predicted.address(), n, static_cast<int>(Stage::grid));
+  // The prediction counts itself into the grid, and the reorder scatters: the build between is
+  // the grid's prefix sum alone.
+  add(Stage::predict, 0, pipelines_.predict, pass);
+  grid_.append_scan(passes, static_cast<int>(Stage::grid));
   add(Stage::grid, 0, pipelines_.reorder, pass);
   add(Stage::neighbours, 0, pipelines_.neighbours, pass);
 
-  for (int k = 0; k < params().iterations; ++k) {
+  // The listing computes the first iteration's λ.
+  const int iterations = params().iterations;
+  for (int k = 0; k < iterations; ++k) {
     SimPass correction = pass;
     correction.correction_weight = pbf_correction_weight(params(), k);
-    add(Stage::iteration, k, pipelines_.pbf_lambda, pass);
+    correction.write_velocity = k + 1 == iterations ? 1 : 0;
+    if (k > 0) add(Stage::iteration, k, pipelines_.pbf_lambda, pass);
     add(Stage::iteration, k, pipelines_.pbf_correct, correction);
   }
-  add(Stage::velocity, 0, pipelines_.pbf_velocity, pass);
   if (params().vorticity > 0.0f) add(Stage::velocity, 0, pipelines_.pbf_vorticity, pass);
   SimPass finish = pass;
   finish.record_compression = last ? 1 : 0;
-  add(Stage::viscosity, 0, pipelines_.pbf_finish, finish);
+  // The finish pass does not read the grid: the next substep's may be cleared beside it.
+  passes.push_back(
+      {static_cast<int>(Stage::viscosity), 0, [this, finish, n, last](VkCommandBuffer c) {
+         pipelines_.pbf_finish.dispatch(c, finish, n);
+         if (!last) grid_.record_clear(c);
+       }});
 }
 
 void GpuSolver::append_sph_substep(Passes& passes, const SimPass& pass,
@@ -489,10 +496,10 @@ void GpuSolver::append_sph_substep(Passes& passes, const SimPass& pass,
     passes.push_back({static_cast<int>(stage), 0,
                       [&pipeline, pass, n](VkCommandBuffer c) { pipeline.dispatch(c, pass, n); }});
   };
-  grid_.append_build(passes, buffers_.position.address(), n, static_cast<int>(Stage::grid));
+  grid_.append_count(passes, buffers_.position.address(), n, static_cast<int>(Stage::grid));
+  grid_.append_scan(passes, static_cast<int>(Stage::grid));
   add(Stage::grid, pipelines_.reorder);
-  add(Stage::neighbours, pipelines_.neighbours);
-  add(Stage::solve, pipelines_.sph_density);
+  add(Stage::neighbours, pipelines_.neighbours);  // and the densities
   add(Stage::solve, pipelines_.sph_force);
   // The integration does not read the grid: the next substep's may be cleared beside it.
   passes.push_back(

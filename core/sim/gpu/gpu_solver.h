@@ -78,8 +78,8 @@ class GpuSolver final : public Solver {
   };
   struct Pipelines {
     explicit Pipelines(gpu::Context& context);
-    gpu::ComputePipeline predict, reorder, neighbours, pbf_lambda, pbf_correct, pbf_velocity,
-        pbf_vorticity, pbf_finish, sph_density, sph_force, sph_integrate;
+    gpu::ComputePipeline predict, reorder, neighbours, pbf_lambda, pbf_correct, pbf_vorticity,
+        pbf_finish, sph_force, sph_integrate;
   };
 
   void allocate(std::size_t capacity);
@@ -89,7 +89,8 @@ class GpuSolver final : public Solver {
   // (uploads, downloads, waits) comes after them.
   void submit_queued() const;
   using Passes = std::vector<GpuStepBatch::Pass>;
-  // `last`: the step's last substep, which measures the compression for the substep rule.
+  // `last`: the step's last substep, which measures the compression for the substep rule (and
+  // leaves the grid uncleared: the next step's first pass clears it).
   void append_pbf_substep(Passes& passes, const SimPass& pass, bool last) const;
   // `then_clear_grid`: the integration pass also clears the grid for the next substep's build.
   void append_sph_substep(Passes& passes, const SimPass& pass, bool then_clear_grid) const;

@@ -1,8 +1,9 @@
 // The neighbour grid on the GPU, by counting sort as the talk builds it: an atomic count per cell
 // that also gives each particle its rank in the cell, a work-efficient multi-level exclusive prefix
-// sum over the cells, and a scatter that writes each particle's sorted slot. About seven dispatches
-// for the whole build. Cell geometry is the CPU grid's (GridGeometry), so both put every particle
-// in the same cell and give the same cell ranges; within a cell the order follows the atomics.
+// sum over the cells, and a scatter that writes each particle's sorted slot. About five dispatches
+// for the whole build (three where a solver counts and scatters in passes of its own). Cell
+// geometry is the CPU grid's (GridGeometry), so both put every particle in the same cell and give
+// the same cell ranges; within a cell the order follows the atomics.
 #pragma once
 
 #include <cstdint>
@@ -37,6 +38,12 @@ class GpuNeighbourGrid {
   void record_clear(VkCommandBuffer commands) const;
   void append_build(std::vector<GpuStepBatch::Pass>& passes, VkDeviceAddress key,
                     std::uint32_t count, int stage) const;
+  // The build's parts, for a solver that folds the first and the last into passes of its own
+  // (grid_count and grid_scatter in shaders/common/grid.glsl, with this grid's buffers):
+  // append_count is the build's first pass, append_scan the prefix sum between.
+  void append_count(std::vector<GpuStepBatch::Pass>& passes, VkDeviceAddress key,
+                    std::uint32_t count, int stage) const;
+  void append_scan(std::vector<GpuStepBatch::Pass>& passes, int stage) const;
 
   const GridGeometry& geometry() const { return geometry_; }
   // Sorted slot → particle index; cell c's slots are [cell_start[c], cell_start[c + 1]).
@@ -44,6 +51,9 @@ class GpuNeighbourGrid {
   const gpu::Buffer& cell_start() const { return cell_start_; }
   // Sorted slot → the cell its particle was sorted into.
   const gpu::Buffer& sorted_cell() const { return sorted_cell_; }
+  // Particle → its cell, and its place in the cell: the count's results, which the scatter reads.
+  const gpu::Buffer& cell_of() const { return cell_of_; }
+  const gpu::Buffer& rank() const { return rank_; }
 
  private:
   gpu::Context* context_;

@@ -51,10 +51,13 @@ inline bool within_limit(glm::vec3 v, float limit) {
 // steps that carried timestamps).
 struct StageTimes {
   double grid_ms = 0;        // counting sort and reorder
-  double neighbours_ms = 0;  // each particle's neighbours listed
-  double predict_ms = 0;     // PBF: forces and prediction; SPH: time integration and collisions
-  double solve_ms = 0;       // PBF: the density iterations; SPH: density, pressure and forces
-  double velocity_ms = 0;    // PBF: velocity update and vorticity; SPH (CPU): CFL bound
+  double neighbours_ms = 0;  // each particle's neighbours listed (GPU: with PBF's first λ,
+                             // SPH's densities)
+  double predict_ms = 0;     // PBF: forces and prediction (GPU: and the grid's count);
+                             // SPH: time integration and collisions
+  double solve_ms = 0;       // PBF: the density iterations (GPU: the last one sets the
+                             // velocity); SPH: density, pressure and forces
+  double velocity_ms = 0;    // PBF: velocity update (CPU) and vorticity; SPH (CPU): CFL bound
   double viscosity_ms = 0;   // PBF: vorticity confinement and XSPH viscosity
   std::vector<double> iteration_ms;  // PBF: each density iteration, summed over substeps
   std::uint64_t substeps = 0;
