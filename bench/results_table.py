@@ -57,7 +57,7 @@ elif runs and "gpu_ms" in runs[0]:
     for r in runs:
         f = fields_of(r)
         solver = r["name"].split("/")[0]
-        solve = f"{r['solve_ms']:.3f} (density, pressure, forces)"
+        solve = f"{r['solve_ms']:.3f} (forces)"  # the densities come with the neighbour lists
         each = " / ".join(f"{r[k]:.3f}" for k in sorted((k for k in r if k.startswith("iteration") and k.endswith("_ms")), key=lambda k: int(k[9:-3])))
         print(f"| {solver} | {f['particles']} | {f['iterations'] if solver == 'Pbf' else '–'} | "
               f"{r['substeps']:.2f} | {r['steps_per_s']:.1f} | {r['gpu_ms']:.3f} | "
