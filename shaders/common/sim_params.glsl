@@ -10,7 +10,7 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Si
   Vec4s position;
   Vec4s velocity;
   Uints id;
-  // The same, gathered into this substep's sorted order.
+  // The same, moved into this substep's sorted order (reorder.comp).
   Vec4s sorted_position;
   Vec4s sorted_velocity;
   Uints sorted_id;
@@ -23,7 +23,7 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Si
   Uints order;         // the grid: sorted slot → particle
   Uints cell_start;    // the grid: first sorted slot of each cell, and one past the last
   Uints sorted_cell;   // the grid: the cell each sorted slot was sorted into
-  Uints cell_of;       // the grid: each particle's cell, counted by the prediction (PBF)
+  Uints cell_of;       // the grid: each particle's cell, from the count (PBF's prediction's)
   Uints rank;          // the grid: each particle's place in its cell, from the count
   Uints stats;         // [0] bits of the largest |v|², [1] of the largest |a|, [2..3] PBF: the
                        // compression summed, 64 bits in units of 2^-20 (StatsSlot in gpu_sim_params.h)

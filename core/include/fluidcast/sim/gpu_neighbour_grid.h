@@ -33,8 +33,7 @@ class GpuNeighbourGrid {
   void reserve(std::size_t capacity);
 
   // The build for the first `count` positions (vec4) at `key`, as passes (tagged `stage`) that
-  // start once record_clear() is done: the solver records that in the pass before, to save a
-  // barrier.
+  // start once record_clear() is done: record that in the pass before, to save a barrier.
   void record_clear(VkCommandBuffer commands) const;
   void append_build(std::vector<GpuStepBatch::Pass>& passes, VkDeviceAddress key,
                     std::uint32_t count, int stage) const;

@@ -82,7 +82,7 @@ class GpuStepBatch {
   };
   static constexpr std::size_t kSubmissionsInFlight = 4;
   // A submission with more passes than this goes untimed, and its steps teach their sessions no
-  // cost: room for one PBF step at the default max_substeps (256 substeps of about 20 passes at
+  // cost: room for one PBF step at the default max_substeps (256 substeps of 15 to 17 passes at
   // 4 iterations). 64 KiB of queries a slot.
   static constexpr std::uint32_t kTimestampCapacity = 8192;
 

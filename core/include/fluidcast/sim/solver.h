@@ -56,7 +56,7 @@ struct StageTimes {
   double predict_ms = 0;     // PBF: forces and prediction (GPU: and the grid's count);
                              // SPH: time integration and collisions
   double solve_ms = 0;       // PBF: the density iterations (GPU: the last one sets the
-                             // velocity); SPH: density, pressure and forces
+                             // velocity); SPH: density and pressure (CPU), forces
   double velocity_ms = 0;    // PBF: velocity update (CPU) and vorticity; SPH (CPU): CFL bound
   double viscosity_ms = 0;   // PBF: vorticity confinement and XSPH viscosity
   std::vector<double> iteration_ms;  // PBF: each density iteration, summed over substeps
