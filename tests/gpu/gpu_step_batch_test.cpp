@@ -162,6 +162,48 @@ TEST_F(GpuStepBatchTest, EachSharedPassIsSplitByParticles) {
   EXPECT_EQ(later.passes[0].from, small.passes[1].to);
 }
 
+// More passes than the timestamps a submission holds (many steps of many substeps in one tick):
+// still timed, in groups of consecutive passes, each pass an equal part of its group, so the steps'
+// shares still add up to the whole submission's time.
+TEST_F(GpuStepBatchTest, MorePassesThanTimestampsAreTimedInGroups) {
+  if (!context().timestamps_supported()) GTEST_SKIP() << "no timestamps on this device";
+  GpuStepBatch batch(context());
+  const auto nothing = [](VkCommandBuffer) {};
+  constexpr std::size_t kPasses = 2 * GpuStepBatch::kTimestampCapacity + 4;
+  std::vector<GpuStepBatch::Pass> long_step(kPasses, {1, 0, nothing});
+  GpuStepBatch::Receipt alone, beside;
+  int owner_a = 0, owner_b = 0;
+  batch.queue(&owner_a, 100, std::move(long_step), alone);
+  batch.queue(&owner_b, 300, {{2, 0, nothing}}, beside);
+  batch.submit();
+  ASSERT_TRUE(alone.timestamps) << "a long submission went untimed";
+  ASSERT_EQ(alone.passes.size(), kPasses);
+  ASSERT_EQ(beside.passes.size(), 1u);
+  const std::uint32_t groups = alone.passes.back().to;  // the marks after the first
+  EXPECT_LT(groups, GpuStepBatch::kTimestampCapacity);
+  EXPECT_EQ(groups, (kPasses + 2) / 3) << "groups of three passes";
+  double shares = beside.passes[0].share;
+  for (const GpuStepBatch::Receipt::Timed& pass : alone.passes) {
+    EXPECT_EQ(pass.to, pass.from + 1);
+    shares += pass.share;
+  }
+  EXPECT_NEAR(shares, double(groups), 1e-9) << "every group's time is handed out whole";
+  // The first group: both owners in its first pass (1 : 3), owner a alone in the other two.
+  EXPECT_DOUBLE_EQ(alone.passes[0].share, 0.25 / 3);
+  EXPECT_DOUBLE_EQ(beside.passes[0].share, 0.75 / 3);
+  EXPECT_DOUBLE_EQ(alone.passes[1].share, 1.0 / 3);
+  EXPECT_DOUBLE_EQ(alone.passes.back().share, 1.0 / 2) << "the last group is two passes";
+  context().wait_for(alone.serial);
+  alone.timestamps->fetch();
+  double handed_out = 0.0;
+  for (const auto& pass : alone.passes) {
+    handed_out += alone.timestamps->elapsed_ms(pass.from, pass.to) * pass.share;
+  }
+  handed_out += alone.timestamps->elapsed_ms(beside.passes[0].from, beside.passes[0].to) *
+                beside.passes[0].share;
+  EXPECT_NEAR(handed_out, alone.timestamps->elapsed_ms(0, groups), 1e-6);
+}
+
 TEST_F(GpuStepBatchTest, ASolverThatGoesAwayTakesItsWaitingStepsWithIt) {
   GpuStepBatch batch(context());
   auto solver = make(kFluids[0], context(), &batch);

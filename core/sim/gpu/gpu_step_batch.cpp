@@ -94,10 +94,16 @@ void GpuStepBatch::record_and_submit(std::vector<Queued>& steps) {
   if (!slot.timestamps || slot.timestamps.use_count() > 1) {
     slot.timestamps = std::make_shared<gpu::TimestampQueries>(*context_, kTimestampCapacity);
   }
-  const bool timed = context_->timestamps_supported() && pass_count + 1 <= kTimestampCapacity;
+  const bool timed = context_->timestamps_supported();
+  // A timestamp after every pass while the pool holds them all; past that, after every group of
+  // `group` passes, each pass of a group given an equal part of the group's time: the steps'
+  // totals stay measured, their split among stages is then an estimate.
+  const std::size_t group =
+      std::max<std::size_t>((pass_count + kTimestampCapacity - 2) / (kTimestampCapacity - 1), 1);
   slot.timestamps->reset(commands);
   submission_barrier(commands);
-  if (timed) slot.timestamps->mark(commands);
+  // Each group lies between two consecutive marks: the one before it and the one after.
+  std::uint32_t from = timed ? slot.timestamps->mark(commands) : 0;
   for (std::size_t k = 0; k < pass_count; ++k) {
     std::uint64_t weight = 0;
     for (const Lane& lane : lanes) {
@@ -107,14 +113,15 @@ void GpuStepBatch::record_and_submit(std::vector<Queued>& steps) {
     }
     pass_barrier(commands);
     if (!timed) continue;
-    const std::uint32_t to = slot.timestamps->mark(commands);
+    const std::size_t group_size = std::min(group, pass_count - k / group * group);
     for (const Lane& lane : lanes) {
       if (k >= lane.passes.size()) continue;
       const auto [pass, receipt] = lane.passes[k];
-      const double share =
-          static_cast<double>(std::max<std::uint64_t>(lane.particles, 1)) / double(weight);
-      receipt->passes.push_back({to - 1, to, share, pass->stage, pass->index});
+      const double share = static_cast<double>(std::max<std::uint64_t>(lane.particles, 1)) /
+                           double(weight) / double(group_size);
+      receipt->passes.push_back({from, from + 1, share, pass->stage, pass->index});
     }
+    if ((k + 1) % group == 0 || k + 1 == pass_count) from = slot.timestamps->mark(commands);
   }
   gpu::to_host_barrier(commands);
   const std::uint64_t serial = slot.commands.submit();

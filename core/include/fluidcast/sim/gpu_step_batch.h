@@ -37,7 +37,9 @@ class GpuStepBatch {
   };
   // What a step's owner learns when the step is submitted: the submission's serial, and the GPU
   // time of each of its passes as a share of the pass it ran in, split by particles among the
-  // steps in that pass (read the timestamps once the serial has finished).
+  // steps in that pass (read the timestamps once the serial has finished). In a submission of
+  // more passes than kTimestampCapacity, `from` and `to` bound a group of passes, and `share`
+  // is this step's part of the pass over the passes in the group.
   struct Receipt {
     struct Timed {
       std::uint32_t from, to;  // timestamps around the shared pass
@@ -52,6 +54,11 @@ class GpuStepBatch {
   explicit GpuStepBatch(gpu::Context& context);
   GpuStepBatch(const GpuStepBatch&) = delete;
   GpuStepBatch& operator=(const GpuStepBatch&) = delete;
+
+  // Timestamps a submission may write: one after each pass up to 8191 passes (one PBF step at the
+  // default max_substeps, 256 substeps of 15 to 17 passes at 4 iterations, fits), one after each
+  // group of passes beyond. 64 KiB of queries a slot.
+  static constexpr std::uint32_t kTimestampCapacity = 8192;
 
   // Queues a step of `owner` (after its steps queued before), weighing `particles` in the split
   // of GPU time. `receipt` must stay valid until it is filled or forget(owner) is called.
@@ -81,10 +88,6 @@ class GpuStepBatch {
     gpu::CommandSlot commands;
   };
   static constexpr std::size_t kSubmissionsInFlight = 4;
-  // A submission with more passes than this goes untimed, and its steps teach their sessions no
-  // cost: room for one PBF step at the default max_substeps (256 substeps of 15 to 17 passes at
-  // 4 iterations). 64 KiB of queries a slot.
-  static constexpr std::uint32_t kTimestampCapacity = 8192;
 
   gpu::Context* context_;
   std::vector<Queued> queued_;
