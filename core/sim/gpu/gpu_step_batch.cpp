@@ -96,8 +96,9 @@ void GpuStepBatch::record_and_submit(std::vector<Queued>& steps) {
   }
   const bool timed = context_->timestamps_supported();
   // A timestamp after every pass while the pool holds them all; past that, after every group of
-  // `group` passes, each pass of a group given an equal part of the group's time: the steps'
-  // totals stay measured, their split among stages is then an estimate.
+  // `group` passes, each pass of a group given an equal part of the group's time: the
+  // submission's time is still handed out whole, but a step's part of a group, and its split
+  // among stages, are then estimates.
   const std::size_t group =
       std::max<std::size_t>((pass_count + kTimestampCapacity - 2) / (kTimestampCapacity - 1), 1);
   slot.timestamps->reset(commands);

@@ -42,8 +42,8 @@ class GpuStepBatch {
   // is this step's part of the pass over the passes in the group.
   struct Receipt {
     struct Timed {
-      std::uint32_t from, to;  // timestamps around the shared pass
-      double share;            // of that pass's time, this step's
+      std::uint32_t from, to;  // timestamps around the shared pass (or group of passes)
+      double share;            // of that time, this pass's part for this step
       int stage, index;
     };
     std::uint64_t serial = 0;                           // 0: waiting in the batch
