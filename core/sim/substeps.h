@@ -13,8 +13,9 @@ namespace fluidcast::sim {
 // - density: the average compression a step leaves, which Jacobi iterations shrink as Δt², stays
 //   within pbf_density_tolerance: each step's measured error sets the longest substep the next
 //   may take (it shortens at once when the error was too large and lengthens by at most a tenth
-//   a step when it was small). Figures that arrive late (a GPU's steps in flight) are trusted
-//   only while they were well within the tolerance: see count()'s steps_unseen.
+//   a step when it was small, only as far as would leave 0.64 of the tolerance). Figures that
+//   arrive late (a GPU's steps in flight) are trusted only while they were well within the
+//   tolerance: see count()'s steps_unseen.
 class PbfSubsteps {
  public:
   PbfSubsteps(const SolverParams& params, float kernel_radius);

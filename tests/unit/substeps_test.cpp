@@ -1,6 +1,7 @@
 // PBF's substep rule (substeps.h): the travel bound, the density bound and how it follows the
-// measured compression, how far it trusts figures of steps still running, and the speed limit that
-// holds the travel bound for a particle flung faster than planned.
+// measured compression (with a margin when lengthening), how far it trusts figures of steps still
+// running, and the speed limit that holds the travel bound for a particle flung faster than
+// planned.
 #include "substeps.h"
 
 #include <gtest/gtest.h>
@@ -50,6 +51,21 @@ TEST(PbfSubsteps, LittleCompressionLengthensThemByATenthAStepAtMost) {
   EXPECT_FLOAT_EQ(substeps.longest_substep(), 1.1f * kStep / 2);
   for (int k = 0; k < 20; ++k) substeps.observe(kStep / 2, 0.0f);
   EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f), 1);
+}
+
+// Within the tolerance substeps never shorten, and lengthen only as far as would leave 0.8² of it
+// by the Δt² rule: a quarter of the tolerance at half a step would be 0.92 of it at a whole step.
+TEST(PbfSubsteps, TheyLengthenWithAMarginBelowTheTolerance) {
+  PbfSubsteps substeps = rule(1.0f, 0.01f);
+  substeps.observe(kStep, 0.04f);
+  for (int k = 0; k < 20; ++k) substeps.observe(kStep / 2, 0.0023f);
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f), 2);
+  for (int k = 0; k < 20; ++k) substeps.observe(kStep / 2, 0.0015f);
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f), 1);
+  for (int k = 0; k < 20; ++k) substeps.observe(kStep, 0.0095f);
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f), 1);
+  substeps.observe(kStep, 0.0105f);
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f), 2);
 }
 
 // Figures steps old are trusted only while they were well within the tolerance: otherwise each
