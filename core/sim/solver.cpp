@@ -78,17 +78,18 @@ Solver::Solver(Scene scene, const SolverParams& params)
   next_id_ = static_cast<std::uint32_t>(scene_.particles.size());
 }
 
-void Solver::step(float seconds, int substeps) {
+int Solver::step(float seconds, int substeps) {
   require(seconds > 0.0f && seconds <= params_.time_step,
           "step: " + std::to_string(seconds) + " s is not in (0, " +
               std::to_string(params_.time_step) + "] s, the time step");
   require(substeps >= 1 && substeps <= params_.max_substeps,
           "step: " + std::to_string(substeps) + " substeps are not in [1, " +
               std::to_string(params_.max_substeps) + "]");
-  advance(seconds, substeps);
+  const int taken = advance(seconds, substeps);
   for (Collider& c : colliders_) c.centre += c.velocity * seconds;
   ++steps_;
   time_ += seconds;
+  return taken;
 }
 
 void Solver::set_gravity(glm::vec3 gravity) {

@@ -71,10 +71,11 @@ struct Recorder {
   std::optional<tools::StatsCsv> csv;
   std::optional<tools::FrameWriter> frames;
 
-  void operator()(sim::Solver& solver) {
+  // After a step of `substeps` substeps (0: before the first).
+  void operator()(sim::Solver& solver, int substeps) {
     if (csv) {
       csv->write(solver.steps(), solver.time(),
-                 sim::measure(solver.snapshot(), solver.fluid(), solver.tank()));
+                 sim::measure(solver.snapshot(), solver.fluid(), solver.tank()), substeps);
     }
     if (o.dump_every > 0 && solver.steps() % static_cast<std::uint64_t>(o.dump_every) == 0) {
       char name[32];
@@ -102,12 +103,11 @@ Stepping step_all(const tools::SimOptions& o, sim::Solver& solver, Recorder& rec
   for (std::int64_t k = 0; k < o.steps; ++k) {
     const auto before = Clock::now();
     const float seconds = solver.params().time_step;
-    const int substeps = solver.substeps_for(seconds);
-    solver.step(seconds, substeps);
+    const int substeps = solver.step(seconds, solver.substeps_for(seconds));
     stepping.seconds += std::chrono::duration<double>(Clock::now() - before).count();
     stepping.substeps += static_cast<std::uint64_t>(substeps);
     stepping.most_substeps = std::max(stepping.most_substeps, substeps);
-    record(solver);
+    record(solver, substeps);
     const auto now = Clock::now();
     if (o.progress && now - last_report >= std::chrono::seconds(1)) {
       const double wall = std::chrono::duration<double>(now - last_report).count();
@@ -148,7 +148,7 @@ int run(const tools::SimOptions& o) {
   }
   if (!o.stats_path.empty()) record.csv.emplace(o.stats_path);
   if (o.dump_every > 0) std::filesystem::create_directories(o.dump_dir);
-  record(*solver);
+  record(*solver, 0);
   const auto start = Clock::now();
   const Stepping stepping = step_all(o, *solver, record);
   if (record.frames) record.frames->finish();

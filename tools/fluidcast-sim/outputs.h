@@ -13,7 +13,8 @@ namespace fluidcast::tools {
 class StatsCsv {
  public:
   explicit StatsCsv(const std::filesystem::path& path);  // throws std::runtime_error
-  void write(std::uint64_t step, double time, const sim::FluidStatistics& s);
+  // `substeps`: those the step took (0 on the row before the first step).
+  void write(std::uint64_t step, double time, const sim::FluidStatistics& s, int substeps);
 
  private:
   std::ofstream out_;

@@ -21,12 +21,13 @@ int PbfSolver::substeps_for(float seconds) {
   return substeps_.count(seconds, max_speed(), max_collider_speed(), glm::length(gravity()));
 }
 
-void PbfSolver::advance(float seconds, int substeps) {
+int PbfSolver::advance(float seconds, int substeps) {
   dt_ = seconds / static_cast<float>(substeps);
   for (int s = 0; s < substeps; ++s) {
     set_time_into_step(static_cast<float>(s + 1) * dt_);  // predicted positions are at its end
     substep(s + 1 == substeps);
   }
+  return substeps;
 }
 
 void PbfSolver::substep(bool last) {

@@ -24,7 +24,7 @@ class PbfSolver final : public CpuSolver {
 
  private:
   int substeps_for(float seconds) override;
-  void advance(float seconds, int substeps) override;
+  int advance(float seconds, int substeps) override;
   void substep(bool last);
   void predict();
   void compute_lambdas();

@@ -26,9 +26,10 @@ int SphSolver::substeps_for(float seconds) {
 }
 
 // Each substep as long as the state just computed allows: the planned count is not binding.
-void SphSolver::advance(float seconds, int /*planned_substeps*/) {
+int SphSolver::advance(float seconds, int /*planned_substeps*/) {
   float remaining = seconds;
-  while (remaining > 0.0f) {
+  int taken = 0;
+  for (; remaining > 0.0f; ++taken) {
     ++stage_times_.substeps;
     {
       StageTimer timer(stage_times_.grid_ms);
@@ -57,6 +58,7 @@ void SphSolver::advance(float seconds, int /*planned_substeps*/) {
     integrate(dt);
     remaining -= dt;
   }
+  return taken;
 }
 
 void SphSolver::compute_densities_and_pressures() {

@@ -19,7 +19,7 @@ class SphSolver final : public CpuSolver {
 
  private:
   int substeps_for(float seconds) override;
-  void advance(float seconds, int substeps) override;
+  int advance(float seconds, int substeps) override;
   void compute_densities_and_pressures();
   // Returns the largest acceleration magnitude.
   float compute_accelerations();

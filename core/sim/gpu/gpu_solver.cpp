@@ -411,7 +411,7 @@ int GpuSolver::substeps_for(float seconds) {
       std::clamp(std::ceil(seconds / dt), 1.0f, static_cast<float>(params().max_substeps)));
 }
 
-void GpuSolver::advance(float seconds, int substeps) {
+int GpuSolver::advance(float seconds, int substeps) {
   InFlight& slot = in_flight_[next_slot_];
   if (!slot.harvested) {  // the oldest step, still waiting or running
     if (slot.receipt.serial == 0) batch_->submit();
@@ -453,6 +453,7 @@ void GpuSolver::advance(float seconds, int substeps) {
   slot.particles = count_;
   next_slot_ = (next_slot_ + 1) % kStepsInFlight;
   if (own_batch_) own_batch_->submit();
+  return substeps;
 }
 
 void GpuSolver::append_pbf_substep(Passes& passes, const SimPass& pass, bool last) const {

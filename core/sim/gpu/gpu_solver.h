@@ -55,7 +55,7 @@ class GpuSolver final : public Solver {
   std::size_t particles_listable() const;
 
  protected:
-  void advance(float seconds, int substeps) override;
+  int advance(float seconds, int substeps) override;
   void append_particles(std::span<const glm::vec3> positions, std::span<const glm::vec3> velocities,
                         std::uint32_t first_id) override;
   std::size_t erase_particles_in_sphere(glm::vec3 centre, float radius) override;

@@ -98,8 +98,8 @@ class Solver {
   // params().max_substeps): what a frame loop that pays per substep runs, planned with
   // substeps_for(); in slow motion, a shorter step of fewer substeps. The CPU SPH solver adapts
   // each substep to the state it has just computed instead, taking as many as stability needs.
-  // Throws std::invalid_argument outside those ranges.
-  void step(float seconds, int substeps);
+  // Returns the substeps taken. Throws std::invalid_argument outside those ranges.
+  int step(float seconds, int substeps);
   // The substeps a step of `seconds` would take now, by the solver's own rule (CFL and, for SPH,
   // the force and viscous bounds), from the newest state it knows.
   virtual int substeps_for(float seconds) = 0;
@@ -133,7 +133,8 @@ class Solver {
   void clear_stage_times() { stage_times_ = {}; }
 
  protected:
-  virtual void advance(float seconds, int substeps) = 0;
+  // Returns the substeps taken.
+  virtual int advance(float seconds, int substeps) = 0;
   virtual void append_particles(std::span<const glm::vec3> positions,
                                 std::span<const glm::vec3> velocities, std::uint32_t first_id) = 0;
   virtual std::size_t erase_particles_in_sphere(glm::vec3 centre, float radius) = 0;
