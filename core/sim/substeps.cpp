@@ -23,6 +23,10 @@ constexpr float kUnseenGrowth = 1.3f;
 // density error 1 → 3 %) and springing back.
 constexpr float kLengtheningMargin = 0.8f;
 
+// A bound of exactly k substeps, worked out in float (a step over a substep the step was cut
+// into), can come out a few ulps above k: it still means k.
+constexpr float kRoundingSlack = 1e-5f;
+
 }  // namespace
 
 PbfSubsteps::PbfSubsteps(const SolverParams& params, float kernel_radius)
@@ -38,7 +42,7 @@ int PbfSubsteps::count(float step, float largest_speed, float largest_collider_s
   const float speed = std::max(largest_speed + gravity * step, largest_collider_speed);
   const float by_travel = speed * step / travel_;
   const float by_density = step / longest_substep_;
-  float substeps = std::max(by_travel, by_density);
+  float substeps = std::max(by_travel, by_density) * (1.0f - kRoundingSlack);
   const bool near_bound = !(last_error_ <= 0.5f * tolerance_);  // NaN: nothing observed yet
   if (near_bound && steps_unseen > 0) {
     substeps =
@@ -52,11 +56,15 @@ void PbfSubsteps::observe(float substep, float error) {
   if (!std::isfinite(error) || !(substep > 0.0f)) return;
   last_error_ = error;
   // The error shrinks at least as Δt² (measured: faster), so this is the longest substep that
-  // keeps it within tolerance; within it, substeps never shorten, and lengthen with a margin.
+  // keeps it within tolerance. Within it the bound does not shorten (below the substep taken, or
+  // below itself where it reaches no further than the tolerance: a substep shorter than the bound,
+  // set by travel or by steps unseen, says nothing against it), and lengthens with a margin.
   const float at_tolerance = error > 0.0f ? substep * std::sqrt(tolerance_ / error)
                                           : std::numeric_limits<float>::infinity();
-  const float allowed =
-      error > tolerance_ ? at_tolerance : std::max(substep, kLengtheningMargin * at_tolerance);
+  const float allowed = error > tolerance_
+                            ? at_tolerance
+                            : std::max({substep, std::min(longest_substep_, at_tolerance),
+                                        kLengtheningMargin * at_tolerance});
   longest_substep_ = std::min(allowed, kLongestGrowth * longest_substep_);
 }
 

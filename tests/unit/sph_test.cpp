@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <cstdio>
 
 #include "cpu/sph_solver.h"
@@ -64,6 +65,18 @@ TEST(Sph, DamBreakStaysFiniteAndInsideForTwoSeconds) {
   auto solver = make_solver(SolverKind::sph, SceneKind::dam_break, 2000);
   run_for(*solver, 2.0);
   testing::expect_sound(*solver, 2000);
+}
+
+// The CPU SPH solver takes as many substeps as each state allows, whatever the plan: step()
+// returns those, as its stage times count them (a 2000-particle dam break: 7 a 1/120 s step).
+TEST(Sph, AStepReturnsTheSubstepsItTook) {
+  auto solver = make_solver(SolverKind::sph, SceneKind::dam_break, 2000);
+  for (int k = 0; k < 5; ++k) {
+    const std::uint64_t before = solver->stage_times().substeps;
+    const int taken = solver->step(solver->params().time_step, 1);
+    EXPECT_EQ(static_cast<std::uint64_t>(taken), solver->stage_times().substeps - before);
+    EXPECT_GT(taken, 1);
+  }
 }
 
 }  // namespace

@@ -68,6 +68,29 @@ TEST(PbfSubsteps, TheyLengthenWithAMarginBelowTheTolerance) {
   EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f), 2);
 }
 
+// A step that left the error at the tolerance keeps its count, at every count: the bound is then
+// the substep taken, and a step over it is k substeps however float rounds the quotient.
+TEST(PbfSubsteps, AStepAtTheToleranceKeepsItsCount) {
+  for (int n = 1; n <= SolverParams{}.max_substeps; ++n) {
+    PbfSubsteps substeps = rule(1.0f, 0.01f);
+    substeps.observe(kStep / static_cast<float>(n), 0.01f);
+    EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f), n) << n << " substeps";
+  }
+}
+
+// A step cut finer than the bound (by travel, or by steps unseen on a GPU) that leaves the error
+// within the tolerance does not shorten the bound, while it reaches no further than the tolerance.
+TEST(PbfSubsteps, ASubstepShorterThanTheBoundDoesNotShortenIt) {
+  PbfSubsteps substeps = rule(1.0f, 0.01f);
+  substeps.observe(kStep, 0.04f);
+  ASSERT_FLOAT_EQ(substeps.longest_substep(), kStep / 2);
+  substeps.observe(kStep / 3, 0.004f);  // at the tolerance 0.527 of a step, 0.8 of it 0.42
+  EXPECT_FLOAT_EQ(substeps.longest_substep(), kStep / 2);
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f), 2);
+  substeps.observe(kStep / 3, 0.0048f);  // at the tolerance 0.48 of a step: the bound follows
+  EXPECT_LT(substeps.longest_substep(), 0.49f * kStep);
+}
+
 // Figures steps old are trusted only while they were well within the tolerance: otherwise each
 // step still running counts as one that compressed the fluid 1.3 times more.
 TEST(PbfSubsteps, StepsUnseenNearTheBoundTakeMoreSubsteps) {
