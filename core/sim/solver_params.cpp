@@ -35,7 +35,9 @@ const std::vector<ParamSpec<SolverParams>>& solver_param_specs() {
        &P::pbf_travel, 0.05, 2},
       {"pbf-density-tolerance", "1",
        "PBF: average compression max(ρ/ρ0 − 1, 0) a step may leave, walls included; a step "
-       "that left more makes the next ones take shorter substeps",
+       "that left more makes the next ones take shorter substeps, and a fluid just loaded (a "
+       "scene's start, a reset) starts with substeps short enough that its own weight would "
+       "compress it no more",
        &P::pbf_density_tolerance, 1e-4, 0.1},
       {"pbf-max-acceleration", "m/s²",
        "PBF: most the density corrections may accelerate a particle: the velocity a substep's "

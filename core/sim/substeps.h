@@ -1,6 +1,9 @@
 // How finely a step is cut, shared by the CPU and GPU solvers.
 #pragma once
 
+#include <glm/glm.hpp>
+#include <span>
+
 #include "fluidcast/sim/solver_params.h"
 
 namespace fluidcast::sim {
@@ -16,15 +19,25 @@ namespace fluidcast::sim {
 //   a step when it was small, only as far as would leave 0.64 of the tolerance). Figures that
 //   arrive late (a GPU's steps in flight) are trusted only while they were well within the
 //   tolerance: see count()'s steps_unseen.
+//   A fluid just loaded has shown no figures yet, and a column of water at rest compresses at its
+//   foot before its average does: the density bound starts from the column's weight (start()).
 class PbfSubsteps {
  public:
   PbfSubsteps(const SolverParams& params, float kernel_radius);
 
+  // A fluid was loaded (a scene's start, a reset): nothing of it is observed yet. The Jacobi
+  // iterations stiffen the fluid like a speed of sound c = h √(k · iterations) / Δt for substeps of
+  // Δt; water at rest `depth` m deep along gravity, not yet pressed, is compressed at its foot by
+  // its weight, g · depth / c² (as weakly compressible SPH's rule for its speed of sound), before
+  // the average compression shows it. The longest substep starts where that equals the tolerance.
+  void start(std::span<const glm::vec3> positions, glm::vec3 gravity);
+
   // Substeps of a step of `step` seconds, from the newest speeds known. Non-finite speeds give
   // max_substeps. `steps_unseen`: steps still running whose figures are not in yet (a GPU's
-  // steps in flight). While the last figures were near the tolerance (above half) or none came
-  // yet, each unseen step counts as one that compressed the fluid 1.3 times more (a deep column
-  // did, unseen, before it burst): 1.3^(unseen/2) times the substeps, as the error goes as Δt².
+  // steps in flight). While the last figures were near the tolerance (above half), each unseen
+  // step counts as one that compressed the fluid 1.3 times more (a deep column did, unseen,
+  // before it burst): 1.3^(unseen/2) times the substeps, as the error goes as Δt². Before the
+  // first figures the bound start() set stands alone.
   int count(float step, float largest_speed, float largest_collider_speed, float gravity,
             int steps_unseen = 0) const;
   // The fastest a particle may move in a substep of `substep` seconds, m/s.
@@ -38,6 +51,8 @@ class PbfSubsteps {
  private:
   float travel_;     // m: pbf_travel · h
   float tolerance_;  // pbf_density_tolerance
+  float kernel_radius_;
+  int iterations_;
   int max_substeps_;
   float longest_substep_;
   float last_error_;  // NaN until a step was observed

@@ -1,13 +1,14 @@
 // PBF's substep rule (substeps.h): the travel bound, the density bound and how it follows the
-// measured compression (with a margin when lengthening), how far it trusts figures of steps still
-// running, and the speed limit that holds the travel bound for a particle flung faster than
-// planned.
+// measured compression (with a margin when lengthening), where it starts for a fluid just loaded,
+// how far it trusts figures of steps still running, and the speed limit that holds the travel bound
+// for a particle flung faster than planned.
 #include "substeps.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
+#include <vector>
 
 namespace fluidcast::sim {
 namespace {
@@ -92,12 +93,12 @@ TEST(PbfSubsteps, ASubstepShorterThanTheBoundDoesNotShortenIt) {
 }
 
 // Figures steps old are trusted only while they were well within the tolerance: otherwise each
-// step still running counts as one that compressed the fluid 1.3 times more.
+// step still running counts as one that compressed the fluid 1.3 times more (1.3² = 1.69 for
+// four).
 TEST(PbfSubsteps, StepsUnseenNearTheBoundTakeMoreSubsteps) {
   PbfSubsteps substeps = rule(1.0f, 0.01f);
-  // Nothing observed yet: 1 substep by travel, 1.3² = 1.69 times for four unseen steps.
-  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f, 0), 1);
-  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f, 4), 2);
+  // Nothing observed yet: the bound start() set (here none) stands, unseen steps or not.
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f, 4), 1);
   substeps.observe(kStep, 0.004f);  // well within: unseen steps change nothing
   EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f, 4), 1);
   substeps.observe(kStep, 0.01f);  // at the tolerance: still one substep, but not when unseen
@@ -105,6 +106,33 @@ TEST(PbfSubsteps, StepsUnseenNearTheBoundTakeMoreSubsteps) {
   EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f, 2), 2);
   substeps.observe(kStep, std::numeric_limits<float>::quiet_NaN());  // ignored, as in the bound
   EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f, 2), 2);
+}
+
+// A fluid just loaded starts from its weight: with c = h √(4 · iterations) / Δt, a column of
+// depth H is compressed at its foot by g H / c², at the tolerance for Δt = h √(4 · it · tol / (g
+// H)).
+TEST(PbfSubsteps, AFluidJustLoadedStartsFromItsWeight) {
+  PbfSubsteps substeps = rule(1.0f, 0.01f);
+  const std::vector<glm::vec3> column = {
+      {0.1f, 0.0f, 0.0f}, {0.2f, 0.8f, 0.1f}, {0.0f, 0.3f, 0.2f}};
+  const glm::vec3 gravity(0.0f, -9.81f, 0.0f);
+  substeps.start(column, gravity);
+  const float expected = kH * std::sqrt(4.0f * 4.0f * 0.01f / (9.81f * 0.8f));
+  EXPECT_FLOAT_EQ(substeps.longest_substep(), expected);
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f), 2);  // 5.7 ms a substep at most
+  // The depth is taken along gravity: tilted to x the same points stand 0.2 m deep.
+  substeps.start(column, glm::vec3(9.81f, 0.0f, 0.0f));
+  EXPECT_FLOAT_EQ(substeps.longest_substep(), 2.0f * expected);
+  // What was observed of the fluid before is forgotten: its figures no longer describe this one.
+  substeps.observe(kStep, 0.04f);
+  substeps.start(column, gravity);
+  EXPECT_FLOAT_EQ(substeps.longest_substep(), expected);
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f, 4), 2);  // and unseen steps add nothing
+  // Without weight, or without water, there is no column to press.
+  substeps.start(column, glm::vec3(0.0f));
+  EXPECT_TRUE(std::isinf(substeps.longest_substep()));
+  substeps.start({}, gravity);
+  EXPECT_TRUE(std::isinf(substeps.longest_substep()));
 }
 
 TEST(PbfSubsteps, NonFiniteFiguresNeverGiveFewerSubsteps) {

@@ -24,6 +24,8 @@ class PbfSolver final : public CpuSolver {
 
  private:
   int substeps_for(float seconds) override;
+  // A fluid loaded here starts the substep rule afresh (PbfSubsteps::start).
+  void load_particles(const ParticleSet& particles) override;
   int advance(float seconds, int substeps) override;
   void substep(bool last);
   void predict();

@@ -166,6 +166,11 @@ void GpuSolver::allocate(std::size_t capacity) {
 }
 
 void GpuSolver::load_particles(const ParticleSet& particles) {
+  upload_particles(particles);
+  pbf_substeps_.start(particles.position, gravity());
+}
+
+void GpuSolver::upload_particles(const ParticleSet& particles) {
   // Steps in flight finish on the old particles (the uploads below wait for them in the queue);
   // their figures no longer describe these particles.
   submit_queued();
@@ -221,7 +226,7 @@ void GpuSolver::append_particles(std::span<const glm::vec3> positions,
   for (std::size_t i = 0; i < positions.size(); ++i) {
     set.append(positions[i], velocities[i], first_id + static_cast<std::uint32_t>(i));
   }
-  load_particles(set);
+  upload_particles(set);
 }
 
 std::size_t GpuSolver::erase_particles_in_sphere(glm::vec3 centre, float radius) {
@@ -233,7 +238,7 @@ std::size_t GpuSolver::erase_particles_in_sphere(glm::vec3 centre, float radius)
     if (!(glm::dot(d, d) <= radius * radius))
       kept.append(all.position[i], all.velocity[i], all.id[i]);
   }
-  load_particles(kept);
+  upload_particles(kept);
   return all.size() - kept.size();
 }
 

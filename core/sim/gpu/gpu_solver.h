@@ -59,9 +59,12 @@ class GpuSolver final : public Solver {
   void append_particles(std::span<const glm::vec3> positions, std::span<const glm::vec3> velocities,
                         std::uint32_t first_id) override;
   std::size_t erase_particles_in_sphere(glm::vec3 centre, float radius) override;
+  // A fluid loaded here starts the substep rule afresh (PbfSubsteps::start).
   void load_particles(const ParticleSet& particles) override;
 
  private:
+  // Replaces the particles on the GPU: a loaded fluid, or this one with some added or erased.
+  void upload_particles(const ParticleSet& particles);
   enum class Stage { grid, neighbours, predict, iteration, velocity, viscosity, solve };
   struct InFlight {
     explicit InFlight(gpu::Context& context);
