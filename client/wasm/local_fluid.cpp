@@ -55,6 +55,7 @@ void make(Scene scene, SolverKind kind, glm::vec3 gravity) {
   params.iterations = fluid.iterations;
   auto solver = make_cpu_solver(kind, std::move(scene), params);
   solver->set_gravity(gravity);
+  solver->reset();  // loaded again under that gravity: the substep rule starts from its weight
   fluid.solver = std::move(solver);
   fluid.fingers.clear();
   show();

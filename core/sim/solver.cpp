@@ -118,26 +118,42 @@ void Solver::set_colliders(std::span<const Collider> colliders) {
   colliders_.assign(colliders.begin(), colliders.end());
 }
 
-void Solver::add_particles(std::span<const glm::vec3> positions,
-                           std::span<const glm::vec3> velocities) {
+void Solver::check_new_particles(std::string_view what, std::span<const glm::vec3> positions,
+                                 std::span<const glm::vec3> velocities, std::size_t total) const {
+  const std::string name(what);
   require(positions.size() == velocities.size(),
-          "add_particles: " + std::to_string(positions.size()) + " positions but " +
+          name + ": " + std::to_string(positions.size()) + " positions but " +
               std::to_string(velocities.size()) + " velocities");
-  const std::size_t total = particle_count() + positions.size();
   require(total <= static_cast<std::size_t>(params_.max_particles),
-          "add_particles: " + std::to_string(positions.size()) + " more would make " +
+          name + ": " + std::to_string(positions.size()) + " given would make " +
               std::to_string(total) + " particles; the limit is " +
               std::to_string(params_.max_particles) + " (--max-particles)");
   for (std::size_t i = 0; i < positions.size(); ++i) {
     require(is_finite(positions[i]) && scene_.tank.contains(positions[i]),
-            "add_particles: position " + std::to_string(i) + " " + str(positions[i]) +
+            name + ": position " + std::to_string(i) + " " + str(positions[i]) +
                 " is not inside the tank " + str(scene_.tank.min) + "–" + str(scene_.tank.max));
     require(is_finite(velocities[i]) && within_limit(velocities[i], kMaxSpeed),
-            "add_particles: velocity " + std::to_string(i) + " " + str(velocities[i]) +
+            name + ": velocity " + std::to_string(i) + " " + str(velocities[i]) +
                 " must be finite with magnitude at most " + std::to_string(kMaxSpeed) + " m/s");
   }
+}
+
+void Solver::add_particles(std::span<const glm::vec3> positions,
+                           std::span<const glm::vec3> velocities) {
+  check_new_particles("add_particles", positions, velocities, particle_count() + positions.size());
   append_particles(positions, velocities, next_id_);
   next_id_ += static_cast<std::uint32_t>(positions.size());
+}
+
+void Solver::replace_particles(std::span<const glm::vec3> positions,
+                               std::span<const glm::vec3> velocities) {
+  check_new_particles("replace_particles", positions, velocities, positions.size());
+  ParticleSet fluid;
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    fluid.append(positions[i], velocities[i], static_cast<std::uint32_t>(i));
+  }
+  load_particles(fluid);
+  next_id_ = static_cast<std::uint32_t>(positions.size());
 }
 
 std::size_t Solver::remove_particles_in_sphere(glm::vec3 centre, float radius) {

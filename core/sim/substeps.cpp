@@ -76,7 +76,8 @@ int PbfSubsteps::count(float step, float largest_speed, float largest_collider_s
   const float by_travel = speed * step / travel_;
   const float by_density = step / longest_substep_;
   float substeps = std::max(by_travel, by_density) * (1.0f - kRoundingSlack);
-  const bool near_bound = last_error_ > 0.5f * tolerance_;  // NaN: nothing observed yet
+  // NaN, nothing observed yet, is not near: the bound start() set stands alone.
+  const bool near_bound = last_error_ > 0.5f * tolerance_;
   if (near_bound && steps_unseen > 0) {
     substeps =
         std::ceil(substeps) * std::pow(kUnseenGrowth, 0.5f * static_cast<float>(steps_unseen));

@@ -30,6 +30,8 @@ class PbfSubsteps {
   // Δt; water at rest `depth` m deep along gravity, not yet pressed, is compressed at its foot by
   // its weight, g · depth / c² (as weakly compressible SPH's rule for its speed of sound), before
   // the average compression shows it. The longest substep starts where that equals the tolerance.
+  // Gravity that is zero at the load gives no start; switched on later, it finds the bound the
+  // figures set.
   void start(std::span<const glm::vec3> positions, glm::vec3 gravity);
 
   // Substeps of a step of `step` seconds, from the newest speeds known. Non-finite speeds give
@@ -45,7 +47,8 @@ class PbfSubsteps {
   // After a step whose substeps were `substep` seconds long left an average density error
   // `error` (a fraction of ρ0). Non-finite errors are ignored (the speeds then cap the count).
   void observe(float substep, float error);
-  // The longest substep the density bound allows now, s (infinite until a step was observed).
+  // The longest substep the density bound allows now, s (infinite before start() or the first
+  // step observed, and after a start without gravity or water).
   float longest_substep() const { return longest_substep_; }
 
  private:
@@ -55,7 +58,7 @@ class PbfSubsteps {
   int iterations_;
   int max_substeps_;
   float longest_substep_;
-  float last_error_;  // NaN until a step was observed
+  float last_error_;  // NaN until a step of this fluid was observed
 };
 
 // SPH: the longest stable substep: the CFL bound with the speed of sound, the force bound

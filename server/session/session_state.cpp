@@ -107,17 +107,17 @@ std::uint32_t Session::load(const v1::Snapshot& snapshot) {
   if (!(std::isfinite(snapshot.time()) && snapshot.time() >= 0.0)) {
     throw Refusal(RefusalCode::invalid_argument, "Snapshot: time must be finite, not negative");
   }
-  const sim::Box tank = solver_->tank();
-  forget_costs();  // another count: another cost
-  solver_->remove_particles_in_sphere(0.5f * (tank.min + tank.max), glm::length(tank.size()));
+  const glm::vec3 gravity_before = solver_->gravity();
   try {
-    solver_->add_particles(particles.position, particles.velocity);
-    solver_->set_time(snapshot.time());
+    // Gravity first: the substep rule starts from the new fluid's weight along it.
     if (gravity) solver_->set_gravity(*gravity);
+    solver_->replace_particles(particles.position, particles.velocity);
   } catch (const std::invalid_argument& e) {
-    solver_->reset();
+    solver_->set_gravity(gravity_before);
     throw Refusal(RefusalCode::invalid_argument, std::string("Snapshot: ") + e.what());
   }
+  forget_costs();  // another count: another cost
+  solver_->set_time(snapshot.time());
   return static_cast<std::uint32_t>(particles.position.size());
 }
 

@@ -163,12 +163,13 @@ TEST_P(GpuSolverTest, TheNeighbourListsIndexBoundsTheParticlesThatFit) {
 // the rule starts from the column's weight (1.36 from one substep; 1.19 after 20 steps, as the
 // CPU solver), 3.0 times (14 m/s) while the rule trusted figures four steps old and the
 // corrections' velocity was not capped; with the cap alone 0.97 here, but 1.65 after 20 steps.
+// Tighter than the CPU test's bound, so that the start from one substep fails here.
 class GpuPbfTest : public fluidcast::testing::GpuTest {};
 
 TEST_F(GpuPbfTest, CompressionLeftBehindDoesNotBurst) {
   const testing::DeepColumnEnergy e =
       testing::run_deep_thin_column(Backend::gpu, SolverParams{}.pbf_density_tolerance);
-  EXPECT_LT(e.kinetic, 1.5 * e.released);
+  EXPECT_LT(e.kinetic, 1.25 * e.released);
 }
 
 // The iterations' weights reach the correction pass: six steps of a dam break, in lockstep, give

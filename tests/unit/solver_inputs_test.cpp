@@ -86,6 +86,57 @@ TEST_P(SolverInputs, AddRemoveAndReset) {
   EXPECT_EQ(s->snapshot().position, s->scene().particles.position);
 }
 
+// A fluid loaded from outside (a reset, a snapshot) is not the one the substep rule has watched:
+// PBF starts it afresh, from its weight. A tolerance of 10⁻⁴ makes that start several substeps
+// (7 on the CPU, 4 on the GPU with fewer particles), and the figures of 0.1 s of flow move the
+// bound away from it (3 and 2).
+TEST_P(SolverInputs, ALoadedFluidStartsTheSubstepRuleAfresh) {
+  if (GetParam().kind != SolverKind::pbf) GTEST_SKIP() << "SPH's substeps follow its state alone";
+  SolverParams params;
+  params.pbf_density_tolerance = 1e-4f;
+  const float step = params.time_step;
+  auto s = small(params);
+  const int fresh = s->substeps_for(step);
+  ASSERT_GT(fresh, 1);
+  run_for(*s, 0.1);
+  s->synchronize();
+  ASSERT_NE(s->substeps_for(step), fresh);
+  s->reset();
+  EXPECT_EQ(s->substeps_for(step), fresh);
+
+  run_for(*s, 0.1);
+  s->synchronize();
+  ASSERT_NE(s->substeps_for(step), fresh);
+  const ParticleSet& start = s->scene().particles;
+  s->replace_particles(start.position, start.velocity);
+  EXPECT_EQ(s->substeps_for(step), fresh);
+  EXPECT_EQ(s->snapshot().position, start.position);
+  EXPECT_EQ(s->snapshot().id, start.id);
+}
+
+TEST_P(SolverInputs, ReplacedParticlesAreCheckedAndRefusedWhole) {
+  auto s = small();
+  run_for(*s, 0.02);
+  const ParticleSet before = s->snapshot();
+  std::vector<glm::vec3> positions = before.position;
+  positions[3] = {1.0f, 5.0f, 0.1f};
+  EXPECT_NE(error_of([&] {
+              s->replace_particles(positions, before.velocity);
+            }).find("replace_particles: position 3"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { s->replace_particles(before.position, {}); }).find("velocities"),
+            std::string::npos);
+  EXPECT_EQ(s->snapshot().position, before.position);
+  // A smaller fluid replaces it whole, and the time goes on.
+  const double time = s->time();
+  const std::vector<glm::vec3> fewer(before.position.begin(), before.position.begin() + 100);
+  s->replace_particles(fewer, std::vector<glm::vec3>(fewer.size(), glm::vec3(0)));
+  EXPECT_EQ(s->particle_count(), 100u);
+  EXPECT_EQ(s->time(), time);
+  run_for(*s, 0.02);
+  testing::expect_sound(*s, 100);
+}
+
 TEST_P(SolverInputs, BadParticlesAreRefusedWhole) {
   auto s = small();
   const std::vector<glm::vec3> inside = {{1.0f, 0.5f, 0.1f}}, outside = {{1.0f, 5.0f, 0.1f}};

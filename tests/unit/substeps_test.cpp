@@ -109,8 +109,8 @@ TEST(PbfSubsteps, StepsUnseenNearTheBoundTakeMoreSubsteps) {
 }
 
 // A fluid just loaded starts from its weight: with c = h √(4 · iterations) / Δt, a column of
-// depth H is compressed at its foot by g H / c², at the tolerance for Δt = h √(4 · it · tol / (g
-// H)).
+// depth H is compressed at its foot by g H / c², which is the tolerance for
+// Δt = h √(4 · iterations · tolerance / (g H)).
 TEST(PbfSubsteps, AFluidJustLoadedStartsFromItsWeight) {
   PbfSubsteps substeps = rule(1.0f, 0.01f);
   const std::vector<glm::vec3> column = {

@@ -15,12 +15,13 @@ PbfSolver::PbfSolver(Scene scene, const SolverParams& params, std::shared_ptr<Fo
   relaxation_epsilon_ = constants.relaxation_epsilon;
   scorr_scale_ = constants.scorr_scale;
   inv_w_dq_ = constants.inv_w_dq;
+  // CpuSolver's constructor loaded the scene before this override existed.
   substeps_.start(particles_.position, gravity());
 }
 
 void PbfSolver::load_particles(const ParticleSet& particles) {
   CpuSolver::load_particles(particles);
-  substeps_.start(particles_.position, gravity());
+  substeps_.start(particles.position, gravity());
 }
 
 int PbfSolver::substeps_for(float seconds) {

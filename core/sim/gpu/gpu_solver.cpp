@@ -167,7 +167,7 @@ void GpuSolver::allocate(std::size_t capacity) {
 
 void GpuSolver::load_particles(const ParticleSet& particles) {
   upload_particles(particles);
-  pbf_substeps_.start(particles.position, gravity());
+  if (kind_ == SolverKind::pbf) pbf_substeps_.start(particles.position, gravity());
 }
 
 void GpuSolver::upload_particles(const ParticleSet& particles) {

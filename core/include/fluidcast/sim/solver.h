@@ -113,9 +113,16 @@ class Solver {
   void set_colliders(std::span<const Collider> colliders);
   // Adds particles inside the tank; refused as a whole if it would pass params().max_particles.
   void add_particles(std::span<const glm::vec3> positions, std::span<const glm::vec3> velocities);
+  // Replaces the whole fluid (a snapshot loaded), checked as add_particles checks and refused as a
+  // whole; ids are numbered afresh from 0, the time is kept. As at a scene's start, the substep
+  // rule knows nothing of the new fluid and starts from its weight under the gravity set now: set
+  // gravity first.
+  void replace_particles(std::span<const glm::vec3> positions,
+                         std::span<const glm::vec3> velocities);
   // Removes the particles within the sphere; returns how many.
   std::size_t remove_particles_in_sphere(glm::vec3 centre, float radius);
-  // Back to the scene's initial particles at t = 0. Gravity and colliders stay as they are.
+  // Back to the scene's initial particles at t = 0, the substep rule started afresh as in
+  // replace_particles. Gravity and colliders stay as they are.
   void reset();
   // Sets the simulated clock: a fluid continued from a snapshot keeps its time. Throws
   // std::invalid_argument for a time that is negative or not finite.
@@ -138,11 +145,16 @@ class Solver {
   virtual void append_particles(std::span<const glm::vec3> positions,
                                 std::span<const glm::vec3> velocities, std::uint32_t first_id) = 0;
   virtual std::size_t erase_particles_in_sphere(glm::vec3 centre, float radius) = 0;
+  // A fluid from outside replaces this one: what the solver learnt of the old one goes.
   virtual void load_particles(const ParticleSet& particles) = 0;
 
   StageTimes stage_times_;
 
  private:
+  // Throws std::invalid_argument, naming `what`, unless the particles may join a fluid of `total`.
+  void check_new_particles(std::string_view what, std::span<const glm::vec3> positions,
+                           std::span<const glm::vec3> velocities, std::size_t total) const;
+
   Scene scene_;
   SolverParams params_;
   FluidConstants fluid_;
