@@ -155,6 +155,16 @@ TEST(WindowClientTest, HandsOffToLocalAndBack) {
   EXPECT_GT(spread(codec::read_png(kOut + "window_handoff.png")), 20.0);
 }
 
+// A gap this long means the handoff is broken (a retry loop's seconds, or no local frame at all).
+// AddressSanitizer slows the client and its local fluid several times: alone there the gap
+// measured 370–420 ms, and 1039 ms once beside another handoff test on two cores; in the plain
+// build 80 ms.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr double kHandoffGapBoundMs = 2000.0;
+#else
+constexpr double kHandoffGapBoundMs = 1000.0;
+#endif
+
 // The same handoff without a window: the figures say where the fluid was and how long the gap.
 TEST(WindowClientTest, TheHeadlessClientHandsOffWhenAsked) {
   Outage outage(std::chrono::seconds(4), std::chrono::seconds(4));
@@ -170,7 +180,7 @@ TEST(WindowClientTest, TheHeadlessClientHandsOffWhenAsked) {
   EXPECT_EQ(report["status"], "OK");
   EXPECT_FALSE(report["simulated_here"].get<bool>()) << "streaming again at the end";
   ASSERT_TRUE(report["handoff_gap_ms"].is_number());
-  EXPECT_LT(report["handoff_gap_ms"].get<double>(), 1000.0);
+  EXPECT_LT(report["handoff_gap_ms"].get<double>(), kHandoffGapBoundMs);
   EXPECT_EQ(report["bad_frames"], 0);
 }
 
