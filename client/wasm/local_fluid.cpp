@@ -53,10 +53,8 @@ void make(Scene scene, SolverKind kind, glm::vec3 gravity) {
   SolverParams params;
   params.threads = static_cast<int>(fluid.threads);
   params.iterations = fluid.iterations;
-  auto solver = make_cpu_solver(kind, std::move(scene), params);
-  solver->set_gravity(gravity);
-  solver->reset();  // loaded again under that gravity: the substep rule starts from its weight
-  fluid.solver = std::move(solver);
+  scene.gravity = gravity;
+  fluid.solver = make_cpu_solver(kind, std::move(scene), params);
   fluid.fingers.clear();
   show();
 }
@@ -71,9 +69,7 @@ void touch(std::vector<std::optional<Collider>> fingers) {
   fluid.fingers = std::move(fingers);
 }
 
-glm::vec3 gravity_now() {
-  return fluid.solver ? fluid.solver->gravity() : glm::vec3(0.0f, -9.81f, 0.0f);
-}
+glm::vec3 gravity_now() { return fluid.solver ? fluid.solver->gravity() : kStandardGravity; }
 
 }  // namespace
 

@@ -36,8 +36,12 @@ SolverKind parse_solver(std::string_view name) {
 }
 
 Solver::Solver(Scene scene, const SolverParams& params)
-    : scene_(std::move(scene)), params_(params) {
+    : scene_(std::move(scene)), params_(params), gravity_(scene_.gravity) {
   validate(params_);
+  if (!is_finite(gravity_) || !within_limit(gravity_, kMaxGravity)) {
+    throw ParamError("scene: gravity " + str(gravity_) + " m/s² is not finite or exceeds " +
+                     std::to_string(kMaxGravity) + " m/s²");
+  }
   const ParticleSet& p = scene_.particles;
   if (!std::isfinite(scene_.spacing) || scene_.spacing <= 0.0f) {
     throw ParamError("scene: particle spacing must be positive and finite, got " +

@@ -25,13 +25,13 @@ class PbfSubsteps {
  public:
   PbfSubsteps(const SolverParams& params, float kernel_radius);
 
-  // A fluid was loaded (a scene's start, a reset): nothing of it is observed yet. The Jacobi
-  // iterations stiffen the fluid like a speed of sound c = h √(k · iterations) / Δt for substeps of
-  // Δt; water at rest `depth` m deep along gravity, not yet pressed, is compressed at its foot by
-  // its weight, g · depth / c² (as weakly compressible SPH's rule for its speed of sound), before
-  // the average compression shows it. The longest substep starts where that equals the tolerance.
-  // Gravity that is zero at the load gives no start; switched on later, it finds the bound the
-  // figures set.
+  // A fluid was loaded (a scene's start, a reset, a snapshot): nothing of it is observed yet. The
+  // Jacobi iterations stiffen the fluid like a speed of sound c = h √(k · iterations) / Δt for
+  // substeps of Δt; water at rest `depth` m deep along gravity, not yet pressed, is compressed at
+  // its foot by its weight, g · depth / c² (as weakly compressible SPH's rule for its speed of
+  // sound), before the average compression shows it. The longest substep starts where that equals
+  // the tolerance. Gravity that is zero at the load gives no start; switched on later, it finds the
+  // bound the figures set.
   void start(std::span<const glm::vec3> positions, glm::vec3 gravity);
 
   // Substeps of a step of `step` seconds, from the newest speeds known. Non-finite speeds give

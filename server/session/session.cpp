@@ -93,6 +93,8 @@ void Session::rebuild(SessionSetup setup) {
   params.max_particles = static_cast<int>(services_.limits->max_particles);
   try {
     auto built = sim::build_scene(scene);
+    // A fluid rebuilt while a viewer holds the tank tilted falls as the old one did.
+    if (solver_) built.gravity = solver_->gravity();
     auto solver =
         services_.gpu_solver
             ? sim::make_gpu_solver(setup.solver, *services_.context, std::move(built), params,

@@ -107,6 +107,20 @@ TEST(ServerTest, TiltTurnsGravity) {
   EXPECT_NEAR(std::sqrt(g.x() * g.x() + g.y() * g.y() + g.z() * g.z()), 9.81f, 1e-3f);
   EXPECT_NEAR(g.y(), 0.0f, 1e-3f);  // the camera's right is horizontal
   EXPECT_EQ(snapshot.positions_size(), 3 * 1000);
+
+  // A new count rebuilds the fluid, which falls as the old one did: the device is still tilted.
+  v1::ClientMessage recount;
+  recount.mutable_command()->set_particles(800);
+  stream.send(recount);
+  v1::Snapshot rebuilt;
+  for (int k = 0; k < 100 && rebuilt.positions_size() != 3 * 800; ++k) {
+    frame_from(stream);
+    rebuilt = stream.snapshot();
+  }
+  ASSERT_EQ(rebuilt.positions_size(), 3 * 800);
+  EXPECT_NEAR(rebuilt.gravity().x(), g.x(), 1e-4f);
+  EXPECT_NEAR(rebuilt.gravity().y(), g.y(), 1e-4f);
+  EXPECT_NEAR(rebuilt.gravity().z(), g.z(), 1e-4f);
 }
 
 // Mean speed of the particles within `radius` of `centre` (x and z only: a column), m/s.

@@ -48,6 +48,33 @@ TEST_P(SolverInputs, BadGravityIsRefusedAndChangesNothing) {
   EXPECT_EQ(s->gravity(), glm::vec3(0, -9.81f, 0));
 }
 
+// A fluid built while the tank is tilted (a session rebuilt under a phone held sideways) starts
+// under that gravity, and PBF's substep rule starts from its weight along it: the dam break's
+// column, lying on its side, is half as deep, and the tolerance of 10⁻⁴ gives it fewer substeps.
+TEST_P(SolverInputs, AFluidBuiltUnderATiltStartsUnderIt) {
+  SolverParams params;
+  params.pbf_density_tolerance = 1e-4f;
+  SceneParams upright;
+  upright.particles = static_cast<int>(n_);
+  Scene sideways = build_scene(upright);
+  sideways.gravity = {-9.81f, 0.0f, 0.0f};
+  auto tilted = make_solver(GetParam().kind, sideways, params, GetParam().backend);
+  EXPECT_EQ(tilted->gravity(), sideways.gravity);
+  if (GetParam().kind == SolverKind::pbf) {
+    const float step = params.time_step;
+    EXPECT_LT(tilted->substeps_for(step), small(params)->substeps_for(step));
+  }
+  tilted->reset();
+  EXPECT_EQ(tilted->gravity(), sideways.gravity);
+
+  Scene falling_fast = sideways;
+  falling_fast.gravity = {0.0f, -3000.0f, 0.0f};
+  EXPECT_NE(error_of([&] {
+              make_solver(GetParam().kind, falling_fast, params, GetParam().backend);
+            }).find("scene: gravity"),
+            std::string::npos);
+}
+
 TEST_P(SolverInputs, BadCollidersAreRefusedAndChangeNothing) {
   auto s = small();
   const std::vector<Collider> good = {{{0.2f, 0.2f, 0.1f}, 0.05f, {0, 0, 0}}};

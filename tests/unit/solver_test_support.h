@@ -17,14 +17,19 @@ namespace fluidcast::sim::testing {
 
 enum class Backend { cpu, gpu };
 
+inline std::unique_ptr<Solver> make_solver(SolverKind kind, Scene scene, SolverParams params = {},
+                                           Backend backend = Backend::cpu) {
+  if (backend == Backend::gpu) {
+    return make_gpu_solver(kind, fluidcast::testing::test_context(), std::move(scene), params);
+  }
+  if (params.threads == 0) params.threads = 2;
+  return make_cpu_solver(kind, std::move(scene), params);
+}
+
 inline std::unique_ptr<Solver> make_solver(SolverKind kind, const SceneParams& scene,
                                            SolverParams params = {},
                                            Backend backend = Backend::cpu) {
-  if (backend == Backend::gpu) {
-    return make_gpu_solver(kind, fluidcast::testing::test_context(), build_scene(scene), params);
-  }
-  if (params.threads == 0) params.threads = 2;
-  return make_cpu_solver(kind, build_scene(scene), params);
+  return make_solver(kind, build_scene(scene), params, backend);
 }
 
 inline std::unique_ptr<Solver> make_solver(SolverKind kind, SceneKind scene, int particles,

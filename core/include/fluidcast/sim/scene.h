@@ -35,11 +35,17 @@ const std::vector<ParamSpec<SceneParams>>& scene_param_specs();
 // Throws ParamError for a value out of range or a geometry that does not fit the tank.
 void validate(const SceneParams& params);
 
+// m/s²: the tank upright on the ground.
+inline constexpr glm::vec3 kStandardGravity{0.0f, -9.81f, 0.0f};
+
 struct Scene {
   SceneParams params;
   Box tank;
   float spacing = 0.0f;  // d: the lattice spacing of the initial particles
   ParticleSet particles;
+  // What the particles start falling under, m/s²: a fluid built while the tank is tilted starts
+  // under the tilt, and PBF's substep rule starts from its weight along it.
+  glm::vec3 gravity = kStandardGravity;
 };
 
 // Fills the scene's water volume with exactly params.particles particles on a cubic lattice whose

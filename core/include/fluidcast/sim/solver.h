@@ -91,9 +91,10 @@ class Solver {
   };
   virtual std::optional<DeviceParticles> device_particles() const { return std::nullopt; }
 
-  // Advances the simulation by params().time_step, colliders included. A GPU solver may return
-  // before the GPU has finished the step; snapshot() and synchronize() wait for it.
-  void step() { step(params().time_step, substeps_for(params().time_step)); }
+  // Advances the simulation by params().time_step, colliders included, in the substeps its rule
+  // asks; returns them. A GPU solver may return before the GPU has finished the step; snapshot()
+  // and synchronize() wait for it.
+  int step() { return step(params().time_step, substeps_for(params().time_step)); }
   // A step of `seconds` in (0, params().time_step] in `substeps` substeps (1 to
   // params().max_substeps): what a frame loop that pays per substep runs, planned with
   // substeps_for(); in slow motion, a shorter step of fewer substeps. The CPU SPH solver adapts
@@ -158,7 +159,7 @@ class Solver {
   Scene scene_;
   SolverParams params_;
   FluidConstants fluid_;
-  glm::vec3 gravity_{0.0f, -9.81f, 0.0f};
+  glm::vec3 gravity_;
   std::vector<Collider> colliders_;
   double time_ = 0.0;
   std::uint64_t steps_ = 0;
