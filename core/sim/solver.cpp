@@ -96,6 +96,11 @@ int Solver::step(float seconds, int substeps) {
   return taken;
 }
 
+Box Solver::inner_tank() const {
+  const glm::vec3 r(fluid_.particle_radius());
+  return {scene_.tank.min + r, scene_.tank.max - r};
+}
+
 void Solver::set_gravity(glm::vec3 gravity) {
   require(is_finite(gravity), "gravity: every component must be finite, got " + str(gravity));
   require(within_limit(gravity, kMaxGravity),

@@ -31,7 +31,9 @@ const std::vector<ParamSpec<SolverParams>>& solver_param_specs() {
        &P::pbf_jacobi_damping, 0, 0.5},
       {"pbf-travel", "1",
        "PBF: most a particle or collider may move in one substep, as a fraction of h; a particle "
-       "flung faster is slowed to it. Above 1 particles begin to pass through each other",
+       "flung faster is slowed to it. Above 1 particles begin to pass through each other. "
+       "Toward a tank wall it may close by this fraction of 0.75 d (d the particle spacing): a "
+       "layer that moved a whole spacing would land on the one the wall holds",
        &P::pbf_travel, 0.05, 2},
       {"pbf-density-tolerance", "1",
        "PBF: average compression max(ρ/ρ0 − 1, 0) a step may leave, walls included; a step "

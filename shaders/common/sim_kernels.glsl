@@ -79,6 +79,22 @@ vec4 walls(vec3 p) {
   return P.rest_density * vec4(density, gradient);
 }
 
+// How fast p, moving at v, closes on a wall it would reach within P.wall_reach seconds at that
+// speed; 0 if on none (substeps.h, wall_approach, for the CPU and the loaded particles).
+float wall_approach(vec3 p, vec3 v) {
+  float fastest = 0.0;
+  for (int axis = 0; axis < 3; ++axis) {
+    const float toward_min = -v[axis], toward_max = v[axis];
+    if (toward_min > 0.0 && p[axis] - P.inner_min[axis] < toward_min * P.wall_reach) {
+      fastest = max(fastest, toward_min);
+    }
+    if (toward_max > 0.0 && P.inner_max[axis] - p[axis] < toward_max * P.wall_reach) {
+      fastest = max(fastest, toward_max);
+    }
+  }
+  return fastest;
+}
+
 // Moves p out of every collider (at time_into_step) and into the tank; when `velocity` is given
 // (SPH), removes its component into each surface p was pushed out of.
 vec3 constrain(vec3 p, inout vec3 v, bool adjust_velocity) {

@@ -26,7 +26,8 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Si
   Uints cell_of;       // the grid: each particle's cell, from the count (PBF's prediction's)
   Uints rank;          // the grid: each particle's place in its cell, from the count
   Uints stats;         // [0] bits of the largest |v|², [1] of the largest |a|, [2..3] PBF: the
-                       // compression summed, 64 bits in units of 2^-20 (StatsSlot in gpu_sim_params.h)
+                       // compression summed, 64 bits in units of 2^-20, [4] PBF: bits of the
+                       // largest wall approach (StatsSlot in gpu_sim_params.h)
   Floats density_ratio;  // ρ/ρ0 per particle in state order, from the last solver pass (render)
   Uints neighbours;      // this substep's neighbours of sorted slot k: slot k + s · particle_count
   Uints neighbour_count; //   for s below neighbour_count.v[k] (at most max_neighbours)
@@ -67,6 +68,7 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Si
   uint max_candidates;   // neighbour candidates examined per particle (FluidConstants)
   float max_acceleration;  // PBF: most the corrections may accelerate a particle, m/s²
   uint max_neighbours;   // neighbours listed per particle, at most (FluidConstants)
+  float wall_reach;      // PBF: how far ahead, s, a particle closing on a wall counts (wall_approach)
 
   vec4 collider_sphere[MAX_COLLIDERS];    // centre at the step's start, radius in w
   vec4 collider_velocity[MAX_COLLIDERS];

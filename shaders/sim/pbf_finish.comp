@@ -2,7 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 // PBF, last pass of a substep: vorticity confinement (a = ε N × ω) and XSPH viscosity on the
 // velocity, then the particles written back as state (sorted order becomes state order), and the
-// largest |v|² recorded for the next step's substep count; on a step's last substep also the
+// largest |v|² and wall approach recorded for the next step's substep count; on a step's last
+// substep also the
 // compression it leaves, max(ρ/ρ0 − 1, 0) walls included, for the substep rule (as
 // PbfSolver::average_compression).
 #include "common/core.glsl"
@@ -12,7 +13,7 @@
 void main() {
   load_constants();
   const uint k = invocation();
-  float speed2 = 0.0, compression = 0.0;
+  float speed2 = 0.0, approach = 0.0, compression = 0.0;
   if (k < P.particle_count) {
     Vec4s x = P.iterate;
     const vec3 p = x.v[k].xyz;
@@ -49,7 +50,9 @@ void main() {
     P.velocity.v[k] = vec4(velocity, 0.0);
     P.id.v[k] = P.sorted_id.v[k];
     speed2 = dot(velocity, velocity);
+    approach = wall_approach(p, velocity);
   }
   record_largest(0u, speed2);
+  record_largest(4u, approach);
   if (pass.record_compression != 0u) record_sum(2u, compression);
 }

@@ -113,6 +113,7 @@ TEST(GpuParamsLayout, SimParamsMatchesTheGlslBlock) {
                                                   FIELD(SimParams, max_candidates),
                                                   FIELD(SimParams, max_acceleration),
                                                   FIELD(SimParams, max_neighbours),
+                                                  FIELD(SimParams, wall_reach),
                                                   FIELD(SimParams, collider_sphere),
                                                   FIELD(SimParams, collider_velocity)};
   const auto glsl = member_offsets(shaders::sim_pbf_lambda_comp, "SimParams");

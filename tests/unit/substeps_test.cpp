@@ -1,7 +1,7 @@
-// PBF's substep rule (substeps.h): the travel bound, the density bound and how it follows the
-// measured compression (with a margin when lengthening), where it starts for a fluid just loaded,
-// how far it trusts figures of steps still running, and the speed limit that holds the travel bound
-// for a particle flung faster than planned.
+// PBF's substep rule (substeps.h): the travel bound, the walls' bound, the density bound and how it
+// follows the measured compression (with a margin when lengthening), where it starts for a fluid
+// just loaded, how far it trusts figures of steps still running, and the speed limit that holds the
+// travel bound for a particle flung faster than planned.
 #include "substeps.h"
 
 #include <gtest/gtest.h>
@@ -25,14 +25,45 @@ PbfSubsteps rule(float travel = 1.0f, float tolerance = 0.01f) {
 
 TEST(PbfSubsteps, NothingTravelsMoreThanItsShareOfTheKernelRadius) {
   const PbfSubsteps substeps = rule(0.5f);
-  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f), 1);
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 0.0f), 1);
   // 4.7 m/s over 1/120 s is 0.98 h: two substeps of at most half h each.
-  EXPECT_EQ(substeps.count(kStep, 4.7f, 0.0f, 0.0f), 2);
+  EXPECT_EQ(substeps.count(kStep, 4.7f, 0.0f, 0.0f, 0.0f), 2);
   // Gravity's gain over the step counts: 4.7 + 30/120 m/s needs a third.
-  EXPECT_EQ(substeps.count(kStep, 4.7f, 0.0f, 30.0f), 3);
+  EXPECT_EQ(substeps.count(kStep, 4.7f, 0.0f, 0.0f, 30.0f), 3);
   // A collider faster than the fluid sets the pace: 47 m/s, 9.8 h.
-  EXPECT_EQ(substeps.count(kStep, 1.0f, 47.0f, 0.0f), 20);
+  EXPECT_EQ(substeps.count(kStep, 1.0f, 47.0f, 0.0f, 0.0f), 20);
   EXPECT_FLOAT_EQ(substeps.speed_limit(kStep / 2), 0.5f * kH / (kStep / 2));
+}
+
+TEST(PbfSubsteps, NothingClosesOnAWallByMoreThanItsShareOfTheSpacing) {
+  // h = 0.04 m at the default kernel ratio 2: d = 0.02 m, 0.75 d = 0.015 m.
+  const PbfSubsteps substeps = rule(1.0f);
+  // 4 m/s over 1/120 s is 0.83 h: one substep by the travel bound, but 2.2 × 0.75 d toward a wall.
+  EXPECT_EQ(substeps.count(kStep, 4.0f, 0.0f, 0.0f, 0.0f), 1);
+  EXPECT_EQ(substeps.count(kStep, 4.0f, 0.0f, 4.0f, 0.0f), 3);
+  // Gravity's gain counts for a particle closing on a wall (5.3 m/s: 2.94; 5.55: 3.08), and for
+  // none when none does.
+  EXPECT_EQ(substeps.count(kStep, 5.3f, 0.0f, 5.3f, 0.0f), 3);
+  EXPECT_EQ(substeps.count(kStep, 5.3f, 0.0f, 5.3f, 30.0f), 4);
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 30.0f), 1);
+  // pbf_travel scales it as it scales the travel bound.
+  EXPECT_EQ(rule(0.5f).count(kStep, 4.0f, 0.0f, 4.0f, 0.0f), 5);
+}
+
+TEST(PbfSubsteps, OnlyParticlesThatWouldReachAWallWithinTheReachCloseOnIt) {
+  const Box inner{{0.0f, 0.0f, 0.0f}, {1.0f, 1.0f, 1.0f}};
+  const float reach = 0.01f;  // s
+  // 2 m/s down covers 2 cm in the reach: from 1 cm above the floor it gets there, from 3 cm not.
+  EXPECT_EQ(wall_approach({0.5f, 0.01f, 0.5f}, {0.0f, -2.0f, 0.0f}, inner, reach), 2.0f);
+  EXPECT_EQ(wall_approach({0.5f, 0.03f, 0.5f}, {0.0f, -2.0f, 0.0f}, inner, reach), 0.0f);
+  EXPECT_EQ(wall_approach({0.5f, 0.01f, 0.5f}, {0.0f, 2.0f, 0.0f}, inner, reach), 0.0f);
+  // Every wall, the far ones too; the fastest approach of a particle in a corner.
+  EXPECT_EQ(wall_approach({0.995f, 0.5f, 0.005f}, {1.0f, 0.0f, -3.0f}, inner, reach), 3.0f);
+  EXPECT_EQ(wall_approach({0.5f, 0.99f, 0.5f}, {0.0f, 1.5f, 0.0f}, inner, reach), 1.5f);
+  const std::vector<glm::vec3> positions = {{0.5f, 0.01f, 0.5f}, {0.5f, 0.5f, 0.5f}};
+  const std::vector<glm::vec3> velocities = {{0.0f, -2.0f, 0.0f}, {0.0f, -9.0f, 0.0f}};
+  EXPECT_EQ(largest_wall_approach(positions, velocities, inner, reach), 2.0f);
+  EXPECT_EQ(largest_wall_approach(positions, velocities, inner, 0.1f), 9.0f);
 }
 
 TEST(PbfSubsteps, TooMuchCompressionShortensTheNextSubstepsAtOnce) {
@@ -41,7 +72,7 @@ TEST(PbfSubsteps, TooMuchCompressionShortensTheNextSubstepsAtOnce) {
   // Four times the tolerance at a whole step: the error goes as Δt², so half the step.
   substeps.observe(kStep, 0.04f);
   EXPECT_FLOAT_EQ(substeps.longest_substep(), kStep / 2);
-  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f), 2);
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f), 2);
 }
 
 TEST(PbfSubsteps, LittleCompressionLengthensThemByATenthAStepAtMost) {
@@ -51,7 +82,7 @@ TEST(PbfSubsteps, LittleCompressionLengthensThemByATenthAStepAtMost) {
   substeps.observe(kStep, 0.0f);
   EXPECT_FLOAT_EQ(substeps.longest_substep(), 1.1f * kStep / 2);
   for (int k = 0; k < 20; ++k) substeps.observe(kStep / 2, 0.0f);
-  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f), 1);
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f), 1);
 }
 
 // Within the tolerance substeps never shorten, and lengthen only as far as would leave 0.8² of it
@@ -60,13 +91,13 @@ TEST(PbfSubsteps, TheyLengthenWithAMarginBelowTheTolerance) {
   PbfSubsteps substeps = rule(1.0f, 0.01f);
   substeps.observe(kStep, 0.04f);
   for (int k = 0; k < 20; ++k) substeps.observe(kStep / 2, 0.0023f);
-  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f), 2);
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f), 2);
   for (int k = 0; k < 20; ++k) substeps.observe(kStep / 2, 0.0015f);
-  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f), 1);
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f), 1);
   for (int k = 0; k < 20; ++k) substeps.observe(kStep, 0.0095f);
-  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f), 1);
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f), 1);
   substeps.observe(kStep, 0.0105f);
-  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f), 2);
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f), 2);
 }
 
 // A step that left the error at the tolerance keeps its count, at every count: the bound is then
@@ -75,7 +106,7 @@ TEST(PbfSubsteps, AStepAtTheToleranceKeepsItsCount) {
   for (int n = 1; n <= SolverParams{}.max_substeps; ++n) {
     PbfSubsteps substeps = rule(1.0f, 0.01f);
     substeps.observe(kStep / static_cast<float>(n), 0.01f);
-    EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f), n) << n << " substeps";
+    EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f), n) << n << " substeps";
   }
 }
 
@@ -87,7 +118,7 @@ TEST(PbfSubsteps, ASubstepShorterThanTheBoundDoesNotShortenIt) {
   ASSERT_FLOAT_EQ(substeps.longest_substep(), kStep / 2);
   substeps.observe(kStep / 3, 0.004f);  // at the tolerance 0.527 of a step, 0.8 of it 0.42
   EXPECT_FLOAT_EQ(substeps.longest_substep(), kStep / 2);
-  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f), 2);
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f), 2);
   substeps.observe(kStep / 3, 0.0048f);  // at the tolerance 0.48 of a step: the bound follows
   EXPECT_LT(substeps.longest_substep(), 0.49f * kStep);
 }
@@ -98,14 +129,14 @@ TEST(PbfSubsteps, ASubstepShorterThanTheBoundDoesNotShortenIt) {
 TEST(PbfSubsteps, StepsUnseenNearTheBoundTakeMoreSubsteps) {
   PbfSubsteps substeps = rule(1.0f, 0.01f);
   // Nothing observed yet: the bound start() set (here none) stands, unseen steps or not.
-  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f, 4), 1);
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f, 4), 1);
   substeps.observe(kStep, 0.004f);  // well within: unseen steps change nothing
-  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f, 4), 1);
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f, 4), 1);
   substeps.observe(kStep, 0.01f);  // at the tolerance: still one substep, but not when unseen
-  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f, 0), 1);
-  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f, 2), 2);
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f, 0), 1);
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f, 2), 2);
   substeps.observe(kStep, std::numeric_limits<float>::quiet_NaN());  // ignored, as in the bound
-  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f, 2), 2);
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f, 2), 2);
 }
 
 // A fluid just loaded starts from its weight: with c = h √(4 · iterations) / Δt, a column of
@@ -119,7 +150,7 @@ TEST(PbfSubsteps, AFluidJustLoadedStartsFromItsWeight) {
   substeps.start(column, gravity);
   const float expected = kH * std::sqrt(4.0f * 4.0f * 0.01f / (9.81f * 0.8f));
   EXPECT_FLOAT_EQ(substeps.longest_substep(), expected);
-  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f), 2);  // 5.7 ms a substep at most
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f), 2);  // 5.7 ms a substep at most
   // The depth is taken along gravity: tilted to x the same points stand 0.2 m deep.
   substeps.start(column, glm::vec3(9.81f, 0.0f, 0.0f));
   EXPECT_FLOAT_EQ(substeps.longest_substep(), 2.0f * expected);
@@ -127,7 +158,7 @@ TEST(PbfSubsteps, AFluidJustLoadedStartsFromItsWeight) {
   substeps.observe(kStep, 0.04f);
   substeps.start(column, gravity);
   EXPECT_FLOAT_EQ(substeps.longest_substep(), expected);
-  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 9.81f, 4), 2);  // and unseen steps add nothing
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f, 4), 2);  // and unseen steps add nothing
   // Without weight, or without water, there is no column to press.
   substeps.start(column, glm::vec3(0.0f));
   EXPECT_TRUE(std::isinf(substeps.longest_substep()));
@@ -140,9 +171,9 @@ TEST(PbfSubsteps, NonFiniteFiguresNeverGiveFewerSubsteps) {
   substeps.observe(kStep, 0.04f);
   substeps.observe(kStep, std::numeric_limits<float>::quiet_NaN());
   EXPECT_FLOAT_EQ(substeps.longest_substep(), kStep / 2);
-  EXPECT_EQ(substeps.count(kStep, std::numeric_limits<float>::infinity(), 0.0f, 9.81f),
+  EXPECT_EQ(substeps.count(kStep, std::numeric_limits<float>::infinity(), 0.0f, 0.0f, 9.81f),
             SolverParams{}.max_substeps);
-  EXPECT_EQ(substeps.count(kStep, std::numeric_limits<float>::quiet_NaN(), 0.0f, 9.81f),
+  EXPECT_EQ(substeps.count(kStep, std::numeric_limits<float>::quiet_NaN(), 0.0f, 0.0f, 9.81f),
             SolverParams{}.max_substeps);
 }
 

@@ -11,8 +11,7 @@ CpuSolver::CpuSolver(Scene scene, const SolverParams& params, std::shared_ptr<Fo
                  : std::make_shared<ForkJoinPool>(static_cast<unsigned>(params.threads))),
       kernels_(fluid().kernel_radius),
       grid_(tank(), fluid().kernel_radius) {
-  const glm::vec3 r(fluid().particle_radius());
-  inner_tank_ = Box{tank().min + r, tank().max - r};
+  inner_tank_ = inner_tank();
   load_particles(this->scene().particles);
 }
 

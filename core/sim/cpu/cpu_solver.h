@@ -117,7 +117,7 @@ class CpuSolver : public Solver {
   NeighbourList neighbours_;
 
  private:
-  Box inner_tank_;  // the tank shrunk by a particle radius: where particle centres may be
+  Box inner_tank_;  // inner_tank(), kept: every particle is constrained to it every pass
   float time_into_step_ = 0.0f;
   std::vector<glm::vec3> reorder_scratch_;
   std::vector<std::uint32_t> id_scratch_;

@@ -25,7 +25,10 @@ void PbfSolver::load_particles(const ParticleSet& particles) {
 }
 
 int PbfSolver::substeps_for(float seconds) {
-  return substeps_.count(seconds, max_speed(), max_collider_speed(), glm::length(gravity()));
+  const float approach =
+      largest_wall_approach(particles_.position, particles_.velocity, inner_tank(), seconds);
+  return substeps_.count(seconds, max_speed(), max_collider_speed(), approach,
+                         glm::length(gravity()));
 }
 
 int PbfSolver::advance(float seconds, int substeps) {

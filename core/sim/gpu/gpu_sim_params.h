@@ -37,6 +37,7 @@ struct SimParams {
   std::uint32_t max_candidates;
   float max_acceleration;
   std::uint32_t max_neighbours;
+  float wall_reach;
 
   alignas(16) glm::vec4 collider_sphere[kMaxColliders];
   glm::vec4 collider_velocity[kMaxColliders];
@@ -55,7 +56,8 @@ static_assert(offsetof(SimParams, substep_travel) == 176 + 7 * 16 + 24 * 4);
 static_assert(offsetof(SimParams, max_candidates) == 176 + 7 * 16 + 25 * 4);
 static_assert(offsetof(SimParams, max_acceleration) == 176 + 7 * 16 + 26 * 4);
 static_assert(offsetof(SimParams, max_neighbours) == 176 + 7 * 16 + 27 * 4);
-static_assert(offsetof(SimParams, collider_sphere) == 176 + 7 * 16 + 28 * 4);
+static_assert(offsetof(SimParams, wall_reach) == 176 + 7 * 16 + 28 * 4);
+static_assert(offsetof(SimParams, collider_sphere) == 176 + 7 * 16 + 32 * 4);
 static_assert(offsetof(SimParams, collider_velocity) ==
               offsetof(SimParams, collider_sphere) + kMaxColliders * 16);
 static_assert(sizeof(SimParams) % 4 == 0, "vkCmdUpdateBuffer takes whole words");
@@ -79,7 +81,8 @@ enum StatsSlot : std::uint32_t {
   kLargestAcceleration = 1,  // bits of the largest |a| (SPH)
   kCompressionSum = 2,       // PBF: Σ max(ρ/ρ0 − 1, 0), low word, in units of kCompressionUnit
   kCompressionSumHigh = 3,   // and its high word
-  kStatsSlots = 4,
+  kLargestWallApproach = 4,  // PBF: bits of the largest wall_approach (substeps.h)
+  kStatsSlots = 5,
 };
 inline constexpr double kCompressionUnit = 1.0 / (1 << 20);
 

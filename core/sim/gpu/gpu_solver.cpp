@@ -197,6 +197,8 @@ void GpuSolver::upload_particles(const ParticleSet& particles) {
   gpu::upload_all(*context_, uploads);
   count_ = n;
   largest_speed_ = std::sqrt(largest_speed2);
+  largest_wall_approach_ =
+      largest_wall_approach(particles.position, particles.velocity, inner_tank(), wall_reach());
   largest_acceleration_ = 0.0f;
 }
 
@@ -270,6 +272,7 @@ void GpuSolver::harvest(InFlight& slot) {
     const auto stats = slot.stats.mapped<std::uint32_t>();
     largest_speed_ = std::sqrt(float_from_bits(stats[kLargestSpeed2]));
     largest_acceleration_ = float_from_bits(stats[kLargestAcceleration]);
+    largest_wall_approach_ = float_from_bits(stats[kLargestWallApproach]);
     if (kind_ == SolverKind::pbf) {
       const std::uint64_t sum =
           (std::uint64_t{stats[kCompressionSumHigh]} << 32) | stats[kCompressionSum];
@@ -347,8 +350,8 @@ SimParams GpuSolver::step_params() const {
 
   p.tank_min = glm::vec4(tank().min, 0.0f);
   p.tank_max = glm::vec4(tank().max, 0.0f);
-  p.inner_min = glm::vec4(tank().min + radius, 0.0f);
-  p.inner_max = glm::vec4(tank().max - radius, 0.0f);
+  p.inner_min = glm::vec4(inner_tank().min, 0.0f);
+  p.inner_max = glm::vec4(inner_tank().max, 0.0f);
   p.gravity = glm::vec4(gravity(), 0.0f);
   p.grid_dims = glm::ivec4(grid.dims, 0);
   p.grid_origin = glm::vec4(grid.origin, grid.inv_cell_size);
@@ -383,6 +386,7 @@ SimParams GpuSolver::step_params() const {
   p.max_acceleration = params().pbf_max_acceleration;
   p.max_candidates = fluid().max_candidates;
   p.max_neighbours = fluid().max_neighbours;
+  p.wall_reach = wall_reach();
   for (std::size_t c = 0; c < colliders().size(); ++c) {
     p.collider_sphere[c] = glm::vec4(colliders()[c].centre, colliders()[c].radius);
     p.collider_velocity[c] = glm::vec4(colliders()[c].velocity, 0.0f);
@@ -406,9 +410,12 @@ int GpuSolver::substeps_for(float seconds) {
   const float g = glm::length(gravity());
   const float speed = largest_speed_ + float(running) * g * seconds;
   if (kind_ == SolverKind::pbf) {
+    const float approach = largest_wall_approach_ > 0.0f
+                               ? largest_wall_approach_ + float(running) * g * seconds
+                               : 0.0f;
     // The density rule hears of a step only once it has finished: near its bound it plans for
     // the compression the running steps may have added unseen, rather than wait for them.
-    return pbf_substeps_.count(seconds, speed, largest_collider_speed, g, running);
+    return pbf_substeps_.count(seconds, speed, largest_collider_speed, approach, g, running);
   }
   const float dt = sph_stable_substep(speed, largest_acceleration_, params(), h);
   if (!std::isfinite(dt) || dt <= 0.0f) return params().max_substeps;

@@ -87,6 +87,9 @@ class GpuSolver final : public Solver {
 
   void allocate(std::size_t capacity);
   SimParams step_params() const;
+  // How far ahead, s, a particle closing on a wall counts for the substep rule: the figures that
+  // plan a step may be as many steps old as run at once, and the step itself comes after.
+  float wall_reach() const { return params().time_step * static_cast<float>(kStepsInFlight + 1); }
   void set_addresses(SimParams& p) const;  // every buffer the shaders read or write
   // Submits this solver's steps still waiting in the batch, so that what follows in the queue
   // (uploads, downloads, waits) comes after them.
@@ -123,6 +126,7 @@ class GpuSolver final : public Solver {
   std::size_t next_slot_ = 0;
   // From the newest finished step (or the loaded particles).
   float largest_speed_ = 0.0f;
+  float largest_wall_approach_ = 0.0f;  // PBF
   float largest_acceleration_ = 0.0f;
   PbfSubsteps pbf_substeps_;
   // PBF constants, derived as the CPU solver does.

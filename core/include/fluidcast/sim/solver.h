@@ -135,6 +135,8 @@ class Solver {
   const std::vector<Collider>& colliders() const { return colliders_; }
   const Scene& scene() const { return scene_; }
   const Box& tank() const { return scene_.tank; }
+  // Where particle centres may be: the tank shrunk by a particle radius.
+  Box inner_tank() const;
   const SolverParams& params() const { return params_; }
   const FluidConstants& fluid() const { return fluid_; }
   const StageTimes& stage_times() const { return stage_times_; }
