@@ -96,11 +96,12 @@ EMSCRIPTEN_KEEPALIVE const char* fluid_create(const char* scene, const char* sol
 }
 
 // Continues from a state (a server's snapshot): the scene's tank with these particles, packed
-// x, y, z each, at simulated time `time`.
+// x, y, z each, at simulated time `time`, falling under the state's gravity (m/s²).
 EMSCRIPTEN_KEEPALIVE const char* fluid_load(const char* scene, const char* solver,
                                             std::uint32_t particles, const float* positions,
                                             const float* velocities, std::uint32_t count,
-                                            double time) {
+                                            double time, float gravity_x, float gravity_y,
+                                            float gravity_z) {
   return attempt([&] {
     SceneParams params;
     params.kind = parse_scene(scene);
@@ -111,7 +112,7 @@ EMSCRIPTEN_KEEPALIVE const char* fluid_load(const char* scene, const char* solve
       state.particles.append({positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]},
                              {velocities[3 * i], velocities[3 * i + 1], velocities[3 * i + 2]}, i);
     }
-    make(std::move(state), parse_solver(solver), gravity_now());
+    make(std::move(state), parse_solver(solver), {gravity_x, gravity_y, gravity_z});
     fluid.solver->set_time(time);
   });
 }

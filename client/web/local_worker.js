@@ -100,15 +100,16 @@ function runLocalFluid(port, fluid) {
       try {
         fluid.HEAPF32.set(positions, p / 4);
         fluid.HEAPF32.set(velocities, v / 4);
-        const error = fluid.ccall(
-          'fluid_load', 'string', ['string', 'string', 'number', 'number', 'number', 'number', 'number'],
-          [scene, solver, count, p, v, count, time]);
+        // Built under the state's gravity, so that PBF's substeps start from its weight along it.
+        const error = fluid.ccall('fluid_load', 'string',
+          ['string', 'string', 'number', 'number', 'number', 'number', 'number', 'number', 'number',
+            'number'],
+          [scene, solver, count, p, v, count, time, gravity.x, gravity.y, gravity.z]);
         if (error) throw new Error(error);
       } finally {
         fluid._free(p);
         fluid._free(v);
       }
-      check(fluid._fluid_set_gravity(gravity.x, gravity.y, gravity.z));
       return started();
     },
     reset: () => { check(fluid._fluid_reset()); fresh = true; send(); },

@@ -22,6 +22,16 @@ void require(bool ok, const std::string& message) {
   if (!ok) throw std::invalid_argument(message);
 }
 
+// What is wrong with a gravity, in words; empty when nothing is.
+std::string gravity_problem(glm::vec3 gravity) {
+  if (!is_finite(gravity)) return "every component must be finite, got " + str(gravity);
+  if (!within_limit(gravity, kMaxGravity)) {
+    return "magnitude " + std::to_string(glm::length(gravity)) + " m/s² exceeds " +
+           std::to_string(kMaxGravity) + " m/s²";
+  }
+  return {};
+}
+
 }  // namespace
 
 const std::vector<std::string_view>& solver_names() {
@@ -38,9 +48,8 @@ SolverKind parse_solver(std::string_view name) {
 Solver::Solver(Scene scene, const SolverParams& params)
     : scene_(std::move(scene)), params_(params), gravity_(scene_.gravity) {
   validate(params_);
-  if (!is_finite(gravity_) || !within_limit(gravity_, kMaxGravity)) {
-    throw ParamError("scene: gravity " + str(gravity_) + " m/s² is not finite or exceeds " +
-                     std::to_string(kMaxGravity) + " m/s²");
+  if (const std::string problem = gravity_problem(gravity_); !problem.empty()) {
+    throw ParamError("scene: gravity: " + problem);
   }
   const ParticleSet& p = scene_.particles;
   if (!std::isfinite(scene_.spacing) || scene_.spacing <= 0.0f) {
@@ -102,10 +111,8 @@ Box Solver::inner_tank() const {
 }
 
 void Solver::set_gravity(glm::vec3 gravity) {
-  require(is_finite(gravity), "gravity: every component must be finite, got " + str(gravity));
-  require(within_limit(gravity, kMaxGravity),
-          "gravity: magnitude " + std::to_string(glm::length(gravity)) + " m/s² exceeds " +
-              std::to_string(kMaxGravity) + " m/s²");
+  const std::string problem = gravity_problem(gravity);
+  require(problem.empty(), "gravity: " + problem);
   gravity_ = gravity;
 }
 

@@ -85,6 +85,8 @@ int PbfSubsteps::count(float step, float largest_speed, float largest_collider_s
       largest_wall_approach > 0.0f ? largest_wall_approach + gravity * step : largest_wall_approach;
   const float by_walls = approach * step / wall_travel_;
   const float by_density = step / longest_substep_;
+  // std::max passes over a NaN it does not meet first: a speed that is not finite is refused here.
+  if (!std::isfinite(by_travel) || !std::isfinite(by_walls)) return max_substeps_;
   float substeps = std::max({by_travel, by_walls, by_density}) * (1.0f - kRoundingSlack);
   // NaN, nothing observed yet, is not near: the bound start() set stands alone.
   const bool near_bound = last_error_ > 0.5f * tolerance_;

@@ -20,7 +20,9 @@ namespace fluidcast::sim {
 //   moved a whole spacing in the same substep lands on it, twice as dense, more than the
 //   iterations undo (a 1M dam break's front, 4.4 m/s at 1.1 d a substep, met the far wall at
 //   111 % over rest density; at 0.75 d, 22 %). Only particles that would reach a wall within a
-//   step count (wall_approach()).
+//   step count (wall_approach()); the GPU looks as many steps further ahead as it may have in
+//   flight, and takes the largest approach over a step's substeps. A plan, not a limit: a particle
+//   flung faster than planned is held only to the travel bound's speed_limit().
 // - density: the average compression a step leaves, which Jacobi iterations shrink as Δt², stays
 //   within pbf_density_tolerance: each step's measured error sets the longest substep the next
 //   may take (it shortens at once when the error was too large and lengthens by at most a tenth

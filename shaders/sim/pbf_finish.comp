@@ -3,9 +3,8 @@
 // PBF, last pass of a substep: vorticity confinement (a = ε N × ω) and XSPH viscosity on the
 // velocity, then the particles written back as state (sorted order becomes state order), and the
 // largest |v|² and wall approach recorded for the next step's substep count; on a step's last
-// substep also the
-// compression it leaves, max(ρ/ρ0 − 1, 0) walls included, for the substep rule (as
-// PbfSolver::average_compression).
+// substep also the compression it leaves, max(ρ/ρ0 − 1, 0) walls included, for the substep rule
+// (as PbfSolver::average_compression).
 #include "common/core.glsl"
 #include "common/sim_params.glsl"
 #include "common/sim_kernels.glsl"

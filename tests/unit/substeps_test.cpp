@@ -175,6 +175,10 @@ TEST(PbfSubsteps, NonFiniteFiguresNeverGiveFewerSubsteps) {
             SolverParams{}.max_substeps);
   EXPECT_EQ(substeps.count(kStep, std::numeric_limits<float>::quiet_NaN(), 0.0f, 0.0f, 9.81f),
             SolverParams{}.max_substeps);
+  for (const float approach :
+       {std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()}) {
+    EXPECT_EQ(substeps.count(kStep, 1.0f, 0.0f, approach, 9.81f), SolverParams{}.max_substeps);
+  }
 }
 
 }  // namespace

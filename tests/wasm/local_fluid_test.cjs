@@ -132,14 +132,21 @@ async function main() {
   module.HEAPU8.copyWithin(velocities, module._fluid_velocities(), module._fluid_velocities() + bytes);
   const time = module._fluid_time();
   const centre = figures(module).com;
-  const loaded = module.ccall('fluid_load', 'string',
-    ['string', 'string', 'number', 'number', 'number', 'number', 'number'],
-    ['dam_break', 'pbf', 2000, positions, velocities, n, time]) || null;
+  const load = (gravity) => module.ccall('fluid_load', 'string',
+    ['string', 'string', 'number', 'number', 'number', 'number', 'number', 'number', 'number',
+      'number'],
+    ['dam_break', 'pbf', 2000, positions, velocities, n, time, ...gravity]) || null;
+  const refused = load([0, -3000, 0]);
+  check(refused !== null && refused.includes('gravity') && module._fluid_count() === n,
+        `a state under too strong a gravity is refused, the fluid kept: "${refused}"`);
+  const loaded = load([3, -9, 0]);
   module._free(positions);
   module._free(velocities);
+  const g = new Float32Array(module.HEAPF32.buffer, module._fluid_gravity(), 3);
   check(loaded === null && module._fluid_count() === n && module._fluid_time() === time &&
         Math.hypot(...figures(module).com.map((c, k) => c - centre[k])) < 1e-6,
         `a loaded state goes on where it was (t = ${time.toFixed(3)} s, ${n} particles)`);
+  check(g[0] === 3 && g[1] === -9 && g[2] === 0, `a loaded state falls under its gravity: ${[...g]}`);
   // Reset goes back to the scene's start, not to the state it was loaded from.
   module._fluid_reset();
   check(module._fluid_time() === 0 &&

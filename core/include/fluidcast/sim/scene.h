@@ -43,8 +43,9 @@ struct Scene {
   Box tank;
   float spacing = 0.0f;  // d: the lattice spacing of the initial particles
   ParticleSet particles;
-  // What the particles start falling under, m/s²: a fluid built while the tank is tilted starts
-  // under the tilt, and PBF's substep rule starts from its weight along it.
+  // What the particles start falling under, m/s²: a solver built on the scene starts under it
+  // (a fluid built while the tank is tilted, under the tilt), and PBF's substep rule from its
+  // weight along it. Solver::set_gravity changes the gravity afterwards; reset() keeps that one.
   glm::vec3 gravity = kStandardGravity;
 };
 
