@@ -69,7 +69,7 @@ float wall_gradient(float s) {
 
 // What the six walls add at p: density ρ0 Σ wall_volume (x) and its gradient (yzw).
 vec4 walls(vec3 p) {
-  const vec3 near = p - P.tank_min.xyz, far = P.tank_max.xyz - p;
+  const vec3 near = p - P.wall_fluid_min.xyz, far = P.wall_fluid_max.xyz - p;
   float density = 0.0;
   vec3 gradient;
   for (int axis = 0; axis < 3; ++axis) {

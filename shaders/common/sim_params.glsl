@@ -32,8 +32,8 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Si
   Uints neighbours;      // this substep's neighbours of sorted slot k: slot k + s · particle_count
   Uints neighbour_count; //   for s below neighbour_count.v[k] (at most max_neighbours)
 
-  vec4 tank_min;
-  vec4 tank_max;
+  vec4 wall_fluid_min; // the walls' fluid at rest lies outside this box: the tank grown by the
+  vec4 wall_fluid_max; //   wall offset (FluidConstants::wall_offset)
   vec4 inner_min;      // the tank shrunk by a particle radius: where centres may be
   vec4 inner_max;
   vec4 gravity;

@@ -10,6 +10,7 @@
 #include <set>
 
 #include "fluidcast/sim/fluid_constants.h"
+#include "fluidcast/sim/kernels.h"
 #include "fluidcast/sim/neighbour_list.h"
 #include "fluidcast/sim/solver_params.h"
 
@@ -161,6 +162,28 @@ TEST(FluidConstants, TheCandidateCapIsFourTimesAFluidAtRest) {
   params.kernel_ratio = 2.0f;
   // 5 cells of h/2 a side: 2.5 h = 5 spacings, 125 lattice sites.
   EXPECT_EQ(derive_fluid_constants(0.01f, params).max_candidates, 500u);
+}
+
+// The walls' fluid begins where a cubic lattice's first layer, half a spacing from the wall,
+// reads ρ0 (particles and wall together), as the bulk does, at every kernel ratio.
+TEST(FluidConstants, ALatticesLayerAtAWallSumsToRestDensity) {
+  for (const float ratio : {1.5f, 2.0f, 3.0f, 4.0f}) {
+    SolverParams params;
+    params.kernel_ratio = ratio;
+    const float d = 0.01f;
+    const FluidConstants fluid = derive_fluid_constants(d, params);
+    const Kernels kernels(fluid.kernel_radius);
+    double particles = 0.0;  // the particle at (0, d/2, 0), the wall the plane y = 0
+    for (int k = -6; k <= 6; ++k)
+      for (int j = 0; j <= 6; ++j)
+        for (int i = -6; i <= 6; ++i) {
+          const glm::vec3 r = glm::vec3(i, j, k) * d;
+          particles += fluid.particle_mass * kernels.poly6(glm::dot(r, r));
+        }
+    const double wall = fluid.rest_density * kernels.wall_volume(0.5f * d + fluid.wall_offset);
+    EXPECT_NEAR((particles + wall) / fluid.rest_density, 1.0, 1e-4) << "kernel ratio " << ratio;
+    EXPECT_GT(fluid.wall_offset, 0.0f) << "kernel ratio " << ratio;
+  }
 }
 
 TEST(FluidConstants, TheNeighbourCapIsTwiceAFluidAtRest) {

@@ -36,16 +36,17 @@ class CpuSolver : public Solver {
   // Lists each particle's neighbours within h at `sorted` (positions in the order sort_by left).
   void list_neighbours(std::span<const glm::vec3> sorted);
 
-  // What the six tank walls add at p, modelled as fluid at rest behind each wall: the density
-  // ρ0·Σ wall_volume, and its gradient. Along edges and in corners the half-spaces of two or three
-  // walls overlap and are counted twice, which pushes the fluid slightly off the tank's edges.
+  // What the six tank walls add at p, modelled as fluid at rest behind each wall (from
+  // fluid().wall_offset behind it): the density ρ0·Σ wall_volume, and its gradient. Along edges
+  // and in corners the half-spaces of two or three walls overlap and are counted twice, which
+  // pushes the fluid slightly off the tank's edges.
   struct WallContribution {
     float density = 0.0f;      // kg/m³
     glm::vec3 gradient{0.0f};  // ∇ of density, pointing into the walls
   };
   WallContribution walls(glm::vec3 p) const {
     WallContribution w;
-    const glm::vec3 near = p - tank().min, far = tank().max - p;
+    const glm::vec3 near = p - wall_fluid_box_.min, far = wall_fluid_box_.max - p;
     for (int axis = 0; axis < 3; ++axis) {
       w.density += kernels_.wall_volume(near[axis]) + kernels_.wall_volume(far[axis]);
       w.gradient[axis] = kernels_.wall_gradient(far[axis]) - kernels_.wall_gradient(near[axis]);
@@ -118,6 +119,7 @@ class CpuSolver : public Solver {
 
  private:
   Box inner_tank_;  // inner_tank(), kept: every particle is constrained to it every pass
+  Box wall_fluid_box_;  // wall_fluid_box(), kept: every density reads it
   float time_into_step_ = 0.0f;
   std::vector<glm::vec3> reorder_scratch_;
   std::vector<std::uint32_t> id_scratch_;

@@ -24,7 +24,7 @@ struct SimParams {
   VkDeviceAddress order, cell_start, sorted_cell, cell_of, rank, stats, density_ratio;
   VkDeviceAddress neighbours, neighbour_count;
 
-  alignas(16) glm::vec4 tank_min, tank_max, inner_min, inner_max, gravity;
+  alignas(16) glm::vec4 wall_fluid_min, wall_fluid_max, inner_min, inner_max, gravity;
   glm::ivec4 grid_dims;
   glm::vec4 grid_origin;
 
@@ -45,7 +45,7 @@ struct SimParams {
 static_assert(offsetof(SimParams, stats) == 17 * 8);
 static_assert(offsetof(SimParams, density_ratio) == 18 * 8);
 static_assert(offsetof(SimParams, neighbour_count) == 20 * 8);
-static_assert(offsetof(SimParams, tank_min) == 176);
+static_assert(offsetof(SimParams, wall_fluid_min) == 176);
 static_assert(offsetof(SimParams, grid_dims) == 176 + 5 * 16);
 static_assert(offsetof(SimParams, grid_origin) == 176 + 6 * 16);
 static_assert(offsetof(SimParams, solver) == 176 + 7 * 16);

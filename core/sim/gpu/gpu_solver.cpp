@@ -348,8 +348,8 @@ SimParams GpuSolver::step_params() const {
   SimParams p{};
   set_addresses(p);
 
-  p.tank_min = glm::vec4(tank().min, 0.0f);
-  p.tank_max = glm::vec4(tank().max, 0.0f);
+  p.wall_fluid_min = glm::vec4(wall_fluid_box().min, 0.0f);
+  p.wall_fluid_max = glm::vec4(wall_fluid_box().max, 0.0f);
   p.inner_min = glm::vec4(inner_tank().min, 0.0f);
   p.inner_max = glm::vec4(inner_tank().max, 0.0f);
   p.gravity = glm::vec4(gravity(), 0.0f);
