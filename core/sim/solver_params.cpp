@@ -1,9 +1,24 @@
 #include "fluidcast/sim/solver_params.h"
 
+#include <sstream>
+#include <string>
+
+#include "substeps.h"
+
 namespace fluidcast::sim {
 
 const std::vector<ParamSpec<SolverParams>>& solver_param_specs() {
   using P = SolverParams;
+  static const std::string travel = [] {
+    std::ostringstream text;
+    text << "PBF: most a particle or collider may move in one substep, as a fraction of h; a "
+            "particle flung faster is slowed to it. Above 1 particles begin to pass through each "
+            "other. Toward a tank wall it may close by this fraction of "
+         << PbfSubsteps::kWallShareOfSpacing
+         << " d (d the particle spacing): a layer that moved a whole spacing would land on the "
+            "one the wall holds";
+    return text.str();
+  }();
   static const std::vector<ParamSpec<P>> specs = {
       {"time-step", "s", "Simulated time advanced by one step", &P::time_step, 1e-5, 0.05},
       {"rest-density", "kg/m³", "Rest density ρ0 of the fluid", &P::rest_density, 100, 20000},
@@ -29,12 +44,7 @@ const std::vector<ParamSpec<SolverParams>>& solver_param_specs() {
        "in full: a resting pool's largest density error 2.0 → 1.3 %, a dam break's 14–17 → "
        "9–12 %, substeps as many or fewer; 0 applies every iteration in full",
        &P::pbf_jacobi_damping, 0, 0.5},
-      {"pbf-travel", "1",
-       "PBF: most a particle or collider may move in one substep, as a fraction of h; a particle "
-       "flung faster is slowed to it. Above 1 particles begin to pass through each other. "
-       "Toward a tank wall it may close by this fraction of 0.75 d (d the particle spacing): a "
-       "layer that moved a whole spacing would land on the one the wall holds",
-       &P::pbf_travel, 0.05, 2},
+      {"pbf-travel", "1", travel, &P::pbf_travel, 0.05, 2},
       {"pbf-density-tolerance", "1",
        "PBF: average compression max(ρ/ρ0 − 1, 0) a step may leave, walls included; a step "
        "that left more makes the next ones take shorter substeps, and a fluid just loaded (a "

@@ -28,12 +28,6 @@ constexpr float kLengtheningMargin = 0.8f;
 // into), can come out a few ulps above k: it still means k.
 constexpr float kRoundingSlack = 1e-5f;
 
-// How much of a spacing d a particle may close on a wall in one substep (times pbf_travel). A 1M
-// dam break's front (4.4 m/s) met the far wall at 7 substeps a step by the other bounds (1.1 d
-// each): 72, 111 and 102 % over rest density in three steps; at a whole d (8 substeps) 50, 78 and
-// 35 %; at 0.75 d (11) 22, 20 and 11 %, for 2 % more substeps over its first 0.5 s.
-constexpr float kWallShareOfSpacing = 0.75f;
-
 // k of start()'s speed of sound, fitted on a 1M-particle dam break's column (0.8 m, 175 layers
 // deep, 4 iterations). Started at one substep it compressed at its foot to 71 % over rest density
 // while its average stayed under 2 %, and sprang back with 19 J more kinetic energy than its fall

@@ -15,11 +15,10 @@ namespace fluidcast::sim {
 //   gravity adds over the step) or a collider. Beyond about h a particle tunnels through its
 //   neighbours; predict() also slows any particle to speed_limit(), so that one flung faster than
 //   the plan foresaw cannot either.
-// - walls: nothing closes on a tank wall by more than pbf_travel · 0.75 d (d the particle
-//   spacing) in one. The wall stops the layer that reaches it where it is; a layer behind that
-//   moved a whole spacing in the same substep lands on it, twice as dense, more than the
-//   iterations undo (a 1M dam break's front, 4.4 m/s at 1.1 d a substep, met the far wall at
-//   111 % over rest density; at 0.75 d, 22 %). Only particles that would reach a wall within a
+// - walls: nothing closes on a tank wall by more than pbf_travel · kWallShareOfSpacing · d (d the
+//   particle spacing) in one. The wall stops the layer that reaches it where it is; a layer
+//   behind that moved a whole spacing in the same substep lands on it, twice as dense, more than
+//   the iterations undo. Only particles that would reach a wall within a
 //   step count (wall_approach()); the GPU looks as many steps further ahead as it may have in
 //   flight, and takes the largest approach over a step's substeps. A plan, not a limit: a particle
 //   flung faster than planned is held only to the travel bound's speed_limit().
@@ -33,6 +32,13 @@ namespace fluidcast::sim {
 //   foot before its average does: the density bound starts from the column's weight (start()).
 class PbfSubsteps {
  public:
+  // The walls' bound: how much of a spacing d a particle may close on a wall in one substep
+  // (times pbf_travel). A 1M dam break's front (4.4 m/s) met the far wall at 7 substeps a step by
+  // the other bounds (1.1 d each): 72, 111 and 102 % over rest density in three steps; at a whole
+  // d (8 substeps) 50, 78 and 35 %; at 0.75 d (11) 22, 20 and 11 %, for 2 % more substeps over
+  // its first 0.5 s.
+  static constexpr float kWallShareOfSpacing = 0.75f;
+
   PbfSubsteps(const SolverParams& params, float kernel_radius);
 
   // A fluid was loaded (a scene's start, a reset, a snapshot): nothing of it is observed yet. The
@@ -64,7 +70,7 @@ class PbfSubsteps {
 
  private:
   float travel_;       // m: pbf_travel · h
-  float wall_travel_;  // m: pbf_travel · 0.75 d
+  float wall_travel_;  // m: pbf_travel · kWallShareOfSpacing · d
   float tolerance_;    // pbf_density_tolerance
   float kernel_radius_;
   int iterations_;
