@@ -32,9 +32,10 @@ constexpr float kRoundingSlack = 1e-5f;
 // deep, 4 iterations). Started at one substep it compressed at its foot to 71 % over rest density
 // while its average stayed under 2 %, and sprang back with 19 J more kinetic energy than its fall
 // had released (1.6 times); started at 3, 6 and 10 substeps: 17, 8 and 6 %, 4.3, 0.3 and 0.8 J.
-// Not stiffer than needed: a fluid's first positions hold a little compression at the walls, which
+// Not stiffer than needed: a fluid's first positions held a little compression at the walls, which
 // a stiff start releases (125k particles started at 8 substeps: 1.2 J of motion in the first step
-// for 0.1 J released). This k starts the 1M column at 7 substeps and the 125k one at 4.
+// for 0.1 J released; fitted before FluidConstants::wall_offset took most of it away, edges and
+// corners still hold some). This k starts the 1M column at 7 substeps and the 125k one at 4.
 constexpr float kIterationStiffness = 4.0f;
 
 }  // namespace

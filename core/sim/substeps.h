@@ -18,10 +18,10 @@ namespace fluidcast::sim {
 // - walls: nothing closes on a tank wall by more than pbf_travel · kWallShareOfSpacing · d (d the
 //   particle spacing) in one. The wall stops the layer that reaches it where it is; a layer
 //   behind that moved a whole spacing in the same substep lands on it, twice as dense, more than
-//   the iterations undo. Only particles that would reach a wall within a
-//   step count (wall_approach()); the GPU looks as many steps further ahead as it may have in
-//   flight, and takes the largest approach over a step's substeps. A plan, not a limit: a particle
-//   flung faster than planned is held only to the travel bound's speed_limit().
+//   the iterations undo. Only particles that would reach a wall within a step count
+//   (wall_approach()); the GPU looks as many steps further ahead as it may have in flight, and
+//   takes the largest approach over a step's substeps. A plan, not a limit: a particle flung
+//   faster than planned is held only to the travel bound's speed_limit().
 // - density: the average compression a step leaves, which Jacobi iterations shrink as Δt², stays
 //   within pbf_density_tolerance: each step's measured error sets the longest substep the next
 //   may take (it shortens at once when the error was too large and lengthens by at most a tenth

@@ -12,8 +12,8 @@ struct FluidConstants {
   float rest_density = 0.0f;   // ρ0, kg/m³
   // How far behind each tank wall the walls' fluid at rest begins (Kernels::wall_volume), m: where
   // a cubic lattice's first layer, half a spacing from the wall, sums to exactly ρ0 as the bulk
-  // does. At the wall itself, with h = 2d, that layer read 2.6 % over ρ0 (an edge 8 %, a corner
-  // 17 %) and every fluid started by pushing itself off the walls; with it, 0, 3 and 9 %.
+  // does. Begun at the wall itself, it made that layer read 2.6 % over ρ0 at h = 2d, and every
+  // fluid started by pushing itself off the walls (OVERVIEW.md, choices).
   float wall_offset = 0.0f;
   // Candidate neighbours examined per particle, at most: kCandidatesOverRest times what a
   // particle inside a fluid at rest density has in its 5×5×5 cells. A clump (a pour, a finger

@@ -51,7 +51,8 @@ class Kernels {
     return lanes::select((r2 < h2_) & (r2 > 1e-24f), (-3.0f * spiky_ * x * x * inv_r) * r_vec, V{});
   }
 
-  // A flat wall at distance s from a particle, with the half-space behind it full of fluid at rest.
+  // A half-space full of fluid at rest, its plane at distance s from a particle (the walls' fluid,
+  // FluidConstants::wall_offset behind each wall).
   // wall_volume(s) = ∫ W_poly6 over that half-space (½ at s = 0, 0 at s ≥ h): the wall adds
   // ρ0 · wall_volume(s) to the particle's density. wall_gradient(s) = ∫ W_spiky over the wall plane
   // = |∫ ∇W_spiky| over the half-space: the magnitude of the gradient that the pressure terms,
