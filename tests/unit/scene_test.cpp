@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <set>
+#include <tuple>
 
 namespace fluidcast::sim {
 namespace {
@@ -34,15 +35,21 @@ TEST(Scene, EverySceneHasExactlyTheRequestedCountInsideTheTank) {
 
 // A count that leaves the top layer partly filled spreads it over the layer: the water's centre
 // of mass lies over the tank's middle (filled from a corner, 1000 particles had it 0.09 and 0.12
-// spacings off in x and z, and the pool started with a wave).
+// spacings off in x and z, and the pool started with a wave), and no two particles share a site.
+// 1155 is 6 whole layers of 32 × 6 and three more.
 TEST(Scene, APartlyFilledTopLayerIsSpreadOverIt) {
-  for (int n : {777, 1000, 2000, 10000}) {
+  for (int n : {777, 1000, 1155, 2000, 10000}) {
     SceneParams p;
     p.kind = SceneKind::pool;
     p.particles = n;
     const Scene s = build_scene(p);
     glm::dvec3 sum(0.0);
-    for (const glm::vec3& x : s.particles.position) sum += glm::dvec3(x);
+    std::set<std::tuple<float, float, float>> sites;
+    for (const glm::vec3& x : s.particles.position) {
+      sum += glm::dvec3(x);
+      sites.insert({x.x, x.y, x.z});
+    }
+    EXPECT_EQ(sites.size(), static_cast<std::size_t>(n)) << "particles sharing a site";
     const glm::dvec3 centre = sum / static_cast<double>(n);
     const glm::vec3 middle = 0.5f * (s.tank.min + s.tank.max);
     EXPECT_NEAR(centre.x, middle.x, 0.02 * s.spacing) << n << " particles";
