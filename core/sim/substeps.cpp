@@ -34,8 +34,8 @@ constexpr float kRoundingSlack = 1e-5f;
 // had released (1.6 times); started at 3, 6 and 10 substeps: 17, 8 and 6 %, 4.3, 0.3 and 0.8 J.
 // Not stiffer than needed: a fluid's first positions held a little compression at the walls, which
 // a stiff start releases (125k particles started at 8 substeps: 1.2 J of motion in the first step
-// for 0.1 J released; fitted before FluidConstants::wall_offset took most of it away, edges and
-// corners still hold some). This k starts the 1M column at 7 substeps and the 125k one at 4.
+// for 0.1 J released; fitted before FluidConstants::wall_offset and the walls' edges counted once
+// took it away). This k starts the 1M column at 7 substeps and the 125k one at 4.
 constexpr float kIterationStiffness = 4.0f;
 
 }  // namespace

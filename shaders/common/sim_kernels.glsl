@@ -67,16 +67,18 @@ float wall_gradient(float s) {
   return 1.5 * x * x * x * x * (K_h + 4.0 * s) / (h3 * h3);
 }
 
-// What the six walls add at p: density ρ0 Σ wall_volume (x) and its gradient (yzw).
+// What the six walls add at p: density (x) and its gradient (yzw), their overlaps along edges and
+// in corners taken as for a kernel that is a product over the axes (Kernels::walls).
 vec4 walls(vec3 p) {
   const vec3 near = p - P.wall_fluid_min.xyz, far = P.wall_fluid_max.xyz - p;
-  float density = 0.0;
-  vec3 gradient;
+  vec3 in_front, pushed;
   for (int axis = 0; axis < 3; ++axis) {
-    density += wall_volume(near[axis]) + wall_volume(far[axis]);
-    gradient[axis] = wall_gradient(far[axis]) - wall_gradient(near[axis]);
+    in_front[axis] = 1.0 - wall_volume(near[axis]) - wall_volume(far[axis]);
+    pushed[axis] = wall_gradient(far[axis]) - wall_gradient(near[axis]);
   }
-  return P.rest_density * vec4(density, gradient);
+  const vec3 in_front_of_the_others = in_front.yxx * in_front.zzy;
+  return P.rest_density *
+         vec4(1.0 - in_front.x * in_front_of_the_others.x, pushed * in_front_of_the_others);
 }
 
 // How fast p, moving at v, closes on a wall it would reach within P.wall_reach seconds at that

@@ -36,24 +36,16 @@ class CpuSolver : public Solver {
   // Lists each particle's neighbours within h at `sorted` (positions in the order sort_by left).
   void list_neighbours(std::span<const glm::vec3> sorted);
 
-  // What the six tank walls add at p, modelled as fluid at rest behind each wall (from
-  // fluid().wall_offset behind it): the density ρ0·Σ wall_volume, and its gradient. Along edges
-  // and in corners the half-spaces of two or three walls overlap and are counted twice, which
-  // pushes the fluid slightly off the tank's edges.
+  // What the six tank walls add at p, modelled as fluid at rest behind each wall from
+  // fluid().wall_offset behind it (Kernels::walls): the density, and its gradient.
   struct WallContribution {
     float density = 0.0f;      // kg/m³
     glm::vec3 gradient{0.0f};  // ∇ of density, pointing into the walls
   };
   WallContribution walls(glm::vec3 p) const {
-    WallContribution w;
-    const glm::vec3 near = p - wall_fluid_box_.min, far = wall_fluid_box_.max - p;
-    for (int axis = 0; axis < 3; ++axis) {
-      w.density += kernels_.wall_volume(near[axis]) + kernels_.wall_volume(far[axis]);
-      w.gradient[axis] = kernels_.wall_gradient(far[axis]) - kernels_.wall_gradient(near[axis]);
-    }
-    w.density *= fluid().rest_density;
-    w.gradient *= fluid().rest_density;
-    return w;
+    const Kernels::WallShare share =
+        kernels_.walls(p - wall_fluid_box_.min, wall_fluid_box_.max - p);
+    return {fluid().rest_density * share.volume, fluid().rest_density * share.gradient};
   }
 
   // positions[i] − positions[j] for the block of i's neighbours at list + k (list is
