@@ -110,11 +110,6 @@ Box Solver::inner_tank() const {
   return {scene_.tank.min + r, scene_.tank.max - r};
 }
 
-Box Solver::wall_fluid_box() const {
-  const glm::vec3 offset(fluid_.wall_offset);
-  return {scene_.tank.min - offset, scene_.tank.max + offset};
-}
-
 void Solver::set_gravity(glm::vec3 gravity) {
   const std::string problem = gravity_problem(gravity);
   require(problem.empty(), "gravity: " + problem);

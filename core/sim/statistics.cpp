@@ -10,6 +10,7 @@ namespace fluidcast::sim {
 std::vector<float> measure_densities(const ParticleSet& particles, const FluidConstants& fluid,
                                      const Box& tank) {
   const Kernels kernels(fluid.kernel_radius);
+  const Box wall_fluid = fluid.wall_fluid_box(tank);
   NeighbourGrid grid(tank, fluid.kernel_radius);
   grid.build(particles.position);
   std::vector<glm::vec3> sorted(particles.size());
@@ -25,7 +26,9 @@ std::vector<float> measure_densities(const ParticleSet& particles, const FluidCo
         sum += kernels.poly6(glm::dot(r, r));
       }
     });
-    density[order[k]] = static_cast<float>(fluid.particle_mass * sum);
+    const float walls =
+        kernels.walls(sorted[k] - wall_fluid.min, wall_fluid.max - sorted[k]).volume;
+    density[order[k]] = static_cast<float>(fluid.particle_mass * sum + fluid.rest_density * walls);
   }
   return density;
 }

@@ -26,10 +26,10 @@ class GpuSolverTest : public fluidcast::testing::GpuTest,
 // Both backends start from the same dam break and are compared at five times over 1 s. They
 // cannot agree particle by particle: sums run in another order on the GPU (the order within a grid
 // cell follows atomics) and the last bits differ, which a splashing flow amplifies. The aggregates
-// stay close. Differences measured at 1000 particles (PBF / SPH, worst of the five times, three
-// runs of this test, which prints them): kinetic energy 2.2–2.4 % / 2.4–2.6 %, centre of mass
-// 2.0–2.2 mm / 1.5 mm, front 0 / 9.6 mm (SPH's CPU front is a hair from the wall at 0.5 s), max
-// density error 0.0017–0.0061 / 0.0020–0.0028, mean density error 0.00002 / 0.00022. The
+// stay close. Differences measured at 1000 particles on lavapipe (PBF / SPH, worst of the five
+// times, six runs of this test, which prints them; densities with the walls' share): kinetic
+// energy 1.4–3.7 % / 1.0–1.1 %, centre of mass 0.9–1.9 mm / 0.5–0.6 mm, front 0 / 0.2 mm, max
+// density error 0.004–0.010 / 0.006–0.007, mean density error 0.0001–0.0002 / 0.00013. The
 // tolerances are two to five times those, in units that mean something: a particle spacing for
 // positions (3.6 cm here).
 TEST_P(GpuSolverTest, AgreesWithTheCpuSolverOnADamBreak) {
@@ -51,7 +51,7 @@ TEST_P(GpuSolverTest, AgreesWithTheCpuSolverOnADamBreak) {
     EXPECT_NEAR(b.kinetic_energy, a.kinetic_energy, 0.1 * a.kinetic_energy + 0.5);
     EXPECT_LT(glm::length(b.centre_of_mass - a.centre_of_mass), 0.2 * spacing);
     EXPECT_NEAR(b.front_x, a.front_x, 0.5 * spacing);
-    EXPECT_NEAR(b.max_density_error, a.max_density_error, 0.015);
+    EXPECT_NEAR(b.max_density_error, a.max_density_error, 0.02);
     EXPECT_NEAR(b.avg_density_error, a.avg_density_error, 0.001);
     std::printf(
         "t %.2f s: kinetic energy %.3f / %.3f J, max density error %.4f / %.4f, mean density "

@@ -1,5 +1,5 @@
-// The pieces of the validation against experiment (tools/fluidcast-validate): the surge-front
-// measure, Martin & Moyce's variables and time shift, and the comparison.
+// The pieces of the validation against experiment (tools/fluidcast-validate): the density and
+// surge-front measures, Martin & Moyce's variables and time shift, and the comparison.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -14,6 +14,29 @@ namespace {
 
 const sim::Box kTank{glm::vec3(0.0f), glm::vec3(2.0f, 1.0f, 0.1f)};
 constexpr float kSpacing = 0.01f;
+
+// Every scene starts as a cubic lattice half a spacing from the walls: it measures ρ0 at every
+// site, against a wall, along an edge and in a corner too, as the solvers count density (the
+// walls' fluid included). At h = 2d an edge's first site reads 0.6 % under, a corner's 1.4 %;
+// with the walls left out, a site against a wall reads 19 % under, an edge's 35 %, a corner's 48 %.
+TEST(MeasureDensities, ALatticeFillingATankReadsRestDensityAtEverySite) {
+  const sim::FluidConstants fluid = sim::derive_fluid_constants(kSpacing, sim::SolverParams{});
+  const glm::ivec3 sites(12, 10, 8);
+  const sim::Box tank{glm::vec3(0.0f), glm::vec3(sites) * kSpacing};
+  sim::ParticleSet lattice;
+  for (int k = 0; k < sites.z; ++k)
+    for (int j = 0; j < sites.y; ++j)
+      for (int i = 0; i < sites.x; ++i)
+        lattice.append((glm::vec3(i, j, k) + 0.5f) * kSpacing, glm::vec3(0.0f),
+                       static_cast<std::uint32_t>(lattice.size()));
+  const std::vector<float> density = sim::measure_densities(lattice, fluid, tank);
+  for (std::size_t p = 0; p < lattice.size(); ++p) {
+    const glm::vec3 x = lattice.position[p];
+    const float ratio = density[p] / fluid.rest_density;
+    EXPECT_TRUE(ratio > 0.98f && ratio < 1.01f)
+        << "ρ/ρ0 = " << ratio << " at (" << x.x << ", " << x.y << ", " << x.z << ") m";
+  }
+}
 
 sim::ParticleSet floor_layer(float from, float to) {
   sim::ParticleSet set;

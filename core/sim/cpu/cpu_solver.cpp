@@ -12,7 +12,7 @@ CpuSolver::CpuSolver(Scene scene, const SolverParams& params, std::shared_ptr<Fo
       kernels_(fluid().kernel_radius),
       grid_(tank(), fluid().kernel_radius) {
   inner_tank_ = inner_tank();
-  wall_fluid_box_ = wall_fluid_box();
+  wall_fluid_box_ = fluid().wall_fluid_box(tank());
   load_particles(this->scene().particles);
 }
 

@@ -110,8 +110,8 @@ class CpuSolver : public Solver {
   NeighbourList neighbours_;
 
  private:
-  Box inner_tank_;  // inner_tank(), kept: every particle is constrained to it every pass
-  Box wall_fluid_box_;  // wall_fluid_box(), kept: every density reads it
+  Box inner_tank_;      // inner_tank(), kept: every particle is constrained to it every pass
+  Box wall_fluid_box_;  // fluid().wall_fluid_box(tank()), kept: every density reads it
   float time_into_step_ = 0.0f;
   std::vector<glm::vec3> reorder_scratch_;
   std::vector<std::uint32_t> id_scratch_;

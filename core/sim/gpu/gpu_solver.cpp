@@ -348,8 +348,9 @@ SimParams GpuSolver::step_params() const {
   SimParams p{};
   set_addresses(p);
 
-  p.wall_fluid_min = glm::vec4(wall_fluid_box().min, 0.0f);
-  p.wall_fluid_max = glm::vec4(wall_fluid_box().max, 0.0f);
+  const Box wall_fluid = fluid().wall_fluid_box(tank());
+  p.wall_fluid_min = glm::vec4(wall_fluid.min, 0.0f);
+  p.wall_fluid_max = glm::vec4(wall_fluid.max, 0.0f);
   p.inner_min = glm::vec4(inner_tank().min, 0.0f);
   p.inner_max = glm::vec4(inner_tank().max, 0.0f);
   p.gravity = glm::vec4(gravity(), 0.0f);

@@ -19,7 +19,7 @@ class ParticleSource {
 
   ParticleView view_of(const sim::Solver& solver);
   // Copies particles up (what view_of does for a CPU solver, with its densities ρ/ρ0 measured
-  // by sim::measure_densities, which leaves out the walls' share).
+  // by sim::measure_densities, walls included, as the GPU solver's are).
   ParticleView upload(const sim::ParticleSet& particles, float radius,
                       std::span<const float> density_ratio = {});
 

@@ -1,6 +1,7 @@
 // The constants a simulation derives from its particle spacing and tunables.
 #pragma once
 
+#include "fluidcast/sim/particles.h"
 #include "fluidcast/sim/solver_params.h"
 
 namespace fluidcast::sim {
@@ -30,6 +31,10 @@ struct FluidConstants {
 
   float particle_radius() const { return 0.5f * spacing; }
   float rest_volume() const { return particle_mass / rest_density; }
+  // What the walls' fluid at rest lies outside of: `tank` grown by wall_offset.
+  Box wall_fluid_box(const Box& tank) const {
+    return {tank.min - glm::vec3(wall_offset), tank.max + glm::vec3(wall_offset)};
+  }
 };
 
 // The mass makes a cubic lattice of spacing d sum to exactly ρ0 with the poly6 kernel, so a scene

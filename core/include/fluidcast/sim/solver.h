@@ -137,8 +137,6 @@ class Solver {
   const Box& tank() const { return scene_.tank; }
   // Where particle centres may be: the tank shrunk by a particle radius.
   Box inner_tank() const;
-  // What the walls' fluid at rest lies outside of: the tank grown by fluid().wall_offset.
-  Box wall_fluid_box() const;
   const SolverParams& params() const { return params_; }
   const FluidConstants& fluid() const { return fluid_; }
   const StageTimes& stage_times() const { return stage_times_; }

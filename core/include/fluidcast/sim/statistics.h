@@ -23,7 +23,8 @@ struct FluidStatistics {
   std::size_t non_finite = 0;      // particles with a NaN or infinite position or velocity
 };
 
-// ρ_i = m Σ_j W_poly6(|x_i − x_j|) over all particles within h, itself included.
+// ρ_i = m Σ_j W_poly6(|x_i − x_j|) over all particles within h, itself included, plus what the
+// tank's walls add (Kernels::walls): the density each solver holds at ρ0.
 std::vector<float> measure_densities(const ParticleSet& particles, const FluidConstants& fluid,
                                      const Box& tank);
 
