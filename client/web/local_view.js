@@ -55,7 +55,8 @@ class LocalCamera {
       const x = dot(p, right), y = dot(p, up), z = dot(p, back);
       needed = Math.max(needed, z + Math.abs(x) * 1.08 / tanX, z + Math.abs(y) * 1.08 / tanY);
     }
-    this.distance = Math.max(needed, this.limits(tank).minDistance);
+    this.distance = needed;
+    this.clamp(tank);  // a sliver of a frame would need the camera kilometres back
   }
 
   // Outside the tank, within 16 of its radii, pitch 0 to 89° (orbit_limits).

@@ -71,7 +71,10 @@ void OrbitCamera::fit(const sim::Box& tank, float aspect) {
     needed = std::max(
         {needed, c.z + std::abs(c.x) * kMargin / tan_x, c.z + std::abs(c.y) * kMargin / tan_y});
   }
-  distance = std::max(needed, orbit_limits(tank).min_distance);
+  // A frame a few pixels wide would need the camera kilometres back: it stays within the orbit's
+  // reach and shows what fits.
+  const OrbitLimits limits = orbit_limits(tank);
+  distance = std::clamp(needed, limits.min_distance, limits.max_distance);
 }
 
 OrbitLimits orbit_limits(const sim::Box& tank) {

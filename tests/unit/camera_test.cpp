@@ -48,6 +48,20 @@ TEST(OrbitCamera, FitShowsTheWholeTankInAnyFrameShape) {
   EXPECT_GT(portrait.distance, 1.5f * landscape.distance);
 }
 
+// A client may ask for any frame from 1 pixel up to the server's limits: a sliver 1 pixel wide and
+// 2160 tall would need the camera 5 km back to show the whole tank; it stops at the orbit's reach,
+// a camera the renderer accepts.
+TEST(OrbitCamera, FitStaysWithinTheOrbitsReachForASliverOfAFrame) {
+  const OrbitLimits limits = orbit_limits(kTank);
+  for (float aspect : {1.0f / 2160.0f, 2160.0f}) {
+    OrbitCamera camera;
+    camera.fit(kTank, aspect);
+    EXPECT_LE(camera.distance, limits.max_distance) << "aspect " << aspect;
+    EXPECT_GE(camera.distance, limits.min_distance) << "aspect " << aspect;
+    EXPECT_NO_THROW(camera.validate()) << "aspect " << aspect;
+  }
+}
+
 TEST(OrbitCamera, LimitsKeepTheCameraOutsideTheTankAndAboveItsMiddle) {
   const OrbitLimits limits = orbit_limits(kTank);
   OrbitCamera camera;

@@ -29,7 +29,7 @@ struct OrbitCamera {
 
   // Looks at the middle of `tank` from just far enough that all of it shows, with a margin, in a
   // frame of `aspect` (width / height; a portrait phone's too), at the present yaw, pitch and
-  // field of view.
+  // field of view; never nearer or farther than orbit_limits(tank) allow.
   void fit(const sim::Box& tank, float aspect);
 };
 
