@@ -33,7 +33,7 @@ Image::Image(Context& context, std::uint32_t width, std::uint32_t height, VkForm
   image_ = UniqueImage(device, raw);
   VkMemoryRequirements requirements;
   vkGetImageMemoryRequirements(device, raw, &requirements);
-  memory_ = context.memory().allocate(requirements, MemoryDomain::device);
+  memory_ = context.memory().allocate(requirements, MemoryDomain::device, Resource::optimal_image);
   FLUIDCAST_VK_CHECK(vkBindImageMemory(device, raw, memory_.memory(), memory_.offset()));
 
   VkImageViewCreateInfo view_info{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};

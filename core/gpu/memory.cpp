@@ -27,9 +27,21 @@ void Allocation::release() {
   mapped_ = nullptr;
 }
 
+VkMemoryRequirements requirements_for(const VkMemoryRequirements& requirements, Resource resource,
+                                      VkDeviceSize granularity) {
+  if (resource == Resource::buffer || granularity <= 1) return requirements;
+  VkMemoryRequirements whole_pages = requirements;
+  whole_pages.alignment = std::max(requirements.alignment, granularity);
+  whole_pages.size = (requirements.size + granularity - 1) / granularity * granularity;
+  return whole_pages;
+}
+
 MemoryAllocator::MemoryAllocator(VkDevice device, VkPhysicalDevice physical_device)
     : device_(device) {
   vkGetPhysicalDeviceMemoryProperties(physical_device, &properties_);
+  VkPhysicalDeviceProperties device_properties;
+  vkGetPhysicalDeviceProperties(physical_device, &device_properties);
+  granularity_ = std::max<VkDeviceSize>(device_properties.limits.bufferImageGranularity, 1);
 }
 
 MemoryAllocator::~MemoryAllocator() = default;
@@ -64,8 +76,9 @@ std::uint32_t MemoryAllocator::pick_type(std::uint32_t allowed_types, MemoryDoma
       VK_ERROR_FEATURE_NOT_PRESENT);
 }
 
-Allocation MemoryAllocator::allocate(const VkMemoryRequirements& requirements,
-                                     MemoryDomain domain) {
+Allocation MemoryAllocator::allocate(const VkMemoryRequirements& asked, MemoryDomain domain,
+                                     Resource resource) {
+  const VkMemoryRequirements requirements = requirements_for(asked, resource, granularity_);
   const std::uint32_t type = pick_type(requirements.memoryTypeBits, domain);
   const VkDeviceSize alignment = std::max<VkDeviceSize>(requirements.alignment, 1);
   std::lock_guard lock(mutex_);

@@ -303,11 +303,12 @@ void FrameRenderer::record(VkCommandBuffer commands, RendererKind kind,
   slot.projection = frame.projection;
   // The solver's writes (compute, transfers) before this frame reads the particles in place; and
   // the previous frame's reads of what frames share (the per-pixel buffers, the anisotropy's
-  // grid and ellipsoids, the particle passes' queue) before this one writes them.
+  // grid and ellipsoids, the particle passes' queue) before this one writes them; and the previous
+  // frame's writes of those before this one's writes (write after write needs the memory made
+  // available, not only the order).
   memory_barrier(commands, kCompute | kTransfer | kDrawStages | kIndirect,
                  VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
-                 kDrawStages | kTransfer | kCompute,
-                 VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
+                 kDrawStages | kTransfer | kCompute, kShaderAccess | VK_ACCESS_TRANSFER_WRITE_BIT);
   vkCmdUpdateBuffer(commands, frame_params_.get(), 0, sizeof(frame), &frame);
   memory_barrier(commands, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, kDrawStages | kCompute,
                  kShaderAccess);

@@ -50,7 +50,21 @@ Session::Session(std::string id, std::string creator, SessionSetup setup, Sessio
   rebuild(setup);
 }
 
-Session::~Session() = default;
+Session::~Session() {
+  try {
+    if (solver_) retire_solver(std::move(solver_));
+  } catch (const std::exception&) {
+    // The steps could not be submitted (a lost device, no memory to record with): the solver
+    // goes with the session, rather than be retired while steps it queued wait.
+  }
+}
+
+void Session::retire_solver(std::unique_ptr<sim::Solver> solver) {
+  // Frames in flight still read its particles; steps it queued go first, so that none is recorded
+  // after it is retired (gpu_step_batch.h).
+  services_.steps->submit();
+  services_.context->retire(std::move(solver));
+}
 
 void Session::send_frames(FrameWait wait) {
   for (auto& [id, viewer] : viewers_) {
@@ -100,11 +114,8 @@ void Session::rebuild(SessionSetup setup) {
             ? sim::make_gpu_solver(setup.solver, *services_.context, std::move(built), params,
                                    services_.steps)
             : sim::make_cpu_solver(setup.solver, std::move(built), params, services_.cpu_threads);
-    // Frames in flight still read the old one's particles; steps it queued go first, so that
-    // none is recorded after it is retired (gpu_step_batch.h).
     if (solver_) {
-      services_.steps->submit();
-      services_.context->retire(std::exchange(solver_, std::move(solver)));
+      retire_solver(std::exchange(solver_, std::move(solver)));
     } else {
       solver_ = std::move(solver);
     }

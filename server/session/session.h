@@ -59,7 +59,7 @@ class Session {
   // From any thread: a validated message of a viewer's stream, applied at the next tick.
   void post(std::uint32_t viewer, v1::ClientMessage message);
 
-  // The rest on the worker's thread.
+  // The rest, and the destructor, on the worker's thread.
   // Adds a viewer that may do what `access` allows; returns its id.
   std::uint32_t add_viewer(const v1::Hello& hello, std::shared_ptr<ViewerSink> sink, Access access);
   // The viewer, connected or recently departed, whose resume key `key` is.
@@ -117,6 +117,8 @@ class Session {
  private:
   std::uint32_t admit(const v1::Hello& hello, std::shared_ptr<ViewerSink> sink, Seat seat);
   void rebuild(SessionSetup setup);
+  // Hands `solver` to the context, to be destroyed after the frames that read its particles.
+  void retire_solver(std::unique_ptr<sim::Solver> solver);
   // Applies the newest scene, solver or count wish, or a reset, at most once per interval and
   // not while the time of the last one is still being repaid.
   void apply_rebuilds(Clock::time_point now);

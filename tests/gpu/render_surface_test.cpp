@@ -258,6 +258,28 @@ TEST_F(RenderTest, PointsColouredByDensity) {
                std::invalid_argument);
 }
 
+// A fluid on the GPU that has not stepped since it was loaded (a new session's first frame, a
+// paused one after a snapshot) shows rest density, not whatever its new memory held.
+TEST_F(RenderTest, AnUnsteppedGpuFluidIsColouredAtRestDensity) {
+  sim::SceneParams scene;
+  scene.kind = sim::SceneKind::pool;
+  scene.particles = 2000;
+  auto solver = sim::make_gpu_solver(sim::SolverKind::pbf, context(), sim::build_scene(scene), {});
+  FrameRenderer renderer(context(), 240, 135);
+  renderer.points.colour_by = PointsStyle::ColourBy::density;
+  const OrbitCamera camera = camera_on(solver->tank(), 2.2f);
+  ParticleSource in_place(context());
+  const auto unstepped = rgba(
+      renderer.render(RendererKind::points, in_place.view_of(*solver), solver->tank(), camera));
+  const sim::ParticleSet particles = solver->snapshot();
+  ParticleSource uploaded(context());
+  const std::vector<float> at_rest(particles.size(), 1.0f);
+  const auto expected = rgba(renderer.render(
+      RendererKind::points, uploaded.upload(particles, solver->fluid().particle_radius(), at_rest),
+      solver->tank(), camera));
+  EXPECT_EQ(pixels_differing(unstepped, expected), 0u);
+}
+
 TEST_F(RenderTest, StrongerAbsorptionDarkensTheWater) {
   auto pool = drop_of(3000);
   ParticleSource source(context());

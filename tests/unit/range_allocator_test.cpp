@@ -5,6 +5,8 @@
 #include <random>
 #include <vector>
 
+#include "fluidcast/gpu/memory.h"
+
 namespace fluidcast::gpu {
 namespace {
 
@@ -63,6 +65,40 @@ TEST(RangeAllocator, RandomUseNeverOverlapsAndEndsEmpty) {
   EXPECT_TRUE(ranges.empty());
   EXPECT_EQ(ranges.free_bytes(), 1u << 16);
   EXPECT_EQ(ranges.allocate(1 << 16, 1), 0u);
+}
+
+// Buffers and images of any sizes and alignments in one block, images allocated as the allocator
+// asks for them: no page of bufferImageGranularity holds both a buffer's bytes and an image's.
+TEST(RangeAllocator, ImagesAndBuffersNeverShareAGranularityPage) {
+  constexpr VkDeviceSize kGranularity = 1024;
+  RangeAllocator ranges(4 << 20);
+  std::mt19937 random(2);
+  struct Range {
+    VkDeviceSize first, last;  // bytes [first, last]
+    bool image;
+  };
+  std::vector<Range> live;
+  const auto page = [](VkDeviceSize byte) { return byte / kGranularity; };
+  for (int k = 0; k < 400; ++k) {
+    const bool image = random() % 2 == 0;
+    VkMemoryRequirements asked{};
+    asked.size = 1 + random() % 3000;
+    asked.alignment = VkDeviceSize{1} << (random() % 9);
+    const VkMemoryRequirements given =
+        requirements_for(asked, image ? Resource::optimal_image : Resource::buffer, kGranularity);
+    EXPECT_GE(given.size, asked.size);
+    EXPECT_EQ(given.alignment % asked.alignment, 0u);
+    const auto offset = ranges.allocate(given.size, given.alignment);
+    ASSERT_TRUE(offset.has_value());
+    const Range placed{*offset, *offset + asked.size - 1, image};
+    for (const Range& other : live) {
+      if (other.image == placed.image) continue;
+      ASSERT_TRUE(page(placed.last) < page(other.first) || page(other.last) < page(placed.first))
+          << (image ? "an image" : "a buffer") << " at " << placed.first << " shares a page with "
+          << (image ? "a buffer" : "an image") << " at " << other.first;
+    }
+    live.push_back(placed);
+  }
 }
 
 }  // namespace

@@ -183,6 +183,9 @@ void GpuSolver::upload_particles(const ParticleSet& particles) {
     allocate(std::max(n, grown));
   }
   std::vector<glm::vec4> positions(n), velocities(n);
+  // Until the first step measures them, the particles show rest density (a scene starts there):
+  // a paused fluid's frames, or a new one's first, read these.
+  const std::vector<float> at_rest(n, 1.0f);
   float largest_speed2 = 0.0f;
   for (std::size_t i = 0; i < n; ++i) {
     positions[i] = glm::vec4(particles.position[i], 0.0f);
@@ -193,7 +196,8 @@ void GpuSolver::upload_particles(const ParticleSet& particles) {
   const gpu::Upload uploads[] = {
       {buffers_.position, std::as_bytes(std::span<const glm::vec4>(positions))},
       {buffers_.velocity, std::as_bytes(std::span<const glm::vec4>(velocities))},
-      {buffers_.id, std::as_bytes(std::span<const std::uint32_t>(particles.id))}};
+      {buffers_.id, std::as_bytes(std::span<const std::uint32_t>(particles.id))},
+      {buffers_.density_ratio, std::as_bytes(std::span<const float>(at_rest))}};
   gpu::upload_all(*context_, uploads);
   count_ = n;
   largest_speed_ = std::sqrt(largest_speed2);

@@ -20,6 +20,16 @@ enum class MemoryDomain {
   readback,  // GPU writes, host reads: snapshots, statistics, frames; mapped and cached if possible
 };
 
+// What a range holds. Linear resources (buffers) and optimal-tiling images must not share a
+// page of bufferImageGranularity (1 KiB on NVIDIA's GPUs; lavapipe's is smaller), or they may
+// alias.
+enum class Resource { buffer, optimal_image };
+
+// `requirements` as allocated for `resource`: an image's range whole pages of `granularity`, so
+// no buffer lands on a page of it.
+VkMemoryRequirements requirements_for(const VkMemoryRequirements& requirements, Resource resource,
+                                      VkDeviceSize granularity);
+
 class MemoryAllocator;
 
 // One sub-allocated range; returns itself to its block when destroyed.
@@ -63,7 +73,8 @@ class MemoryAllocator {
   // empty, one per memory type is kept for the next request. Every block allows buffer device
   // addresses. Throws VulkanError (VK_ERROR_OUT_OF_DEVICE_MEMORY and the like) when memory runs
   // out.
-  Allocation allocate(const VkMemoryRequirements& requirements, MemoryDomain domain);
+  Allocation allocate(const VkMemoryRequirements& requirements, MemoryDomain domain,
+                      Resource resource = Resource::buffer);
 
   // How many blocks of memory are allocated now, and how many vkAllocateMemory calls so far.
   std::size_t block_count() const;
@@ -82,6 +93,7 @@ class MemoryAllocator {
 
   VkDevice device_;
   VkPhysicalDeviceMemoryProperties properties_{};
+  VkDeviceSize granularity_ = 1;  // bufferImageGranularity
   mutable std::mutex mutex_;
   std::vector<Block> blocks_;
   std::uint64_t allocations_made_ = 0;
