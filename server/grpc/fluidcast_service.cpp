@@ -8,12 +8,15 @@
 namespace fluidcast::server {
 namespace {
 
-// The token and the key a snapshot call gives; a refusal finishes the call (true).
-bool refused(grpc::ServerUnaryReactor* reactor, const std::string& given,
-             const std::optional<std::string>& token, const std::string& key, const char* field) {
+// The token and the key a snapshot call gives, in the fields named; a refusal finishes the call
+// (true).
+template <class Request>
+bool refused(grpc::ServerUnaryReactor* reactor, const Request& request,
+             const std::optional<std::string>& token, const char* token_field,
+             const char* key_field) {
   try {
-    validate_token(given, token);
-    validate_key(key, field);
+    validate_token(request.token(), token, token_field);
+    validate_key(request.key(), key_field);
     return false;
   } catch (const Refusal& refusal) {
     reactor->Finish(to_status(refusal));
@@ -37,42 +40,50 @@ grpc::ServerUnaryReactor* FluidcastService::GetServerInfo(grpc::CallbackServerCo
   return reactor;
 }
 
-grpc::ServerUnaryReactor* FluidcastService::GetSnapshot(grpc::CallbackServerContext* context,
+grpc::ServerUnaryReactor* FluidcastService::GetSnapshot(grpc::CallbackServerContext*,
                                                         const v1::SnapshotRequest* request,
                                                         v1::Snapshot* reply) {
-  auto* reactor = context->DefaultReactor();
-  if (refused(reactor, request->token(), hub_->token(), request->key(), "SnapshotRequest.key")) {
-    return reactor;
+  auto* call = new SnapshotCall(snapshot_keys_);  // deletes itself in OnDone
+  if (refused(call, *request, hub_->token(), "SnapshotRequest.token", "SnapshotRequest.key") ||
+      !call->hold(request->key(), "SnapshotRequest.key")) {
+    return call;
   }
-  hub_->snapshot(request->key(), [reactor, reply](std::optional<v1::Snapshot> snapshot,
-                                                  std::optional<Refusal> refusal) {
+  hub_->snapshot(request->key(), [call, reply](std::optional<v1::Snapshot> snapshot,
+                                               std::optional<Refusal> refusal) {
     if (refusal) {
-      reactor->Finish(to_status(*refusal));
+      call->answer(to_status(*refusal));
       return;
     }
     *reply = std::move(*snapshot);
-    reactor->Finish(grpc::Status::OK);
+    call->answer(grpc::Status::OK);
   });
-  return reactor;
+  return call;
 }
 
-grpc::ServerUnaryReactor* FluidcastService::PutSnapshot(grpc::CallbackServerContext* context,
+grpc::ServerUnaryReactor* FluidcastService::PutSnapshot(grpc::CallbackServerContext*,
                                                         const v1::PutSnapshotRequest* request,
                                                         v1::PutSnapshotReply* reply) {
-  auto* reactor = context->DefaultReactor();
-  if (refused(reactor, request->token(), hub_->token(), request->key(), "PutSnapshotRequest.key")) {
-    return reactor;
+  auto* call = new SnapshotCall(snapshot_keys_);  // deletes itself in OnDone
+  if (refused(call, *request, hub_->token(), "PutSnapshotRequest.token",
+              "PutSnapshotRequest.key")) {
+    return call;
   }
+  if (!request->has_snapshot()) {
+    call->Finish(to_status(
+        Refusal(RefusalCode::invalid_argument, "PutSnapshotRequest.snapshot is missing")));
+    return call;
+  }
+  if (!call->hold(request->key(), "PutSnapshotRequest.key")) return call;
   hub_->load(request->key(), request->snapshot(),
-             [reactor, reply](std::uint32_t particles, std::optional<Refusal> refusal) {
+             [call, reply](std::uint32_t particles, std::optional<Refusal> refusal) {
                if (refusal) {
-                 reactor->Finish(to_status(*refusal));
+                 call->answer(to_status(*refusal));
                  return;
                }
                reply->set_particles(particles);
-               reactor->Finish(grpc::Status::OK);
+               call->answer(grpc::Status::OK);
              });
-  return reactor;
+  return call;
 }
 
 }  // namespace fluidcast::server

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "fluidcast/v1/fluidcast.grpc.pb.h"
+#include "grpc/snapshot_call.h"
 #include "session/session_hub.h"
 
 namespace fluidcast::server {
@@ -30,6 +31,7 @@ class FluidcastService final
 
  private:
   SessionHub* hub_;
+  KeysInFlight snapshot_keys_;
 };
 
 }  // namespace fluidcast::server

@@ -7,6 +7,7 @@
 #include <mutex>
 #include <string>
 
+#include "session/input_rules.h"
 #include "session/outgoing_messages.h"
 #include "status.h"
 
@@ -148,6 +149,15 @@ void StreamReactor::OnReadDone(bool ok) {
   if (!viewer_) {  // the first message: whatever it is, the deadline has been met
     sink_->hello_came();
     hello_deadline_.Cancel();
+  }
+  // gRPC takes messages as large as a snapshot (PutSnapshot); a stream's are never that large, and
+  // one is refused before it is parsed.
+  if (incoming_.Length() > kMaxClientMessageBytes) {
+    refuse(Refusal(RefusalCode::resource_exhausted,
+                   "a Stream message of " + std::to_string(incoming_.Length()) +
+                       " bytes: over the " + std::to_string(kMaxClientMessageBytes / 1024) +
+                       " KiB the largest ClientMessage can be"));
+    return;
   }
   try {
     auto next = [this] {

@@ -27,6 +27,7 @@ v1::InputRules input_rules(bool mc_drawable) {
   rules.set_pointer_ids(kPointerIds);
   rules.set_max_jpeg_quality(kMaxJpegQuality);
   rules.set_max_state_particles(kMaxStateParticles);
+  set(*rules.mutable_snapshot_seconds(), 0.0, kMaxSnapshotSeconds);
   for (auto name : sim::scene_names()) rules.add_scenes(std::string(name));
   for (auto name : sim::solver_names()) rules.add_solvers(std::string(name));
   // A viewer that asks for a renderer the device cannot draw gets SSFR (Frame.renderer).

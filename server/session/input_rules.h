@@ -4,6 +4,7 @@
 // and the renderer's.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #include "fluidcast/v1/fluidcast.pb.h"
@@ -21,6 +22,12 @@ inline constexpr std::uint32_t kMaxJpegQuality = 100;
 // particle, so that a WebSocket message stays small. Larger ones use GetSnapshot and PutSnapshot.
 inline constexpr std::uint32_t kMaxStateParticles = 16384;
 inline constexpr std::uint32_t kStateRequestsPerSecond = 4;
+// The largest ClientMessage a stream takes, bytes: a Hello carrying the largest state (24 bytes a
+// particle), and room for the rest; every other message is well under 1 KiB.
+inline constexpr std::size_t kMaxClientMessageBytes = 24 * kMaxStateParticles + 64 * 1024;
+// A snapshot's simulated time, s: about 30 years, beyond any session's, and far within the range
+// where a step still moves a double's clock.
+inline constexpr double kMaxSnapshotSeconds = 1e9;
 
 // The table as clients receive it; `mc_drawable`: the device draws Marching Cubes (else it is not
 // offered).

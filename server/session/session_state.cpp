@@ -4,6 +4,7 @@
 #include "fluidcast/sim/param_spec.h"
 #include "input_rules.h"
 #include "session.h"
+#include "validation.h"
 
 namespace fluidcast::server {
 namespace {
@@ -30,9 +31,11 @@ Particles checked_particles(const v1::Snapshot& snapshot, std::uint32_t max_part
                   "Snapshot: positions and velocities need three values per particle each");
   }
   const std::size_t count = static_cast<std::size_t>(values / 3);
+  if (count == 0) throw Refusal(RefusalCode::invalid_argument, "Snapshot has no particles");
   if (count > max_particles) {
     throw Refusal(RefusalCode::resource_exhausted,
-                  std::to_string(count) + " particles are more than this server's limit of " +
+                  "Snapshot: " + std::to_string(count) +
+                      " particles are more than this server's limit of " +
                       std::to_string(max_particles));
   }
   Particles particles{std::vector<glm::vec3>(count), std::vector<glm::vec3>(count)};
@@ -104,9 +107,7 @@ std::uint32_t Session::load(const v1::Snapshot& snapshot) {
       throw Refusal(RefusalCode::invalid_argument, "Snapshot: gravity is not finite or too large");
     }
   }
-  if (!(std::isfinite(snapshot.time()) && snapshot.time() >= 0.0)) {
-    throw Refusal(RefusalCode::invalid_argument, "Snapshot: time must be finite, not negative");
-  }
+  validate_snapshot_time(snapshot.time(), "Snapshot.time");
   const glm::vec3 gravity_before = solver_->gravity();
   try {
     // Gravity first: the substep rule starts from the new fluid's weight along it.
@@ -118,6 +119,7 @@ std::uint32_t Session::load(const v1::Snapshot& snapshot) {
   }
   forget_costs();  // another count: another cost
   solver_->set_time(snapshot.time());
+  speed_.restart();  // the clock jumped: no speed is measured across it
   return static_cast<std::uint32_t>(particles.position.size());
 }
 

@@ -13,9 +13,11 @@ class SimSpeed {
   // The window the speed is averaged over.
   static constexpr Clock::duration kWindow = std::chrono::seconds(1);
 
-  // The simulated clock at a tick. A clock that went back (reset, a loaded snapshot) or a pause
-  // starts the measure afresh.
+  // The simulated clock at a tick. A clock that went back (a reset) or a pause starts the measure
+  // afresh.
   void record(Clock::time_point now, double sim_time, bool running);
+  // Starts the measure afresh: the clock was set (a loaded snapshot, which may lie ahead).
+  void restart() { samples_.clear(); }
   // 0 until two ticks of a running simulation have been recorded.
   double speed() const;
 

@@ -19,6 +19,8 @@ std::variant<StreamProtocol::Open, StreamProtocol::Post> StreamProtocol::receive
                   "a message of " + std::to_string(bytes.ByteCount()) +
                       " bytes that is not a fluidcast.v1.ClientMessage");
   }
+  // Fields this server does not know (a newer client's) are not kept while the message waits.
+  message.DiscardUnknownFields();
   if (stage_ == Stage::awaiting_hello) {
     validate_hello(message, *limits_, *token_);
     stage_ = Stage::opening;

@@ -80,9 +80,9 @@ void validate_solver(const std::string& solver, const char* field) {
   validate_name(solver, field, sim::parse_solver);
 }
 
-void validate_particles(std::uint32_t particles, const ServerLimits& limits) {
+void validate_particles(std::uint32_t particles, const ServerLimits& limits, const char* field) {
   if (particles > limits.max_particles) {
-    refuse(RefusalCode::resource_exhausted, text(particles) +
+    refuse(RefusalCode::resource_exhausted, std::string(field) + ": " + text(particles) +
                                                 " particles are more than this server's limit of " +
                                                 text(limits.max_particles) + " per session");
   }
@@ -113,7 +113,8 @@ void validate_camera(const v1::Camera& camera) {
 }
 
 void validate_pointer(const v1::PointerEvent& pointer) {
-  if (pointer.phase() == v1::PointerEvent::PHASE_UNSPECIFIED) {
+  if (pointer.phase() == v1::PointerEvent::PHASE_UNSPECIFIED ||
+      !v1::PointerEvent::Phase_IsValid(pointer.phase())) {
     refuse(RefusalCode::invalid_argument, "PointerEvent.phase must be DOWN, MOVE, UP or CANCEL");
   }
   if (pointer.pointer_id() >= kPointerIds) {
@@ -153,10 +154,8 @@ void validate_state(const v1::Snapshot& state, const ServerLimits& limits) {
            "NewSession.state: " + text(particles) + " particles are more than the " +
                text(kMaxStateParticles) + " a stream carries (InputRules.max_state_particles)");
   }
-  validate_particles(particles, limits);
-  if (!std::isfinite(state.time()) || state.time() < 0.0) {
-    refuse(RefusalCode::invalid_argument, "NewSession.state.time must be finite and not negative");
-  }
+  validate_particles(particles, limits, "NewSession.state");
+  validate_snapshot_time(state.time(), "NewSession.state.time");
 }
 
 void validate_command(const v1::Command& command, const ServerLimits& limits) {
@@ -177,7 +176,7 @@ void validate_command(const v1::Command& command, const ServerLimits& limits) {
       if (command.particles() == 0) {
         refuse(RefusalCode::invalid_argument, "Command.particles must be at least 1");
       }
-      return validate_particles(command.particles(), limits);
+      return validate_particles(command.particles(), limits, "Command.particles");
     case v1::Command::kQuality:
       return validate_quality(command.quality(), limits);
     case v1::Command::kViewport:
@@ -200,12 +199,21 @@ void validate_key(const std::string& key, const char* field) {
   }
 }
 
-void validate_token(const std::string& given, const std::optional<std::string>& token) {
-  check_length(given, "the token");
+void validate_token(const std::string& given, const std::optional<std::string>& token,
+                    const char* field) {
+  check_length(given, field);
   if (token && given != *token) {
-    refuse(RefusalCode::unauthenticated, given.empty()
-                                             ? "this server needs a token: set Hello.token"
-                                             : "the token is not this server's");
+    refuse(RefusalCode::unauthenticated,
+           given.empty() ? "this server needs a token: set " + std::string(field)
+                         : std::string(field) + " is not this server's token");
+  }
+}
+
+void validate_snapshot_time(double seconds, const char* field) {
+  if (!(std::isfinite(seconds) && seconds >= 0.0 && seconds <= kMaxSnapshotSeconds)) {
+    refuse(RefusalCode::invalid_argument, std::string(field) + " must be 0 to " +
+                                              number(static_cast<float>(kMaxSnapshotSeconds)) +
+                                              " seconds");
   }
 }
 
@@ -246,7 +254,7 @@ void validate_hello(const v1::ClientMessage& message, const ServerLimits& limits
     refuse(RefusalCode::failed_precondition, "the first message of a stream must be a Hello");
   }
   const v1::Hello& hello = message.hello();
-  validate_token(hello.token(), token);
+  validate_token(hello.token(), token, "Hello.token");
   if (!hello.has_viewport()) refuse(RefusalCode::invalid_argument, "Hello.viewport is missing");
   validate_viewport(hello.viewport(), limits);
   validate_quality(hello.quality(), limits);
@@ -254,7 +262,7 @@ void validate_hello(const v1::ClientMessage& message, const ServerLimits& limits
     case v1::Hello::kCreate:
       validate_scene(hello.create().scene(), "NewSession.scene");
       validate_solver(hello.create().solver(), "NewSession.solver");
-      validate_particles(hello.create().particles(), limits);
+      validate_particles(hello.create().particles(), limits, "NewSession.particles");
       if (hello.create().has_state()) validate_state(hello.create().state(), limits);
       break;
     case v1::Hello::kJoin:

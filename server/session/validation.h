@@ -27,7 +27,11 @@ void validate_viewport(const v1::Viewport& viewport, const ServerLimits& limits)
 void validate_quality(const v1::Quality& quality, const ServerLimits& limits);
 // A key as a client gives it (join, resume, snapshots): not empty, not overlong.
 void validate_key(const std::string& key, const char* field);
-void validate_token(const std::string& given, const std::optional<std::string>& token);
+// The token a request gives in `field`, when the server has one.
+void validate_token(const std::string& given, const std::optional<std::string>& token,
+                    const char* field);
+// A snapshot's simulated time (InputRules.snapshot_seconds), in `field`.
+void validate_snapshot_time(double seconds, const char* field);
 
 // Input events allowed per second, with a burst of one second's worth: a token bucket.
 class InputRateLimit {

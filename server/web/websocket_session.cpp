@@ -21,10 +21,6 @@ namespace {
 namespace beast = boost::beast;
 namespace websocket = beast::websocket;
 
-// Larger than any valid ClientMessage (a Hello carrying the largest state a stream takes: 24 bytes
-// a particle; everything else is well under 1 KiB); a bigger frame ends the socket before it is
-// buffered.
-constexpr std::size_t kMaxMessageBytes = 24 * kMaxStateParticles + 64 * 1024;
 constexpr std::size_t kReadPiece = 64 * 1024;
 
 // Over a plain connection or a TLS one (Stream: beast::tcp_stream or TlsStream).
@@ -52,7 +48,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
     socket_.set_option(
         websocket::stream_base::timeout{std::chrono::seconds(10), std::chrono::seconds(15), true});
     // A backstop: read() ends a larger message itself, with a StreamEnd, one piece past the limit.
-    socket_.read_message_max(kMaxMessageBytes + 2 * kReadPiece);
+    socket_.read_message_max(kMaxClientMessageBytes + 2 * kReadPiece);
     socket_.binary(true);
     socket_.async_accept(request, [self = shared_from_this()](beast::error_code error) {
       if (!error) self->read();
@@ -87,8 +83,8 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
     std::weak_ptr<WebSocketSession> owner_;
   };
 
-  // A message a piece at a time: one that grows past kMaxMessageBytes is refused with a StreamEnd
-  // before more of it is buffered (Beast's own limit would close the socket without one).
+  // A message a piece at a time: one that grows past kMaxClientMessageBytes is refused with a
+  // StreamEnd before more of it is buffered (Beast's own limit would close the socket without one).
   void read() {
     if (ending_) return;
     socket_.async_read_some(buffer_, kReadPiece,
@@ -106,10 +102,10 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
       leave(goodbye ? Departure::left : Departure::dropped);
       return;
     }
-    if (buffer_.size() > kMaxMessageBytes) {
+    if (buffer_.size() > kMaxClientMessageBytes) {
       buffer_.consume(buffer_.size());
       refuse(Refusal(RefusalCode::resource_exhausted,
-                     "a WebSocket message over " + std::to_string(kMaxMessageBytes / 1024) +
+                     "a WebSocket message over " + std::to_string(kMaxClientMessageBytes / 1024) +
                          " KiB (the largest a ClientMessage can be)"));
       return;
     }

@@ -195,12 +195,53 @@ TEST(ServerTest, SnapshotsMoveAFluidBetweenSessionsAndBadOnesChangeNothing) {
   EXPECT_GE(landed.time(), moved.time());
   EXPECT_NEAR(landed.gravity().x(), moved.gravity().x(), 1e-4f);
 
+  // A fluid put back far ahead of the session's clock (a client ran it locally for a while): the
+  // simulation speed its viewers see is measured from there on, not across the jump.
+  const double ahead = moved.time() + 1000.0;
+  put.mutable_snapshot()->set_time(ahead);
+  {
+    grpc::ClientContext context;
+    ASSERT_TRUE(stub->PutSnapshot(&context, put, &reply).ok());
+  }
+  for (int shown = 0; shown < 10;) {
+    const v1::Frame frame = frame_from(into);
+    if (frame.sim_time() < ahead) continue;  // drawn before the snapshot landed
+    EXPECT_LT(frame.sim_speed(), 10.0f) << "at " << frame.sim_time() << " s";
+    ++shown;
+  }
+
   put.mutable_snapshot()->set_positions(7, std::numeric_limits<float>::quiet_NaN());
   {
     grpc::ClientContext context;
     EXPECT_EQ(stub->PutSnapshot(&context, put, &reply).error_code(),
               grpc::StatusCode::INVALID_ARGUMENT);
   }
+  EXPECT_EQ(into.snapshot().positions_size(), 3 * 800);
+
+  // No snapshot, no particles, or a clock that cannot be a session's: refused, naming the field,
+  // and the fluid stays.
+  const auto put_status = [&](const v1::PutSnapshotRequest& request) {
+    grpc::ClientContext context;
+    return stub->PutSnapshot(&context, request, &reply);
+  };
+  v1::PutSnapshotRequest without = put;
+  without.clear_snapshot();
+  grpc::Status answer = put_status(without);
+  EXPECT_EQ(answer.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(answer.error_message().find("PutSnapshotRequest.snapshot"), std::string::npos)
+      << answer.error_message();
+  without.mutable_snapshot()->set_time(1.0);
+  answer = put_status(without);
+  EXPECT_EQ(answer.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(answer.error_message().find("no particles"), std::string::npos)
+      << answer.error_message();
+  v1::PutSnapshotRequest far_ahead = put;
+  *far_ahead.mutable_snapshot() = moved;
+  far_ahead.mutable_snapshot()->set_time(1e300);
+  answer = put_status(far_ahead);
+  EXPECT_EQ(answer.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(answer.error_message().find("Snapshot.time"), std::string::npos)
+      << answer.error_message();
   EXPECT_EQ(into.snapshot().positions_size(), 3 * 800);
 
   // A key too long to be one is refused without being echoed back.

@@ -156,6 +156,14 @@ TEST(ServerTest, EveryBadInputEndsOnlyItsOwnStreamWithItsStatus) {
   v1::ClientMessage empty;
   EXPECT_EQ(status_after(address, empty).error_code(), grpc::StatusCode::INVALID_ARGUMENT);
 
+  // gRPC takes messages as large as a snapshot; a stream's are at most a Hello with the largest
+  // state (448 KiB).
+  v1::ClientMessage padded;
+  padded.mutable_tilt()->set_y(-9.81f);
+  padded.GetReflection()->MutableUnknownFields(&padded)->AddLengthDelimited(
+      1000, std::string(1 << 20, 'x'));
+  EXPECT_EQ(status_after(address, padded).error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+
   v1::Hello unknown = small_hello();
   unknown.set_join("0123456789abcdef0123456789abcdef");
   EXPECT_EQ(refusal_of(address, unknown), grpc::StatusCode::NOT_FOUND);

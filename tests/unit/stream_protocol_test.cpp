@@ -97,6 +97,20 @@ TEST_F(StreamProtocolTest, InputBeyondItsRateIsResourceExhausted) {
   EXPECT_EQ(refusal.code(), RefusalCode::resource_exhausted);
 }
 
+// Fields this server does not know (a newer client's, or padding) are not kept while a message
+// waits for its session.
+TEST_F(StreamProtocolTest, UnknownFieldsAreDropped) {
+  receive(protocol, hello());
+  protocol.opened(Access::control);
+  v1::ClientMessage padded = tilt();
+  google::protobuf::UnknownFieldSet& unknown =
+      *padded.GetReflection()->MutableUnknownFields(&padded);
+  unknown.AddLengthDelimited(1000, std::string(1000, 'x'));
+  const Received event = receive(protocol, padded);
+  ASSERT_TRUE(std::holds_alternative<StreamProtocol::Post>(event));
+  EXPECT_EQ(std::get<StreamProtocol::Post>(event).message.ByteSizeLong(), tilt().ByteSizeLong());
+}
+
 TEST_F(StreamProtocolTest, ARefusalIsCountedByTransportAndCode) {
   protocol.refused(protocol.no_hello());
   EXPECT_NE(metrics.prometheus_text().find("fluidcast_streams_refused_total{transport="

@@ -172,9 +172,12 @@ TEST(ValidationTest, InputOutOfItsRangeIsRefused) {
   EXPECT_EQ(code_of([&] { validate_event(message, limits, Access::control); }),
             RefusalCode::invalid_argument);
   pointer.set_pointer_id(0);
-  pointer.set_phase(v1::PointerEvent::PHASE_UNSPECIFIED);
-  EXPECT_EQ(code_of([&] { validate_event(message, limits, Access::control); }),
-            RefusalCode::invalid_argument);
+  for (int phase : {int(v1::PointerEvent::PHASE_UNSPECIFIED), 7, -1}) {  // proto3 keeps any value
+    pointer.set_phase(static_cast<v1::PointerEvent::Phase>(phase));
+    EXPECT_EQ(code_of([&] { validate_event(message, limits, Access::control); }),
+              RefusalCode::invalid_argument)
+        << "phase " << phase;
+  }
 
   auto& tilt = *message.mutable_tilt();
   tilt.set_y(-9.81f);
@@ -285,6 +288,24 @@ TEST(ValidationTest, TheAdvertisedRulesAreTheEnforcedOnes) {
     EXPECT_NO_THROW(validate_event(message, limits, Access::control)) << name;
   }
   EXPECT_EQ(input_rules(false).renderers_size(), 3);  // points, ssfr and auto
+  const auto with_state_at = [](double seconds) {
+    v1::ClientMessage message = hello();
+    v1::Snapshot& state = *message.mutable_hello()->mutable_create()->mutable_state();
+    for (int axis = 0; axis < 3; ++axis) {
+      state.add_positions(0.1f);
+      state.add_velocities(0.0f);
+    }
+    state.set_time(seconds);
+    return message;
+  };
+  const v1::Range& seconds = rules.snapshot_seconds();
+  EXPECT_NO_THROW(validate_hello(with_state_at(seconds.min()), limits, std::nullopt));
+  EXPECT_NO_THROW(validate_hello(with_state_at(seconds.max()), limits, std::nullopt));
+  for (double bad : {seconds.max() * 1.01, seconds.min() - 1.0, 1e300}) {
+    EXPECT_EQ(code_of([&] { validate_hello(with_state_at(bad), limits, std::nullopt); }),
+              RefusalCode::invalid_argument)
+        << bad;
+  }
 }
 
 TEST(ValidationTest, TheRateLimitAllowsASecondsBurstThenTheRate) {
