@@ -25,6 +25,7 @@ const state = window.fluidcast = {
   reconnects: 0,
   tilt: null,       // the last gravity sent
   rules: null,      // what inputs may be (Welcome.rules): the menus, pointer ids, the tilt range
+  limits: null,     // the server's limits (Welcome.limits): the largest frame it draws
   mode: 'stream',   // or 'local': simulated in this page (?local, or after the network dropped)
   handoffs: 0,      // times the page continued a streamed fluid by itself
   handoffGapMs: 0,  // the last one's gap: from the last frame streamed to the first drawn here
@@ -42,9 +43,17 @@ let token = localStorage.getItem('fluidcast.token') || '';
 // ?scene=pool&particles=2000&renderer=ssfr&adaptive=0 in the address: what a new session
 // starts with, and how this viewer wants it.
 const query = new URLSearchParams(location.search);
+// ?particles=N is a whole number above 0; anything else leaves the count to the server, and says so.
+const askedParticles = query.get('particles');
+const particlesInAddress = /^[0-9]{1,10}$/.test(askedParticles || '') &&
+    Number(askedParticles) > 0 && Number(askedParticles) < 2 ** 32 ? Number(askedParticles) : 0;
+let addressProblem = askedParticles !== null && particlesInAddress === 0
+    ? `"particles=${askedParticles}" in the address is not a number of particles: the server ` +
+      'chose how many.'
+    : '';
 let wanted = {
   quality: 0, renderer: query.get('renderer') || '', adaptive: query.get('adaptive') !== '0',
-  scene: query.get('scene') || '', particles: Number(query.get('particles')) || 0,
+  scene: query.get('scene') || '', particles: particlesInAddress,
 };
 let paused = false;
 let local = null;  // the LocalMode when this page simulates the fluid itself (?local)
@@ -132,12 +141,16 @@ function send(fields, isInput) {
 
 function viewport() { return pixelSize(page.canvas); }
 
-// Device pixels, capped: a phone's 3× screen does not need 3× the pixels streamed or drawn.
+// Device pixels, capped: a phone's 3× screen does not need 3× the pixels streamed or drawn, and
+// no frame is larger than the server draws (its limits, once it has said them).
 function pixelSize(element) {
   const cssWidth = element.clientWidth, cssHeight = element.clientHeight;
+  const limits = state.limits;
   const scale = Math.min(window.devicePixelRatio || 1, 2,
                          Math.max(cssWidth, cssHeight) > 0 ? 1920 / Math.max(cssWidth, cssHeight) : 1,
-                         Math.min(cssWidth, cssHeight) > 0 ? 1080 / Math.min(cssWidth, cssHeight) : 1);
+                         Math.min(cssWidth, cssHeight) > 0 ? 1080 / Math.min(cssWidth, cssHeight) : 1,
+                         limits && cssWidth > 0 ? limits.maxWidth / cssWidth : 1,
+                         limits && cssHeight > 0 ? limits.maxHeight / cssHeight : 1);
   return { width: Math.max(1, Math.round(cssWidth * scale)),
            height: Math.max(1, Math.round(cssHeight * scale)) };
 }
@@ -196,6 +209,7 @@ function receive(bytes) {
     state.viewerId = message.welcome.viewerId;
     state.access = message.welcome.access;
     state.rules = message.welcome.rules;
+    state.limits = message.welcome.limits;
     fillMenus(state.rules);
     showAccess(state.access);
     retryDelayMs = 500;
@@ -207,6 +221,10 @@ function receive(bytes) {
       sessionLost = false;
       say('The server no longer had the fluid you were watching (it may have restarted): this ' +
           'is a new one.');
+      setTimeout(() => { if (state.connected) say(''); }, 5000);
+    } else if (addressProblem) {
+      say(addressProblem);
+      addressProblem = '';
       setTimeout(() => { if (state.connected) say(''); }, 5000);
     } else {
       say('');

@@ -384,6 +384,22 @@ async function main() {
     await refused.screenshot({ path: path.join(out, 'browser_refused.png') });
     await refused.close();
 
+    // A count in the address that is not one (it would wrap to 4294967291 on the wire): the page
+    // says so in plain words and the server picks the count.
+    const misread = await context.newPage();
+    misread.on('pageerror', (e) => { console.log('page error: ' + e.message); failures++; });
+    await misread.goto(`http://127.0.0.1:${port}/?particles=-5`);
+    await waitFor(misread, () => window.fluidcast.connected, 'a session for particles=-5', 15000);
+    const chosen = await misread.evaluate(() => ({
+      text: document.getElementById('status').textContent,
+      particles: window.fluidcast.particles,
+    }));
+    check(/particles=-5/.test(chosen.text) && /not a number of particles/.test(chosen.text),
+          `a count that is not one is named: "${chosen.text}"`);
+    check(chosen.particles > 0, `and the server chose one (${chosen.particles})`);
+    await misread.screenshot({ path: path.join(out, 'browser_misread_count.png') });
+    await misread.close();
+
     // A page streaming a small session keeps its state; when the server goes away it continues
     // the fluid itself within a frame or two, and when the server is back it hands the fluid
     // back in a new session and streams again.
