@@ -25,17 +25,18 @@ test: build
 	ctest --preset $(PRESET) -j $(JOBS)
 
 # The unit and integration tests built with AddressSanitizer and UndefinedBehaviorSanitizer
-# (build/asan; CI runs it after `make test`). Left out: frame-rate comparisons, the load test and
-# the bound on a server's memory (the sanitizers slow the server several times and hold freed
-# memory in quarantine, which is what those would measure), and the descriptor-exhaustion tests:
-# UBSan checks a virtual call's object by writing it to a pipe, which it cannot open when the
-# process has no descriptors left, and then reports every such call (Boost.System's
-# error_category first) as an invalid vptr. The plain build runs them.
+# (build/asan; CI runs it after `make test`). Left out: frame-rate comparisons, adaptive quality
+# (it reads how late acknowledgements come against the frames' pace; it failed once in five runs
+# on two cores), the load test and the bound on a server's memory (the sanitizers slow the server
+# several times and hold freed memory in quarantine, which is what those would measure), and the
+# descriptor-exhaustion tests: UBSan checks a virtual call's object by writing it to a pipe, which
+# it cannot open when the process has no descriptors left, and then reports every such call
+# (Boost.System's error_category first) as an invalid vptr. The plain build runs them.
 test-sanitized: deps
 	cmake --preset asan
 	cmake --build --preset asan -j $(JOBS)
 	ctest --preset asan -j $(JOBS) -L 'unit|integration' \
-	  -E 'FrameLoopTest|load_8_clients|DoesNotGrowTheServersMemory|WhenDescriptorsRunOut'
+	  -E 'FrameLoopTest|AdaptiveQualityFalls|load_8_clients|DoesNotGrowTheServersMemory|WhenDescriptorsRunOut'
 
 # The server and its integration tests built with ThreadSanitizer (build/tsan; CI runs it after
 # test-sanitized): races in our threads. Races inside gRPC, protobuf and lavapipe, which Debian
