@@ -35,17 +35,15 @@ glm::ivec3 GridGeometry::cell_coords(glm::vec3 p) const {
                     std::isnan(clamped.z) ? 0.0f : clamped.z);
 }
 
-void NeighbourGrid::build(std::span<const glm::vec3> positions) {
+void NeighbourGrid::build(ForkJoinPool& pool, std::span<const glm::vec3> positions) {
   const std::size_t n = positions.size();
   cell_of_particle_.resize(n);
+  pool.for_each(
+      n, [&](std::size_t i) { cell_of_particle_[i] = cell_index(cell_coords(positions[i])); });
   std::fill(cell_start_.begin(), cell_start_.end(), 0u);
 
   // Count: cell_start_[c + 1] holds the count of cell c.
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::uint32_t c = cell_index(cell_coords(positions[i]));
-    cell_of_particle_[i] = c;
-    ++cell_start_[c + 1];
-  }
+  for (std::size_t i = 0; i < n; ++i) ++cell_start_[cell_of_particle_[i] + 1];
   // Exclusive prefix sum over cells.
   for (std::size_t c = 1; c < cell_start_.size(); ++c) cell_start_[c] += cell_start_[c - 1];
   // Scatter, in particle order within each cell (stable).

@@ -12,7 +12,8 @@ std::vector<float> measure_densities(const ParticleSet& particles, const FluidCo
   const Kernels kernels(fluid.kernel_radius);
   const Box wall_fluid = fluid.wall_fluid_box(tank);
   NeighbourGrid grid(tank, fluid.kernel_radius);
-  grid.build(particles.position);
+  ForkJoinPool caller_only(1);
+  grid.build(caller_only, particles.position);
   std::vector<glm::vec3> sorted(particles.size());
   const auto order = grid.order();
   for (std::size_t k = 0; k < order.size(); ++k) sorted[k] = particles.position[order[k]];

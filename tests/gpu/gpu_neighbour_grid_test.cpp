@@ -21,7 +21,8 @@ class GpuNeighbourGridTest : public GpuTest {
  protected:
   void expect_same_as_cpu(const Box& domain, float radius, const std::vector<glm::vec3>& points) {
     NeighbourGrid cpu(domain, radius);
-    cpu.build(points);
+    ForkJoinPool pool(2);
+    cpu.build(pool, points);
 
     const auto n = static_cast<std::uint32_t>(points.size());
     GpuNeighbourGrid gpu_grid(context(), cpu.geometry(), n);

@@ -47,14 +47,14 @@ struct Listed {
 
 Listed list_through_grid(const std::vector<glm::vec3>& points, float radius, unsigned threads,
                          std::uint32_t max_candidates, std::uint32_t max_neighbours) {
+  ForkJoinPool pool(threads);
   NeighbourGrid grid(kDomain, radius);
-  grid.build(points);
+  grid.build(pool, points);
   Listed listed;
   listed.order.assign(grid.order().begin(), grid.order().end());
   listed.sorted = points;
   std::vector<glm::vec3> scratch;
-  apply_order(grid.order(), listed.sorted, scratch);
-  ForkJoinPool pool(threads);
+  apply_order(pool, grid.order(), listed.sorted, scratch);
   listed.list.build(pool, grid, listed.sorted, radius, max_candidates, max_neighbours);
   return listed;
 }
@@ -170,11 +170,12 @@ TEST(FluidConstants, TheCandidateCapIsFourTimesAFluidAtRest) {
 struct Lattice {
   static constexpr float kSpacing = 0.01f;
   explicit Lattice(float ratio)
-      : fluid(derive_fluid_constants(kSpacing, [ratio] {
-          SolverParams params;
-          params.kernel_ratio = ratio;
-          return params;
-        }())),
+      : fluid(derive_fluid_constants(kSpacing,
+                                     [ratio] {
+                                       SolverParams params;
+                                       params.kernel_ratio = ratio;
+                                       return params;
+                                     }())),
         kernels(fluid.kernel_radius) {}
   // What its sites from `lowest` to `highest` (lattice steps, inclusive) add to the density at
   // `site`, as a share of ρ0.
@@ -219,15 +220,15 @@ TEST(FluidConstants, ALatticesEdgesAndCornersReadRestDensity) {
     const Lattice lattice(ratio);
     const FluidConstants& fluid = lattice.fluid;
     const int reach = static_cast<int>(std::ceil(ratio)) + 1;  // lattice steps within h, and one
-    const float far = 1.0f;                                     // m: no wall there
+    const float far = 1.0f;                                    // m: no wall there
     for (const int walled : {2, 3}) {  // the axes with a wall at 0: x, y (and z)
       // Sites within h of every wall of theirs.
       for (int a = 0; (a + 0.5f) * Lattice::kSpacing < fluid.kernel_radius; ++a)
         for (int b = 0; b <= a; ++b)
           for (int c = 0; c <= (walled == 3 ? b : 0); ++c) {
             const glm::ivec3 site(a, b, c);
-            const double particles = lattice.reads_at(
-                site, {0, 0, walled == 3 ? 0 : -reach}, site + glm::ivec3(reach));
+            const double particles =
+                lattice.reads_at(site, {0, 0, walled == 3 ? 0 : -reach}, site + glm::ivec3(reach));
             glm::vec3 near = (glm::vec3(site) + 0.5f) * Lattice::kSpacing + fluid.wall_offset;
             if (walled == 2) near.z = far;
             const double reads = particles + lattice.kernels.walls(near, glm::vec3(far)).volume;
@@ -252,7 +253,8 @@ TEST(FluidConstants, TheNeighbourCapIsTwiceAFluidAtRest) {
 TEST(NeighbourGrid, EmptySet) {
   expect_matches_brute_force({});
   NeighbourGrid grid(kDomain, kRadius);
-  grid.build(std::vector<glm::vec3>{});
+  ForkJoinPool pool(2);
+  grid.build(pool, std::vector<glm::vec3>{});
   EXPECT_TRUE(grid.order().empty());
   EXPECT_EQ(grid.cell_start().back(), 0u);
 }
@@ -293,7 +295,8 @@ TEST(NeighbourGrid, PositionsOutsideTheDomainLandInBorderCells) {
 TEST(NeighbourGrid, OrderIsAStablePermutationSortedByCell) {
   const auto p = random_points(2000, kDomain, 3);
   NeighbourGrid grid(kDomain, kRadius);
-  grid.build(p);
+  ForkJoinPool pool(3);  // cells are found in parallel; the order must not depend on it
+  grid.build(pool, p);
   const auto order = grid.order();
   std::vector<std::uint32_t> sorted(order.begin(), order.end());
   std::sort(sorted.begin(), sorted.end());

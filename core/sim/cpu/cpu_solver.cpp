@@ -45,12 +45,12 @@ std::size_t CpuSolver::erase_particles_in_sphere(glm::vec3 centre, float radius)
 
 void CpuSolver::sort_by(std::vector<glm::vec3>& key,
                         std::initializer_list<std::vector<glm::vec3>*> solver_arrays) {
-  grid_.build(key);
+  grid_.build(*pool_, key);
   const auto order = grid_.order();
-  apply_order(order, particles_.position, reorder_scratch_);
-  apply_order(order, particles_.velocity, reorder_scratch_);
-  apply_order(order, particles_.id, id_scratch_);
-  for (auto* array : solver_arrays) apply_order(order, *array, reorder_scratch_);
+  apply_order(*pool_, order, particles_.position, reorder_scratch_);
+  apply_order(*pool_, order, particles_.velocity, reorder_scratch_);
+  apply_order(*pool_, order, particles_.id, id_scratch_);
+  for (auto* array : solver_arrays) apply_order(*pool_, order, *array, reorder_scratch_);
 }
 
 void CpuSolver::list_neighbours(std::span<const glm::vec3> sorted) {

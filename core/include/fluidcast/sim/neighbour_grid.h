@@ -11,6 +11,7 @@
 #include <span>
 #include <vector>
 
+#include "fluidcast/sim/fork_join_pool.h"
 #include "fluidcast/sim/particles.h"
 
 namespace fluidcast::sim {
@@ -47,8 +48,10 @@ class NeighbourGrid {
   static constexpr int kCellsPerRadius = GridGeometry::kCellsPerRadius;
   static constexpr std::size_t kMaxCells = GridGeometry::kMaxCells;
 
-  // Sorts particles by cell. Positions outside the domain count in the nearest border cell.
-  void build(std::span<const glm::vec3> positions);
+  // Sorts particles by cell: each particle's cell is found on the pool's threads, the counting
+  // and the scatter run on the caller's. Positions outside the domain count in the nearest border
+  // cell.
+  void build(ForkJoinPool& pool, std::span<const glm::vec3> positions);
 
   // order()[k] = index, in the positions given to build(), of the particle at sorted slot k.
   std::span<const std::uint32_t> order() const { return order_; }
@@ -89,10 +92,10 @@ class NeighbourGrid {
 
 // data[k] = old[order[k]] for every k: the one way every per-particle array is reordered.
 template <class T>
-void apply_order(std::span<const std::uint32_t> order, std::vector<T>& data,
+void apply_order(ForkJoinPool& pool, std::span<const std::uint32_t> order, std::vector<T>& data,
                  std::vector<T>& scratch) {
   scratch.resize(data.size());
-  for (std::size_t k = 0; k < order.size(); ++k) scratch[k] = data[order[k]];
+  pool.for_each(order.size(), [&](std::size_t k) { scratch[k] = data[order[k]]; });
   data.swap(scratch);
 }
 
