@@ -284,6 +284,7 @@ sigset_t block_stop_signals() {
 gpu::ContextOptions context_options(const ServerOptions& options) {
   gpu::ContextOptions context = gpu::options_from_environment();
   if (options.device) context.device_index = options.device;
+  context.memory_limit_bytes = std::uint64_t{options.gpu_memory_mib} << 20;
   context.log = [](const std::string& line) { spdlog::info("{}", line); };
   return context;
 }

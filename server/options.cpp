@@ -34,6 +34,12 @@ ServerOptions read_server_options(CLI::App& app, int argc, const char* const* ar
       ->envname("FLUIDCAST_HTTP_PORT");
   app.add_option("--device", o.device, "Vulkan device index (default: the best device present)")
       ->envname("FLUIDCAST_DEVICE");
+  app.add_option("--gpu-memory", o.gpu_memory_mib,
+                 "Most GPU memory the server allocates, MiB (0: as much as the device gives): "
+                 "servers sharing a GPU each keep to theirs. Past it, a session or frame size that "
+                 "needs more is refused (RESOURCE_EXHAUSTED) and the others go on")
+      ->envname("FLUIDCAST_GPU_MEMORY")
+      ->check(CLI::Range(0u, 16u << 20));
   std::string backend = "auto";
   app.add_option("--backend", backend,
                  "Where sessions simulate: gpu, cpu, or auto (gpu on a hardware device, cpu on "

@@ -281,11 +281,14 @@ Context::Context(ContextOptions options) {
     const std::uint32_t chosen = choose_device(physical, infos, options.device_index);
     physical_device_ = physical[chosen];
     info_ = infos[chosen];
+    if (options.memory_limit_bytes > 0)
+      info_.device_local_bytes = std::min(info_.device_local_bytes, options.memory_limit_bytes);
     vkGetPhysicalDeviceProperties(physical_device_, &properties_);
     queue_family_ = *pick_queue_family(physical_device_);
     timestamp_valid_bits_ = timestamp_bits(physical_device_, queue_family_);
     create_device(options.independent_blend);
-    memory_ = std::make_unique<MemoryAllocator>(device_, physical_device_);
+    memory_ =
+        std::make_unique<MemoryAllocator>(device_, physical_device_, options.memory_limit_bytes);
     log("gpu: using device " + info_.describe() + (validation ? ", validation on" : ""));
   } catch (...) {
     release();

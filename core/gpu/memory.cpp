@@ -36,8 +36,9 @@ VkMemoryRequirements requirements_for(const VkMemoryRequirements& requirements, 
   return whole_pages;
 }
 
-MemoryAllocator::MemoryAllocator(VkDevice device, VkPhysicalDevice physical_device)
-    : device_(device) {
+MemoryAllocator::MemoryAllocator(VkDevice device, VkPhysicalDevice physical_device,
+                                 VkDeviceSize limit)
+    : device_(device), limit_(limit) {
   vkGetPhysicalDeviceMemoryProperties(physical_device, &properties_);
   VkPhysicalDeviceProperties device_properties;
   vkGetPhysicalDeviceProperties(physical_device, &device_properties);
@@ -101,6 +102,12 @@ Allocation MemoryAllocator::allocate(const VkMemoryRequirements& asked, MemoryDo
   }
 
   const VkDeviceSize size = std::max(kBlockSize, requirements.size);
+  if (limit_ > 0 && block_bytes_ + size > limit_) {
+    const auto mib = [](VkDeviceSize bytes) { return std::to_string(bytes >> 20) + " MiB"; };
+    throw VulkanError("GPU memory: " + mib(size) + " more would pass the limit of " + mib(limit_) +
+                          " (" + mib(block_bytes_) + " in use)",
+                      VK_ERROR_OUT_OF_DEVICE_MEMORY);
+  }
   VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
   flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
   VkMemoryAllocateInfo info{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO, &flags};
@@ -124,6 +131,7 @@ Allocation MemoryAllocator::allocate(const VkMemoryRequirements& asked, MemoryDo
       std::find_if(blocks_.begin(), blocks_.end(), [](const Block& b) { return !b.ranges; });
   if (slot == blocks_.end()) slot = blocks_.insert(blocks_.end(), Block{});
   *slot = std::move(block);
+  block_bytes_ += size;
   return fill(static_cast<std::size_t>(slot - blocks_.begin()), *offset);
 }
 
@@ -137,7 +145,10 @@ void MemoryAllocator::free(std::size_t index, VkDeviceSize offset) {
   const bool spare_exists = std::any_of(blocks_.begin(), blocks_.end(), [&](const Block& b) {
     return &b != &block && b.ranges && b.type == block.type && b.ranges->empty();
   });
-  if (block.ranges->size() != kBlockSize || spare_exists) block = Block{};  // unmapped and freed
+  if (block.ranges->size() != kBlockSize || spare_exists) {
+    block_bytes_ -= block.ranges->size();
+    block = Block{};  // unmapped and freed
+  }
 }
 
 std::uint64_t MemoryAllocator::allocations_made() const {

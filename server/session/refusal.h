@@ -12,10 +12,10 @@ enum class RefusalCode {
   invalid_argument = 3,
   deadline_exceeded = 4,  // no viewer's input for ServerLimits::idle_timeout, or no Hello in time
   not_found = 5,
-  permission_denied = 7,  // the viewer's key only views, and the request would change the fluid
-  resource_exhausted = 8,
+  permission_denied = 7,   // the viewer's key only views, and the request would change the fluid
+  resource_exhausted = 8,  // a limit, or GPU memory for what the request asks (frames, particles)
   failed_precondition = 9,
-  internal = 13,  // the server failed (out of GPU memory, a device lost): not the client's doing
+  internal = 13,  // the server failed (a device lost): not the client's doing
   unavailable = 14,
   unauthenticated = 16,
 };

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "fluidcast/gpu/vk_check.h"
 #include "fluidcast/render/frame_renderer.h"
 #include "fluidcast/sim/param_spec.h"
 #include "fluidcast/sim/scene.h"
@@ -121,6 +122,13 @@ void Session::rebuild(SessionSetup setup) {
     }
   } catch (const sim::ParamError& e) {
     throw Refusal(RefusalCode::resource_exhausted, e.worded(setup_field_or_setting));
+  } catch (const gpu::VulkanError& e) {  // within the budget, but other sessions hold the memory
+    if (!e.out_of_memory()) throw;
+    throw Refusal(RefusalCode::resource_exhausted,
+                  sim::ParamError("{particles}: the server's GPU has no memory for " +
+                                  std::to_string(setup.particles) + " particles now (" + e.what() +
+                                  "); ask for fewer, or later")
+                      .worded(setup_field_or_setting));
   }
   setup_ = setup;
   forget_costs();  // another count or solver: another cost
@@ -414,12 +422,19 @@ void Session::render(const GpuGrant& grant, Clock::time_point now) {
   // New sizes first, so that each frame is priced at the size it is drawn at. A new renderer's
   // time is the session's: while others are watched it is repaid before this session's next
   // frames, so resizing slows only its own viewers.
+  std::vector<std::uint32_t> unsized;
   for (auto& [id, viewer] : viewers_) {
     const auto resizing = Clock::now();
-    if (viewer->due(now) && viewer->settle_size(now) && grant.contended()) {
-      render_account_.spend(milliseconds_between(resizing, Clock::now()));
+    try {
+      if (viewer->due(now) && viewer->settle_size(now) && grant.contended()) {
+        render_account_.spend(milliseconds_between(resizing, Clock::now()));
+      }
+    } catch (const Refusal& refusal) {  // no GPU memory for its new size
+      viewer->sink().end(refusal);
+      unsized.push_back(id);
     }
   }
+  for (std::uint32_t id : unsized) remove_viewer(id);
   double dearest_frame = 0.0;
   for (auto& [id, viewer] : viewers_) {
     dearest_frame = std::max(dearest_frame, grant.charge(frame_price(*viewer).value_or(0.0)));
@@ -470,6 +485,9 @@ void Session::render(const GpuGrant& grant, Clock::time_point now) {
       viewer->submit(particles, solver_->tank(), std::move(shows), now);
     } catch (const std::invalid_argument& e) {  // this viewer's choice the device cannot draw
       viewer->sink().end(Refusal(RefusalCode::failed_precondition, e.what()));
+      failed.push_back(id);
+    } catch (const Refusal& refusal) {  // no GPU memory for its frames
+      viewer->sink().end(refusal);
       failed.push_back(id);
     }
   }

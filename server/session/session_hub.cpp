@@ -283,6 +283,15 @@ v1::ServerInfo SessionHub::info() const {
 
 void SessionHub::end_failed(Session& session, const std::exception& e) {
   spdlog::error("session {} failed: {}", session.id(), e.what());
+  // Out of GPU memory (other sessions hold it, or --gpu-memory is met): this session's size is
+  // what asked for more; the others go on.
+  const auto* vulkan = dynamic_cast<const gpu::VulkanError*>(&e);
+  if (vulkan && vulkan->out_of_memory()) {
+    session.end_all(Refusal(RefusalCode::resource_exhausted,
+                            std::string("the server's GPU has no memory for this session's ") +
+                                "fluid and frames now (" + e.what() + "); try fewer particles"));
+    return;
+  }
   session.end_all(
       Refusal(RefusalCode::internal, std::string("the session failed on the server: ") + e.what()));
 }

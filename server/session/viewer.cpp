@@ -2,8 +2,27 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
+
+#include "fluidcast/gpu/vk_check.h"
+#include "refusal.h"
 
 namespace fluidcast::server {
+namespace {
+
+// Called while `error` is handled: a GPU out of memory for this viewer's frames is its request's
+// failure, which ends its stream alone; any other (a lost device) is rethrown for the session.
+Refusal refusal_for_frames(const gpu::VulkanError& error, std::uint32_t width,
+                           std::uint32_t height) {
+  if (!error.out_of_memory()) throw;
+  return Refusal(RefusalCode::resource_exhausted,
+                 "Viewport: the server's GPU has no memory for frames of " + std::to_string(width) +
+                     "x" + std::to_string(height) + " now (" + error.what() +
+                     "); ask for a smaller one");
+}
+
+}  // namespace
+
 Viewer::Viewer(gpu::Context& context, std::uint32_t id, Seat seat, const v1::Viewport& viewport,
                const v1::Quality& quality, const ServerLimits& limits,
                std::shared_ptr<ViewerSink> sink)
@@ -35,7 +54,12 @@ bool Viewer::settle_size(Clock::time_point now) {
 }
 
 void Viewer::make_renderer(std::uint32_t width, std::uint32_t height) {
-  auto renderer = std::make_unique<render::FrameRenderer>(*context_, width, height);
+  std::unique_ptr<render::FrameRenderer> renderer;
+  try {
+    renderer = std::make_unique<render::FrameRenderer>(*context_, width, height);
+  } catch (const gpu::VulkanError& e) {
+    throw refusal_for_frames(e, width, height);
+  }
   // Frames go to the JPEG encoder only: converted and subsampled on the GPU.
   renderer->format = render::FrameRenderer::FrameFormat::yuv420;
   if (renderer_) {
@@ -134,7 +158,11 @@ void Viewer::submit(const render::ParticleView& particles, const sim::Box& tank,
   flow_.rendered(now);
   // A renderer the device cannot draw falls back to ssfr, and the frame says so.
   const render::RendererKind kind = renderer_->drawable(renderer_kind_, particles.count);
-  renderer_->submit(kind, particles, tank, camera_);
+  try {
+    renderer_->submit(kind, particles, tank, camera_);  // a renderer makes its passes' targets
+  } catch (const gpu::VulkanError& e) {                 // on first use
+    throw refusal_for_frames(e, render_width_, render_height_);
+  }
   shows.renderer = std::string(render::renderer_name(kind));
   shows.submitted = Clock::now();
   in_flight_.push_back(std::move(shows));

@@ -74,7 +74,9 @@ class Viewer {
 
   // A new frame size (asked for, or chosen by adaptation) takes a new renderer, made here at most
   // once per kResizeEvery, the newest size winning: a client that keeps resizing cannot keep the
-  // worker making renderers. True when it made one (the session charges its time).
+  // worker making renderers. True when it made one (the session charges its time). Throws a
+  // Refusal (RESOURCE_EXHAUSTED) where the GPU has no memory for the new size, as the first
+  // renderer's and submit()'s do: the viewer ends, its session goes on.
   bool settle_size(Clock::time_point now);
   static constexpr auto kResizeEvery = std::chrono::milliseconds(250);
 

@@ -4,6 +4,8 @@
 
 #include <cstdlib>
 #include <numeric>
+#include <optional>
+#include <string>
 
 #include "fluidcast/gpu/memory.h"
 #include "fluidcast/gpu/transfer.h"
@@ -105,6 +107,30 @@ TEST_F(GpuContextTest, SmallBuffersShareABlockAndLargeOnesGetTheirOwn) {
   }
   // At most one empty standard block per memory type stays.
   EXPECT_LE(memory.block_count(), blocks_before + 1);
+}
+
+TEST_F(GpuContextTest, AMemoryLimitRefusesWhatWouldPassItAndCountsWhatIsGivenBack) {
+  constexpr VkDeviceSize kBlock = MemoryAllocator::kBlockSize;
+  ContextOptions options = options_from_environment();
+  options.memory_limit_bytes = 3 * kBlock;
+  options.log = [](const std::string&) {};
+  Context limited(options);
+  EXPECT_LE(limited.info().device_local_bytes, 3 * kBlock);  // what budgets are drawn from
+  std::optional<Buffer> large(std::in_place, limited, 2 * kBlock, MemoryDomain::device);
+  const Buffer small(limited, 4096, MemoryDomain::device);  // a standard block: the limit's last
+  try {
+    const Buffer over(limited, kBlock + 1, MemoryDomain::device);
+    ADD_FAILURE() << "a fourth block's worth was allocated";
+  } catch (const VulkanError& e) {
+    EXPECT_TRUE(e.out_of_memory());
+    EXPECT_NE(std::string(e.what()).find("limit of 192 MiB"), std::string::npos) << e.what();
+  }
+  {
+    const Buffer within(limited, 4096, MemoryDomain::device);  // in the standard block's room
+  }
+  large.reset();  // a block of its own: given back at once
+  EXPECT_NO_THROW(Buffer(limited, kBlock + 1, MemoryDomain::device));
+  EXPECT_TRUE(limited.validation_errors().empty());
 }
 
 // Staging buffers come and go with every upload and snapshot: their memory must not.

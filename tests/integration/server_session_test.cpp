@@ -1,6 +1,7 @@
 // A session's fluid and its viewers on the real server (lavapipe): state and snapshots moved
 // between sessions, viewers sharing and resuming, tilt and drag, tiny sessions, and what flow
-// control does for a viewer that stops reading, never acknowledges, resizes or falls behind.
+// control does for a viewer that stops reading, never acknowledges, resizes or falls behind, and
+// a viewer whose new size finds no GPU memory.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -384,6 +385,38 @@ TEST(ServerTest, ResizesAreCoalescedToAFewASecond) {
   EXPECT_GE(changes, 2);
   EXPECT_LE(changes, 3 * 4 + 1);
   EXPECT_FALSE(stream.ended()) << stream.status().error_message();
+}
+
+// A server held to 64 MiB of GPU memory (--gpu-memory): a viewer whose new frame size needs more
+// ends alone with RESOURCE_EXHAUSTED naming its viewport; its session and the other viewer go
+// on, and a new session asking that size is refused as well.
+TEST(ServerTest, AViewerWhoseNewSizeFindsNoGpuMemoryEndsAloneAndItsSessionGoesOn) {
+  testing::ServerProcess server({"--gpu-memory", "64"});
+  const std::string& address = server.grpc_address();
+  StreamClient first(client::connect(address), small_hello());
+  v1::Hello join = small_hello();
+  join.set_join(first.welcome().access().view_key());
+  StreamClient second(client::connect(address), join);
+  frame_from(first);
+  frame_from(second);
+
+  v1::Command resize;
+  resize.mutable_viewport()->set_width(3840);
+  resize.mutable_viewport()->set_height(2160);
+  first.command(resize);
+  for (int k = 0; k < 300 && !first.ended(); ++k) first.next_frame(milliseconds(100));
+  EXPECT_EQ(first.status().error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+  std::printf("refused: %s\n", first.status().error_message().c_str());
+  EXPECT_NE(first.status().error_message().find("Viewport"), std::string::npos);
+
+  const double before = frame_from(second).sim_time();
+  for (int k = 0; k < 5; ++k) frame_from(second);
+  EXPECT_GT(frame_from(second).sim_time(), before);
+  v1::Hello large = small_hello();
+  large.mutable_viewport()->set_width(3840);
+  large.mutable_viewport()->set_height(2160);
+  EXPECT_EQ(refusal_of(address, large), grpc::StatusCode::RESOURCE_EXHAUSTED);
+  EXPECT_TRUE(second.finish().ok());
 }
 
 // An adaptive viewer whose acknowledgements come late (a slow network): the server lowers JPEG

@@ -53,6 +53,12 @@ struct ContextOptions {
   // Independent blending where the device has it; off, the context runs as on a device without
   // it, so that the renderers' fallback (points) can be tried on any device.
   bool independent_blend = true;
+  // The most device memory the context allocates in all, bytes (0: as much as the device gives):
+  // past it an allocation fails as one the device refused (VK_ERROR_OUT_OF_DEVICE_MEMORY), so
+  // that programs sharing one GPU each keep to their part. DeviceInfo::device_local_bytes of the
+  // chosen device reads no more than it, so that budgets drawn from it (the GPU solver's) keep
+  // within it too.
+  std::uint64_t memory_limit_bytes = 0;
   // Where the context says which device it chose; stderr by default.
   std::function<void(const std::string&)> log;
 };

@@ -64,7 +64,8 @@ class MemoryAllocator {
  public:
   static constexpr VkDeviceSize kBlockSize = VkDeviceSize{64} << 20;
 
-  MemoryAllocator(VkDevice device, VkPhysicalDevice physical_device);
+  // `limit`: the most bytes its blocks may hold in all (0: no limit but the device's).
+  MemoryAllocator(VkDevice device, VkPhysicalDevice physical_device, VkDeviceSize limit = 0);
   ~MemoryAllocator();
   MemoryAllocator(const MemoryAllocator&) = delete;
   MemoryAllocator& operator=(const MemoryAllocator&) = delete;
@@ -72,7 +73,7 @@ class MemoryAllocator {
   // Requests larger than a block get a block of their own, freed with it; of standard blocks that
   // empty, one per memory type is kept for the next request. Every block allows buffer device
   // addresses. Throws VulkanError (VK_ERROR_OUT_OF_DEVICE_MEMORY and the like) when memory runs
-  // out.
+  // out, or when a new block would take its blocks past the limit.
   Allocation allocate(const VkMemoryRequirements& requirements, MemoryDomain domain,
                       Resource resource = Resource::buffer);
 
@@ -94,6 +95,8 @@ class MemoryAllocator {
   VkDevice device_;
   VkPhysicalDeviceMemoryProperties properties_{};
   VkDeviceSize granularity_ = 1;  // bufferImageGranularity
+  VkDeviceSize limit_ = 0;
+  VkDeviceSize block_bytes_ = 0;  // held in blocks now
   mutable std::mutex mutex_;
   std::vector<Block> blocks_;
   std::uint64_t allocations_made_ = 0;

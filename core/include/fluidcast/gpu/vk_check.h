@@ -18,6 +18,11 @@ class VulkanError : public std::runtime_error {
   VulkanError(std::string what, VkResult result)
       : std::runtime_error(std::move(what)), result_(result) {}
   VkResult result() const { return result_; }
+  // The device or the host had no memory for the call (or the context's memory limit was met):
+  // the work that asked fails, the device still serves everything else.
+  bool out_of_memory() const {
+    return result_ == VK_ERROR_OUT_OF_DEVICE_MEMORY || result_ == VK_ERROR_OUT_OF_HOST_MEMORY;
+  }
 
  private:
   VkResult result_;
