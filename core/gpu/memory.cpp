@@ -40,9 +40,14 @@ MemoryAllocator::MemoryAllocator(VkDevice device, VkPhysicalDevice physical_devi
                                  VkDeviceSize limit)
     : device_(device), limit_(limit) {
   vkGetPhysicalDeviceMemoryProperties(physical_device, &properties_);
-  VkPhysicalDeviceProperties device_properties;
-  vkGetPhysicalDeviceProperties(physical_device, &device_properties);
-  granularity_ = std::max<VkDeviceSize>(device_properties.limits.bufferImageGranularity, 1);
+  VkPhysicalDeviceMaintenance3Properties maintenance{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
+  VkPhysicalDeviceProperties2 device_properties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2,
+                                                &maintenance};
+  vkGetPhysicalDeviceProperties2(physical_device, &device_properties);
+  granularity_ =
+      std::max<VkDeviceSize>(device_properties.properties.limits.bufferImageGranularity, 1);
+  largest_allocation_ = maintenance.maxMemoryAllocationSize;
 }
 
 MemoryAllocator::~MemoryAllocator() = default;
@@ -102,8 +107,15 @@ Allocation MemoryAllocator::allocate(const VkMemoryRequirements& asked, MemoryDo
   }
 
   const VkDeviceSize size = std::max(kBlockSize, requirements.size);
+  const auto mib = [](VkDeviceSize bytes) { return std::to_string(bytes >> 20) + " MiB"; };
+  // Past it the driver may fail the allocation or take it and misbehave (the limit is a promise
+  // the application keeps): refused here as the out-of-memory it amounts to.
+  if (size > largest_allocation_) {
+    throw VulkanError("GPU memory: " + mib(size) + " in one piece is more than this device " +
+                          "allocates at once (" + mib(largest_allocation_) + ")",
+                      VK_ERROR_OUT_OF_DEVICE_MEMORY);
+  }
   if (limit_ > 0 && block_bytes_ + size > limit_) {
-    const auto mib = [](VkDeviceSize bytes) { return std::to_string(bytes >> 20) + " MiB"; };
     throw VulkanError("GPU memory: " + mib(size) + " more would pass the limit of " + mib(limit_) +
                           " (" + mib(block_bytes_) + " in use)",
                       VK_ERROR_OUT_OF_DEVICE_MEMORY);

@@ -133,6 +133,28 @@ TEST_F(GpuContextTest, AMemoryLimitRefusesWhatWouldPassItAndCountsWhatIsGivenBac
   EXPECT_TRUE(limited.validation_errors().empty());
 }
 
+// One piece larger than the device allocates at once is refused before the driver sees it, as
+// the out-of-memory it amounts to (a request that fails alone).
+TEST_F(GpuContextTest, MoreThanTheDeviceAllocatesInOnePieceIsOutOfMemory) {
+  VkPhysicalDeviceMaintenance3Properties maintenance{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
+  VkPhysicalDeviceProperties2 properties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2,
+                                         &maintenance};
+  vkGetPhysicalDeviceProperties2(context().physical_device(), &properties);
+  VkMemoryRequirements requirements{};
+  requirements.size = maintenance.maxMemoryAllocationSize + 1;
+  requirements.alignment = 256;
+  requirements.memoryTypeBits = ~0u;
+  try {
+    context().memory().allocate(requirements, MemoryDomain::device);
+    ADD_FAILURE() << "an allocation past maxMemoryAllocationSize was made";
+  } catch (const VulkanError& e) {
+    EXPECT_TRUE(e.out_of_memory());
+    EXPECT_NE(std::string(e.what()).find("in one piece"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(context().validation_errors().empty());
+}
+
 // Staging buffers come and go with every upload and snapshot: their memory must not.
 TEST_F(GpuContextTest, ShortLivedBuffersDoNotAllocateMemoryEachTime) {
   MemoryAllocator& memory = context().memory();

@@ -73,7 +73,8 @@ class MemoryAllocator {
   // Requests larger than a block get a block of their own, freed with it; of standard blocks that
   // empty, one per memory type is kept for the next request. Every block allows buffer device
   // addresses. Throws VulkanError (VK_ERROR_OUT_OF_DEVICE_MEMORY and the like) when memory runs
-  // out, or when a new block would take its blocks past the limit.
+  // out, when a new block would take its blocks past the limit, or for a request larger than the
+  // device allocates in one piece (maxMemoryAllocationSize).
   Allocation allocate(const VkMemoryRequirements& requirements, MemoryDomain domain,
                       Resource resource = Resource::buffer);
 
@@ -96,7 +97,8 @@ class MemoryAllocator {
   VkPhysicalDeviceMemoryProperties properties_{};
   VkDeviceSize granularity_ = 1;  // bufferImageGranularity
   VkDeviceSize limit_ = 0;
-  VkDeviceSize block_bytes_ = 0;  // held in blocks now
+  VkDeviceSize largest_allocation_ = 0;  // maxMemoryAllocationSize
+  VkDeviceSize block_bytes_ = 0;         // held in blocks now
   mutable std::mutex mutex_;
   std::vector<Block> blocks_;
   std::uint64_t allocations_made_ = 0;
