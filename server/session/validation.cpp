@@ -234,9 +234,10 @@ void validate_quality(const v1::Quality& quality, const ServerLimits& limits) {
     refuse(RefusalCode::invalid_argument,
            "Quality.jpeg_quality must be 0 (default) or 1 to " + text(kMaxJpegQuality));
   }
-  if (quality.max_fps() > limits.max_fps) {
-    refuse(RefusalCode::invalid_argument,
-           "Quality.max_fps must be 0 (default) or 1 to " + text(limits.max_fps));
+  if (quality.max_fps() > limits.max_fps) {  // a server limit, as the viewport's size is
+    refuse(RefusalCode::resource_exhausted, "Quality.max_fps " + text(quality.max_fps()) +
+                                                " is beyond this server's limit of " +
+                                                text(limits.max_fps) + " (0: the server's rate)");
   }
   check_length(quality.renderer(), "Quality.renderer");
   if (!quality.renderer().empty()) {

@@ -80,6 +80,10 @@ TEST(ValidationTest, AGoodHelloPassesAndEachBadOneGetsItsCode) {
   quality.mutable_hello()->mutable_quality()->set_jpeg_quality(101);
   EXPECT_EQ(code_of([&] { validate_hello(quality, limits, std::nullopt); }),
             RefusalCode::invalid_argument);
+  auto fast = hello();  // a server limit, as the frame size is
+  fast.mutable_hello()->mutable_quality()->set_max_fps(limits.max_fps + 1);
+  EXPECT_EQ(code_of([&] { validate_hello(fast, limits, std::nullopt); }),
+            RefusalCode::resource_exhausted);
 }
 
 TEST(ValidationTest, AViewOnlyViewerChangesNothingButItsOwnView) {
