@@ -1,6 +1,7 @@
 // Session: its state as clients see it, and snapshots out and in.
 #include <cmath>
 
+#include "fluidcast/gpu/vk_check.h"
 #include "fluidcast/sim/param_spec.h"
 #include "input_rules.h"
 #include "session.h"
@@ -113,9 +114,20 @@ std::uint32_t Session::load(const v1::Snapshot& snapshot) {
     // Gravity first: the substep rule starts from the new fluid's weight along it.
     if (gravity) solver_->set_gravity(*gravity);
     solver_->replace_particles(particles.position, particles.velocity);
+  } catch (const sim::ParamError& e) {  // the checks above passed: more than the GPU solver holds
+    solver_->set_gravity(gravity_before);
+    throw Refusal(RefusalCode::resource_exhausted,
+                  e.worded([](std::string_view) { return std::string("Snapshot"); }));
   } catch (const std::invalid_argument& e) {
     solver_->set_gravity(gravity_before);
     throw Refusal(RefusalCode::invalid_argument, std::string("Snapshot: ") + e.what());
+  } catch (const gpu::VulkanError& e) {  // within the budget, but other sessions hold the memory
+    solver_->set_gravity(gravity_before);
+    if (!e.out_of_memory()) throw;
+    throw Refusal(RefusalCode::resource_exhausted, "Snapshot: the server's GPU has no memory for " +
+                                                       std::to_string(particles.position.size()) +
+                                                       " particles now (" + e.what() +
+                                                       "); send fewer, or later");
   }
   forget_costs();  // another count: another cost
   solver_->set_time(snapshot.time());
