@@ -1,10 +1,14 @@
 // The snapshot calls (GetSnapshot, PutSnapshot): one at a time per key, from the moment a call is
 // taken until it is answered. The shared worker then builds or loads at most one snapshot per key
 // at a time, and a client that fires many calls at once gets RESOURCE_EXHAUSTED for all but one.
+// An answer (a GetSnapshot's reply: up to ~24 MB) stays in the server's memory until the client
+// has read it; a client that never reads could otherwise have one answer after another queued,
+// so a key also has at most kUnreadAnswers answered calls whose replies are still being sent.
 #pragma once
 
 #include <grpcpp/grpcpp.h>
 
+#include <map>
 #include <mutex>
 #include <optional>
 #include <set>
@@ -12,16 +16,24 @@
 
 namespace fluidcast::server {
 
-// The keys whose snapshot call is under way.
+// The keys whose snapshot call is under way, and their answers still being sent.
 class KeysInFlight {
  public:
-  // False when `key`'s call is under way.
+  // Two: a client that calls again as soon as it has read an answer may find the server not yet
+  // told that the answer went out.
+  static constexpr int kUnreadAnswers = 2;
+
+  // False when `key`'s call is under way, or kUnreadAnswers of its answers are being sent.
   bool take(const std::string& key);
-  void release(const std::string& key);
+  // The call taken with `key` is answered: its reply is being sent. Another call may be taken.
+  void answered(const std::string& key);
+  // A reply of `key`'s (answered()) was sent, or its call cancelled.
+  void sent(const std::string& key);
 
  private:
   std::mutex mutex_;
-  std::set<std::string> keys_;
+  std::set<std::string> under_way_;
+  std::map<std::string, int> being_sent_;
 };
 
 // One snapshot call's reactor; deletes itself when gRPC is done with the call.
@@ -33,14 +45,16 @@ class SnapshotCall final : public grpc::ServerUnaryReactor {
   // `field`, when another call holds it.
   bool hold(const std::string& key, const char* field);
   // Answers the call, first letting its key go: a client that calls again as soon as it has its
-  // answer finds the key free.
+  // answer finds the key free (unless kUnreadAnswers of its answers are still being sent).
   void answer(const grpc::Status& status);
 
-  void OnDone() override { delete this; }
+  // The reply was sent, or the call cancelled.
+  void OnDone() override;
 
  private:
   KeysInFlight* keys_;
   std::optional<std::string> held_;
+  std::optional<std::string> sending_;
 };
 
 }  // namespace fluidcast::server
