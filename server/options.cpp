@@ -1,8 +1,10 @@
 #include "options.h"
 
 #include <algorithm>
+#include <string>
 
 #include "fluidcast/command_line.h"
+#include "fluidcast/gpu/memory.h"
 #include "fluidcast/program_folder.h"
 
 namespace fluidcast::server {
@@ -34,10 +36,14 @@ ServerOptions read_server_options(CLI::App& app, int argc, const char* const* ar
       ->envname("FLUIDCAST_HTTP_PORT");
   app.add_option("--device", o.device, "Vulkan device index (default: the best device present)")
       ->envname("FLUIDCAST_DEVICE");
+  constexpr auto kBlockMib = static_cast<std::uint32_t>(gpu::MemoryAllocator::kBlockSize >> 20);
+  const std::string least_gpu_memory = "0 (no cap) or at least " + std::to_string(kBlockMib) +
+                                       " MiB: GPU memory is taken in blocks "
+                                       "of that";
   app.add_option("--gpu-memory", o.gpu_memory_mib,
-                 "Most GPU memory the server allocates, MiB (0: as much as the device gives): "
-                 "servers sharing a GPU each keep to theirs. Past it, a session or frame size that "
-                 "needs more is refused (RESOURCE_EXHAUSTED) and the others go on")
+                 "Most GPU memory the server allocates, MiB, " + least_gpu_memory +
+                     "; servers sharing a GPU each keep to theirs. Past it, a session or frame "
+                     "size that needs more is refused (RESOURCE_EXHAUSTED), the others go on")
       ->envname("FLUIDCAST_GPU_MEMORY")
       ->check(CLI::Range(0u, 16u << 20));
   std::string backend = "auto";
@@ -169,6 +175,9 @@ ServerOptions read_server_options(CLI::App& app, int argc, const char* const* ar
   }
   if (o.target_fps && *o.target_fps > l.max_fps) {
     throw CLI::ValidationError("--target-fps", "more than --max-fps");
+  }
+  if (o.gpu_memory_mib != 0 && o.gpu_memory_mib < kBlockMib) {
+    throw CLI::ValidationError("--gpu-memory", least_gpu_memory);
   }
   o.log_format = parse_log_format(log_format);
   l.max_sessions_per_address = sessions_per_address.value_or((l.max_sessions + 1) / 2);

@@ -116,6 +116,15 @@ Allocation MemoryAllocator::allocate(const VkMemoryRequirements& asked, MemoryDo
                       VK_ERROR_OUT_OF_DEVICE_MEMORY);
   }
   if (limit_ > 0 && block_bytes_ + size > limit_) {
+    // The spare blocks kept for other memory types make room first.
+    for (Block& block : blocks_) {
+      if (block.ranges && block.ranges->empty()) {
+        block_bytes_ -= block.ranges->size();
+        block = Block{};
+      }
+    }
+  }
+  if (limit_ > 0 && block_bytes_ + size > limit_) {
     throw VulkanError("GPU memory: " + mib(size) + " more would pass the limit of " + mib(limit_) +
                           " (" + mib(block_bytes_) + " in use)",
                       VK_ERROR_OUT_OF_DEVICE_MEMORY);
@@ -166,6 +175,11 @@ void MemoryAllocator::free(std::size_t index, VkDeviceSize offset) {
 std::uint64_t MemoryAllocator::allocations_made() const {
   std::lock_guard lock(mutex_);
   return allocations_made_;
+}
+
+std::uint64_t MemoryAllocator::block_bytes() const {
+  std::lock_guard lock(mutex_);
+  return block_bytes_;
 }
 
 std::size_t MemoryAllocator::block_count() const {

@@ -106,20 +106,15 @@ void Session::rebuild(SessionSetup setup) {
   scene.particles = static_cast<int>(setup.particles);
   sim::SolverParams params;
   params.max_particles = static_cast<int>(services_.limits->max_particles);
+  std::unique_ptr<sim::Solver> solver;
   try {
     auto built = sim::build_scene(scene);
     // A fluid rebuilt while a viewer holds the tank tilted falls as the old one did.
     if (solver_) built.gravity = solver_->gravity();
-    auto solver =
-        services_.gpu_solver
-            ? sim::make_gpu_solver(setup.solver, *services_.context, std::move(built), params,
-                                   services_.steps)
-            : sim::make_cpu_solver(setup.solver, std::move(built), params, services_.cpu_threads);
-    if (solver_) {
-      retire_solver(std::exchange(solver_, std::move(solver)));
-    } else {
-      solver_ = std::move(solver);
-    }
+    solver = services_.gpu_solver ? sim::make_gpu_solver(setup.solver, *services_.context,
+                                                         std::move(built), params, services_.steps)
+                                  : sim::make_cpu_solver(setup.solver, std::move(built), params,
+                                                         services_.cpu_threads);
   } catch (const sim::ParamError& e) {
     throw Refusal(RefusalCode::resource_exhausted, e.worded(setup_field_or_setting));
   } catch (const gpu::VulkanError& e) {  // within the budget, but other sessions hold the memory
@@ -129,6 +124,11 @@ void Session::rebuild(SessionSetup setup) {
                                   std::to_string(setup.particles) + " particles now (" + e.what() +
                                   "); ask for fewer, or later")
                       .worded(setup_field_or_setting));
+  }
+  if (solver_) {
+    retire_solver(std::exchange(solver_, std::move(solver)));
+  } else {
+    solver_ = std::move(solver);
   }
   setup_ = setup;
   forget_costs();  // another count or solver: another cost
@@ -422,19 +422,12 @@ void Session::render(const GpuGrant& grant, Clock::time_point now) {
   // New sizes first, so that each frame is priced at the size it is drawn at. A new renderer's
   // time is the session's: while others are watched it is repaid before this session's next
   // frames, so resizing slows only its own viewers.
-  std::vector<std::uint32_t> unsized;
   for (auto& [id, viewer] : viewers_) {
     const auto resizing = Clock::now();
-    try {
-      if (viewer->due(now) && viewer->settle_size(now) && grant.contended()) {
-        render_account_.spend(milliseconds_between(resizing, Clock::now()));
-      }
-    } catch (const Refusal& refusal) {  // no GPU memory for its new size
-      viewer->sink().end(refusal);
-      unsized.push_back(id);
+    if (viewer->due(now) && viewer->settle_size(now) && grant.contended()) {
+      render_account_.spend(milliseconds_between(resizing, Clock::now()));
     }
   }
-  for (std::uint32_t id : unsized) remove_viewer(id);
   double dearest_frame = 0.0;
   for (auto& [id, viewer] : viewers_) {
     dearest_frame = std::max(dearest_frame, grant.charge(frame_price(*viewer).value_or(0.0)));

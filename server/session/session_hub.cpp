@@ -17,6 +17,19 @@
 namespace fluidcast::server {
 namespace {
 
+// A failure of the server's while serving a request (`doing`): out of GPU memory (other sessions
+// hold it, or --gpu-memory is met) is RESOURCE_EXHAUSTED, the request having asked for more than
+// there is; anything else (a lost device) is INTERNAL.
+Refusal server_failure(const std::exception& e, const std::string& doing) {
+  const auto* vulkan = dynamic_cast<const gpu::VulkanError*>(&e);
+  if (vulkan && vulkan->out_of_memory()) {
+    return Refusal(RefusalCode::resource_exhausted,
+                   doing + ": the server's GPU has no memory for it now (" + e.what() +
+                       "); fewer particles or smaller frames need less");
+  }
+  return Refusal(RefusalCode::internal, doing + ": " + e.what());
+}
+
 // A steady clock's time as milliseconds, for ClientDebts.
 double milliseconds_since_epoch(Clock::time_point time) {
   return std::chrono::duration<double, std::milli>(time.time_since_epoch()).count();
@@ -116,9 +129,8 @@ void SessionHub::open(v1::Hello hello, std::string address, std::shared_ptr<View
                    address, session->state().particles(), sessions_.size());
     } catch (const Refusal& refusal) {
       opened.refusal = refusal;
-    } catch (const std::exception& e) {  // out of GPU memory, say: this request fails alone
-      opened.refusal = Refusal(RefusalCode::internal,
-                               std::string("the server could not open the session: ") + e.what());
+    } catch (const std::exception& e) {  // this request fails alone
+      opened.refusal = server_failure(e, "the server could not open the session");
     }
     if (opened.refusal) {
       done(std::move(opened));
@@ -226,7 +238,7 @@ void SessionHub::snapshot(
       done(std::nullopt, refusal);
       return;
     } catch (const std::exception& e) {
-      done(std::nullopt, Refusal(RefusalCode::internal, std::string("snapshot: ") + e.what()));
+      done(std::nullopt, server_failure(e, "snapshot"));
       return;
     }
     done(std::move(snapshot), std::nullopt);
@@ -253,7 +265,7 @@ void SessionHub::load(std::string key, v1::Snapshot snapshot,
       done(0, refusal);
       return;
     } catch (const std::exception& e) {
-      done(0, Refusal(RefusalCode::internal, std::string("snapshot: ") + e.what()));
+      done(0, server_failure(e, "snapshot"));
       return;
     }
     done(particles, std::nullopt);
@@ -283,17 +295,7 @@ v1::ServerInfo SessionHub::info() const {
 
 void SessionHub::end_failed(Session& session, const std::exception& e) {
   spdlog::error("session {} failed: {}", session.id(), e.what());
-  // Out of GPU memory (other sessions hold it, or --gpu-memory is met): this session's size is
-  // what asked for more; the others go on.
-  const auto* vulkan = dynamic_cast<const gpu::VulkanError*>(&e);
-  if (vulkan && vulkan->out_of_memory()) {
-    session.end_all(Refusal(RefusalCode::resource_exhausted,
-                            std::string("the server's GPU has no memory for this session's ") +
-                                "fluid and frames now (" + e.what() + "); try fewer particles"));
-    return;
-  }
-  session.end_all(
-      Refusal(RefusalCode::internal, std::string("the session failed on the server: ") + e.what()));
+  session.end_all(server_failure(e, "the session failed on the server"));
 }
 
 void SessionHub::end_all_on_gpu_failure(const std::string& why) {
@@ -399,7 +401,7 @@ void SessionHub::end_idle_and_expired(Clock::time_point now) {
   }
   session_count_ = static_cast<std::uint32_t>(sessions_.size());
   metrics_->sessions = sessions_.size();
-  metrics_->gpu_memory_bytes = context_->memory().block_count() * gpu::MemoryAllocator::kBlockSize;
+  metrics_->gpu_memory_bytes = context_->memory().block_bytes();
 }
 
 void SessionHub::collect_frames(Clock::time_point deadline) {

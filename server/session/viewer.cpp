@@ -40,6 +40,7 @@ Viewer::~Viewer() {
 }
 
 void Viewer::aim_size(std::uint32_t width, std::uint32_t height) {
+  if (renderer_ && unfit_size_ == FlowControl::Size{width, height}) return;
   aimed_width_ = width;
   aimed_height_ = height;
   if (!renderer_) make_renderer(width, height);
@@ -49,7 +50,13 @@ bool Viewer::settle_size(Clock::time_point now) {
   if (aimed_width_ == render_width_ && aimed_height_ == render_height_) return false;
   if (now - last_resize_ < kResizeEvery) return false;
   last_resize_ = now;
-  make_renderer(aimed_width_, aimed_height_);
+  try {
+    make_renderer(aimed_width_, aimed_height_);
+  } catch (const Refusal&) {  // no GPU memory for that size: the frames keep the one they have
+    unfit_size_ = FlowControl::Size{aimed_width_, aimed_height_};
+    aimed_width_ = render_width_;
+    aimed_height_ = render_height_;
+  }
   return true;
 }
 
@@ -70,6 +77,7 @@ void Viewer::make_renderer(std::uint32_t width, std::uint32_t height) {
     context_->retire(std::move(renderer_));  // its frames in flight, of the old size, are dropped
   }
   in_flight_.clear();
+  unfit_size_.reset();
   renderer_ = std::move(renderer);
   renderer_warm_ = false;
   render_width_ = width;

@@ -74,9 +74,11 @@ class Viewer {
 
   // A new frame size (asked for, or chosen by adaptation) takes a new renderer, made here at most
   // once per kResizeEvery, the newest size winning: a client that keeps resizing cannot keep the
-  // worker making renderers. True when it made one (the session charges its time). Throws a
-  // Refusal (RESOURCE_EXHAUSTED) where the GPU has no memory for the new size, as the first
-  // renderer's and submit()'s do: the viewer ends, its session goes on.
+  // worker making renderers. True when it tried (the session charges its time). Where the GPU has
+  // no memory for the new size, the frames keep the size they have (they say it), and that size
+  // is not tried again until another has been made; a new viewer's first renderer, and frames
+  // the GPU has no memory to draw, throw a Refusal (RESOURCE_EXHAUSTED) instead: the viewer
+  // ends, its session goes on.
   bool settle_size(Clock::time_point now);
   static constexpr auto kResizeEvery = std::chrono::milliseconds(250);
 
@@ -148,6 +150,7 @@ class Viewer {
   std::uint32_t render_width_ = 0, render_height_ = 0;  // as rendered (adaptation may lower it)
   std::uint32_t aimed_width_ = 0, aimed_height_ = 0;    // as it will be, at settle_size()
   Clock::time_point last_resize_{};
+  std::optional<FlowControl::Size> unfit_size_;  // found no GPU memory (settle_size)
   render::OrbitCamera camera_;
   render::RendererKind renderer_kind_ = render::RendererKind::automatic;
   sim::Box tank_;  // what the camera looks at

@@ -22,6 +22,10 @@ err=$("$server" --allow-origin evil.example 2>&1 >/dev/null)
 status=$?
 [[ $status -eq 2 && "$err" == *--allow-origin* && "$err" == *scheme://host* ]] ||
   fail "--allow-origin evil.example: exit $status, '$err'"
+err=$("$server" --gpu-memory 10 2>&1 >/dev/null)
+status=$?
+[[ $status -eq 2 && "$err" == *--gpu-memory* && "$err" == *"at least 64 MiB"* ]] ||
+  fail "--gpu-memory 10: exit $status, '$err'"
 # A bad value in a flag's environment variable names the variable.
 err=$(FLUIDCAST_GRPC_PORT=abc "$server" 2>&1 >/dev/null)
 status=$?

@@ -130,6 +130,14 @@ TEST_F(GpuContextTest, AMemoryLimitRefusesWhatWouldPassItAndCountsWhatIsGivenBac
   }
   large.reset();  // a block of its own: given back at once
   EXPECT_NO_THROW(Buffer(limited, kBlock + 1, MemoryDomain::device));
+  {
+    const Buffer first(limited, 40 << 20, MemoryDomain::device);   // beside `small`
+    const Buffer second(limited, 40 << 20, MemoryDomain::device);  // in a second standard block
+  }
+  ASSERT_EQ(limited.memory().block_count(), 2u);  // that one stays, empty, for the next buffers
+  EXPECT_EQ(limited.memory().block_bytes(), 2 * kBlock);
+  // The spare makes room for what needs it more.
+  EXPECT_NO_THROW(Buffer(limited, 2 * kBlock, MemoryDomain::device));
   EXPECT_TRUE(limited.validation_errors().empty());
 }
 

@@ -119,7 +119,7 @@ std::size_t GpuSolver::particles_that_fit() const {
   return std::min<std::uint64_t>(in_memory, particles_listable());
 }
 
-void GpuSolver::allocate(std::size_t capacity) {
+GpuSolver::Buffers GpuSolver::allocate(std::size_t capacity) {
   if (capacity > particles_that_fit()) {
     const auto mib = [](std::uint64_t bytes) {
       char text[32];
@@ -160,9 +160,22 @@ void GpuSolver::allocate(std::size_t capacity) {
   b.density_ratio = device(4);
   b.neighbours = device(4 * std::uint64_t{fluid().max_neighbours});
   b.neighbour_count = device(4);
-  grid_.reserve(capacity);                                  // may throw: then nothing has changed
-  context_->retire(std::exchange(buffers_, std::move(b)));  // steps and frames may still read them
-  capacity_ = capacity;
+  b.capacity = capacity;
+  grid_.reserve(capacity);  // room for more than the particles held is harmless
+  return b;
+}
+
+GpuSolver::Buffers GpuSolver::allocate_for(std::size_t n) {
+  const std::size_t room =
+      std::min({2 * buffers_.capacity, static_cast<std::size_t>(params().max_particles),
+                particles_that_fit()});
+  if (room <= n) return allocate(n);
+  try {
+    return allocate(room);
+  } catch (const gpu::VulkanError& e) {  // the room is not there now; the particles may be
+    if (!e.out_of_memory()) throw;
+    return allocate(n);
+  }
 }
 
 void GpuSolver::load_particles(const ParticleSet& particles) {
@@ -176,12 +189,11 @@ void GpuSolver::upload_particles(const ParticleSet& particles) {
   submit_queued();
   for (InFlight& slot : in_flight_) slot.stale_stats = true;
   const std::size_t n = particles.size();
-  if (n > capacity_ || !buffers_.position) {
-    // Room to grow, so that adding a few particles at a time does not reallocate every time.
-    const std::size_t grown = std::min(
-        {2 * capacity_, static_cast<std::size_t>(params().max_particles), particles_that_fit()});
-    allocate(std::max(n, grown));
-  }
+  // New buffers are taken only once the particles are in them: a failure on the way (no memory
+  // for them, or for the upload's staging) leaves the fluid as it was.
+  std::optional<Buffers> grown;
+  if (n > buffers_.capacity || !buffers_.position) grown = allocate_for(n);
+  const Buffers& target = grown ? *grown : buffers_;
   std::vector<glm::vec4> positions(n), velocities(n);
   // Until the first step measures them, the particles show rest density (a scene starts there):
   // a paused fluid's frames, or a new one's first, read these.
@@ -194,11 +206,13 @@ void GpuSolver::upload_particles(const ParticleSet& particles) {
         std::max(largest_speed2, glm::dot(particles.velocity[i], particles.velocity[i]));
   }
   const gpu::Upload uploads[] = {
-      {buffers_.position, std::as_bytes(std::span<const glm::vec4>(positions))},
-      {buffers_.velocity, std::as_bytes(std::span<const glm::vec4>(velocities))},
-      {buffers_.id, std::as_bytes(std::span<const std::uint32_t>(particles.id))},
-      {buffers_.density_ratio, std::as_bytes(std::span<const float>(at_rest))}};
+      {target.position, std::as_bytes(std::span<const glm::vec4>(positions))},
+      {target.velocity, std::as_bytes(std::span<const glm::vec4>(velocities))},
+      {target.id, std::as_bytes(std::span<const std::uint32_t>(particles.id))},
+      {target.density_ratio, std::as_bytes(std::span<const float>(at_rest))}};
   gpu::upload_all(*context_, uploads);
+  // Steps and frames already submitted may still read the old buffers.
+  if (grown) context_->retire(std::exchange(buffers_, std::move(*grown)));
   count_ = n;
   largest_speed_ = std::sqrt(largest_speed2);
   largest_wall_approach_ =

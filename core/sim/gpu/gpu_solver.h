@@ -85,7 +85,20 @@ class GpuSolver final : public Solver {
         pbf_finish, sph_force, sph_integrate;
   };
 
-  void allocate(std::size_t capacity);
+  struct Buffers {
+    gpu::Buffer position, velocity, id, sorted_position, sorted_velocity, sorted_id;
+    gpu::Buffer predicted, iterate, iterate_lambda, vorticity;  // PBF
+    gpu::Buffer density, acceleration;                          // SPH
+    gpu::Buffer density_ratio;                                  // both, for the renderer
+    gpu::Buffer neighbours, neighbour_count;                    // both: this substep's lists
+    std::size_t capacity = 0;
+  };
+  // Buffers for `capacity` particles, and the grid's room for them; the solver's own are not
+  // touched. Throws ParamError beyond the budget, VulkanError when the memory is not there.
+  Buffers allocate(std::size_t capacity);
+  // Buffers for `n` particles, with room to grow (so that adding a few at a time does not
+  // reallocate every time) where the memory allows.
+  Buffers allocate_for(std::size_t n);
   SimParams step_params() const;
   // How far ahead, s, a particle closing on a wall counts for the substep rule: the figures that
   // plan a step may be as many steps old as run at once, and the step itself comes after.
@@ -111,14 +124,7 @@ class GpuSolver final : public Solver {
   GpuNeighbourGrid grid_;
   Pipelines pipelines_;
   std::size_t count_ = 0;
-  std::size_t capacity_ = 0;
-  struct Buffers {
-    gpu::Buffer position, velocity, id, sorted_position, sorted_velocity, sorted_id;
-    gpu::Buffer predicted, iterate, iterate_lambda, vorticity;  // PBF
-    gpu::Buffer density, acceleration;                          // SPH
-    gpu::Buffer density_ratio;                                  // both, for the renderer
-    gpu::Buffer neighbours, neighbour_count;                    // both: this substep's lists
-  } buffers_;
+  Buffers buffers_;
   gpu::Buffer params_buffer_, stats_buffer_;
   // Steps in flight, a ring: a frame loop may submit this many in one tick without waiting.
   static constexpr std::size_t kStepsInFlight = 4;

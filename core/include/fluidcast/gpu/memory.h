@@ -78,8 +78,10 @@ class MemoryAllocator {
   Allocation allocate(const VkMemoryRequirements& requirements, MemoryDomain domain,
                       Resource resource = Resource::buffer);
 
-  // How many blocks of memory are allocated now, and how many vkAllocateMemory calls so far.
+  // How many blocks of memory are allocated now, their bytes, and how many vkAllocateMemory calls
+  // so far.
   std::size_t block_count() const;
+  std::uint64_t block_bytes() const;
   std::uint64_t allocations_made() const;
 
  private:
