@@ -38,7 +38,8 @@ void upload_all(Context& context, std::span<const Upload> uploads) {
   std::vector<VkBufferCopy> regions;
   VkDeviceSize at = 0;
   for (const Upload& upload : uploads) {
-    std::memcpy(staged + at, upload.bytes.data(), upload.bytes.size());
+    // An empty span's data() may be null, which memcpy may not be given even for no bytes.
+    if (!upload.bytes.empty()) std::memcpy(staged + at, upload.bytes.data(), upload.bytes.size());
     regions.push_back({at, upload.offset, upload.bytes.size()});
     at += upload.bytes.size();
   }
@@ -75,6 +76,7 @@ void download_all(Context& context, std::span<const Download> downloads) {
   });
   const std::byte* const staged = staging.mapped<std::byte>().data();
   for (std::size_t k = 0; k < downloads.size(); ++k) {
+    if (downloads[k].bytes.empty()) continue;  // its data() may be null, as memcpy's may not
     std::memcpy(downloads[k].bytes.data(), staged + regions[k].dstOffset,
                 downloads[k].bytes.size());
   }
