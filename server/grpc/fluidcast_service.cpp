@@ -44,18 +44,19 @@ grpc::ServerUnaryReactor* FluidcastService::GetSnapshot(grpc::CallbackServerCont
                                                         const v1::SnapshotRequest* request,
                                                         v1::Snapshot* reply) {
   auto* call = new SnapshotCall(snapshot_keys_);  // deletes itself in OnDone
-  if (refused(call, *request, hub_->token(), "SnapshotRequest.token", "SnapshotRequest.key") ||
-      !call->hold(request->key(), "SnapshotRequest.key")) {
+  if (refused(call, *request, hub_->token(), "SnapshotRequest.token", "SnapshotRequest.key")) {
     return call;
   }
-  hub_->snapshot(request->key(), [call, reply](std::optional<v1::Snapshot> snapshot,
-                                               std::optional<Refusal> refusal) {
-    if (refusal) {
-      call->answer(to_status(*refusal));
-      return;
-    }
-    *reply = std::move(*snapshot);
-    call->answer(grpc::Status::OK);
+  call->hold(request->key(), "SnapshotRequest.key", [this, call, request, reply] {
+    hub_->snapshot(request->key(), [call, reply](std::optional<v1::Snapshot> snapshot,
+                                                 std::optional<Refusal> refusal) {
+      if (refusal) {
+        call->answer(to_status(*refusal));
+        return;
+      }
+      *reply = std::move(*snapshot);
+      call->answer(grpc::Status::OK);
+    });
   });
   return call;
 }
@@ -73,16 +74,17 @@ grpc::ServerUnaryReactor* FluidcastService::PutSnapshot(grpc::CallbackServerCont
         Refusal(RefusalCode::invalid_argument, "PutSnapshotRequest.snapshot is missing")));
     return call;
   }
-  if (!call->hold(request->key(), "PutSnapshotRequest.key")) return call;
-  hub_->load(request->key(), request->snapshot(),
-             [call, reply](std::uint32_t particles, std::optional<Refusal> refusal) {
-               if (refusal) {
-                 call->answer(to_status(*refusal));
-                 return;
-               }
-               reply->set_particles(particles);
-               call->answer(grpc::Status::OK);
-             });
+  call->hold(request->key(), "PutSnapshotRequest.key", [this, call, request, reply] {
+    hub_->load(request->key(), request->snapshot(),
+               [call, reply](std::uint32_t particles, std::optional<Refusal> refusal) {
+                 if (refusal) {
+                   call->answer(to_status(*refusal));
+                   return;
+                 }
+                 reply->set_particles(particles);
+                 call->answer(grpc::Status::OK);
+               });
+  });
   return call;
 }
 

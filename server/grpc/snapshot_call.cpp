@@ -7,11 +7,18 @@
 
 namespace fluidcast::server {
 
-bool KeysInFlight::take(const std::string& key) {
-  std::lock_guard lock(mutex_);
-  const auto sending = being_sent_.find(key);
-  if (sending != being_sent_.end() && sending->second >= kUnreadAnswers) return false;
-  return under_way_.insert(key).second;
+bool KeysInFlight::take(const std::string& key, std::function<void()> go_on) {
+  {
+    std::lock_guard lock(mutex_);
+    if (!under_way_.insert(key).second) return false;
+    const auto sending = being_sent_.find(key);
+    if (sending != being_sent_.end() && sending->second >= kUnreadAnswers) {
+      waiting_.emplace(key, std::move(go_on));
+      return true;
+    }
+  }
+  go_on();
+  return true;
 }
 
 void KeysInFlight::answered(const std::string& key) {
@@ -21,21 +28,29 @@ void KeysInFlight::answered(const std::string& key) {
 }
 
 void KeysInFlight::sent(const std::string& key) {
-  std::lock_guard lock(mutex_);
-  const auto sending = being_sent_.find(key);
-  if (sending != being_sent_.end() && --sending->second == 0) being_sent_.erase(sending);
+  std::function<void()> go_on;
+  {
+    std::lock_guard lock(mutex_);
+    const auto sending = being_sent_.find(key);
+    if (sending == being_sent_.end()) return;
+    if (--sending->second == 0) being_sent_.erase(sending);
+    const auto waiting = waiting_.find(key);
+    if (waiting == waiting_.end()) return;
+    go_on = std::move(waiting->second);
+    waiting_.erase(waiting);
+  }
+  go_on();
 }
 
-bool SnapshotCall::hold(const std::string& key, const char* field) {
-  if (!keys_->take(key)) {
+void SnapshotCall::hold(const std::string& key, const char* field, std::function<void()> go_on) {
+  held_ = key;  // before take(): go_on may run on another thread at once
+  if (!keys_->take(key, std::move(go_on))) {
+    held_.reset();
     Finish(to_status(Refusal(RefusalCode::resource_exhausted,
                              std::string(field) +
-                                 ": this key's last snapshot call is still under way, or its "
-                                 "answers are still unread; call again once they are read")));
-    return false;
+                                 ": this key's last snapshot call is still under way; call again "
+                                 "once it is answered")));
   }
-  held_ = key;
-  return true;
 }
 
 void SnapshotCall::answer(const grpc::Status& status) {
