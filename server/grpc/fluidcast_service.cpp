@@ -40,10 +40,10 @@ grpc::ServerUnaryReactor* FluidcastService::GetServerInfo(grpc::CallbackServerCo
   return reactor;
 }
 
-grpc::ServerUnaryReactor* FluidcastService::GetSnapshot(grpc::CallbackServerContext*,
+grpc::ServerUnaryReactor* FluidcastService::GetSnapshot(grpc::CallbackServerContext* context,
                                                         const v1::SnapshotRequest* request,
                                                         v1::Snapshot* reply) {
-  auto* call = new SnapshotCall(snapshot_keys_);  // deletes itself in OnDone
+  auto* call = new SnapshotCall(snapshot_keys_, *context);  // deletes itself in OnDone
   if (refused(call, *request, hub_->token(), "SnapshotRequest.token", "SnapshotRequest.key")) {
     return call;
   }
@@ -61,10 +61,10 @@ grpc::ServerUnaryReactor* FluidcastService::GetSnapshot(grpc::CallbackServerCont
   return call;
 }
 
-grpc::ServerUnaryReactor* FluidcastService::PutSnapshot(grpc::CallbackServerContext*,
+grpc::ServerUnaryReactor* FluidcastService::PutSnapshot(grpc::CallbackServerContext* context,
                                                         const v1::PutSnapshotRequest* request,
                                                         v1::PutSnapshotReply* reply) {
-  auto* call = new SnapshotCall(snapshot_keys_);  // deletes itself in OnDone
+  auto* call = new SnapshotCall(snapshot_keys_, *context);  // deletes itself in OnDone
   if (refused(call, *request, hub_->token(), "PutSnapshotRequest.token",
               "PutSnapshotRequest.key")) {
     return call;

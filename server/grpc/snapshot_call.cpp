@@ -7,13 +7,13 @@
 
 namespace fluidcast::server {
 
-bool KeysInFlight::take(const std::string& key, std::function<void()> go_on) {
+bool KeysInFlight::take(const SnapshotCaller& caller, std::function<void()> go_on) {
   {
     std::lock_guard lock(mutex_);
-    if (!under_way_.insert(key).second) return false;
-    const auto sending = being_sent_.find(key);
+    if (!under_way_.insert(caller).second) return false;
+    const auto sending = being_sent_.find(caller);
     if (sending != being_sent_.end() && sending->second >= kUnreadAnswers) {
-      waiting_.emplace(key, std::move(go_on));
+      waiting_.emplace(caller, std::move(go_on));
       return true;
     }
   }
@@ -21,20 +21,20 @@ bool KeysInFlight::take(const std::string& key, std::function<void()> go_on) {
   return true;
 }
 
-void KeysInFlight::answered(const std::string& key) {
+void KeysInFlight::answered(const SnapshotCaller& caller) {
   std::lock_guard lock(mutex_);
-  under_way_.erase(key);
-  ++being_sent_[key];
+  under_way_.erase(caller);
+  ++being_sent_[caller];
 }
 
-void KeysInFlight::sent(const std::string& key) {
+void KeysInFlight::sent(const SnapshotCaller& caller) {
   std::function<void()> go_on;
   {
     std::lock_guard lock(mutex_);
-    const auto sending = being_sent_.find(key);
+    const auto sending = being_sent_.find(caller);
     if (sending == being_sent_.end()) return;
     if (--sending->second == 0) being_sent_.erase(sending);
-    const auto waiting = waiting_.find(key);
+    const auto waiting = waiting_.find(caller);
     if (waiting == waiting_.end()) return;
     go_on = std::move(waiting->second);
     waiting_.erase(waiting);
@@ -43,13 +43,24 @@ void KeysInFlight::sent(const std::string& key) {
 }
 
 void SnapshotCall::hold(const std::string& key, const char* field, std::function<void()> go_on) {
-  held_ = key;  // before take(): go_on may run on another thread at once
-  if (!keys_->take(key, std::move(go_on))) {
+  held_ = SnapshotCaller{key, context_->peer()};  // before take(): go_on may run on another thread
+  const bool taken = keys_->take(*held_, [this, go_on = std::move(go_on)] {
+    if (context_->IsCancelled()) {
+      answer(grpc::Status::CANCELLED);
+      return;
+    }
+    try {
+      go_on();
+    } catch (const std::exception& e) {  // it runs in another call's OnDone: nothing may escape
+      answer(to_status(Refusal(RefusalCode::internal, std::string("snapshot: ") + e.what())));
+    }
+  });
+  if (!taken) {
     held_.reset();
     Finish(to_status(Refusal(RefusalCode::resource_exhausted,
                              std::string(field) +
-                                 ": this key's last snapshot call is still under way; call again "
-                                 "once it is answered")));
+                                 ": this connection's last snapshot call with this key is still "
+                                 "under way; call again once it is answered")));
   }
 }
 

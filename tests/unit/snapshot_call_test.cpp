@@ -1,6 +1,7 @@
-// Snapshot calls one at a time per key: a second call with a key whose call is under way is
-// refused until the first is answered; a call that finds two answers of its key still being sent
-// waits for one of them to go out; other keys are not held up.
+// Snapshot calls one at a time per key and connection: a second call with the same key on the same
+// connection is refused until the first is answered; a call that finds two answers of its key and
+// connection still being sent waits for one of them to go out; other keys and other connections
+// are not held up.
 #include "grpc/snapshot_call.h"
 
 #include <gtest/gtest.h>
@@ -8,46 +9,54 @@
 namespace fluidcast::server {
 namespace {
 
-TEST(KeysInFlightTest, AKeyHasOneCallAtATime) {
+const SnapshotCaller kViewer{"view-key", "ipv4:192.0.2.1:50000"};
+const SnapshotCaller kController{"control-key", "ipv4:192.0.2.1:50000"};
+const SnapshotCaller kOtherViewer{"view-key", "ipv4:192.0.2.7:41000"};
+
+TEST(KeysInFlightTest, AKeyHasOneCallAtATimeOnAConnection) {
   KeysInFlight keys;
   int gone_on = 0;
   const auto go_on = [&gone_on] { ++gone_on; };
-  EXPECT_TRUE(keys.take("view-key", go_on));
-  EXPECT_FALSE(keys.take("view-key", go_on));
-  EXPECT_TRUE(keys.take("control-key", go_on));
-  EXPECT_EQ(gone_on, 2);
-  keys.answered("view-key");
-  EXPECT_TRUE(keys.take("view-key", go_on));
-  EXPECT_FALSE(keys.take("control-key", go_on));
+  EXPECT_TRUE(keys.take(kViewer, go_on));
+  EXPECT_FALSE(keys.take(kViewer, go_on));
+  EXPECT_TRUE(keys.take(kController, go_on));
+  EXPECT_TRUE(keys.take(kOtherViewer, go_on)) << "viewers sharing the view key";
   EXPECT_EQ(gone_on, 3);
+  keys.answered(kViewer);
+  EXPECT_TRUE(keys.take(kViewer, go_on));
+  EXPECT_FALSE(keys.take(kController, go_on));
+  EXPECT_EQ(gone_on, 4);
 }
 
 // A client that never reads its answers has at most two of them held in the server's memory, and
 // one more call waiting; a client that reads each answer before calling again never waits long.
-TEST(KeysInFlightTest, ACallWaitsWhileTwoAnswersOfItsKeyAreBeingSent) {
+TEST(KeysInFlightTest, ACallWaitsWhileTwoAnswersOfItsKeyAndConnectionAreBeingSent) {
   KeysInFlight keys;
   int gone_on = 0;
   const auto go_on = [&gone_on] { ++gone_on; };
   for (int answer = 0; answer < KeysInFlight::kUnreadAnswers; ++answer) {
-    ASSERT_TRUE(keys.take("view-key", go_on)) << "answer " << answer;
-    keys.answered("view-key");
+    ASSERT_TRUE(keys.take(kViewer, go_on)) << "answer " << answer;
+    keys.answered(kViewer);
   }
   ASSERT_EQ(gone_on, KeysInFlight::kUnreadAnswers);
 
   bool waited_on = false;
-  EXPECT_TRUE(keys.take("view-key", [&waited_on] { waited_on = true; }));
+  EXPECT_TRUE(keys.take(kViewer, [&waited_on] { waited_on = true; }));
   EXPECT_FALSE(waited_on);
-  EXPECT_FALSE(keys.take("view-key", go_on)) << "the waiting call holds the key";
-  EXPECT_TRUE(keys.take("control-key", go_on));
-  EXPECT_EQ(gone_on, KeysInFlight::kUnreadAnswers + 1);
-
-  keys.sent("view-key");
-  EXPECT_TRUE(waited_on);
-  keys.answered("view-key");
-  EXPECT_TRUE(keys.take("view-key", go_on));
-  EXPECT_EQ(gone_on, KeysInFlight::kUnreadAnswers + 1) << "two answers are being sent again";
-  keys.sent("view-key");
+  EXPECT_FALSE(keys.take(kViewer, go_on)) << "the waiting call holds the slot";
+  EXPECT_TRUE(keys.take(kController, go_on));
+  EXPECT_TRUE(keys.take(kOtherViewer, go_on)) << "another connection's answers are its own";
   EXPECT_EQ(gone_on, KeysInFlight::kUnreadAnswers + 2);
+
+  keys.sent(kOtherViewer);  // nothing of kOtherViewer's was being sent: no effect
+  EXPECT_FALSE(waited_on);
+  keys.sent(kViewer);
+  EXPECT_TRUE(waited_on);
+  keys.answered(kViewer);
+  EXPECT_TRUE(keys.take(kViewer, go_on));
+  EXPECT_EQ(gone_on, KeysInFlight::kUnreadAnswers + 2) << "two answers are being sent again";
+  keys.sent(kViewer);
+  EXPECT_EQ(gone_on, KeysInFlight::kUnreadAnswers + 3);
 }
 
 }  // namespace
