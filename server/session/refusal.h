@@ -55,4 +55,14 @@ class Refusal : public std::runtime_error {
   RefusalCode code_;
 };
 
+// A request the GPU had no memory for (a gpu::VulkanError that is out_of_memory(): other sessions
+// hold it, or --gpu-memory is met): RESOURCE_EXHAUSTED naming `field`, what found no room, the
+// device's word for it and what the client can do instead.
+inline Refusal no_gpu_memory(const std::string& field, const std::string& room_for,
+                             const std::exception& error, const std::string& instead) {
+  return Refusal(RefusalCode::resource_exhausted, field + ": the server's GPU has no memory for " +
+                                                      room_for + " now (" + error.what() + "); " +
+                                                      instead);
+}
+
 }  // namespace fluidcast::server

@@ -119,11 +119,9 @@ void Session::rebuild(SessionSetup setup) {
     throw Refusal(RefusalCode::resource_exhausted, e.worded(setup_field_or_setting));
   } catch (const gpu::VulkanError& e) {  // within the budget, but other sessions hold the memory
     if (!e.out_of_memory()) throw;
-    throw Refusal(RefusalCode::resource_exhausted,
-                  sim::ParamError("{particles}: the server's GPU has no memory for " +
-                                  std::to_string(setup.particles) + " particles now (" + e.what() +
-                                  "); ask for fewer, or later")
-                      .worded(setup_field_or_setting));
+    throw no_gpu_memory(setup_field_or_setting("particles"),
+                        std::to_string(setup.particles) + " particles", e,
+                        "ask for fewer, or later");
   }
   if (solver_) {
     retire_solver(std::exchange(solver_, std::move(solver)));

@@ -23,9 +23,7 @@ namespace {
 Refusal server_failure(const std::exception& e, const std::string& doing) {
   const auto* vulkan = dynamic_cast<const gpu::VulkanError*>(&e);
   if (vulkan && vulkan->out_of_memory()) {
-    return Refusal(RefusalCode::resource_exhausted,
-                   doing + ": the server's GPU has no memory for it now (" + e.what() +
-                       "); fewer particles or smaller frames need less");
+    return no_gpu_memory(doing, "it", e, "fewer particles or smaller frames need less");
   }
   return Refusal(RefusalCode::internal, doing + ": " + e.what());
 }

@@ -124,10 +124,8 @@ std::uint32_t Session::load(const v1::Snapshot& snapshot) {
   } catch (const gpu::VulkanError& e) {  // within the budget, but other sessions hold the memory
     solver_->set_gravity(gravity_before);
     if (!e.out_of_memory()) throw;
-    throw Refusal(RefusalCode::resource_exhausted, "Snapshot: the server's GPU has no memory for " +
-                                                       std::to_string(particles.position.size()) +
-                                                       " particles now (" + e.what() +
-                                                       "); send fewer, or later");
+    throw no_gpu_memory("Snapshot", std::to_string(particles.position.size()) + " particles", e,
+                        "send fewer, or later");
   }
   forget_costs();  // another count: another cost
   solver_->set_time(snapshot.time());

@@ -15,10 +15,9 @@ namespace {
 Refusal refusal_for_frames(const gpu::VulkanError& error, std::uint32_t width,
                            std::uint32_t height) {
   if (!error.out_of_memory()) throw;
-  return Refusal(RefusalCode::resource_exhausted,
-                 "Viewport: the server's GPU has no memory for frames of " + std::to_string(width) +
-                     "x" + std::to_string(height) + " now (" + error.what() +
-                     "); ask for a smaller one");
+  return no_gpu_memory("Viewport",
+                       "frames of " + std::to_string(width) + "x" + std::to_string(height), error,
+                       "ask for a smaller one");
 }
 
 }  // namespace
