@@ -4,10 +4,12 @@
 // a frame size that finds no GPU memory.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <set>
 #include <thread>
 
 #include "server_test_support.h"
@@ -275,6 +277,94 @@ TEST(ServerTest, SnapshotsMoveAFluidBetweenSessionsAndBadOnesChangeNothing) {
         << status.error_message();
   }
   EXPECT_EQ(into.snapshot().positions_size(), 3 * 800);
+}
+
+// A client that reads none of its snapshot answers: its connection's windows are too small for
+// one, so the server holds each answered call until the client reads it. Two such answers, then a
+// third call with the key waits (a fourth on that connection is refused, another connection is
+// served), and is carried out once the client reads the first.
+TEST(ServerTest, ASnapshotCallWaitsWhileTwoAnswersOnItsConnectionAreUnread) {
+  testing::ServerProcess server;
+  const std::string& address = server.grpc_address();
+  constexpr std::uint32_t kParticles = 8000;  // 192 kB a snapshot: three windows of 64 kB
+  StreamClient owner(client::connect(address), small_hello(kParticles));
+  frame_from(owner);
+
+  grpc::ChannelArguments arguments;
+  arguments.SetInt(GRPC_ARG_HTTP2_BDP_PROBE, 0);  // the windows stay at their initial 64 kB
+  arguments.SetMaxReceiveMessageSize(64 << 20);
+  auto stub = v1::Fluidcast::NewStub(
+      grpc::CreateCustomChannel(address, grpc::InsecureChannelCredentials(), arguments));
+  v1::SnapshotRequest request;
+  request.set_key(owner.welcome().access().view_key());
+  grpc::CompletionQueue queue;
+  struct Call {
+    grpc::ClientContext context;
+    std::unique_ptr<grpc::ClientAsyncResponseReader<v1::Snapshot>> reader;
+    v1::Snapshot reply;
+    grpc::Status status;
+  };
+  std::array<Call, 4> calls;
+  // On the way out, passed or not: the calls cancelled and the queue drained before they go.
+  struct Drain {
+    std::array<Call, 4>& calls;
+    grpc::CompletionQueue& queue;
+    ~Drain() {
+      for (Call& call : calls) call.context.TryCancel();
+      queue.Shutdown();
+      void* event = nullptr;
+      bool ok = false;
+      while (queue.Next(&event, &ok)) {
+      }
+    }
+  } drain{calls, queue};
+  const auto tag = [](int call, int event) {
+    return reinterpret_cast<void*>(static_cast<std::intptr_t>(2 * call + event + 1));
+  };
+  constexpr int kStarted = 0;  // the server's answer began: its initial metadata came
+  constexpr int kFinished = 1;
+  // The next event within `within`, or nullptr.
+  const auto next_event = [&](std::chrono::milliseconds within) -> void* {
+    void* got = nullptr;
+    bool ok = false;
+    const auto status = queue.AsyncNext(&got, &ok, std::chrono::system_clock::now() + within);
+    return status == grpc::CompletionQueue::GOT_EVENT ? got : nullptr;
+  };
+  const auto start = [&](int call) {
+    calls[call].reader = stub->AsyncGetSnapshot(&calls[call].context, request, &queue);
+    calls[call].reader->ReadInitialMetadata(tag(call, kStarted));
+  };
+  const auto finish = [&](int call) {
+    calls[call].reader->Finish(&calls[call].reply, &calls[call].status, tag(call, kFinished));
+  };
+
+  for (int call = 0; call < 2; ++call) {  // the answers a connection may leave unread
+    start(call);
+    ASSERT_EQ(next_event(seconds(30)), tag(call, kStarted)) << "call " << call;
+  }
+  start(2);
+  EXPECT_EQ(next_event(milliseconds(1500)), nullptr) << "the third call was answered at once";
+  calls[3].reader = stub->AsyncGetSnapshot(&calls[3].context, request, &queue);
+  finish(3);
+  ASSERT_EQ(next_event(seconds(30)), tag(3, kFinished));
+  EXPECT_EQ(calls[3].status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+  EXPECT_NE(calls[3].status.error_message().find("under way"), std::string::npos)
+      << calls[3].status.error_message();
+  EXPECT_EQ(owner.snapshot().positions_size(), 3 * int(kParticles)) << "another connection";
+
+  finish(0);
+  std::set<void*> events;
+  for (void* event; events.size() < 2 && (event = next_event(seconds(30)));) events.insert(event);
+  EXPECT_EQ(events, (std::set<void*>{tag(0, kFinished), tag(2, kStarted)}));
+  finish(1);
+  finish(2);
+  for (int left = 2; left > 0 && next_event(seconds(30)); --left) {
+  }
+  for (int call : {0, 1, 2}) {
+    EXPECT_TRUE(calls[call].status.ok())
+        << "call " << call << ": " << calls[call].status.error_message();
+    EXPECT_EQ(calls[call].reply.positions_size(), 3 * int(kParticles)) << "call " << call;
+  }
 }
 
 // A client that acknowledges frames it never reads (it learns their numbers from the server's
