@@ -1,7 +1,7 @@
 // A session's fluid and its viewers on the real server (lavapipe): state and snapshots moved
-// between sessions, viewers sharing and resuming, tilt and drag, tiny sessions, and what flow
-// control does for a viewer that stops reading, never acknowledges, resizes or falls behind, and
-// a frame size that finds no GPU memory.
+// between sessions (and snapshot answers a client leaves unread), viewers sharing and resuming,
+// tilt and drag, tiny sessions, and what flow control does for a viewer that stops reading, never
+// acknowledges, resizes or falls behind, and a frame size that finds no GPU memory.
 #include <gtest/gtest.h>
 
 #include <array>
