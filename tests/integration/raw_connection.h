@@ -13,10 +13,11 @@
 
 namespace fluidcast::testing {
 
-// A TCP connection to loopback that sends nothing; reads give up after `timeout`.
+// A TCP connection to loopback that sends nothing; reads give up after `timeout`: long enough for
+// a sanitized server on a loaded machine to answer, shorter where a test waits for nothing to come.
 class RawConnection {
  public:
-  RawConnection(int port, std::chrono::milliseconds timeout = std::chrono::milliseconds(2000))
+  RawConnection(int port, std::chrono::milliseconds timeout = std::chrono::seconds(10))
       : port_(port) {
     fd_ = socket(AF_INET, SOCK_STREAM, 0);
     const timeval wait{static_cast<time_t>(timeout.count() / 1000),
