@@ -73,16 +73,25 @@ class Outage {
       std::this_thread::sleep_for(after);
       server_.reset();
       std::this_thread::sleep_for(for_how_long);
-      server_ = std::make_unique<testing::ServerProcess>(
-          std::vector<std::string>{"--grpc-port", address_.substr(address_.rfind(':') + 1)});
+      try {
+        server_ = std::make_unique<testing::ServerProcess>(
+            std::vector<std::string>{"--grpc-port", address_.substr(address_.rfind(':') + 1)});
+      } catch (const std::exception& e) {  // said by the test, not by std::terminate
+        restart_failure_ = e.what();
+      }
     });
   }
-  ~Outage() { thread_.join(); }
+  ~Outage() {
+    thread_.join();
+    if (!restart_failure_.empty())
+      ADD_FAILURE() << "the server did not come back: " << restart_failure_;
+  }
   const std::string& address() const { return address_; }
 
  private:
   std::unique_ptr<testing::ServerProcess> server_;
   const std::string address_;
+  std::string restart_failure_;
   std::thread thread_;
 };
 
