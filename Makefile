@@ -42,15 +42,15 @@ test-sanitized: deps
 # test-sanitized): races in our threads. Races inside gRPC, protobuf and lavapipe, which Debian
 # ships uninstrumented, are suppressed (tests/sanitizers/tsan.supp); deadlock detection is off
 # (lavapipe's LLVM holds more locks at once than TSan's detector tracks). Left out as under
-# ASan: frame-rate comparisons, adaptive quality (it reads round trips), the bound on the server's
-# memory and the bound on its CPU time while descriptors run out.
+# ASan: frame-rate comparisons, adaptive quality (it reads round trips) and the bound on the
+# server's memory.
 TSAN_TESTS := fluidcast-server server_test server_session_test stream_client_test \
   connection_limits_test
 test-tsan: deps
 	cmake --preset tsan
 	cmake --build --preset tsan -j $(JOBS) --target $(TSAN_TESTS)
 	ctest --preset tsan -j $(JOBS) -L integration \
-	  -E 'FrameLoopTest|WindowClient|load_8_clients|DoesNotGrowTheServersMemory|AdaptiveQualityFalls|WhenDescriptorsRunOut'
+	  -E 'FrameLoopTest|WindowClient|load_8_clients|DoesNotGrowTheServersMemory|AdaptiveQualityFalls'
 
 # Coverage-guided fuzzing: each target in tests/fuzz as a libFuzzer program (clang, ASan+UBSan,
 # build/fuzz) for FUZZ_SECONDS, from its corpus in tests/fuzz/corpus. New inputs it finds go to

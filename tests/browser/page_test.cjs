@@ -439,9 +439,9 @@ async function main() {
           `Reset acts on the fluid here (t = ${localBeforeReset.toFixed(2)} → ` +
           `${localAfterReset.toFixed(2)} s)`);
     // The fluid here runs a while after the Reset, so that the one handed back cannot be taken
-    // for a new session's: the server goes on from where the page is when it comes back.
-    await waitFor(handing, () => window.fluidcast.local.time > 0.5, 'the fluid here after Reset',
-                  30000);
+    // for a new session's (a few frames in, well under a second): the server goes on from where
+    // the page is when it comes back.
+    await waitFor(handing, () => window.fluidcast.local.time > 2, 'the fluid here after Reset');
     const localAtRestart = await handing.evaluate(() => window.fluidcast.local.time);
     restarted = await startServer(port);
     await waitFor(handing, () => window.fluidcast.mode === 'stream' && window.fluidcast.connected,

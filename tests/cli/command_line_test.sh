@@ -35,7 +35,8 @@ work=$(mktemp -d)
 "$server" --listen 127.0.0.1 --grpc-port 0 --http-port 0 --state-dir "$work/state" \
   --log-format json > "$work/first.txt" 2>&1 &
 first=$!
-trap 'kill $first 2>/dev/null; rm -rf "$work"' EXIT
+draining=
+trap 'kill $first $draining 2>/dev/null; rm -rf "$work"' EXIT
 for _ in $(seq 300); do grep -q "listening: grpc=" "$work/first.txt" && break; sleep 0.1; done
 port=$(sed -n 's/.*listening: grpc=127.0.0.1:\([0-9]*\).*/\1/p' "$work/first.txt")
 if [[ -z "$port" ]]; then
@@ -62,12 +63,18 @@ health() { node -e 'fetch(process.argv[1]).then((r) => console.log(r.status), ()
 [[ $(health) == 200 ]] || fail "/healthz before SIGTERM: $(health)"
 kill -TERM $draining
 answer=none
-for _ in $(seq 100); do answer=$(health); [[ $answer == 503 ]] && break; sleep 0.1; done
+deadline=$((SECONDS + 15))
+while ((SECONDS < deadline)); do answer=$(health); [[ $answer == 503 ]] && break; sleep 0.1; done
 [[ $answer == 503 ]] || fail "/healthz while draining: $answer"
+grep -q "draining for 30 s" "$work/drain.txt" || fail "no drain said: $(tail -3 "$work/drain.txt")"
+sleep 1
+kill -0 $draining 2>/dev/null || fail "the server left before its drain was over"
+second=$SECONDS
 kill -TERM $draining
 wait $draining
 status=$?
 [[ $status -eq 0 ]] || fail "a drained server exited $status"
+((SECONDS - second < 15)) || fail "a second SIGTERM did not end the drain ($((SECONDS - second)) s)"
 # Where the page's certificate cannot be made or read: one sentence naming it, exit 2.
 err=$("$server" --listen 127.0.0.1 --grpc-port 0 --http-port 0 --state-dir /proc/fluidcast 2>&1 >/dev/null)
 status=$?

@@ -127,10 +127,16 @@ TEST(ServerTest, AnUntouchedSessionIdlesOutAndATouchedOneStreamsOn) {
   resume.mutable_resume()->set_key(idle.welcome().access().resume_key());
   StreamClient resumed(client::connect(address), resume);
   EXPECT_EQ(resumed.welcome().session_id(), idle.welcome().session_id());
-  // A touch at once: on a loaded machine its first frame may take longer than the idle timeout.
-  resumed.pointer(0, v1::PointerEvent::DOWN, 0.5f, 0.7f);
-  resumed.pointer(0, v1::PointerEvent::UP, 0.5f, 0.7f);
-  frame_from(resumed);
+  // Touched until its first frame comes: on a loaded machine that may take longer than the idle
+  // timeout.
+  std::optional<v1::Frame> first;
+  for (const auto give_up = std::chrono::steady_clock::now() + seconds(30);
+       !first && !resumed.ended() && std::chrono::steady_clock::now() < give_up;) {
+    resumed.pointer(0, v1::PointerEvent::DOWN, 0.5f, 0.7f);
+    resumed.pointer(0, v1::PointerEvent::UP, 0.5f, 0.7f);
+    first = resumed.next_frame(milliseconds(250));
+  }
+  EXPECT_TRUE(first) << resumed.status().error_message();
 }
 
 TEST(ServerTest, EveryBadInputEndsOnlyItsOwnStreamWithItsStatus) {
