@@ -43,7 +43,7 @@ grpc::ServerUnaryReactor* FluidcastService::GetServerInfo(grpc::CallbackServerCo
 grpc::ServerUnaryReactor* FluidcastService::GetSnapshot(grpc::CallbackServerContext* context,
                                                         const v1::SnapshotRequest* request,
                                                         v1::Snapshot* reply) {
-  auto* call = new SnapshotCall(snapshot_keys_, *context);  // deletes itself in OnDone
+  auto* call = new SnapshotCall(snapshot_slots_, *context);  // deletes itself in OnDone
   if (refused(call, *request, hub_->token(), "SnapshotRequest.token", "SnapshotRequest.key")) {
     return call;
   }
@@ -64,7 +64,7 @@ grpc::ServerUnaryReactor* FluidcastService::GetSnapshot(grpc::CallbackServerCont
 grpc::ServerUnaryReactor* FluidcastService::PutSnapshot(grpc::CallbackServerContext* context,
                                                         const v1::PutSnapshotRequest* request,
                                                         v1::PutSnapshotReply* reply) {
-  auto* call = new SnapshotCall(snapshot_keys_, *context);  // deletes itself in OnDone
+  auto* call = new SnapshotCall(snapshot_slots_, *context);  // deletes itself in OnDone
   if (refused(call, *request, hub_->token(), "PutSnapshotRequest.token",
               "PutSnapshotRequest.key")) {
     return call;

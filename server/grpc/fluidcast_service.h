@@ -31,7 +31,7 @@ class FluidcastService final
 
  private:
   SessionHub* hub_;
-  KeysInFlight snapshot_keys_;
+  SnapshotSlots snapshot_slots_;
 };
 
 }  // namespace fluidcast::server

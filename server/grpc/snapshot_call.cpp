@@ -7,7 +7,7 @@
 
 namespace fluidcast::server {
 
-bool KeysInFlight::take(const SnapshotCaller& caller, std::function<void()> go_on) {
+bool SnapshotSlots::take(const SnapshotCaller& caller, std::function<void()> go_on) {
   {
     std::lock_guard lock(mutex_);
     if (!under_way_.insert(caller).second) return false;
@@ -21,13 +21,13 @@ bool KeysInFlight::take(const SnapshotCaller& caller, std::function<void()> go_o
   return true;
 }
 
-void KeysInFlight::answered(const SnapshotCaller& caller) {
+void SnapshotSlots::answered(const SnapshotCaller& caller) {
   std::lock_guard lock(mutex_);
   under_way_.erase(caller);
   ++being_sent_[caller];
 }
 
-void KeysInFlight::sent(const SnapshotCaller& caller) {
+void SnapshotSlots::sent(const SnapshotCaller& caller) {
   std::function<void()> go_on;
   {
     std::lock_guard lock(mutex_);
@@ -44,7 +44,7 @@ void KeysInFlight::sent(const SnapshotCaller& caller) {
 
 void SnapshotCall::hold(const std::string& key, const char* field, std::function<void()> go_on) {
   held_ = SnapshotCaller{key, context_->peer()};  // before take(): go_on may run on another thread
-  const bool taken = keys_->take(*held_, [this, go_on = std::move(go_on)] {
+  const bool taken = slots_->take(*held_, [this, go_on = std::move(go_on)] {
     if (context_->IsCancelled()) {
       answer(grpc::Status::CANCELLED);
       return;
@@ -67,13 +67,13 @@ void SnapshotCall::hold(const std::string& key, const char* field, std::function
 void SnapshotCall::answer(const grpc::Status& status) {
   if (held_) {
     sending_ = std::exchange(held_, std::nullopt);
-    keys_->answered(*sending_);
+    slots_->answered(*sending_);
   }
   Finish(status);
 }
 
 void SnapshotCall::OnDone() {
-  if (sending_) keys_->sent(*sending_);
+  if (sending_) slots_->sent(*sending_);
   delete this;
 }
 

@@ -30,8 +30,8 @@ struct SnapshotCaller {
   auto operator<=>(const SnapshotCaller&) const = default;
 };
 
-// The callers whose snapshot call is under way, and their answers still being sent.
-class KeysInFlight {
+// Each caller's slot: its snapshot call under way (or waiting), and its answers still being sent.
+class SnapshotSlots {
  public:
   static constexpr int kUnreadAnswers = 2;
 
@@ -54,10 +54,10 @@ class KeysInFlight {
 // One snapshot call's reactor; deletes itself when gRPC is done with the call.
 class SnapshotCall final : public grpc::ServerUnaryReactor {
  public:
-  SnapshotCall(KeysInFlight& keys, const grpc::CallbackServerContext& context)
-      : keys_(&keys), context_(&context) {}
+  SnapshotCall(SnapshotSlots& slots, const grpc::CallbackServerContext& context)
+      : slots_(&slots), context_(&context) {}
 
-  // Holds the slot of this call's key and connection and runs `go_on` (see KeysInFlight::take),
+  // Holds the slot of this call's key and connection and runs `go_on` (see SnapshotSlots::take),
   // which ends in answer(), unless the client has cancelled the call by then (a PutSnapshot it
   // gave up on is not carried out later). When another call holds the slot, finishes this one
   // with RESOURCE_EXHAUSTED naming `field`.
@@ -70,7 +70,7 @@ class SnapshotCall final : public grpc::ServerUnaryReactor {
   void OnDone() override;
 
  private:
-  KeysInFlight* keys_;
+  SnapshotSlots* slots_;
   const grpc::CallbackServerContext* context_;
   std::optional<SnapshotCaller> held_;
   std::optional<SnapshotCaller> sending_;
