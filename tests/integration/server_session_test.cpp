@@ -153,20 +153,25 @@ TEST(ServerTest, ADragStirsTheFluidWhereItTouches) {
   frame_from(calm);
   // The camera looks at the tank's centre, the whole tank in the frame; the water fills its lower
   // 30 %: touch well below the middle.
-  touched.pointer(0, v1::PointerEvent::DOWN, 0.45f, 0.7f);
-  for (int k = 0; k < 20; ++k) {
-    frame_from(touched);
-    frame_from(calm);
-    touched.pointer(0, v1::PointerEvent::MOVE, 0.45f + 0.01f * float(k % 10), 0.7f);
-  }
-  const v1::Snapshot stirred = touched.snapshot();
-  const v1::Snapshot still = calm.snapshot();
+  // Swept back and forth, 20 frames a round, until the water near it moves (one round, here; a
+  // loaded machine once showed none after the first); ten rounds without is a finger that stirs
+  // nothing.
   const float centre_x = 0.5f * (touched.welcome().state().tank().min().x() +
                                  touched.welcome().state().tank().max().x());
-  const double stirred_speed = mean_speed_near(stirred, centre_x, 0.3f);
-  const double still_speed = mean_speed_near(still, centre_x, 0.3f);
-  std::printf("mean speed near the finger: %.3f m/s stirred, %.3f m/s left alone\n", stirred_speed,
-              still_speed);
+  double stirred_speed = 0.0;
+  double still_speed = 0.0;
+  touched.pointer(0, v1::PointerEvent::DOWN, 0.45f, 0.7f);
+  for (int round = 0; round < 10 && !(stirred_speed > 3.0 * still_speed + 0.02); ++round) {
+    for (int k = 0; k < 20; ++k) {
+      frame_from(touched);
+      frame_from(calm);
+      touched.pointer(0, v1::PointerEvent::MOVE, 0.45f + 0.01f * float(k % 10), 0.7f);
+    }
+    stirred_speed = mean_speed_near(touched.snapshot(), centre_x, 0.3f);
+    still_speed = mean_speed_near(calm.snapshot(), centre_x, 0.3f);
+    std::printf("round %d: mean speed near the finger %.3f m/s stirred, %.3f m/s left alone\n",
+                round, stirred_speed, still_speed);
+  }
   EXPECT_GT(stirred_speed, 3.0 * still_speed + 0.02);
 }
 
