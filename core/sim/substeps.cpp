@@ -24,6 +24,10 @@ constexpr float kUnseenGrowth = 1.3f;
 // density error 1 → 3 %) and springing back.
 constexpr float kLengtheningMargin = 0.8f;
 
+// Figures near the tolerance, for steps unseen: above where lengthening leaves a fluid at rest
+// (kLengtheningMargin², 0.64 of the tolerance).
+constexpr float kNearShare = 0.8f;
+
 // A bound of exactly k substeps, worked out in float (a step over a substep the step was cut
 // into), can come out a few ulps above k: it still means k.
 constexpr float kRoundingSlack = 1e-5f;
@@ -48,10 +52,13 @@ PbfSubsteps::PbfSubsteps(const SolverParams& params, float kernel_radius)
       iterations_(params.iterations),
       max_substeps_(params.max_substeps),
       longest_substep_(std::numeric_limits<float>::infinity()),
-      last_error_(std::numeric_limits<float>::quiet_NaN()) {}
+      last_error_(std::numeric_limits<float>::quiet_NaN()) {
+  recent_at_tolerance_.fill(std::numeric_limits<float>::infinity());
+}
 
 void PbfSubsteps::start(std::span<const glm::vec3> positions, glm::vec3 gravity) {
   last_error_ = std::numeric_limits<float>::quiet_NaN();
+  recent_at_tolerance_.fill(std::numeric_limits<float>::infinity());
   longest_substep_ = std::numeric_limits<float>::infinity();
   const float g = glm::length(gravity);
   if (positions.empty() || !(g > 0.0f)) return;
@@ -84,7 +91,7 @@ int PbfSubsteps::count(float step, float largest_speed, float largest_collider_s
   if (!std::isfinite(by_travel) || !std::isfinite(by_walls)) return max_substeps_;
   float substeps = std::max({by_travel, by_walls, by_density}) * (1.0f - kRoundingSlack);
   // NaN, nothing observed yet, is not near: the bound start() set stands alone.
-  const bool near_bound = last_error_ > 0.5f * tolerance_;
+  const bool near_bound = last_error_ > kNearShare * tolerance_;
   if (near_bound && steps_unseen > 0) {
     substeps =
         std::ceil(substeps) * std::pow(kUnseenGrowth, 0.5f * static_cast<float>(steps_unseen));
@@ -99,13 +106,18 @@ void PbfSubsteps::observe(float substep, float error) {
   // The error shrinks at least as Δt² (measured: faster), so this is the longest substep that
   // keeps it within tolerance. Within it the bound does not shorten (below the substep taken, or
   // below itself where it reaches no further than the tolerance: a substep shorter than the bound,
-  // set by travel or by steps unseen, says nothing against it), and lengthens with a margin.
+  // set by travel or by steps unseen, says nothing against it), and lengthens with a margin, as
+  // far as the recent steps all allow.
   const float at_tolerance = error > 0.0f ? substep * std::sqrt(tolerance_ / error)
                                           : std::numeric_limits<float>::infinity();
+  recent_at_tolerance_[static_cast<std::size_t>(next_recent_)] = at_tolerance;
+  next_recent_ = (next_recent_ + 1) % kRecentSteps;
+  const float recently =
+      *std::min_element(recent_at_tolerance_.begin(), recent_at_tolerance_.end());
   const float allowed = error > tolerance_
                             ? at_tolerance
-                            : std::max({substep, std::min(longest_substep_, at_tolerance),
-                                        kLengtheningMargin * at_tolerance});
+                            : std::max({substep, std::min(longest_substep_, recently),
+                                        kLengtheningMargin * recently});
   longest_substep_ = std::min(allowed, kLongestGrowth * longest_substep_);
 }
 

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <glm/glm.hpp>
 #include <span>
 
@@ -25,9 +26,10 @@ namespace fluidcast::sim {
 // - density: the average compression a step leaves, which Jacobi iterations shrink as Δt², stays
 //   within pbf_density_tolerance: each step's measured error sets the longest substep the next
 //   may take (it shortens at once when the error was too large and lengthens by at most a tenth
-//   a step when it was small, only as far as would leave 0.64 of the tolerance). Figures that
-//   arrive late (a GPU's steps in flight) are trusted only while they were well within the
-//   tolerance: see count()'s steps_unseen.
+//   a step when it was small, only as far as would leave 0.64 of the tolerance, and only as far
+//   as each of the last kRecentSteps steps allows). Figures that arrive late (a GPU's steps in
+//   flight) are trusted only while they were well within the tolerance: see count()'s
+//   steps_unseen.
 //   A fluid just loaded has shown no figures yet, and a column of water at rest compresses at its
 //   foot before its average does: the density bound starts from the column's weight (start()).
 class PbfSubsteps {
@@ -38,6 +40,16 @@ class PbfSubsteps {
   // d (8 substeps) 50, 78 and 35 %; at 0.75 d (11) 22, 20 and 11 %, for 2 % more substeps over
   // its first 0.5 s.
   static constexpr float kWallShareOfSpacing = 0.75f;
+
+  // Substeps lengthen only as far as every one of this many steps observed last allows. A fluid
+  // deep enough to bounce cycled under a rule that looked at the last step alone: a pool 57 layers
+  // deep (a 1M pool's spacing) sank as its substeps lengthened, was caught compressed (2 % on
+  // average, 5 % at most), sprang up as they shortened (5 → 12 a step), was seen uncompressed at
+  // the top of its bounce and lengthened them again, over ~15 steps and for good; the H200 showed
+  // the 1M pool doing it. Over 16 steps it settles (7 substeps every step, 0.63 % average and
+  // 2.3 % largest error), and a 64k dam break's largest error over 1.5 s falls from 12.7 to 8.5 %
+  // for 12 % more substeps (bench/results/substep-window-cpu-2026-11-28.md).
+  static constexpr int kRecentSteps = 16;
 
   PbfSubsteps(const SolverParams& params, float kernel_radius);
 
@@ -53,10 +65,13 @@ class PbfSubsteps {
   // Substeps of a step of `step` seconds, from the newest speeds known (m/s; a wall approach as
   // largest_wall_approach() measures it). Non-finite speeds give max_substeps. `steps_unseen`:
   // steps still running whose figures are not in yet (a GPU's steps in flight). While the last
-  // figures were near the tolerance (above half), each unseen step counts as one that compressed
-  // the fluid 1.3 times more (a deep column did, unseen, before it burst): 1.3^(unseen/2) times the
-  // substeps, as the error goes as Δt². Before the first figures the bound start() set stands
-  // alone.
+  // figures were near the tolerance (above 0.8 of it), each unseen step counts as one that
+  // compressed the fluid 1.3 times more (a deep column did, unseen, before it burst):
+  // 1.3^(unseen/2) times the substeps, as the error goes as Δt². Near means beyond where
+  // lengthening leaves a fluid at rest (0.64 of the tolerance): from half of it, a deep pool at
+  // rest took the allowance's extra substeps each time steps were in flight, left less error in
+  // them, lost the allowance, and bounced with each switch. Before the first figures the bound
+  // start() set stands alone.
   int count(float step, float largest_speed, float largest_collider_speed,
             float largest_wall_approach, float gravity, int steps_unseen = 0) const;
   // The fastest a particle may move in a substep of `substep` seconds, m/s.
@@ -77,6 +92,10 @@ class PbfSubsteps {
   int max_substeps_;
   float longest_substep_;
   float last_error_;  // NaN until a step of this fluid was observed
+  // The longest substep that each of the last kRecentSteps steps observed would have kept within
+  // the tolerance (infinite where none was observed), oldest overwritten first.
+  std::array<float, kRecentSteps> recent_at_tolerance_;
+  int next_recent_ = 0;
 };
 
 // How fast a particle closes on a wall of `inner` (the box particle centres keep to) that it would

@@ -172,6 +172,14 @@ TEST_F(GpuPbfTest, CompressionLeftBehindDoesNotBurst) {
   EXPECT_LT(e.kinetic, 1.25 * e.released);
 }
 
+// As Pbf.ADeepPoolSettles (unit/pbf_test.cpp), with the GPU's steps in flight: the rule's
+// allowance for steps unseen must not switch on and off in a fluid at rest near its bound.
+TEST_F(GpuPbfTest, ADeepPoolSettles) {
+  const testing::DeepPoolWatch pool = testing::watch_deep_pool(Backend::gpu);
+  EXPECT_LT(pool.centre_of_mass_range, 0.002);
+  EXPECT_LE(pool.substep_counts, 2u);
+}
+
 // The iterations' weights reach the correction pass: six steps of a dam break, in lockstep, give
 // the CPU's kinetic energy damped and in full (measured with fluidcast-sim: the damping moves
 // the energy by 0.8 %, the backends differ by 3·10⁻⁷ of the energy).

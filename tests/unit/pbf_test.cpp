@@ -91,6 +91,13 @@ TEST(Pbf, RestingPoolHoldsItsSubstepCount) {
   EXPECT_LT(worst_density_error, 0.015);
 }
 
+// It settles now: 0.2 mm and 7 substeps every step (PbfSubsteps::kRecentSteps).
+TEST(Pbf, ADeepPoolSettles) {
+  const testing::DeepPoolWatch pool = testing::watch_deep_pool(testing::Backend::cpu);
+  EXPECT_LT(pool.centre_of_mass_range, 0.002);
+  EXPECT_LE(pool.substep_counts, 2u);
+}
+
 TEST(Pbf, SubstepsKeepFastFlowStable) {
   auto solver = make_solver(SolverKind::pbf, SceneKind::dam_break, 3000);
   run_for(*solver, 2.0);

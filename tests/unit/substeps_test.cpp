@@ -81,7 +81,23 @@ TEST(PbfSubsteps, LittleCompressionLengthensThemByATenthAStepAtMost) {
   // A late report of a small error (a GPU step that was in flight) does not undo it at once.
   substeps.observe(kStep, 0.0f);
   EXPECT_FLOAT_EQ(substeps.longest_substep(), 1.1f * kStep / 2);
-  for (int k = 0; k < 20; ++k) substeps.observe(kStep / 2, 0.0f);
+  for (int k = 0; k < PbfSubsteps::kRecentSteps + 20; ++k) substeps.observe(kStep / 2, 0.0f);
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f), 1);
+}
+
+// A step caught compressed holds the bound for kRecentSteps steps, however little the steps after
+// it show (a deep fluid bouncing shows least at the top of its bounce); then it lengthens again.
+TEST(PbfSubsteps, ACompressedStepHoldsTheBoundForTheRecentSteps) {
+  PbfSubsteps substeps = rule(1.0f, 0.01f);
+  substeps.observe(kStep / 2, 0.016f);  // at the tolerance 0.395 of a step: 3 substeps
+  ASSERT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f), 3);
+  for (int k = 1; k < PbfSubsteps::kRecentSteps; ++k) {
+    substeps.observe(kStep / 3, 0.0001f);
+    EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f), 3) << k << " steps later";
+  }
+  substeps.observe(kStep / 3, 0.0001f);  // the compressed step has left the window
+  EXPECT_GT(substeps.longest_substep(), 0.4f * kStep);
+  for (int k = 0; k < 20; ++k) substeps.observe(kStep / 3, 0.0001f);
   EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f), 1);
 }
 
@@ -137,6 +153,18 @@ TEST(PbfSubsteps, StepsUnseenNearTheBoundTakeMoreSubsteps) {
   EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f, 2), 2);
   substeps.observe(kStep, std::numeric_limits<float>::quiet_NaN());  // ignored, as in the bound
   EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f, 2), 2);
+}
+
+// Where lengthening leaves a fluid at rest (0.64 of the tolerance) is not near the bound: steps
+// unseen add nothing there, or a deep pool would take more substeps whenever steps were in flight
+// and fewer when they were not, and bounce at each switch.
+TEST(PbfSubsteps, StepsUnseenAddNothingWhereLengtheningLeavesAFluid) {
+  PbfSubsteps substeps = rule(1.0f, 0.01f);
+  substeps.observe(kStep / 2, 0.0064f);
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f, 3), 2);
+  substeps.observe(kStep / 2, 0.0085f);
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f, 0), 2);
+  EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f, 2), 3);
 }
 
 // A fluid just loaded starts from its weight: with c = h √(4 · iterations) / Δt, a column of
