@@ -28,6 +28,12 @@ constexpr float kLengtheningMargin = 0.8f;
 // (kLengtheningMargin², 0.64 of the tolerance).
 constexpr float kNearShare = 0.8f;
 
+// Steps that left more than this share of the tolerance hold the bound for kRecentSteps steps;
+// those that left less say nothing against lengthening. From half, a deep pool at rest settles as
+// when every step counted, and a 10k dam break at 2 iterations takes 6 % more substeps over its
+// first 0.5 s than without the hold, not 15 %.
+constexpr float kHeldShare = 0.5f;
+
 // A bound of exactly k substeps, worked out in float (a step over a substep the step was cut
 // into), can come out a few ulps above k: it still means k.
 constexpr float kRoundingSlack = 1e-5f;
@@ -110,10 +116,11 @@ void PbfSubsteps::observe(float substep, float error) {
   // far as the recent steps all allow.
   const float at_tolerance = error > 0.0f ? substep * std::sqrt(tolerance_ / error)
                                           : std::numeric_limits<float>::infinity();
-  recent_at_tolerance_[static_cast<std::size_t>(next_recent_)] = at_tolerance;
+  recent_at_tolerance_[static_cast<std::size_t>(next_recent_)] =
+      error > kHeldShare * tolerance_ ? at_tolerance : std::numeric_limits<float>::infinity();
   next_recent_ = (next_recent_ + 1) % kRecentSteps;
-  const float recently =
-      *std::min_element(recent_at_tolerance_.begin(), recent_at_tolerance_.end());
+  const float recently = std::min(
+      at_tolerance, *std::min_element(recent_at_tolerance_.begin(), recent_at_tolerance_.end()));
   const float allowed = error > tolerance_
                             ? at_tolerance
                             : std::max({substep, std::min(longest_substep_, recently),

@@ -27,7 +27,7 @@ namespace fluidcast::sim {
 //   within pbf_density_tolerance: each step's measured error sets the longest substep the next
 //   may take (it shortens at once when the error was too large and lengthens by at most a tenth
 //   a step when it was small, only as far as would leave 0.64 of the tolerance, and only as far
-//   as each of the last kRecentSteps steps allows). Figures that arrive late (a GPU's steps in
+//   as each of the last kRecentSteps steps that left over half of it allows). Figures that arrive late (a GPU's steps in
 //   flight) are trusted only while they were well within the tolerance: see count()'s
 //   steps_unseen.
 //   A fluid just loaded has shown no figures yet, and a column of water at rest compresses at its
@@ -41,14 +41,14 @@ class PbfSubsteps {
   // its first 0.5 s.
   static constexpr float kWallShareOfSpacing = 0.75f;
 
-  // Substeps lengthen only as far as every one of this many steps observed last allows. A fluid
-  // deep enough to bounce cycled under a rule that looked at the last step alone: a pool 57 layers
-  // deep (a 1M pool's spacing) sank as its substeps lengthened, was caught compressed (2 % on
-  // average, 5 % at most), sprang up as they shortened (5 → 12 a step), was seen uncompressed at
-  // the top of its bounce and lengthened them again, over ~15 steps and for good; the H200 showed
-  // the 1M pool doing it. Over 16 steps it settles (7 substeps every step, 0.63 % average and
-  // 2.3 % largest error), and a 64k dam break's largest error over 1.5 s falls from 12.7 to 8.5 %
-  // for 12 % more substeps (bench/results/substep-window-cpu-2026-11-28.md).
+  // Substeps lengthen only as far as every one of this many steps observed last allows, of those
+  // that left over half the tolerance. A fluid deep enough to bounce cycled under a rule that
+  // looked at the last step alone: a pool 57 layers deep (a 1M pool's spacing) sank as its
+  // substeps lengthened, was caught compressed (2 % on average, 5 % at most), sprang up as they
+  // shortened (5 → 12 a step), was seen uncompressed at the top of its bounce and lengthened them
+  // again, over ~15 steps and for good; the H200 showed the 1M pool doing it. Held over 16 steps
+  // it settles (7 substeps every step, 0.63 % average and 2.3 % largest error), for 6–12 % more
+  // substeps in a dam break (bench/results/substep-window-cpu-2026-11-28.md).
   static constexpr int kRecentSteps = 16;
 
   PbfSubsteps(const SolverParams& params, float kernel_radius);
@@ -93,7 +93,8 @@ class PbfSubsteps {
   float longest_substep_;
   float last_error_;  // NaN until a step of this fluid was observed
   // The longest substep that each of the last kRecentSteps steps observed would have kept within
-  // the tolerance (infinite where none was observed), oldest overwritten first.
+  // the tolerance (infinite where none was observed, or it left under half the tolerance), oldest
+  // overwritten first.
   std::array<float, kRecentSteps> recent_at_tolerance_;
   int next_recent_ = 0;
 };
