@@ -2,7 +2,10 @@
 # Everything a session measures on a lent GPU machine, in parts that each fit one device call
 # (10 minutes) and bring back at most a few files. Build here first, then bundle what it runs:
 #   ../shared/tools/gpu-bundle build $(bench/gpu_lease.sh programs)
-# and on the device (carry .gpu):  source .gpu/env.sh && BIN=.gpu/bin bench/gpu_lease.sh PART $OUT
+# and on the device (carry .gpu):  source .gpu/env.sh && BIN=.gpu/bin bench/gpu_lease.sh PART W
+# A device call brings back at most 8 files from $OUT: run the parts into a folder W outside it
+# (e.g. /tmp/w/PART) and pack it after each part, `tar czf $OUT/all.tgz -C /tmp/w .`, so that a
+# part cut off by its timeout still leaves the earlier ones (bench/results/h200-2026-11-28.md).
 # PART: programs  the programs the parts run (for the bundle), on standard output
 #       tests   every GPU test with the validation layer on (a message fails its test)
 #       solver  fluidcast-bench-gpu: the solver table and many sessions batched against serial
@@ -21,7 +24,8 @@
 #               read back every step, and as point frames. The CPU solver's 1M reference is in
 #               bench/results/h100-2026-11-25.md (centre of mass 0.114 m high at t = 0.5 s)
 # Times on an H100 (2026-11-25): tests 43 s, solver 12 s (with 2 and 6 iterations; the rows at 4
-# came later), render 27 s. Each writes its log and tables under OUT. --smoke (third argument)
+# came later), render 27 s. On an H200 (2026-11-28): tests 50 s, solver 12 s, render 14–16 s,
+# loop CASES="1 5" 78 s and "2 3 4 6" 105 s, validate 75 s, burst over 90 s. Each writes its log and tables under OUT. --smoke (third argument)
 # runs the benchmarks' small cases, to prove the script here on lavapipe.
 set -euo pipefail
 cd "$(dirname "$0")/.."
