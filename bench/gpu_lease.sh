@@ -25,8 +25,9 @@
 #               bench/results/h100-2026-11-25.md (centre of mass 0.114 m high at t = 0.5 s)
 # Times on an H100 (2026-11-25): tests 43 s, solver 12 s (with 2 and 6 iterations; the rows at 4
 # came later), render 27 s. On an H200 (2026-11-28): tests 50 s, solver 12 s, render 14–16 s,
-# loop CASES="1 5" 78 s and "2 3 4 6" 105 s, validate 75 s, burst over 90 s. Each writes its log and tables under OUT. --smoke (third argument)
-# runs the benchmarks' small cases, to prove the script here on lavapipe.
+# loop CASES="1 5" 78 s and "2 3 4 6" 105 s, validate 75 s, burst over 90 s. Each writes its log
+# and tables under OUT. --smoke (third argument) runs the benchmarks' small cases, to prove the
+# script here on lavapipe.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 gpu_tests=(gpu_context_test gpu_neighbour_grid_test gpu_solver_test gpu_step_batch_test

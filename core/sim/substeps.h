@@ -27,9 +27,9 @@ namespace fluidcast::sim {
 //   within pbf_density_tolerance: each step's measured error sets the longest substep the next
 //   may take (it shortens at once when the error was too large and lengthens by at most a tenth
 //   a step when it was small, only as far as would leave 0.64 of the tolerance, and only as far
-//   as each of the last kRecentSteps steps that left over half of it allows). Figures that arrive late (a GPU's steps in
-//   flight) are trusted only while they were well within the tolerance: see count()'s
-//   steps_unseen.
+//   as each of the last kRecentSteps steps that left over half of it allows). Figures that
+//   arrive late (a GPU's steps in flight) are trusted only while they were well within the
+//   tolerance: see count()'s steps_unseen.
 //   A fluid just loaded has shown no figures yet, and a column of water at rest compresses at its
 //   foot before its average does: the density bound starts from the column's weight (start()).
 class PbfSubsteps {

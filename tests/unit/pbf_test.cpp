@@ -91,7 +91,7 @@ TEST(Pbf, RestingPoolHoldsItsSubstepCount) {
   EXPECT_LT(worst_density_error, 0.015);
 }
 
-// It settles now: 0.2 mm and 7 substeps every step (PbfSubsteps::kRecentSteps).
+// It settles now: within 0.1 mm, 7 substeps every step (PbfSubsteps::kRecentSteps).
 TEST(Pbf, ADeepPoolSettles) {
   const testing::DeepPoolWatch pool = testing::watch_deep_pool(testing::Backend::cpu);
   EXPECT_LT(pool.centre_of_mass_range, 0.002);
