@@ -26,15 +26,6 @@ GridGeometry::GridGeometry(const Box& domain, float search_radius) : origin(doma
 NeighbourGrid::NeighbourGrid(const Box& domain, float search_radius)
     : geometry_(domain, search_radius), cell_start_(geometry_.cell_count() + 1, 0) {}
 
-glm::ivec3 GridGeometry::cell_coords(glm::vec3 p) const {
-  const glm::vec3 f = glm::floor((p - origin) * inv_cell_size);
-  // Clamp in float first: a far-away (or non-finite) position must not overflow the int cast.
-  const glm::vec3 clamped = glm::clamp(f, glm::vec3(0.0f), glm::vec3(dims - 1));
-  return glm::ivec3(std::isnan(clamped.x) ? 0.0f : clamped.x,
-                    std::isnan(clamped.y) ? 0.0f : clamped.y,
-                    std::isnan(clamped.z) ? 0.0f : clamped.z);
-}
-
 void NeighbourGrid::build(ForkJoinPool& pool, std::span<const glm::vec3> positions) {
   const std::size_t n = positions.size();
   cell_of_particle_.resize(n);

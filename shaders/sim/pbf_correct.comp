@@ -3,7 +3,7 @@
 // PBF: the position correction Δp with s_corr (tensile instability), pushed off the walls by
 // the particle's own λ, weighted (pbf_correction_weight: the first and last iterations'), then
 // constrained; as PbfSolver::apply_position_corrections. The last iteration also sets the
-// velocity from the corrected position, as PbfSolver::update_velocities (velocity_from).
+// velocity from the corrected position, as PbfSolver::velocity_from.
 #include "common/core.glsl"
 #include "common/sim_params.glsl"
 #include "common/sim_kernels.glsl"

@@ -4,7 +4,7 @@
 // velocity, then the particles written back as state (sorted order becomes state order), and the
 // largest |v|² and wall approach recorded for the next step's substep count; on a step's last
 // substep also the compression it leaves, max(ρ/ρ0 − 1, 0) walls included, for the substep rule
-// (as PbfSolver::average_compression).
+// (as PbfSolver::sum_over_neighbours measures it).
 #include "common/core.glsl"
 #include "common/sim_params.glsl"
 #include "common/sim_kernels.glsl"

@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // PBF, in sorted order, with vorticity confinement on: ω_i = Σ_j V (v_j − v_i) × ∇_j W_ij, the
-// curl of the velocity (|ω| in w); as PbfSolver::compute_vorticity.
+// curl of the velocity (|ω| in w); as PbfSolver::sum_over_neighbours.
 #include "common/core.glsl"
 #include "common/sim_params.glsl"
 #include "common/sim_kernels.glsl"

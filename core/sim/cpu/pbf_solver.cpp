@@ -55,23 +55,25 @@ void PbfSolver::substep(bool last) {
     list_neighbours(predicted_);
   }
   uncorrected_ = predicted_;
-  stage_times_.iteration_ms.resize(static_cast<std::size_t>(params().iterations));
-  for (int iteration = 0; iteration < params().iterations; ++iteration) {
+  const int iterations = params().iterations;
+  stage_times_.iteration_ms.resize(static_cast<std::size_t>(iterations));
+  for (int iteration = 0; iteration < iterations; ++iteration) {
     double& iteration_ms = stage_times_.iteration_ms[static_cast<std::size_t>(iteration)];
     const double before = iteration_ms;
     {
       StageTimer timer(iteration_ms);
       compute_lambdas();
-      apply_position_corrections(pbf_correction_weight(params(), iteration));
+      apply_position_corrections(pbf_correction_weight(params(), iteration),
+                                 iteration + 1 == iterations);
     }
     stage_times_.solve_ms += iteration_ms - before;
   }
-  {
+  const bool viscous = params().vorticity > 0.0f || params().xsph_viscosity > 0.0f;
+  if (viscous || last) {
     StageTimer timer(stage_times_.velocity_ms);
-    update_velocities();
-    if (params().vorticity > 0.0f || params().xsph_viscosity > 0.0f) compute_vorticity();
+    sum_over_neighbours(last);
   }
-  if (params().vorticity > 0.0f || params().xsph_viscosity > 0.0f) {
+  if (viscous) {
     StageTimer timer(stage_times_.viscosity_ms);
     apply_confinement_and_viscosity();
   }
@@ -127,23 +129,13 @@ void PbfSolver::compute_lambdas() {
   });
 }
 
-float PbfSolver::average_compression() {
-  const std::size_t n = particles_.size();
-  if (n == 0) return 0.0f;
-  compression_.resize(n);
-  const float mass = fluid().particle_mass;
-  const float inv_rest_density = 1.0f / fluid().rest_density;
-  const float self_density = kernels_.poly6(0.0f);
-  pool_->for_each(n, [&](std::size_t i) {
-    const float density = self_density + neighbour_poly6_sum(predicted_.data(), i);
-    compression_[i] =
-        std::max((mass * density + walls(predicted_[i]).density) * inv_rest_density - 1.0f, 0.0f);
-  });
+float PbfSolver::average_compression() const {
+  if (compression_.empty()) return 0.0f;
   const double sum = std::accumulate(compression_.begin(), compression_.end(), 0.0);
-  return static_cast<float>(sum / static_cast<double>(n));
+  return static_cast<float>(sum / static_cast<double>(compression_.size()));
 }
 
-void PbfSolver::apply_position_corrections(float weight) {
+void PbfSolver::apply_position_corrections(float weight, bool set_velocities) {
   const std::size_t n = particles_.size();
   corrected_.resize(n);
   const float volume = fluid().rest_volume();
@@ -169,6 +161,7 @@ void PbfSolver::apply_position_corrections(float weight) {
     // The walls hold no λ of their own: only this particle's constraint pushes it off them.
     const glm::vec3 wall_push = lambda_i * inv_rest_density * walls(p).gradient;
     corrected_[i] = constrain_position(p + weight * (volume * lanes::sum(delta) + wall_push));
+    if (set_velocities) particles_.velocity[i] = velocity_from(i, corrected_[i]);
   });
   predicted_.swap(corrected_);
 }
@@ -176,65 +169,74 @@ void PbfSolver::apply_position_corrections(float weight) {
 // v = (x* − x) / Δt, but the corrections' part of it, (x* − x*uncorrected) / Δt, is capped at
 // pbf_max_acceleration · Δt: compression that earlier substeps left behind would otherwise come
 // back as velocity that grows as the substeps shorten (a burst) instead of being smoothed out.
-void PbfSolver::update_velocities() {
+glm::vec3 PbfSolver::velocity_from(std::size_t i, glm::vec3 corrected) const {
   const float inv_dt = 1.0f / dt_;
   const float most = params().pbf_max_acceleration * dt_;
-  pool_->for_each(particles_.size(), [&](std::size_t i) {
-    const glm::vec3 uncorrected = (uncorrected_[i] - particles_.position[i]) * inv_dt;
-    const glm::vec3 change = (predicted_[i] - uncorrected_[i]) * inv_dt;
-    const float length = glm::length(change);
-    particles_.velocity[i] = uncorrected + (length > most ? change * (most / length) : change);
-  });
+  const glm::vec3 uncorrected = (uncorrected_[i] - particles_.position[i]) * inv_dt;
+  const glm::vec3 change = (corrected - uncorrected_[i]) * inv_dt;
+  const float length = glm::length(change);
+  return uncorrected + (length > most ? change * (most / length) : change);
 }
 
-// ω_i = Σ_j V (v_j − v_i) × ∇_j W_ij, the SPH estimate of the curl of the velocity.
-void PbfSolver::compute_vorticity() {
+// At the corrected positions and velocities: ω_i = Σ_j V (v_j − v_i) × ∇_j W_ij, the SPH estimate
+// of the curl of the velocity, and XSPH's v_i + c Σ_j V (v_j − v_i) W_ij; with `measure`, also the
+// compression max(ρ/ρ0 − 1, 0), walls included. One pass: the same kernels serve all three.
+void PbfSolver::sum_over_neighbours(bool measure) {
   const std::size_t n = particles_.size();
   vorticity_.resize(n);
   vorticity_norm_.resize(n);
+  smoothed_velocity_.resize(n);
+  compression_.resize(measure ? n : 0);
   pair_blocks_.resize(neighbours_.pair_count() / lanes::kWidth);
   const float volume = fluid().rest_volume();
+  const float xsph = params().xsph_viscosity;
+  const float mass = fluid().particle_mass;
+  const float inv_rest_density = 1.0f / fluid().rest_density;
+  const float self_density = kernels_.poly6(0.0f);
   const glm::vec3* v = particles_.velocity.data();
   pool_->for_each(n, [&](std::size_t i) {
     lanes::Vec3 omega{};
+    lanes::Vec3 smoothing{};
+    lanes::Floats density{};
     PairBlock* block = first_block(i);
     const auto list = neighbours_.blocks_of(i);
     for (std::size_t k = 0; k < list.size(); k += lanes::kWidth, ++block) {
       *block = kernels_of_block(i, list, k);
+      const lanes::Vec3 relative = lanes::gather(v, list.data() + k) - v[i];
       // ∇_j W_ij = −∇_i W_ij
-      omega += lanes::cross(lanes::gather(v, list.data() + k) - v[i], block->gradient);
+      omega += lanes::cross(relative, block->gradient);
+      smoothing += block->poly6 * relative;
+      density += block->poly6;
     }
     vorticity_[i] = -volume * lanes::sum(omega);
     vorticity_norm_[i] = glm::length(vorticity_[i]);
+    smoothed_velocity_[i] = v[i] + xsph * volume * lanes::sum(smoothing);
+    if (measure) {
+      compression_[i] = std::max(
+          (mass * (self_density + lanes::sum(density)) + walls(predicted_[i]).density) *
+                  inv_rest_density -
+              1.0f,
+          0.0f);
+    }
   });
 }
 
-// Vorticity confinement a = ε N × ω with N = ∇|ω| / |∇|ω||, then XSPH: v_i += c Σ V (v_j − v_i) W.
+// Vorticity confinement a = ε N × ω with N = ∇|ω| / |∇|ω||, onto the XSPH-smoothed velocity.
 void PbfSolver::apply_confinement_and_viscosity() {
-  const std::size_t n = particles_.size();
-  smoothed_velocity_.resize(n);
-  const float volume = fluid().rest_volume();
   const float dt = dt_;
   const float epsilon = params().vorticity;
-  const float xsph = params().xsph_viscosity;
-  const glm::vec3* v = particles_.velocity.data();
-  pool_->for_each(n, [&](std::size_t i) {
+  pool_->for_each(particles_.size(), [&](std::size_t i) {
     const float omega_i = vorticity_norm_[i];
     lanes::Vec3 eta{};
-    lanes::Vec3 smoothing{};
     const PairBlock* block = first_block(i);
     const auto list = neighbours_.blocks_of(i);
     for (std::size_t k = 0; k < list.size(); k += lanes::kWidth, ++block) {
-      const std::uint32_t* j = list.data() + k;
-      eta += (lanes::gather(vorticity_norm_.data(), j) - omega_i) * block->gradient;
-      smoothing += block->poly6 * (lanes::gather(v, j) - v[i]);
+      eta += (lanes::gather(vorticity_norm_.data(), list.data() + k) - omega_i) * block->gradient;
     }
-    glm::vec3 velocity = v[i] + xsph * volume * lanes::sum(smoothing);
     const glm::vec3 eta_sum = lanes::sum(eta);
     const float eta_length = glm::length(eta_sum);
     if (eta_length > 1e-12f)
-      velocity += dt * epsilon * glm::cross(eta_sum / eta_length, vorticity_[i]);
-    smoothed_velocity_[i] = velocity;
+      smoothed_velocity_[i] += dt * epsilon * glm::cross(eta_sum / eta_length, vorticity_[i]);
   });
   particles_.velocity.swap(smoothed_velocity_);
 }

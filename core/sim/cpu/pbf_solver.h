@@ -30,28 +30,29 @@ class PbfSolver final : public CpuSolver {
   void substep(bool last);
   void predict();
   void compute_lambdas();
-  // Mean over particles of max(ρ/ρ0 − 1, 0) at the corrected positions, walls included: what the
-  // substep leaves, for the substep rule.
-  float average_compression();
-  // Moves each particle by `weight` times its Δp (pbf_correction_weight).
-  void apply_position_corrections(float weight);
-  void update_velocities();
-  void compute_vorticity();
+  // Moves each particle by `weight` times its Δp (pbf_correction_weight); the last iteration also
+  // sets the velocities from the corrected positions.
+  void apply_position_corrections(float weight, bool set_velocities);
+  glm::vec3 velocity_from(std::size_t i, glm::vec3 corrected) const;
+  void sum_over_neighbours(bool measure);
   void apply_confinement_and_viscosity();
+  // Mean over particles of max(ρ/ρ0 − 1, 0) at the corrected positions, walls included, as the
+  // step's last sum_over_neighbours() measured it: what the substep leaves, for the substep rule.
+  float average_compression() const;
 
   float relaxation_epsilon_;  // ε, absolute
   float scorr_scale_;         // k / Σ|∇C|²_rest
   float inv_w_dq_;            // 1 / W(Δq)
   float dt_ = 0.0f;           // of the current substep
   PbfSubsteps substeps_;
-  std::vector<float> compression_;  // scratch of average_compression()
+  std::vector<float> compression_;  // per particle, on a step's last substep
   std::vector<glm::vec3> predicted_, corrected_;
   std::vector<glm::vec3> uncorrected_;  // predicted_ before the density corrections
   std::vector<float> lambda_;
   std::vector<glm::vec3> vorticity_, smoothed_velocity_;
   std::vector<float> vorticity_norm_;
   // Per neighbour pair, lanes::kWidth pairs a block (NeighbourList::blocks_of): ∇W_spiky and
-  // W_poly6, computed by compute_lambdas (and compute_vorticity) and reused by the pass after it,
+  // W_poly6, computed by compute_lambdas (and sum_over_neighbours) and reused by the pass after it,
   // which sees the same positions. The lanes past a list hold zeros.
   struct PairBlock {
     lanes::Vec3 gradient;

@@ -84,7 +84,7 @@ class Kernels {
     glm::vec3 gradient{0.0f};  // 1/m, pointing into the walls
   };
   WallShare walls(glm::vec3 near, glm::vec3 far) const {
-    glm::vec3 in_front, pushed;
+    glm::vec3 in_front(0.0f), pushed(0.0f);  // every lane is set below; GCC 12 cannot tell
     for (int axis = 0; axis < 3; ++axis) {
       in_front[axis] = 1.0f - wall_volume(near[axis]) - wall_volume(far[axis]);
       pushed[axis] = wall_gradient(far[axis]) - wall_gradient(near[axis]);

@@ -6,6 +6,7 @@
 // where 3×3×3 cells of side r hold 27 r³, and the 25 rows of 5 cells stay contiguous.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <glm/glm.hpp>
 #include <span>
@@ -26,7 +27,15 @@ struct GridGeometry {
   GridGeometry(const Box& domain, float search_radius);
 
   // The cell of p. Positions outside the domain count in the nearest border cell; NaN in cell 0.
-  glm::ivec3 cell_coords(glm::vec3 p) const;
+  // Inline: every particle asks twice a substep.
+  glm::ivec3 cell_coords(glm::vec3 p) const {
+    const glm::vec3 f = glm::floor((p - origin) * inv_cell_size);
+    // Clamp in float first: a far-away (or non-finite) position must not overflow the int cast.
+    const glm::vec3 clamped = glm::clamp(f, glm::vec3(0.0f), glm::vec3(dims - 1));
+    return glm::ivec3(std::isnan(clamped.x) ? 0.0f : clamped.x,
+                      std::isnan(clamped.y) ? 0.0f : clamped.y,
+                      std::isnan(clamped.z) ? 0.0f : clamped.z);
+  }
   std::uint32_t cell_index(glm::ivec3 c) const {
     return static_cast<std::uint32_t>(c.x + dims.x * (c.y + dims.y * c.z));
   }
