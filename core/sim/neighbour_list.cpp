@@ -13,7 +13,7 @@ using lanes::Floats;
 using lanes::Ints;
 using lanes::kWidth;
 
-// For each 4-bit mask, its lanes packed to the front and how many there are:
+// For each kWidth-bit mask, its lanes packed to the front and how many there are:
 // kPacked[0b0110] = {{1, 2, …}, 2}. A table, not std::popcount: without -mpopcnt that is a call.
 struct PackedLanes {
   std::array<std::int32_t, kWidth> front;
@@ -27,8 +27,8 @@ constexpr auto kPacked = [] {
   return packed;
 }();
 
-// The indices first + lane of the mask's lanes, written to to[0..popcount): four slots are
-// written whatever the mask, so `to` needs room for four.
+// The indices first + lane of the mask's lanes, written to to[0..popcount): kWidth slots are
+// written whatever the mask, so `to` needs room for kWidth.
 void store_packed(std::uint32_t* to, std::uint32_t first, unsigned mask) {
   Ints offsets;
   std::memcpy(&offsets, kPacked[mask].front.data(), sizeof offsets);
@@ -56,7 +56,7 @@ void NeighbourList::prepare(ForkJoinPool& pool, std::span<const glm::vec3> posit
   chunk_indices_.resize(pool.size());
   chunk_used_.assign(pool.size(), 0);
   // Coordinates as separate arrays, so the distance test over a row of cells vectorises.
-  // A block may read up to three entries past the last; its mask drops them.
+  // A block may read up to kWidth − 1 entries past the last; its mask drops them.
   xs_.resize(n + kWidth - 1);
   ys_.resize(n + kWidth - 1);
   zs_.resize(n + kWidth - 1);
@@ -97,7 +97,7 @@ void NeighbourList::build(ForkJoinPool& pool, const NeighbourGrid& grid,
         if (examined >= max_candidates || used - start >= max_neighbours) return;
         end = begin + std::min(end - begin, max_candidates - examined);
         examined += end - begin;
-        // Room for every candidate and one block past them: a block's four slots are written
+        // Room for every candidate and one block past them: a block's kWidth slots are written
         // whole, hits or not.
         const std::uint32_t length = end - begin;
         make_room(used + length + kWidth);

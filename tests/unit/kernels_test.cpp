@@ -78,7 +78,7 @@ TEST(Kernels, SpikyGradientIsZeroForCoincidentParticles) {
 // The lanes' own operations, on whichever path this build compiled (SSE, or the portable one in
 // kernels_generic_lanes_test).
 TEST(Lanes, MaskSetsTheBitOfEachTrueLane) {
-  for (unsigned pattern = 0; pattern < 16; ++pattern) {
+  for (unsigned pattern = 0; pattern < (1u << lanes::kWidth); ++pattern) {
     lanes::Floats v{};
     for (std::uint32_t lane = 0; lane < lanes::kWidth; ++lane) v[lane] = (pattern >> lane) & 1u;
     EXPECT_EQ(lanes::mask(v > 0.5f), pattern);
@@ -86,7 +86,9 @@ TEST(Lanes, MaskSetsTheBitOfEachTrueLane) {
 }
 
 TEST(Lanes, SquareRootsAgreeWithTheScalarOnes) {
-  const lanes::Floats x{1e-30f, 0.25f, 2.0f, 3e10f};
+  lanes::Floats x{};
+  const float values[] = {1e-30f, 0.25f, 2.0f, 3e10f, 1e-5f, 7.0f, 1e20f, 0.5f};
+  for (std::uint32_t lane = 0; lane < lanes::kWidth; ++lane) x[lane] = values[lane];
   const lanes::Floats root = lanes::sqrt(x);
   const lanes::Floats inverse = lanes::inverse_sqrt(x);
   for (std::uint32_t lane = 0; lane < lanes::kWidth; ++lane) {
@@ -99,19 +101,24 @@ TEST(Lanes, SquareRootsAgreeWithTheScalarOnes) {
 
 TEST(Lanes, GatherAndSelectPickTheirLanes) {
   const float data[] = {10.0f, 11.0f, 12.0f, 13.0f, 14.0f};
-  const std::uint32_t index[] = {4, 0, 2, 2};
+  const std::uint32_t index[] = {4, 0, 2, 2, 1, 3, 3, 0};
   const lanes::Floats gathered = lanes::gather(data, index);
   const lanes::Floats chosen = lanes::select(lanes::kLaneIndex < 2, gathered, lanes::Floats{});
   EXPECT_EQ(chosen[0], 14.0f);
   EXPECT_EQ(chosen[1], 10.0f);
   EXPECT_EQ(chosen[2], 0.0f);
   EXPECT_EQ(chosen[3], 0.0f);
-  EXPECT_EQ(lanes::sum(gathered), 14.0f + 10.0f + 12.0f + 12.0f);
+  float expected_sum = 0.0f;
+  for (std::uint32_t lane = 0; lane < lanes::kWidth; ++lane) {
+    EXPECT_EQ(gathered[lane], data[index[lane]]);
+    expected_sum += data[index[lane]];
+  }
+  EXPECT_EQ(lanes::sum(gathered), expected_sum);
 }
 
-// The solvers' loops evaluate four pairs at a time: each lane must be what one pair gives,
+// The solvers' loops evaluate a block of pairs at a time: each lane must be what one pair gives,
 // zero included (coincident, at h, beyond, NaN: a NaN neighbour must give 0, not NaN).
-TEST(Kernels, FourLanesGiveWhatOnePairGives) {
+TEST(Kernels, EveryLaneGivesWhatOnePairGives) {
   const Kernels k(kH);
   const float distances[] = {0.0f,        1e-15f, 0.3f * kH, 0.7f * kH,
                              0.999f * kH, kH,     1.5f * kH, std::nanf("")};

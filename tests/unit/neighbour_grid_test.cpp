@@ -118,7 +118,7 @@ TEST(NeighbourList, AClumpListsAtMostTheNeighbourCapPerParticle) {
   EXPECT_EQ(list.pair_count(), clump.size() * padded);  // each list padded to whole blocks
 }
 
-// Loops that take four neighbours at a time read each list padded to whole blocks, with the
+// Loops that take a block of neighbours at a time read each list padded to whole blocks, with the
 // particle's own index in the padding, and keep per-pair values at first_pair: every list's
 // blocks start on a block and no two lists' blocks overlap.
 TEST(NeighbourList, ListsArePaddedToWholeBlocksOfTheirOwnIndex) {

@@ -26,9 +26,9 @@ class Kernels {
   float spiky_coefficient() const { return spiky_; }
   float viscosity_laplacian_coefficient() const { return viscosity_laplacian_; }
 
-  // poly6 W(r) from r², so the density loop needs no square root; of one pair (float) or of four
-  // (lanes::Floats). 0 beyond h and for NaN.
-  template <lanes::OneOrFour F>
+  // poly6 W(r) from r², so the density loop needs no square root; of one pair (float) or of a
+  // block (lanes::Floats). 0 beyond h and for NaN.
+  template <lanes::OneOrBlock F>
   F poly6(F r2) const {
     const F x = h2_ - r2;
     return lanes::select(r2 < h2_, poly6_ * x * x * x, F{});
@@ -41,10 +41,10 @@ class Kernels {
   }
 
   // ∇W_spiky at offset r_vec = p_i − p_j with |r_vec|² = r2, of one pair (glm::vec3, float) or of
-  // four (lanes::Vec3, lanes::Floats); zero beyond h, for NaN and at r = 0, where its direction is
+  // a block (lanes::Vec3, lanes::Floats); zero beyond h, for NaN and at r = 0, where its direction is
   // undefined (coincident particles must not produce a NaN). The zero is selected, not multiplied
   // in: 0 · NaN would let a NaN neighbour through.
-  template <class V, lanes::OneOrFour F>
+  template <class V, lanes::OneOrBlock F>
   V spiky_gradient(V r_vec, F r2) const {
     const F inv_r = lanes::inverse_sqrt(r2);
     const F x = h_ - r2 * inv_r;
@@ -94,8 +94,8 @@ class Kernels {
     return {1.0f - in_front.x * in_front_of_the_others.x, pushed * in_front_of_the_others};
   }
 
-  // ∇²W_viscosity(r) = 45 / (π h⁶) · (h − r), of one pair or of four; 0 beyond h and for NaN.
-  template <lanes::OneOrFour F>
+  // ∇²W_viscosity(r) = 45 / (π h⁶) · (h − r), of one pair or of a block; 0 beyond h and for NaN.
+  template <lanes::OneOrBlock F>
   F viscosity_laplacian(F r) const {
     return lanes::select(r < h_, viscosity_laplacian_ * (h_ - r), F{});
   }

@@ -26,7 +26,7 @@ class NeighbourList {
   std::span<const std::uint32_t> of(std::size_t i) const { return {begin_[i], count_[i]}; }
   std::size_t size() const { return count_.size(); }
 
-  // of(i) padded to whole blocks of lanes::kWidth, for loops that take four neighbours at a
+  // of(i) padded to whole blocks of lanes::kWidth, for loops that take a block of neighbours at a
   // time: the entries past count hold i itself (a valid index; a loop masks them off).
   std::span<const std::uint32_t> blocks_of(std::size_t i) const {
     return {begin_[i], (count_[i] + lanes::kWidth - 1) / lanes::kWidth * lanes::kWidth};
