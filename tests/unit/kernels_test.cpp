@@ -75,8 +75,8 @@ TEST(Kernels, SpikyGradientIsZeroForCoincidentParticles) {
   EXPECT_EQ(g, glm::vec3(0.0f));
 }
 
-// The lanes' own operations, on whichever path this build compiled (SSE, or the portable one in
-// kernels_generic_lanes_test).
+// The lanes' own operations, on whichever path this build compiled (AVX or SSE in kernels_test,
+// SSE in kernels_sse_lanes_test, the portable one in kernels_generic_lanes_test).
 TEST(Lanes, MaskSetsTheBitOfEachTrueLane) {
   for (unsigned pattern = 0; pattern < (1u << lanes::kWidth); ++pattern) {
     lanes::Floats v{};
