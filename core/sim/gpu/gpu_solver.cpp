@@ -50,7 +50,7 @@ GpuSolver::Pipelines::Pipelines(gpu::Context& c)
       neighbours(c, shaders::sim_neighbours_comp, sizeof(SimPass), kGroup),
       pbf_lambda(c, shaders::sim_pbf_lambda_comp, sizeof(SimPass), kGroup),
       pbf_correct(c, shaders::sim_pbf_correct_comp, sizeof(SimPass), kGroup),
-      pbf_vorticity(c, shaders::sim_pbf_vorticity_comp, sizeof(SimPass), kGroup),
+      pbf_sums(c, shaders::sim_pbf_sums_comp, sizeof(SimPass), kGroup),
       pbf_finish(c, shaders::sim_pbf_finish_comp, sizeof(SimPass), kGroup),
       sph_force(c, shaders::sim_sph_force_comp, sizeof(SimPass), kGroup),
       sph_integrate(c, shaders::sim_sph_integrate_comp, sizeof(SimPass), kGroup) {}
@@ -510,9 +510,13 @@ void GpuSolver::append_pbf_substep(Passes& passes, const SimPass& pass, bool las
     if (k > 0) add(Stage::iteration, k, pipelines_.pbf_lambda, pass);
     add(Stage::iteration, k, pipelines_.pbf_correct, correction);
   }
-  if (params().vorticity > 0.0f) add(Stage::velocity, 0, pipelines_.pbf_vorticity, pass);
+  // The sums at the corrected positions, where anything needs them (pbf_summed() in
+  // sim_kernels.glsl, which the finish pass reads, is the same rule).
   SimPass finish = pass;
   finish.record_compression = last ? 1 : 0;
+  if (params().vorticity > 0.0f || params().xsph_viscosity > 0.0f || last) {
+    add(Stage::velocity, 0, pipelines_.pbf_sums, finish);
+  }
   // The finish pass does not read the grid: the next substep's may be cleared beside it.
   passes.push_back(
       {static_cast<int>(Stage::viscosity), 0, [this, finish, n, last](VkCommandBuffer c) {

@@ -81,7 +81,7 @@ class GpuSolver final : public Solver {
   };
   struct Pipelines {
     explicit Pipelines(gpu::Context& context);
-    gpu::ComputePipeline predict, reorder, neighbours, pbf_lambda, pbf_correct, pbf_vorticity,
+    gpu::ComputePipeline predict, reorder, neighbours, pbf_lambda, pbf_correct, pbf_sums,
         pbf_finish, sph_force, sph_integrate;
   };
 

@@ -1,0 +1,44 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// PBF, in sorted order, at the corrected positions and velocities, one pass for what the same
+// kernels serve: with vorticity confinement on, ω_i = Σ_j V (v_j − v_i) × ∇_j W_ij, the curl of the
+// velocity (|ω| in w); XSPH's v_i + c Σ_j V (v_j − v_i) W_ij into the state's velocity, which the
+// finish pass confines; on a step's last substep the compression it leaves, max(ρ/ρ0 − 1, 0)
+// walls included, for the substep rule. As PbfSolver::sum_over_neighbours. It runs where the
+// finish pass's pbf_summed() says.
+#include "common/core.glsl"
+#include "common/sim_params.glsl"
+#include "common/sim_kernels.glsl"
+
+void main() {
+  load_constants();
+  const uint k = invocation();
+  float compression = 0.0;
+  if (k < P.particle_count) {
+    Vec4s x = P.iterate;
+    Vec4s velocities = P.sorted_velocity;
+    const vec3 p = x.v[k].xyz;
+    const vec3 v = velocities.v[k].xyz;
+    const bool confine = P.vorticity_epsilon > 0.0;
+    vec3 omega = vec3(0.0), smoothing = vec3(0.0);
+    float density = poly6(0.0);
+    for (uint e = 0u, count = neighbour_count(k); e < count; ++e) {
+      const uint j = neighbour(k, e);
+      const vec3 r = p - x.v[j].xyz;
+      const float r2 = dot(r, r);
+      if (!(r2 < K_h2)) continue;
+      const vec3 relative = velocities.v[j].xyz - v;
+      if (confine) omega += cross(relative, -spiky_gradient(r, r2));
+      const float w = poly6(r2);
+      smoothing += relative * w;
+      density += w;
+    }
+    if (confine) {
+      omega *= P.rest_volume;
+      P.vorticity.v[k] = vec4(omega, length(omega));
+    }
+    P.velocity.v[k] = vec4(v + P.xsph * P.rest_volume * smoothing, 0.0);
+    compression = max((P.mass * density + walls(p).x) * P.inv_rest_density - 1.0, 0.0);
+  }
+  if (pass.record_compression != 0u) record_sum(2u, compression);
+}
