@@ -26,7 +26,7 @@ namespace fluidcast::sim {
 // - density: the average compression a step leaves, which Jacobi iterations shrink as Δt², stays
 //   within pbf_density_tolerance: each step's measured error sets the longest substep the next
 //   may take (it shortens at once when the error was too large and lengthens by at most a tenth
-//   a step when it was small, only as far as would leave 0.64 of the tolerance, and only as far
+//   a step when it was small, only as far as would leave 0.49 of the tolerance, and only as far
 //   as each of the last kRecentSteps steps that left over half of it allows). Figures that
 //   arrive late (a GPU's steps in flight) are trusted only while they were well within the
 //   tolerance: see count()'s steps_unseen.
@@ -68,7 +68,7 @@ class PbfSubsteps {
   // figures were near the tolerance (above 0.8 of it), each unseen step counts as one that
   // compressed the fluid 1.3 times more (a deep column did, unseen, before it burst):
   // 1.3^(unseen/2) times the substeps, as the error goes as Δt². Near means beyond where
-  // lengthening leaves a fluid at rest (0.64 of the tolerance): from half of it, a deep pool at
+  // lengthening leaves a fluid at rest (0.49 of the tolerance) and well above it: from half of it, a deep pool at
   // rest took the allowance's extra substeps each time steps were in flight, left less error in
   // them, lost the allowance, and bounced with each switch. Before the first figures the bound
   // start() set stands alone.

@@ -101,14 +101,15 @@ TEST(PbfSubsteps, ACompressedStepHoldsTheBoundForTheRecentSteps) {
   EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f), 1);
 }
 
-// Within the tolerance substeps never shorten, and lengthen only as far as would leave 0.8² of it
-// by the Δt² rule: a quarter of the tolerance at half a step would be 0.92 of it at a whole step.
+// Within the tolerance substeps never shorten, and lengthen only as far as would leave 0.7² of it
+// by the Δt² rule: 0.13 of the tolerance at half a step would be 0.52 of it at a whole step, 0.11
+// would be 0.44.
 TEST(PbfSubsteps, TheyLengthenWithAMarginBelowTheTolerance) {
   PbfSubsteps substeps = rule(1.0f, 0.01f);
   substeps.observe(kStep, 0.04f);
-  for (int k = 0; k < 20; ++k) substeps.observe(kStep / 2, 0.0023f);
+  for (int k = 0; k < 20; ++k) substeps.observe(kStep / 2, 0.0013f);
   EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f), 2);
-  for (int k = 0; k < 20; ++k) substeps.observe(kStep / 2, 0.0015f);
+  for (int k = 0; k < 20; ++k) substeps.observe(kStep / 2, 0.0011f);
   EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f), 1);
   for (int k = 0; k < 20; ++k) substeps.observe(kStep, 0.0095f);
   EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f), 1);
@@ -155,9 +156,9 @@ TEST(PbfSubsteps, StepsUnseenNearTheBoundTakeMoreSubsteps) {
   EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f, 2), 2);
 }
 
-// Where lengthening leaves a fluid at rest (0.64 of the tolerance) is not near the bound: steps
-// unseen add nothing there, or a deep pool would take more substeps whenever steps were in flight
-// and fewer when they were not, and bounce at each switch.
+// Where lengthening leaves a fluid at rest (0.49 of the tolerance), and well above it (0.64), is
+// not near the bound: steps unseen add nothing there, or a deep pool would take more substeps
+// whenever steps were in flight and fewer when they were not, and bounce at each switch.
 TEST(PbfSubsteps, StepsUnseenAddNothingWhereLengtheningLeavesAFluid) {
   PbfSubsteps substeps = rule(1.0f, 0.01f);
   substeps.observe(kStep / 2, 0.0064f);
