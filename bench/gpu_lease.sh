@@ -3,6 +3,7 @@
 # (10 minutes) and bring back at most a few files. Build here first, then bundle what it runs:
 #   ../shared/tools/gpu-bundle build $(bench/gpu_lease.sh programs)
 # and on the device (carry .gpu):  source .gpu/env.sh && BIN=.gpu/bin bench/gpu_lease.sh PART W
+# A build here is for x86-64-v3 (AVX2, FMA: FLUIDCAST_X86_64_V3), which every H100/H200 host runs.
 # A device call brings back at most 8 files from $OUT: run the parts into a folder W outside it
 # (e.g. /tmp/w/PART) and pack it after each part, `tar czf $OUT/all.tgz -C /tmp/w .`, so that a
 # part cut off by its timeout still leaves the earlier ones (bench/results/h200-2026-11-28.md).
