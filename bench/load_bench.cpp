@@ -5,7 +5,8 @@
 // quarter of the run. Figures are taken after --warm-up seconds (pipelines compiled, costs
 // measured).
 //   fluidcast-bench-load [--clients 8] [--seconds 30] [--warm-up 3] [--width 320] [--height 240]
-//                        [--particles 1000] [--renderer auto] [--server-flag=--backend=gpu ...]
+//                        [--particles 1000] [--scene dam_break] [--renderer auto]
+//                        [--server-flag=--backend=gpu ...]
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -26,7 +27,7 @@ using testing::ViewerRun;
 struct Options {
   unsigned clients = 8, width = 320, height = 240, particles = 1000;
   double seconds = 30.0, warm_up = 3.0, max_growth_mb = 64.0;
-  std::string renderer;
+  std::string scene, renderer;
   std::vector<std::string> server_flags;
 };
 
@@ -61,11 +62,12 @@ bool report(const Options& o, const std::vector<ViewerRun>& results, Memory memo
   }
   const double growth_mb = double(memory.peak_kb - memory.warm_kb) / 1024.0;
   std::printf(
-      "\n%u clients × %.0f s (after %.0f s warm-up) at %ux%u, %u particles each: fps per "
+      "\n%u clients × %.0f s (after %.0f s warm-up) at %ux%u, %u particles each (%s): fps per "
       "client min %.1f, median %.1f; latency over all p50 %.0f ms, p95 %.0f ms; server "
       "resident memory %.0f MB after warm-up, peak %.0f MB (growth %.1f MB, allowed %.0f); "
       "server exit %d\n",
       o.clients, o.seconds, o.warm_up, o.width, o.height, o.particles,
+      o.scene.empty() ? "the server's scene" : o.scene.c_str(),
       *std::min_element(fps.begin(), fps.end()), percentile(fps, 0.5), percentile(all, 0.5),
       percentile(all, 0.95), double(memory.warm_kb) / 1024.0, double(memory.peak_kb) / 1024.0,
       growth_mb, o.max_growth_mb, server_exit);
@@ -80,6 +82,8 @@ int run(int argc, char** argv) {
       ->check(CLI::Range(1.0, 3600.0));
   app.add_option("--warm-up", o.warm_up, "Seconds streamed before measuring")
       ->check(CLI::Range(0.0, 600.0));
+  app.add_option("--scene", o.scene,
+                 "dam_break, double_dam_break, drop or pool (the server's default: dam_break)");
   app.add_option("--renderer", o.renderer, "auto, ssfr, mc or points (the server's default: auto)");
   app.add_option("--width", o.width);
   app.add_option("--height", o.height);
@@ -101,6 +105,7 @@ int run(int argc, char** argv) {
   hello.mutable_viewport()->set_width(o.width);
   hello.mutable_viewport()->set_height(o.height);
   hello.mutable_create()->set_particles(o.particles);
+  if (!o.scene.empty()) hello.mutable_create()->set_scene(o.scene);
   if (!o.renderer.empty()) hello.mutable_quality()->set_renderer(o.renderer);
 
   std::vector<ViewerRun> results(o.clients);
