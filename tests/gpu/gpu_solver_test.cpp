@@ -202,27 +202,41 @@ TEST_F(GpuPbfTest, JacobiDampingWeighsTheIterationsAsOnTheCpu) {
   EXPECT_NEAR(kinetic_energy(Backend::gpu, 0.0f), cpu_in_full, 0.05 * by_the_damping);
 }
 
-// Each pass of a GPU substep, particle by particle: six steps of a dam break from rest in lockstep
-// with the CPU solver, at every pass structure (PBF with one iteration, where the listing's λ and
-// the correction that sets the velocity are the whole solve, two, and four; SPH), then every
-// particle's position against the CPU's. Sums in another order leave the last bits apart (the
-// order within a grid cell follows atomics); six steps from rest hardly amplify them. Measured on
-// lavapipe (1000 particles, spacing 3.6 cm, the fastest moved 6–7 cm): PBF 1–2.5 µm apart; SPH
-// 1.7 mm, as the GPU's substeps are equal within a step and the CPU's adapt. With one neighbour
-// left out of the listing's sums the same run parts by 7.7–22 mm (PBF) and 39 mm (SPH). Bounds: a
-// hundredth of a spacing for PBF, a fifth for SPH.
+// Each pass of a GPU substep, particle by particle: six steps of two substeps of a dam break from
+// rest in lockstep with the CPU solver, at every pass structure (PBF with one iteration, where the listing's λ and
+// the correction that sets the velocity are the whole solve, two, and four; PBF without vorticity
+// confinement, whose sums pass computes no ω and whose finish pass confines nothing, and without
+// XSPH either, where the sums pass runs only on a step's last substep and the finish pass takes
+// the velocity the correction set; SPH), then every particle's position against the CPU's. Sums
+// in another order leave the last bits apart (the order within a grid cell follows atomics); six
+// steps from rest hardly amplify them. Measured on lavapipe (1000 particles, spacing 3.6 cm, the
+// fastest moved 6–7 cm): PBF 1.4–5.2 µm apart; SPH 1.5 mm, as the GPU's substeps are equal within
+// a step and the CPU's adapt. With one neighbour left out of the listing's sums the run parted by
+// 7.7–22 mm (PBF) and 39 mm (SPH) (at the solvers' own substeps), and with the finish pass taking
+// the sums pass's velocity where that pass had not run, by 37 mm (PBF without vorticity or XSPH).
+// Bounds: a hundredth of a spacing for PBF, a fifth for SPH.
+struct PassStructure {
+  SolverKind kind;
+  int iterations;
+  float vorticity = SolverParams{}.vorticity;
+  float xsph_viscosity = SolverParams{}.xsph_viscosity;
+};
 class GpuStepsTest : public fluidcast::testing::GpuTest,
-                     public ::testing::WithParamInterface<std::pair<SolverKind, int>> {};
+                     public ::testing::WithParamInterface<PassStructure> {};
 
 TEST_P(GpuStepsTest, MoveEveryParticleAsTheCpuSolverDoes) {
-  const auto [kind, iterations] = GetParam();
+  const PassStructure structure = GetParam();
   SolverParams params;
-  params.iterations = iterations;
-  auto cpu = make_solver(kind, SceneKind::dam_break, 1000, params);
-  auto gpu = make_solver(kind, SceneKind::dam_break, 1000, params, Backend::gpu);
+  params.iterations = structure.iterations;
+  params.vorticity = structure.vorticity;
+  params.xsph_viscosity = structure.xsph_viscosity;
+  auto cpu = make_solver(structure.kind, SceneKind::dam_break, 1000, params);
+  auto gpu = make_solver(structure.kind, SceneKind::dam_break, 1000, params, Backend::gpu);
+  // Two substeps a step, so that each step has one that is not its last (where the sums pass may
+  // not run).
   for (int step = 0; step < 6; ++step) {
-    cpu->step();
-    gpu->step();
+    cpu->step(params.time_step, 2);
+    gpu->step(params.time_step, 2);
     gpu->synchronize();
   }
   const ParticleSet a = cpu->snapshot(), b = gpu->snapshot();
@@ -235,16 +249,20 @@ TEST_P(GpuStepsTest, MoveEveryParticleAsTheCpuSolverDoes) {
         std::max<double>(farthest_apart, glm::length(b.position[i] - cpu_position.at(b.id[i])));
   }
   const double spacing = cpu->fluid().spacing;
-  std::printf("%s, %d iterations: farthest apart %.3g m\n", kind == SolverKind::pbf ? "PBF" : "SPH",
-              iterations, farthest_apart);
-  EXPECT_LT(farthest_apart, (kind == SolverKind::pbf ? 0.01 : 0.2) * spacing);
+  const bool pbf = structure.kind == SolverKind::pbf;
+  std::printf("%s, %d iterations, vorticity %g, XSPH %g: farthest apart %.3g m\n",
+              pbf ? "PBF" : "SPH", structure.iterations, structure.vorticity,
+              structure.xsph_viscosity, farthest_apart);
+  EXPECT_LT(farthest_apart, (pbf ? 0.01 : 0.2) * spacing);
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryPassStructure, GpuStepsTest,
-                         ::testing::Values(std::pair{SolverKind::pbf, 1},
-                                           std::pair{SolverKind::pbf, 2},
-                                           std::pair{SolverKind::pbf, 4},
-                                           std::pair{SolverKind::sph, 1}));
+                         ::testing::Values(PassStructure{SolverKind::pbf, 1},
+                                           PassStructure{SolverKind::pbf, 2},
+                                           PassStructure{SolverKind::pbf, 4},
+                                           PassStructure{SolverKind::pbf, 4, 0.0f},
+                                           PassStructure{SolverKind::pbf, 4, 0.0f, 0.0f},
+                                           PassStructure{SolverKind::sph, 1}));
 
 INSTANTIATE_TEST_SUITE_P(BothSolvers, GpuSolverTest,
                          ::testing::Values(SolverKind::pbf, SolverKind::sph), testing::solver_name);
