@@ -44,6 +44,15 @@ function startServer(httpPort = 0) {
 
 const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 
+// Stops a server started here and waits for it to exit, so that its state folder is gone before
+// this process ends.
+function stopServer(child) {
+  if (child.exitCode !== null || child.signalCode !== null) return Promise.resolve();
+  const exited = new Promise((resolve) => child.once('exit', resolve));
+  child.kill('SIGTERM');
+  return exited;
+}
+
 // The largest distance a reading (a number, or an array of coordinates) moves from `from` while
 // `during` runs, sampled every 100 ms: a sloshing fluid's centre of mass passes back through
 // where it was, so one reading after the fact could miss how far it went.
@@ -461,8 +470,7 @@ async function main() {
     check(/server|connection|reconnect/i.test(message), `it says why: "${message}"`);
   } finally {
     await browser.close();
-    child.kill('SIGTERM');
-    if (restarted) restarted.child.kill('SIGTERM');
+    await Promise.all([stopServer(child), restarted && stopServer(restarted.child)]);
   }
   console.log(`${passes} passed, ${failures} failed`);
   process.exit(failures === 0 ? 0 : 1);

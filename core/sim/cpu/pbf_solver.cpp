@@ -178,13 +178,15 @@ glm::vec3 PbfSolver::velocity_from(std::size_t i, glm::vec3 corrected) const {
   return uncorrected + (length > most ? change * (most / length) : change);
 }
 
-// At the corrected positions and velocities: ω_i = Σ_j V (v_j − v_i) × ∇_j W_ij, the SPH estimate
-// of the curl of the velocity, and XSPH's v_i + c Σ_j V (v_j − v_i) W_ij; with `measure`, also the
-// compression max(ρ/ρ0 − 1, 0), walls included. One pass: the same kernels serve all three.
+// At the corrected positions and velocities: with vorticity confinement on, ω_i = Σ_j V (v_j − v_i)
+// × ∇_j W_ij, the SPH estimate of the curl of the velocity; XSPH's v_i + c Σ_j V (v_j − v_i) W_ij;
+// with `measure`, also the compression max(ρ/ρ0 − 1, 0), walls included. One pass: the same
+// kernels serve all three.
 void PbfSolver::sum_over_neighbours(bool measure) {
   const std::size_t n = particles_.size();
-  vorticity_.resize(n);
-  vorticity_norm_.resize(n);
+  const bool confine = params().vorticity > 0.0f;
+  vorticity_.resize(confine ? n : 0);
+  vorticity_norm_.resize(confine ? n : 0);
   smoothed_velocity_.resize(n);
   compression_.resize(measure ? n : 0);
   pair_blocks_.resize(neighbours_.pair_count() / lanes::kWidth);
@@ -204,12 +206,14 @@ void PbfSolver::sum_over_neighbours(bool measure) {
       *block = kernels_of_block(i, list, k);
       const lanes::Vec3 relative = lanes::gather(v, list.data() + k) - v[i];
       // ∇_j W_ij = −∇_i W_ij
-      omega += lanes::cross(relative, block->gradient);
+      if (confine) omega += lanes::cross(relative, block->gradient);
       smoothing += block->poly6 * relative;
       density += block->poly6;
     }
-    vorticity_[i] = -volume * lanes::sum(omega);
-    vorticity_norm_[i] = glm::length(vorticity_[i]);
+    if (confine) {
+      vorticity_[i] = -volume * lanes::sum(omega);
+      vorticity_norm_[i] = glm::length(vorticity_[i]);
+    }
     smoothed_velocity_[i] = v[i] + xsph * volume * lanes::sum(smoothing);
     if (measure) {
       compression_[i] = std::max(
@@ -221,8 +225,13 @@ void PbfSolver::sum_over_neighbours(bool measure) {
   });
 }
 
-// Vorticity confinement a = ε N × ω with N = ∇|ω| / |∇|ω||, onto the XSPH-smoothed velocity.
 void PbfSolver::apply_confinement_and_viscosity() {
+  if (params().vorticity > 0.0f) confine_vorticity();
+  particles_.velocity.swap(smoothed_velocity_);
+}
+
+// Vorticity confinement a = ε N × ω with N = ∇|ω| / |∇|ω||, onto the XSPH-smoothed velocity.
+void PbfSolver::confine_vorticity() {
   const float dt = dt_;
   const float epsilon = params().vorticity;
   pool_->for_each(particles_.size(), [&](std::size_t i) {
@@ -238,7 +247,6 @@ void PbfSolver::apply_confinement_and_viscosity() {
     if (eta_length > 1e-12f)
       smoothed_velocity_[i] += dt * epsilon * glm::cross(eta_sum / eta_length, vorticity_[i]);
   });
-  particles_.velocity.swap(smoothed_velocity_);
 }
 
 }  // namespace fluidcast::sim::cpu
