@@ -34,7 +34,7 @@ uint grid_scatter(uint i, Uints cell_of, Uints rank, Uints cell_start, Uints ord
 }
 
 // Elements per invocation of the prefix sum (GpuNeighbourGrid::kScanItemsPerInvocation).
-#define SCAN_ITEMS_PER_INVOCATION 4
+#define SCAN_ITEMS_PER_INVOCATION 16
 
 // For every sorted slot j in the 5×5 rows of 5 cells around `cell` (cells are half the search
 // radius; a row's slots are contiguous), the first `most` of them (a clump's cost stays bounded,

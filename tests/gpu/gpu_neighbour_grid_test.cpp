@@ -111,6 +111,14 @@ TEST_F(GpuNeighbourGridTest, OverAMillionCells) {
   expect_same_as_cpu(big, radius_, random_points(big, 50000, 3));
 }
 
+// Past kScanBlock² elements the prefix sum takes a third level.
+TEST_F(GpuNeighbourGridTest, ThreeLevelsOfPrefixSum) {
+  const Box big{{-1.3f, -1.3f, -1.3f}, {1.3f, 1.3f, 1.3f}};  // 260³ = 17.6M cells of 1 cm
+  ASSERT_GT(GridGeometry(big, radius_).cell_count() + 1,
+            std::size_t{GpuNeighbourGrid::kScanBlock} * GpuNeighbourGrid::kScanBlock);
+  expect_same_as_cpu(big, radius_, random_points(big, 50000, 4));
+}
+
 TEST_F(GpuNeighbourGridTest, AllParticlesInOneCell) {
   std::vector<glm::vec3> points(3000, glm::vec3(0.2f, 0.15f, 0.1f));
   expect_same_as_cpu(box_, radius_, points);

@@ -50,7 +50,7 @@ GridPass grid_pass(const GpuNeighbourGrid& grid, VkDeviceAddress key, std::uint3
 }  // namespace
 
 std::uint64_t GpuNeighbourGrid::bytes_for_cells(std::size_t cells) {
-  // cell_start plus the block totals of every level (a geometric series below cells / 1023).
+  // cell_start plus the block totals of every level (a geometric series below cells / (block − 1)).
   return (cells + 1 + cells / (kScanBlock - 1) + 16) * sizeof(std::uint32_t);
 }
 

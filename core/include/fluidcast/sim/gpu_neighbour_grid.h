@@ -20,7 +20,10 @@ class GpuNeighbourGrid {
  public:
   static constexpr std::uint32_t kGroupSize = 128;
   static constexpr std::uint32_t kScanGroupSize = 256;
-  static constexpr std::uint32_t kScanItemsPerInvocation = 4;  // SCAN_ITEMS_PER_INVOCATION
+  // 16: a block of 4096, so that up to 16.7M cells (a 1M-particle tank's 5M) take two levels of
+  // the scan, three dispatches, rather than three levels and five; each dispatch of the grid
+  // build is a barrier the whole device waits at.
+  static constexpr std::uint32_t kScanItemsPerInvocation = 16;  // SCAN_ITEMS_PER_INVOCATION
   static constexpr std::uint32_t kScanBlock = kScanGroupSize * kScanItemsPerInvocation;
 
   // GPU memory the grid needs, for the up-front check of a particle count.
