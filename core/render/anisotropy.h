@@ -18,13 +18,15 @@
 #include "fluidcast/render/frame_renderer.h"
 #include "fluidcast/sim/fluid_constants.h"
 #include "fluidcast/sim/gpu_neighbour_grid.h"
+#include "fluidcast/sim/statistics.h"
 
 namespace fluidcast::render {
 
 class Anisotropy {
  public:
-  // The neighbourhood's radius: two particle spacings, about 33 neighbours inside the fluid.
-  static constexpr float kSearchRadii = 4.0f;
+  // The neighbourhood's radius, in particle radii: two particle spacings, about 33 neighbours
+  // inside the fluid; the reach within which the spray's neighbours are counted.
+  static constexpr float kSearchRadii = 2.0f * sim::kSprayReachSpacings;
   // Candidates examined per particle, at most: the solver's rule (FluidConstants::max_candidates)
   // for this window — 5×5×5 cells of half the search radius, 2.5 × 2 spacings a side.
   static constexpr std::uint32_t kMaxCandidates =

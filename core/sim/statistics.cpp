@@ -7,11 +7,18 @@
 #include "fluidcast/sim/neighbour_grid.h"
 
 namespace fluidcast::sim {
-std::vector<float> measure_densities(const ParticleSet& particles, const FluidConstants& fluid,
-                                     const Box& tank) {
+namespace {
+
+// Each particle's density (measure_densities()), and, where `close` is given, how many others lie
+// within kSprayReachSpacings spacings of it.
+std::vector<float> measure_neighbourhoods(const ParticleSet& particles, const FluidConstants& fluid,
+                                          const Box& tank, std::vector<int>* close) {
   const Kernels kernels(fluid.kernel_radius);
   const Box wall_fluid = fluid.wall_fluid_box(tank);
-  NeighbourGrid grid(tank, fluid.kernel_radius);
+  const float reach = kSprayReachSpacings * fluid.spacing;
+  const float reach2 = reach * reach;
+  // poly6 is 0 beyond h: a grid that reaches farther for the spray's count sums the same.
+  NeighbourGrid grid(tank, close ? std::max(fluid.kernel_radius, reach) : fluid.kernel_radius);
   ForkJoinPool caller_only(1);
   grid.build(caller_only, particles.position);
   std::vector<glm::vec3> sorted(particles.size());
@@ -19,19 +26,31 @@ std::vector<float> measure_densities(const ParticleSet& particles, const FluidCo
   for (std::size_t k = 0; k < order.size(); ++k) sorted[k] = particles.position[order[k]];
 
   std::vector<float> density(particles.size());
+  if (close) close->assign(particles.size(), 0);
   for (std::size_t k = 0; k < sorted.size(); ++k) {
     double sum = 0.0;
+    int within_reach = -1;  // itself is a candidate too
     grid.for_each_candidate_range(sorted[k], [&](std::uint32_t begin, std::uint32_t end) {
       for (std::uint32_t j = begin; j < end; ++j) {
         const glm::vec3 r = sorted[k] - sorted[j];
-        sum += kernels.poly6(glm::dot(r, r));
+        const float r2 = glm::dot(r, r);
+        sum += kernels.poly6(r2);
+        within_reach += r2 < reach2 ? 1 : 0;
       }
     });
     const float walls =
         kernels.walls(sorted[k] - wall_fluid.min, wall_fluid.max - sorted[k]).volume;
     density[order[k]] = static_cast<float>(fluid.particle_mass * sum + fluid.rest_density * walls);
+    if (close) (*close)[order[k]] = within_reach;
   }
   return density;
+}
+
+}  // namespace
+
+std::vector<float> measure_densities(const ParticleSet& particles, const FluidConstants& fluid,
+                                     const Box& tank) {
+  return measure_neighbourhoods(particles, fluid, tank, nullptr);
 }
 
 double surge_front(const ParticleSet& particles, float spacing, const Box& tank) {
@@ -58,7 +77,9 @@ FluidStatistics measure(const ParticleSet& particles, const FluidConstants& flui
   FluidStatistics s;
   s.particles = particles.size();
   if (particles.size() == 0) return s;
-  const std::vector<float> density = measure_densities(particles, fluid, tank);
+  std::vector<int> close;
+  const std::vector<float> density = measure_neighbourhoods(particles, fluid, tank, &close);
+  std::size_t spray = 0;
   double error_sum = 0.0;
   glm::dvec3 position_sum(0.0);
   for (std::size_t i = 0; i < particles.size(); ++i) {
@@ -76,11 +97,13 @@ FluidStatistics measure(const ParticleSet& particles, const FluidConstants& flui
     s.max_density_error = std::max(s.max_density_error, error);
     error_sum += error;
     position_sum += glm::dvec3(x);
+    spray += close[i] < kSprayNeighbours ? 1 : 0;
   }
   const double counted = double(particles.size() - s.non_finite);
   if (counted > 0) {
     s.avg_density_error = error_sum / counted;
     s.centre_of_mass = position_sum / counted;
+    s.spray_share = double(spray) / counted;
   }
   s.front_x = surge_front(particles, fluid.spacing, tank);
   return s;

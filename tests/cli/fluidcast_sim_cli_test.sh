@@ -14,9 +14,9 @@ grep -q "kernel radius" "$work/out.txt" || fail "geometry not printed"
 head -1 "$work/stats.csv" | grep -q '^step,t,particles,kinetic_energy,max_density_error,avg_density_error,front_x' \
   || fail "CSV header: $(head -1 "$work/stats.csv")"
 [[ $(wc -l < "$work/stats.csv") -eq 8 ]] || fail "CSV should have a header and 7 rows"
-head -1 "$work/stats.csv" | grep -q ',max_speed,substeps$' || fail "CSV header lacks substeps last"
+head -1 "$work/stats.csv" | grep -q ',max_speed,spray,substeps$' || fail "CSV header lacks spray and substeps last"
 awk -F, 'NR == 2 && $NF != 0 || NR > 2 && $NF < 1 { bad = 1 } END { exit bad }' "$work/stats.csv" \
-  || fail "substeps: 0 before the first step, then at least 1: $(cut -d, -f12 "$work/stats.csv" | tr '\n' ' ')"
+  || fail "substeps: 0 before the first step, then at least 1: $(cut -d, -f13 "$work/stats.csv" | tr '\n' ' ')"
 for f in step_00000000.ply step_00000003.ply step_00000006.ply; do
   [[ -f "$work/dumps/$f" ]] || fail "missing dump $f"
 done

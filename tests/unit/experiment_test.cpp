@@ -38,6 +38,27 @@ TEST(MeasureDensities, ALatticeFillingATankReadsRestDensityAtEverySite) {
   }
 }
 
+// Spray: a particle with fewer than 6 others within two spacings. A block of water has none, even
+// at its corners (10 there); a thread of particles (2 to 4 each) and a lone drop are all spray.
+// Sites 0.95 d apart: none lies exactly two spacings from another, where rounding would decide.
+TEST(MeasureSpray, DropsAndThreadsAreSprayABlockIsNot) {
+  const sim::FluidConstants fluid = sim::derive_fluid_constants(kSpacing, sim::SolverParams{});
+  const float apart = 0.95f * kSpacing;
+  sim::ParticleSet water;
+  for (int k = 0; k < 6; ++k)
+    for (int j = 0; j < 6; ++j)
+      for (int i = 0; i < 6; ++i)
+        water.append(glm::vec3(0.02f) + glm::vec3(i, j, k) * apart, glm::vec3(0.0f),
+                     static_cast<std::uint32_t>(water.size()));
+  EXPECT_EQ(sim::measure(water, fluid, kTank).spray_share, 0.0);
+
+  for (int i = 0; i < 10; ++i) {
+    water.append({1.2f + i * apart, 0.7f, 0.05f}, glm::vec3(0.0f), 1000u + i);
+  }
+  water.append({1.8f, 0.3f, 0.05f}, glm::vec3(0.0f), 2000u);
+  EXPECT_DOUBLE_EQ(sim::measure(water, fluid, kTank).spray_share, 11.0 / 227.0);
+}
+
 sim::ParticleSet floor_layer(float from, float to) {
   sim::ParticleSet set;
   for (float x = from; x <= to + 1e-6f; x += kSpacing) {

@@ -157,11 +157,11 @@ int run(const tools::SimOptions& o) {
   std::printf(
       "done: %llu steps, t = %.3f s simulated in %.2f s wall; stepping alone %.1f steps/s; "
       "%llu substeps (at most %d a step); front_x %.3f m, centre of mass %.3f m high, largest "
-      "speed %.2f m/s, max density error %.4f\n",
+      "speed %.2f m/s, max density error %.4f, spray %.3f %%\n",
       static_cast<unsigned long long>(solver->steps()), solver->time(), wall,
       double(o.steps) / stepping.seconds, static_cast<unsigned long long>(stepping.substeps),
       stepping.most_substeps, stats.front_x, stats.centre_of_mass.y, stats.max_speed,
-      stats.max_density_error);
+      stats.max_density_error, 100.0 * stats.spray_share);
   return stats.non_finite == 0 && stats.outside_tank == 0 ? 0 : 1;
 }
 

@@ -15,7 +15,7 @@ std::ofstream open_for_writing(const std::filesystem::path& path, std::ios::open
 StatsCsv::StatsCsv(const std::filesystem::path& path)
     : out_(open_for_writing(path, std::ios::out)) {
   out_ << "step,t,particles,kinetic_energy,max_density_error,avg_density_error,front_x,"
-          "com_x,com_y,com_z,max_speed,substeps\n";
+          "com_x,com_y,com_z,max_speed,spray,substeps\n";
   out_.precision(9);
 }
 
@@ -24,7 +24,7 @@ void StatsCsv::write(std::uint64_t step, double time, const sim::FluidStatistics
   out_ << step << ',' << time << ',' << s.particles << ',' << s.kinetic_energy << ','
        << s.max_density_error << ',' << s.avg_density_error << ',' << s.front_x << ','
        << s.centre_of_mass.x << ',' << s.centre_of_mass.y << ',' << s.centre_of_mass.z << ','
-       << s.max_speed << ',' << substeps << '\n';
+       << s.max_speed << ',' << s.spray_share << ',' << substeps << '\n';
 }
 
 void write_ply(const std::filesystem::path& path, const sim::ParticleSet& particles) {

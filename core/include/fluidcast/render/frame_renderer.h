@@ -20,6 +20,7 @@
 #include "fluidcast/render/camera.h"
 #include "fluidcast/render/render_target.h"
 #include "fluidcast/sim/particles.h"
+#include "fluidcast/sim/statistics.h"
 
 namespace fluidcast::render {
 
@@ -94,8 +95,9 @@ struct SsfrStyle {
   float centre_smoothing = 0.9f;
   // Anisotropic only: a particle with fewer neighbours than this within two particle spacings
   // (about 33 inside the fluid) is spray, drawn white and matte over the water instead of as a
-  // bead of its surface with its own highlight. 0 to 32 (0: none).
-  int spray_neighbours = 6;
+  // bead of its surface with its own highlight. 0 to 32 (0: none); by default the statistics'
+  // rule (sim::kSprayNeighbours).
+  int spray_neighbours = sim::kSprayNeighbours;
   // Beer–Lambert absorption per metre of water: red goes first, so thick water turns blue-green.
   glm::vec3 absorption{6.0f, 1.8f, 0.9f};
 };
