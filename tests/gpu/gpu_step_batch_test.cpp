@@ -126,10 +126,11 @@ TEST_F(GpuStepBatchTest, BatchedStepsGiveTheFluidOfStepsOneByOne) {
     const float batched = largest_difference(a, together[s]->snapshot());
     // Within a cell the sort's order follows atomics, which a GPU may complete in any order, so
     // two runs of the same unbatched steps can round differently and drift apart: that drift is
-    // this device's floor. Batched steps must agree with one-by-one ones to a small fraction of a
-    // particle spacing where the device repeats itself, and within a few times the floor where
-    // it does not; a batch that mixed up sessions' ranges or missed a barrier moves particles by
-    // spacings.
+    // this device's floor. Batched steps must agree with one-by-one ones to a hundredth of a
+    // particle spacing, or within a few times the floor where that is larger; a batch that mixed
+    // up sessions' ranges or missed a barrier moves particles by spacings. (One pair of runs may
+    // happen to round alike, floor 0, while the batched one drifted by 1.05e-3 spacings: lavapipe,
+    // once in a full run.)
     const float floor = largest_difference(a, again[s]->snapshot());
     const float moved = largest_difference(alone[s]->scene().particles, a);
     const float spacing = alone[s]->fluid().spacing;
@@ -137,7 +138,7 @@ TEST_F(GpuStepBatchTest, BatchedStepsGiveTheFluidOfStepsOneByOne) {
         "largest difference %.3g m batched, %.3g m between two unbatched runs; largest "
         "motion %.3g m\n",
         batched, floor, moved);
-    EXPECT_LT(batched, std::max(1e-3f * spacing, 8.0f * floor));
+    EXPECT_LT(batched, std::max(1e-2f * spacing, 8.0f * floor));
     EXPECT_LT(floor, 0.1f * spacing) << "two runs of the same steps drifted apart";
     EXPECT_GT(moved, 2.0f * spacing);
   }
