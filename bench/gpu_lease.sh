@@ -20,7 +20,8 @@
 #       burst   whether the 1M dam break still bursts (it did on an H100 on 2026-11-25, before
 #               the corrections' velocity cap and the rule's wait for fresh figures):
 #               fluidcast-sim to t = 0.5 s (its substeps, centre of mass height, largest speed
-#               and share of spray at the end: the H200's frames showed a cloud of it in 2026-11-28) at 216k to 2M; at 1M with 2 and 8 iterations, without the density
+#               and share of spray at the end: the H200's frames showed a cloud of spray on
+#               2026-11-28) at 216k to 2M; at 1M with 2 and 8 iterations, without the density
 #               bound on substeps (--pbf-density-tolerance 0.1), without the cap, with every
 #               iteration's corrections in full (--pbf-jacobi-damping 0), with statistics
 #               read back every step, and as point frames. The CPU solver's 1M reference is in

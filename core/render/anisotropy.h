@@ -24,8 +24,9 @@ namespace fluidcast::render {
 
 class Anisotropy {
  public:
-  // The neighbourhood's radius, in particle radii: two particle spacings, about 33 neighbours
-  // inside the fluid; the reach within which the spray's neighbours are counted.
+  // The neighbourhood's radius, in particle radii (two a spacing: FluidConstants::particle_radius):
+  // the reach within which the spray's neighbours are counted, two spacings, about 33 neighbours
+  // inside the fluid.
   static constexpr float kSearchRadii = 2.0f * sim::kSprayReachSpacings;
   // Candidates examined per particle, at most: the solver's rule (FluidConstants::max_candidates)
   // for this window — 5×5×5 cells of half the search radius, 2.5 × 2 spacings a side.

@@ -9,16 +9,16 @@
 namespace fluidcast::sim {
 namespace {
 
-// Each particle's density (measure_densities()), and, where `close` is given, how many others lie
-// within kSprayReachSpacings spacings of it.
+// Each particle's density (measure_densities()), and, where `in_reach` is given, how many others
+// lie within kSprayReachSpacings spacings of it.
 std::vector<float> measure_neighbourhoods(const ParticleSet& particles, const FluidConstants& fluid,
-                                          const Box& tank, std::vector<int>* close) {
+                                          const Box& tank, std::vector<int>* in_reach) {
   const Kernels kernels(fluid.kernel_radius);
   const Box wall_fluid = fluid.wall_fluid_box(tank);
   const float reach = kSprayReachSpacings * fluid.spacing;
   const float reach2 = reach * reach;
   // poly6 is 0 beyond h: a grid that reaches farther for the spray's count sums the same.
-  NeighbourGrid grid(tank, close ? std::max(fluid.kernel_radius, reach) : fluid.kernel_radius);
+  NeighbourGrid grid(tank, in_reach ? std::max(fluid.kernel_radius, reach) : fluid.kernel_radius);
   ForkJoinPool caller_only(1);
   grid.build(caller_only, particles.position);
   std::vector<glm::vec3> sorted(particles.size());
@@ -26,22 +26,22 @@ std::vector<float> measure_neighbourhoods(const ParticleSet& particles, const Fl
   for (std::size_t k = 0; k < order.size(); ++k) sorted[k] = particles.position[order[k]];
 
   std::vector<float> density(particles.size());
-  if (close) close->assign(particles.size(), 0);
+  if (in_reach) in_reach->assign(particles.size(), 0);
   for (std::size_t k = 0; k < sorted.size(); ++k) {
     double sum = 0.0;
-    int within_reach = -1;  // itself is a candidate too
+    int others = -1;  // itself is a candidate too
     grid.for_each_candidate_range(sorted[k], [&](std::uint32_t begin, std::uint32_t end) {
       for (std::uint32_t j = begin; j < end; ++j) {
         const glm::vec3 r = sorted[k] - sorted[j];
         const float r2 = glm::dot(r, r);
         sum += kernels.poly6(r2);
-        within_reach += r2 < reach2 ? 1 : 0;
+        if (in_reach) others += r2 < reach2 ? 1 : 0;
       }
     });
     const float walls =
         kernels.walls(sorted[k] - wall_fluid.min, wall_fluid.max - sorted[k]).volume;
     density[order[k]] = static_cast<float>(fluid.particle_mass * sum + fluid.rest_density * walls);
-    if (close) (*close)[order[k]] = within_reach;
+    if (in_reach) (*in_reach)[order[k]] = others;
   }
   return density;
 }
@@ -77,8 +77,8 @@ FluidStatistics measure(const ParticleSet& particles, const FluidConstants& flui
   FluidStatistics s;
   s.particles = particles.size();
   if (particles.size() == 0) return s;
-  std::vector<int> close;
-  const std::vector<float> density = measure_neighbourhoods(particles, fluid, tank, &close);
+  std::vector<int> in_reach;
+  const std::vector<float> density = measure_neighbourhoods(particles, fluid, tank, &in_reach);
   std::size_t spray = 0;
   double error_sum = 0.0;
   glm::dvec3 position_sum(0.0);
@@ -97,7 +97,7 @@ FluidStatistics measure(const ParticleSet& particles, const FluidConstants& flui
     s.max_density_error = std::max(s.max_density_error, error);
     error_sum += error;
     position_sum += glm::dvec3(x);
-    spray += close[i] < kSprayNeighbours ? 1 : 0;
+    spray += in_reach[i] < kSprayNeighbours ? 1 : 0;
   }
   const double counted = double(particles.size() - s.non_finite);
   if (counted > 0) {

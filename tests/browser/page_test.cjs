@@ -45,12 +45,13 @@ function startServer(httpPort = 0) {
 const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 
 // Stops a server started here and waits for it to exit, so that its state folder is gone before
-// this process ends.
+// this process ends; one that has not shut down within 10 s is killed.
 function stopServer(child) {
   if (child.exitCode !== null || child.signalCode !== null) return Promise.resolve();
   const exited = new Promise((resolve) => child.once('exit', resolve));
   child.kill('SIGTERM');
-  return exited;
+  const killer = setTimeout(() => child.kill('SIGKILL'), 10000);
+  return exited.finally(() => clearTimeout(killer));
 }
 
 // The largest distance a reading (a number, or an array of coordinates) moves from `from` while
@@ -469,8 +470,8 @@ async function main() {
     const message = await page.evaluate(() => document.getElementById('status').textContent);
     check(/server|connection|reconnect/i.test(message), `it says why: "${message}"`);
   } finally {
-    await browser.close();
-    await Promise.all([stopServer(child), restarted && stopServer(restarted.child)]);
+    const stopped = Promise.all([stopServer(child), restarted && stopServer(restarted.child)]);
+    await browser.close().finally(() => stopped);
   }
   console.log(`${passes} passed, ${failures} failed`);
   process.exit(failures === 0 ? 0 : 1);

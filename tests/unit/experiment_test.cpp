@@ -1,5 +1,5 @@
-// The pieces of the validation against experiment (tools/fluidcast-validate): the density and
-// surge-front measures, Martin & Moyce's variables and time shift, and the comparison.
+// The pieces of the validation against experiment (tools/fluidcast-validate): the density, spray
+// and surge-front measures, Martin & Moyce's variables and time shift, and the comparison.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -41,8 +41,13 @@ TEST(MeasureDensities, ALatticeFillingATankReadsRestDensityAtEverySite) {
 // Spray: a particle with fewer than 6 others within two spacings. A block of water has none, even
 // at its corners (10 there); a thread of particles (2 to 4 each) and a lone drop are all spray.
 // Sites 0.95 d apart: none lies exactly two spacings from another, where rounding would decide.
-TEST(MeasureSpray, DropsAndThreadsAreSprayABlockIsNot) {
-  const sim::FluidConstants fluid = sim::derive_fluid_constants(kSpacing, sim::SolverParams{});
+// Also with the shortest kernel (h = 1.5 d), whose grid alone would not reach two spacings.
+class MeasureSpray : public ::testing::TestWithParam<float> {};
+
+TEST_P(MeasureSpray, DropsAndThreadsAreSprayABlockIsNot) {
+  sim::SolverParams params;
+  params.kernel_ratio = GetParam();
+  const sim::FluidConstants fluid = sim::derive_fluid_constants(kSpacing, params);
   const float apart = 0.95f * kSpacing;
   sim::ParticleSet water;
   for (int k = 0; k < 6; ++k)
@@ -57,7 +62,19 @@ TEST(MeasureSpray, DropsAndThreadsAreSprayABlockIsNot) {
   }
   water.append({1.8f, 0.3f, 0.05f}, glm::vec3(0.0f), 2000u);
   EXPECT_DOUBLE_EQ(sim::measure(water, fluid, kTank).spray_share, 11.0 / 227.0);
+
+  // A loose block, 1.8 d apart: inside, each has its 6 nearest within reach, and is water; on its
+  // faces, edges and corners 5, 4 or 3: spray.
+  sim::ParticleSet loose;
+  for (int k = 0; k < 5; ++k)
+    for (int j = 0; j < 5; ++j)
+      for (int i = 0; i < 5; ++i)
+        loose.append(glm::vec3(0.02f) + glm::vec3(i, j, k) * 1.8f * kSpacing, glm::vec3(0.0f),
+                     static_cast<std::uint32_t>(loose.size()));
+  EXPECT_DOUBLE_EQ(sim::measure(loose, fluid, kTank).spray_share, (125.0 - 27.0) / 125.0);
 }
+
+INSTANTIATE_TEST_SUITE_P(KernelRatios, MeasureSpray, ::testing::Values(2.0f, 1.5f));
 
 sim::ParticleSet floor_layer(float from, float to) {
   sim::ParticleSet set;

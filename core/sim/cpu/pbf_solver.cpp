@@ -68,7 +68,7 @@ void PbfSolver::substep(bool last) {
     }
     stage_times_.solve_ms += iteration_ms - before;
   }
-  const bool viscous = params().vorticity > 0.0f || params().xsph_viscosity > 0.0f;
+  const bool viscous = confines_vorticity() || params().xsph_viscosity > 0.0f;
   if (viscous || last) {
     StageTimer timer(stage_times_.velocity_ms);
     sum_over_neighbours(last);
@@ -184,7 +184,7 @@ glm::vec3 PbfSolver::velocity_from(std::size_t i, glm::vec3 corrected) const {
 // kernels serve all three.
 void PbfSolver::sum_over_neighbours(bool measure) {
   const std::size_t n = particles_.size();
-  const bool confine = params().vorticity > 0.0f;
+  const bool confine = confines_vorticity();
   vorticity_.resize(confine ? n : 0);
   vorticity_norm_.resize(confine ? n : 0);
   smoothed_velocity_.resize(n);
@@ -226,7 +226,7 @@ void PbfSolver::sum_over_neighbours(bool measure) {
 }
 
 void PbfSolver::apply_confinement_and_viscosity() {
-  if (params().vorticity > 0.0f) confine_vorticity();
+  if (confines_vorticity()) confine_vorticity();
   particles_.velocity.swap(smoothed_velocity_);
 }
 

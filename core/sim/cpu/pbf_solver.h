@@ -35,8 +35,10 @@ class PbfSolver final : public CpuSolver {
   void apply_position_corrections(float weight, bool set_velocities);
   glm::vec3 velocity_from(std::size_t i, glm::vec3 corrected) const;
   void sum_over_neighbours(bool measure);
-  // The velocity sum_over_neighbours() smoothed, confined where vorticity is on, becomes the state's.
+  // The velocity sum_over_neighbours() smoothed, confined where confinement is on, becomes the
+  // state's.
   void apply_confinement_and_viscosity();
+  bool confines_vorticity() const { return params().vorticity > 0.0f; }
   void confine_vorticity();
   // Mean over particles of max(ρ/ρ0 − 1, 0) at the corrected positions, walls included, as the
   // step's last sum_over_neighbours() measured it: what the substep leaves, for the substep rule.

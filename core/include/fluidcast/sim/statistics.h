@@ -12,8 +12,9 @@
 namespace fluidcast::sim {
 
 // Spray: a particle with fewer than kSprayNeighbours others within kSprayReachSpacings particle
-// spacings of it (about 33 inside the water) is a droplet or part of a thin sheet, not water. The
-// renderer draws such particles as spray by default (render::SsfrStyle::spray_neighbours).
+// spacings of it (about 33 inside the water, 8 in a sheet one particle thick) is a droplet, part of
+// a thread or of a sheet torn apart, not water. The renderer draws such particles as spray by
+// default (render::SsfrStyle::spray_neighbours).
 inline constexpr int kSprayNeighbours = 6;
 inline constexpr float kSprayReachSpacings = 2.0f;
 
@@ -25,7 +26,7 @@ struct FluidStatistics {
   double front_x = 0;              // m from the tank's left wall: surge_front()
   glm::dvec3 centre_of_mass{0.0};  // m
   double max_speed = 0;            // m/s
-  double spray_share = 0;          // the share of the particles that are spray (kSprayNeighbours)
+  double spray_share = 0;          // of the finite particles, the fraction that are spray
   std::size_t outside_tank = 0;    // particles whose centre is outside the tank
   std::size_t non_finite = 0;      // particles with a NaN or infinite position or velocity
 };
