@@ -8,6 +8,22 @@ namespace {
 constexpr auto kConnectTimeout = std::chrono::seconds(5);
 constexpr int kReconnectEvery = 500;  // ms
 
+// A snapshot call is given the time the server takes to build it (GetSnapshot) or to load it
+// (PutSnapshot: the session's solver is rebuilt), and as long again as its bytes take over a slow
+// link: 1 MB/s gives the largest session a server allows (1M particles, 24 MB) half a minute more,
+// where fixed deadlines needed 40 Mbit/s.
+constexpr auto kSnapshotBuild = std::chrono::seconds(5);
+constexpr auto kSnapshotLoad = std::chrono::seconds(10);
+constexpr double kSlowLinkBytesPerSecond = 1e6;
+constexpr std::size_t kSnapshotBytesPerParticle = 6 * sizeof(float);  // position and velocity
+
+std::chrono::system_clock::time_point snapshot_deadline(std::chrono::seconds work,
+                                                        std::size_t bytes) {
+  const std::chrono::duration<double> moving(static_cast<double>(bytes) / kSlowLinkBytesPerSecond);
+  return std::chrono::system_clock::now() + work +
+         std::chrono::duration_cast<std::chrono::milliseconds>(moving);
+}
+
 }  // namespace
 StreamError::StreamError(const grpc::Status& status)
     : std::runtime_error(status.error_message()), code_(status.error_code()) {}
@@ -250,7 +266,9 @@ std::string StreamClient::close() {
 
 v1::Snapshot StreamClient::snapshot() {
   grpc::ClientContext context;
-  context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(5));
+  // The session may have grown since the Welcome: as large as the server allows.
+  const std::size_t largest = welcome_.limits().max_particles();
+  context.set_deadline(snapshot_deadline(kSnapshotBuild, largest * kSnapshotBytesPerParticle));
   v1::SnapshotRequest request;
   request.set_token(token_);
   request.set_key(welcome_.access().view_key());
@@ -273,11 +291,11 @@ std::string describe_welcome(const v1::Welcome& welcome) {
 
 void StreamClient::load(const v1::Snapshot& snapshot) {
   grpc::ClientContext context;
-  context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(10));
   v1::PutSnapshotRequest request;
   request.set_token(token_);
   request.set_key(welcome_.access().control_key());
   *request.mutable_snapshot() = snapshot;
+  context.set_deadline(snapshot_deadline(kSnapshotLoad, request.ByteSizeLong()));
   v1::PutSnapshotReply reply;
   const grpc::Status status = stub_->PutSnapshot(&context, request, &reply);
   if (!status.ok()) throw StreamError(status);
