@@ -28,6 +28,7 @@
 #include "fluidcast/program_folder.h"
 #include "fluidcast/render/frame_renderer.h"
 #include "fluidcast/sim/solver_params.h"
+#include "fluidcast/v1/wire_sizes.h"
 #include "grpc/fluidcast_service.h"
 #include "grpc/grpc_listener.h"
 #include "grpc/grpc_log.h"
@@ -188,9 +189,9 @@ GrpcServer start_grpc(const ServerOptions& options, const ServerLimits& limits,
   builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIMEOUT_MS, 5000);
   builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_PERMIT_WITHOUT_CALLS, 1);
   builder.AddChannelArgument(GRPC_ARG_HTTP2_MIN_RECV_PING_INTERVAL_WITHOUT_DATA_MS, 5000);
-  // A snapshot of the largest session: 24 bytes a particle, and room for the rest.
-  builder.SetMaxReceiveMessageSize(static_cast<int>(
-      std::min<std::uint64_t>(INT32_MAX, 24ull * limits.max_particles + (1 << 20))));
+  // A snapshot of the largest session, and room for the rest.
+  builder.SetMaxReceiveMessageSize(static_cast<int>(std::min<std::uint64_t>(
+      INT32_MAX, v1::kSnapshotBytesPerParticle * limits.max_particles + (1 << 20))));
   grpc.server = builder.BuildAndStart();
   if (grpc.server) listener.start(*grpc.acceptor);
   return grpc;

@@ -2,6 +2,8 @@
 
 #include <utility>
 
+#include "fluidcast/v1/wire_sizes.h"
+
 namespace fluidcast::client {
 namespace {
 
@@ -15,7 +17,6 @@ constexpr int kReconnectEvery = 500;  // ms
 constexpr auto kSnapshotBuild = std::chrono::seconds(5);
 constexpr auto kSnapshotLoad = std::chrono::seconds(10);
 constexpr double kSlowLinkBytesPerSecond = 1e6;
-constexpr std::size_t kSnapshotBytesPerParticle = 6 * sizeof(float);  // position and velocity
 
 std::chrono::system_clock::time_point snapshot_deadline(std::chrono::seconds work,
                                                         std::size_t bytes) {
@@ -268,7 +269,7 @@ v1::Snapshot StreamClient::snapshot() {
   grpc::ClientContext context;
   // The session may have grown since the Welcome: as large as the server allows.
   const std::size_t largest = welcome_.limits().max_particles();
-  context.set_deadline(snapshot_deadline(kSnapshotBuild, largest * kSnapshotBytesPerParticle));
+  context.set_deadline(snapshot_deadline(kSnapshotBuild, largest * v1::kSnapshotBytesPerParticle));
   v1::SnapshotRequest request;
   request.set_token(token_);
   request.set_key(welcome_.access().view_key());

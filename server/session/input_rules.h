@@ -8,6 +8,7 @@
 #include <cstdint>
 
 #include "fluidcast/v1/fluidcast.pb.h"
+#include "fluidcast/v1/wire_sizes.h"
 
 namespace fluidcast::server {
 
@@ -18,13 +19,14 @@ inline constexpr float kMaxTiltGravity = 200.0f;
 // Touches at once: PointerEvent.pointer_id lies below this.
 inline constexpr std::uint32_t kPointerIds = 16;
 inline constexpr std::uint32_t kMaxJpegQuality = 100;
-// The largest session whose state a stream carries (StateRequest, NewSession.state): 24 bytes a
-// particle, so that a WebSocket message stays small. Larger ones use GetSnapshot and PutSnapshot.
+// The largest session whose state a stream carries (StateRequest, NewSession.state), so that a
+// WebSocket message stays small. Larger ones use GetSnapshot and PutSnapshot.
 inline constexpr std::uint32_t kMaxStateParticles = 16384;
 inline constexpr std::uint32_t kStateRequestsPerSecond = 4;
-// The largest ClientMessage a stream takes, bytes: a Hello carrying the largest state (24 bytes a
-// particle), and room for the rest; every other message is well under 1 KiB.
-inline constexpr std::size_t kMaxClientMessageBytes = 24 * kMaxStateParticles + 64 * 1024;
+// The largest ClientMessage a stream takes, bytes: a Hello carrying the largest state, and room for
+// the rest; every other message is well under 1 KiB.
+inline constexpr std::size_t kMaxClientMessageBytes =
+    v1::kSnapshotBytesPerParticle * kMaxStateParticles + 64 * 1024;
 // A snapshot's simulated time, s: about 30 years, beyond any session's, and far within the range
 // where a step still moves a double's clock.
 inline constexpr double kMaxSnapshotSeconds = 1e9;
