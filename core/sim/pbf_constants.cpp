@@ -34,6 +34,10 @@ float pbf_correction_weight(const SolverParams& params, int iteration) {
   return 1.0f;
 }
 
+float pbf_step_xsph(const SolverParams& params, int substeps) {
+  return 1.0f - std::pow(1.0f - params.xsph_viscosity, static_cast<float>(substeps));
+}
+
 PbfConstants derive_pbf_constants(const SolverParams& params, const FluidConstants& fluid) {
   const Kernels kernels(fluid.kernel_radius);
   const float rest_norm = rest_gradient_norm(kernels, fluid);

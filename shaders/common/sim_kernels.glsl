@@ -32,12 +32,6 @@ void load_constants() {
   K_neighbour_count = P.neighbour_count;
 }
 
-// Whether pbf_sums.comp ran in this substep: for vorticity, for XSPH, or for the compression a
-// step's last substep leaves (as GpuSolver::append_pbf_substep adds it).
-bool pbf_summed() {
-  return P.vorticity_epsilon > 0.0 || P.xsph > 0.0 || pass.record_compression != 0u;
-}
-
 float poly6(float r2) {
   if (!(r2 < K_h2)) return 0.0;
   const float x = K_h2 - r2;

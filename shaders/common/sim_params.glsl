@@ -78,8 +78,8 @@ layout(push_constant, std430) uniform SimPass {
   SimParams params;
   float dt;              // this substep's length, s
   float time_into_step;  // where the colliders are: seconds into the step
-  uint record_compression;  // PBF, a step's last substep: its sums pass adds up the compression
-                            // in P.stats.v[2..3]
+  uint last_substep;        // PBF, a step's last substep: the sums pass runs (XSPH, the curl,
+                            // the compression added up in P.stats.v[2..3]); the finish confines
   float correction_weight;  // PBF correction pass: share of Δp applied (pbf_correction_weight)
   uint write_velocity;      // PBF correction pass: the last iteration's, which sets the velocity
 } pass;

@@ -1,9 +1,9 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// PBF, last pass of a substep: vorticity confinement (a = ε N × ω) on the velocity (the one
-// pbf_sums.comp smoothed, where it ran), then the particles written back as state (sorted order
-// becomes state order), and the largest |v|² and wall approach recorded for the next step's
-// substep count.
+// PBF, last pass of a substep: on a step's last, vorticity confinement (a = ε N × ω, over the
+// whole step) on the velocity pbf_sums.comp smoothed; then the particles written back as state
+// (sorted order becomes state order), and the largest |v|² and wall approach recorded for the
+// next step's substep count.
 #include "common/core.glsl"
 #include "common/sim_params.glsl"
 #include "common/sim_kernels.glsl"
@@ -17,8 +17,9 @@ void main() {
     const vec3 p = x.v[k].xyz;
     // The sums pass wrote the smoothed velocity in place of the state's, which the reorder has
     // already read.
-    vec3 velocity = pbf_summed() ? P.velocity.v[k].xyz : P.sorted_velocity.v[k].xyz;
-    if (P.vorticity_epsilon > 0.0) {
+    const bool step_end = pass.last_substep != 0u;
+    vec3 velocity = step_end ? P.velocity.v[k].xyz : P.sorted_velocity.v[k].xyz;
+    if (step_end && P.vorticity_epsilon > 0.0) {
       Vec4s vorticity = P.vorticity;
       const vec4 omega = vorticity.v[k];
       vec3 eta = vec3(0.0);
@@ -32,7 +33,8 @@ void main() {
       }
       const float eta_length = length(eta);
       if (eta_length > 1e-12) {
-        velocity += pass.dt * P.vorticity_epsilon * cross(eta / eta_length, omega.xyz);
+        // On the last substep, seconds into the step are the step's length.
+        velocity += pass.time_into_step * P.vorticity_epsilon * cross(eta / eta_length, omega.xyz);
       }
     }
     P.position.v[k] = vec4(p, 0.0);

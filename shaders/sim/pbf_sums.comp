@@ -1,11 +1,11 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// PBF, in sorted order, at the corrected positions and velocities, one pass for what the same
-// kernels serve: with vorticity confinement on, ω_i = Σ_j V (v_j − v_i) × ∇_j W_ij, the curl of the
-// velocity (|ω| in w); XSPH's v_i + c Σ_j V (v_j − v_i) W_ij into the state's velocity, which the
-// finish pass confines; on a step's last substep the compression it leaves, max(ρ/ρ0 − 1, 0)
-// walls included, for the substep rule. As PbfSolver::sum_over_neighbours. It runs where the
-// finish pass's pbf_summed() says.
+// PBF, on a step's last substep (pbf_step_xsph), in sorted order, at the corrected positions and
+// velocities, one pass for what the same kernels serve: with vorticity confinement on, ω_i =
+// Σ_j V (v_j − v_i) × ∇_j W_ij, the curl of the velocity (|ω| in w); XSPH's v_i + c Σ_j V (v_j −
+// v_i) W_ij (c compounded over the step's substeps) into the state's velocity, which the finish
+// pass confines; the compression the step leaves, max(ρ/ρ0 − 1, 0) walls included, for the
+// substep rule. As PbfSolver::sum_over_neighbours.
 #include "common/core.glsl"
 #include "common/sim_params.glsl"
 #include "common/sim_kernels.glsl"
@@ -40,5 +40,5 @@ void main() {
     P.velocity.v[k] = vec4(v + P.xsph * P.rest_volume * smoothing, 0.0);
     compression = max((P.mass * density + walls(p).x) * P.inv_rest_density - 1.0, 0.0);
   }
-  if (pass.record_compression != 0u) record_sum(2u, compression);
+  record_sum(2u, compression);
 }

@@ -128,7 +128,7 @@ TEST(GpuParamsLayout, SimPassMatchesThePushConstants) {
   const std::map<std::string, std::size_t> cpp = {FIELD(SimPass, params),
                                                   FIELD(SimPass, dt),
                                                   FIELD(SimPass, time_into_step),
-                                                  FIELD(SimPass, record_compression),
+                                                  FIELD(SimPass, last_substep),
                                                   FIELD(SimPass, correction_weight),
                                                   FIELD(SimPass, write_velocity)};
   const auto glsl = member_offsets(shaders::sim_pbf_lambda_comp, "SimPass");

@@ -35,12 +35,14 @@ int PbfSolver::advance(float seconds, int substeps) {
   dt_ = seconds / static_cast<float>(substeps);
   for (int s = 0; s < substeps; ++s) {
     set_time_into_step(static_cast<float>(s + 1) * dt_);  // predicted positions are at its end
-    substep(s + 1 == substeps);
+    substep();
+    if (s + 1 == substeps) finish_step(substeps);
+    particles_.position.swap(predicted_);
   }
   return substeps;
 }
 
-void PbfSolver::substep(bool last) {
+void PbfSolver::substep() {
   ++stage_times_.substeps;
   {
     StageTimer timer(stage_times_.predict_ms);
@@ -68,17 +70,20 @@ void PbfSolver::substep(bool last) {
     }
     stage_times_.solve_ms += iteration_ms - before;
   }
-  const bool viscous = confines_vorticity() || params().xsph_viscosity > 0.0f;
-  if (viscous || last) {
+}
+
+void PbfSolver::finish_step(int substeps) {
+  {
     StageTimer timer(stage_times_.velocity_ms);
-    sum_over_neighbours(last);
+    sum_over_neighbours(pbf_step_xsph(params(), substeps));
   }
-  if (viscous) {
+  {
     StageTimer timer(stage_times_.viscosity_ms);
-    apply_confinement_and_viscosity();
+    // As the GPU's finish pass: the step's length as its substeps add up.
+    if (confines_vorticity()) confine_vorticity(static_cast<float>(substeps) * dt_);
+    particles_.velocity.swap(smoothed_velocity_);
   }
-  if (last) substeps_.observe(dt_, average_compression());
-  particles_.position.swap(predicted_);
+  substeps_.observe(dt_, average_compression());
 }
 
 void PbfSolver::predict() {
@@ -179,19 +184,18 @@ glm::vec3 PbfSolver::velocity_from(std::size_t i, glm::vec3 corrected) const {
 }
 
 // At the corrected positions and velocities: with vorticity confinement on, ω_i = Σ_j V (v_j − v_i)
-// × ∇_j W_ij, the SPH estimate of the curl of the velocity; XSPH's v_i + c Σ_j V (v_j − v_i) W_ij;
-// with `measure`, also the compression max(ρ/ρ0 − 1, 0), walls included. One pass: the same
-// kernels serve all three.
-void PbfSolver::sum_over_neighbours(bool measure) {
+// × ∇_j W_ij, the SPH estimate of the curl of the velocity; XSPH's v_i + c Σ_j V (v_j − v_i) W_ij
+// with c = `xsph`; and the compression max(ρ/ρ0 − 1, 0), walls included. One pass: the same kernels serve all
+// three.
+void PbfSolver::sum_over_neighbours(float xsph) {
   const std::size_t n = particles_.size();
   const bool confine = confines_vorticity();
   vorticity_.resize(confine ? n : 0);
   vorticity_norm_.resize(confine ? n : 0);
   smoothed_velocity_.resize(n);
-  compression_.resize(measure ? n : 0);
+  compression_.resize(n);
   pair_blocks_.resize(neighbours_.pair_count() / lanes::kWidth);
   const float volume = fluid().rest_volume();
-  const float xsph = params().xsph_viscosity;
   const float mass = fluid().particle_mass;
   const float inv_rest_density = 1.0f / fluid().rest_density;
   const float self_density = kernels_.poly6(0.0f);
@@ -215,24 +219,16 @@ void PbfSolver::sum_over_neighbours(bool measure) {
       vorticity_norm_[i] = glm::length(vorticity_[i]);
     }
     smoothed_velocity_[i] = v[i] + xsph * volume * lanes::sum(smoothing);
-    if (measure) {
-      compression_[i] = std::max(
-          (mass * (self_density + lanes::sum(density)) + walls(predicted_[i]).density) *
-                  inv_rest_density -
-              1.0f,
-          0.0f);
-    }
+    compression_[i] = std::max(
+        (mass * (self_density + lanes::sum(density)) + walls(predicted_[i]).density) *
+                inv_rest_density -
+            1.0f,
+        0.0f);
   });
 }
 
-void PbfSolver::apply_confinement_and_viscosity() {
-  if (confines_vorticity()) confine_vorticity();
-  particles_.velocity.swap(smoothed_velocity_);
-}
-
 // Vorticity confinement a = ε N × ω with N = ∇|ω| / |∇|ω||, onto the XSPH-smoothed velocity.
-void PbfSolver::confine_vorticity() {
-  const float dt = dt_;
+void PbfSolver::confine_vorticity(float seconds) {
   const float epsilon = params().vorticity;
   pool_->for_each(particles_.size(), [&](std::size_t i) {
     const float omega_i = vorticity_norm_[i];
@@ -245,7 +241,7 @@ void PbfSolver::confine_vorticity() {
     const glm::vec3 eta_sum = lanes::sum(eta);
     const float eta_length = glm::length(eta_sum);
     if (eta_length > 1e-12f)
-      smoothed_velocity_[i] += dt * epsilon * glm::cross(eta_sum / eta_length, vorticity_[i]);
+      smoothed_velocity_[i] += seconds * epsilon * glm::cross(eta_sum / eta_length, vorticity_[i]);
   });
 }
 

@@ -3,7 +3,8 @@
 // more than pbf_travel·h in one and that the compression the last step left stays within
 // tolerance. A substep: predict → neighbour search on predicted positions (sorted, reordered) →
 // Jacobi iterations of the density constraint (λ, then Δp with s_corr and collisions) → velocity
-// from the displacement → vorticity confinement and XSPH viscosity.
+// from the displacement; the step's last substep then smooths and confines the velocity (XSPH
+// viscosity and vorticity confinement, once a step: pbf_step_xsph) and measures the compression.
 //
 // Four choices beyond the paper: the density constraint is unilateral, C = max(ρ/ρ0 − 1, 0), so
 // a surface particle with few neighbours is not pulled inwards; ε and s_corr are scaled by the
@@ -27,19 +28,21 @@ class PbfSolver final : public CpuSolver {
   // A fluid loaded here starts the substep rule afresh (PbfSubsteps::start).
   void load_particles(const ParticleSet& particles) override;
   int advance(float seconds, int substeps) override;
-  void substep(bool last);
+  void substep();
+  // The step's last substep, after its iterations: XSPH and vorticity confinement over the step
+  // of `substeps` substeps, and the compression it leaves, for the substep rule.
+  void finish_step(int substeps);
   void predict();
   void compute_lambdas();
   // Moves each particle by `weight` times its Δp (pbf_correction_weight); the last iteration also
   // sets the velocities from the corrected positions.
   void apply_position_corrections(float weight, bool set_velocities);
   glm::vec3 velocity_from(std::size_t i, glm::vec3 corrected) const;
-  void sum_over_neighbours(bool measure);
-  // The velocity sum_over_neighbours() smoothed, confined where confinement is on, becomes the
-  // state's.
-  void apply_confinement_and_viscosity();
+  // XSPH's smoothing by `xsph`, the curl where confinement is on, and the compression.
+  void sum_over_neighbours(float xsph);
   bool confines_vorticity() const { return params().vorticity > 0.0f; }
-  void confine_vorticity();
+  // Over `seconds`, onto the smoothed velocity.
+  void confine_vorticity(float seconds);
   // Mean over particles of max(ρ/ρ0 − 1, 0) at the corrected positions, walls included, as the
   // step's last sum_over_neighbours() measured it: what the substep leaves, for the substep rule.
   float average_compression() const;
@@ -49,7 +52,7 @@ class PbfSolver final : public CpuSolver {
   float inv_w_dq_;            // 1 / W(Δq)
   float dt_ = 0.0f;           // of the current substep
   PbfSubsteps substeps_;
-  std::vector<float> compression_;  // per particle, on a step's last substep
+  std::vector<float> compression_;  // per particle, at the end of the step
   std::vector<glm::vec3> predicted_, corrected_;
   std::vector<glm::vec3> uncorrected_;  // predicted_ before the density corrections
   std::vector<float> lambda_;

@@ -67,11 +67,11 @@ struct SimPass {
   VkDeviceAddress params;
   float dt;
   float time_into_step;
-  std::uint32_t record_compression;
+  std::uint32_t last_substep;
   float correction_weight;
   std::uint32_t write_velocity;
 };
-static_assert(offsetof(SimPass, dt) == 8 && offsetof(SimPass, record_compression) == 16 &&
+static_assert(offsetof(SimPass, dt) == 8 && offsetof(SimPass, last_substep) == 16 &&
               offsetof(SimPass, correction_weight) == 20 &&
               offsetof(SimPass, write_velocity) == 24);
 

@@ -359,7 +359,7 @@ void GpuSolver::set_addresses(SimParams& p) const {
   p.neighbour_count = buffers_.neighbour_count.address();
 }
 
-SimParams GpuSolver::step_params() const {
+SimParams GpuSolver::step_params(int substeps) const {
   const Kernels kernels(fluid().kernel_radius);
   const float radius = fluid().particle_radius();
   const GridGeometry& grid = grid_.geometry();
@@ -393,7 +393,7 @@ SimParams GpuSolver::step_params() const {
   p.inv_w_dq = inv_w_dq_;
   p.scorr_exponent = params().scorr_exponent;
   p.vorticity_epsilon = params().vorticity;
-  p.xsph = params().xsph_viscosity;
+  p.xsph = pbf_step_xsph(params(), substeps);
   p.tait_stiffness =
       params().rest_density * params().sound_speed * params().sound_speed / params().tait_exponent;
   p.tait_exponent = params().tait_exponent;
@@ -456,7 +456,7 @@ int GpuSolver::advance(float seconds, int substeps) {
   // First the step's parameters, a clean slate for its figures, and the first substep's grid
   // cleared for its count (each substep's last pass clears it for the next).
   passes.push_back({static_cast<int>(pbf ? Stage::predict : Stage::grid), 0,
-                    [this, params_block = step_params()](VkCommandBuffer c) {
+                    [this, params_block = step_params(substeps)](VkCommandBuffer c) {
                       vkCmdUpdateBuffer(c, params_buffer_.get(), 0, sizeof(SimParams),
                                         &params_block);
                       vkCmdFillBuffer(c, stats_buffer_.get(), 0, VK_WHOLE_SIZE, 0);
@@ -510,13 +510,10 @@ void GpuSolver::append_pbf_substep(Passes& passes, const SimPass& pass, bool las
     if (k > 0) add(Stage::iteration, k, pipelines_.pbf_lambda, pass);
     add(Stage::iteration, k, pipelines_.pbf_correct, correction);
   }
-  // The sums at the corrected positions, where anything needs them (pbf_summed() in
-  // sim_kernels.glsl, which the finish pass reads, is the same rule).
+  // XSPH, the curl and the compression, once a step at its corrected positions (pbf_step_xsph).
   SimPass finish = pass;
-  finish.record_compression = last ? 1 : 0;
-  if (params().vorticity > 0.0f || params().xsph_viscosity > 0.0f || last) {
-    add(Stage::velocity, 0, pipelines_.pbf_sums, finish);
-  }
+  finish.last_substep = last ? 1 : 0;
+  if (last) add(Stage::velocity, 0, pipelines_.pbf_sums, finish);
   // The finish pass does not read the grid: the next substep's may be cleared beside it.
   passes.push_back(
       {static_cast<int>(Stage::viscosity), 0, [this, finish, n, last](VkCommandBuffer c) {

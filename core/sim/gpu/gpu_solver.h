@@ -99,7 +99,8 @@ class GpuSolver final : public Solver {
   // Buffers for `n` particles, with room to grow (so that adding a few at a time does not
   // reallocate every time) where the memory allows.
   Buffers allocate_for(std::size_t n);
-  SimParams step_params() const;
+  // The parameter block of a step of `substeps` substeps.
+  SimParams step_params(int substeps) const;
   // How far ahead, s, a particle closing on a wall counts for the substep rule: the figures that
   // plan a step may be as many steps old as run at once, and the step itself comes after.
   float wall_reach() const { return params().time_step * static_cast<float>(kStepsInFlight + 1); }

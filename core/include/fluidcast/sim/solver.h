@@ -57,9 +57,10 @@ struct StageTimes {
                              // SPH: time integration and collisions
   double solve_ms = 0;       // PBF: the density iterations (the last one sets the velocity);
                              // SPH: density and pressure (CPU), forces
-  double velocity_ms = 0;    // PBF: vorticity, XSPH's sums and the compression a step
-                             // leaves; SPH (CPU): CFL bound
-  double viscosity_ms = 0;   // PBF: vorticity confinement and XSPH viscosity
+  double velocity_ms = 0;    // PBF, a step's last substep: vorticity, XSPH's sums and the
+                             // compression the step leaves; SPH (CPU): CFL bound
+  double viscosity_ms = 0;   // PBF: vorticity confinement and XSPH viscosity (GPU: and the
+                             // state written back, every substep)
   std::vector<double> iteration_ms;  // PBF: each density iteration, summed over substeps
   std::uint64_t substeps = 0;
 
