@@ -1,8 +1,9 @@
 // GPU solver throughput on the dam break: steps/s (wall clock, the GPU kept busy with two steps in
 // flight) and GPU milliseconds per stage per step from timestamps: grid build (counting sort and
 // reorder; PBF's count is in predict), the neighbour lists (with PBF's first λ, SPH's densities),
-// predict, each density iteration (the last sets the velocity), vorticity, viscosity (confinement
-// and XSPH), and the whole per substep. Sizes are the talk's table (27k–216k) and beyond, up to
+// predict, each density iteration (the last sets the velocity), vorticity (the curl, XSPH and the
+// compression, on a step's last substep), viscosity (the confinement, and the state written back
+// every substep), and the whole per substep. Sizes are the talk's table (27k–216k) and beyond, up to
 // 2M; 2, 4 (the default) and 6 iterations; a fixed dt of 1 ms, as the talk steps, with CFL
 // substeps where the flow needs them (the `substeps` column).
 // `Sessions/...`: many small fluids stepped one substep each per round, their steps in one

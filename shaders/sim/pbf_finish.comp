@@ -15,8 +15,8 @@ void main() {
   if (k < P.particle_count) {
     Vec4s x = P.iterate;
     const vec3 p = x.v[k].xyz;
-    // The sums pass wrote the smoothed velocity in place of the state's, which the reorder has
-    // already read.
+    // On a step's last substep the sums pass wrote the smoothed velocity in place of the state's,
+    // which the reorder has already read; on the others the last correction's stands.
     const bool step_end = pass.last_substep != 0u;
     vec3 velocity = step_end ? P.velocity.v[k].xyz : P.sorted_velocity.v[k].xyz;
     if (step_end && P.vorticity_epsilon > 0.0) {

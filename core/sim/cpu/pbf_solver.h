@@ -44,7 +44,7 @@ class PbfSolver final : public CpuSolver {
   // Over `seconds`, onto the smoothed velocity.
   void confine_vorticity(float seconds);
   // Mean over particles of max(ρ/ρ0 − 1, 0) at the corrected positions, walls included, as the
-  // step's last sum_over_neighbours() measured it: what the substep leaves, for the substep rule.
+  // step's last sum_over_neighbours() measured it: what the step leaves, for the substep rule.
   float average_compression() const;
 
   float relaxation_epsilon_;  // ε, absolute
