@@ -9,7 +9,9 @@
 # part cut off by its timeout still leaves the earlier ones (bench/results/h200-2026-11-28.md).
 # PART: programs  the programs the parts run (for the bundle), on standard output
 #       tests   every GPU test with the validation layer on (a message fails its test)
-#       solver  fluidcast-bench-gpu: the solver table and many sessions batched against serial
+#       solver  fluidcast-bench-gpu: the solver table (dt = 1 ms, and a session's 1/120 s at 216k
+#               and 1M: GPU s a simulated s, added 2026-11-29, a few s more) and many sessions
+#               batched against serial
 #       render  fluidcast-bench-render: passes, encode from RGBA and from planes, roughness; and
 #               the dam break at 216k and 1M, t = 0.5 s, with spheres and ellipsoids, as PNG
 #               (for docs/images: ssfr-ellipsoids-216k.png, -1m.png)

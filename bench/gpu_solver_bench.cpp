@@ -5,7 +5,10 @@
 // compression, on a step's last substep), viscosity (the confinement, and the state written back
 // every substep), and the whole per substep. Sizes are the talk's table (27k–216k) and beyond, up to
 // 2M; 2, 4 (the default) and 6 iterations; a fixed dt of 1 ms, as the talk steps, with CFL
-// substeps where the flow needs them (the `substeps` column).
+// substeps where the flow needs them (the `substeps` column). At 216k and 1M also a session's own
+// step (1/120 s, `dt_us:8333`) over the dam break's first half second, where the substep rule cuts
+// each step into many: GPU seconds a simulated second (`gpu_s_per_simulated_s`), which a frame
+// loop's solver share must pay for the fluid to run in real time.
 // `Sessions/...`: many small fluids stepped one substep each per round, their steps in one
 // submission (`batched`, as the server records a tick) or each in its own (`serial`): GPU
 // milliseconds per round for all of them together, and the wall clock per round.
@@ -32,12 +35,13 @@ using namespace fluidcast::sim;
 // Steps timed per benchmark iteration, after `kWarmUpSteps` untimed ones from t = 0.
 constexpr int kWarmUpSteps = 5;
 
+// state.range: particles, iterations, the step in µs.
 void run_dam_break(benchmark::State& state, SolverKind kind, int steps_per_iteration) {
   SceneParams scene;
   scene.particles = static_cast<int>(state.range(0));
   SolverParams params;
   params.iterations = static_cast<int>(state.range(1));
-  params.time_step = 1e-3f;
+  params.time_step = static_cast<float>(state.range(2)) * 1e-6f;
   params.max_particles = std::max(params.max_particles, scene.particles);
   auto solver = make_gpu_solver(kind, bench::gpu_context(), build_scene(scene), params);
   for (int k = 0; k < kWarmUpSteps; ++k) solver->step();
@@ -71,6 +75,8 @@ void run_dam_break(benchmark::State& state, SolverKind kind, int steps_per_itera
   state.counters["gpu_ms"] = t.total_ms() / steps;
   state.counters["gpu_ms_per_substep"] =
       t.substeps > 0 ? t.total_ms() / static_cast<double>(t.substeps) : 0.0;
+  state.counters["gpu_s_per_simulated_s"] =
+      1e-3 * t.total_ms() / (steps * static_cast<double>(params.time_step));
 }
 
 // state.range: sessions, particles each, batched (1) or serial (0).
@@ -125,10 +131,15 @@ void add_sessions(bool batched, int sessions, int particles, int rounds) {
       ->Unit(benchmark::kMillisecond);
 }
 
-void add(const char* name, SolverKind kind, int particles, int iterations, int steps) {
+// The talk's step, 1 ms, and a session's, 1/120 s.
+constexpr int kTalkStepUs = 1000;
+constexpr int kSessionStepUs = 8333;
+
+void add(const char* name, SolverKind kind, int particles, int iterations, int steps,
+         int step_us = kTalkStepUs) {
   benchmark::RegisterBenchmark(name, run_dam_break, kind, steps)
-      ->Args({particles, iterations})
-      ->ArgNames({"particles", "iterations"})
+      ->Args({particles, iterations, step_us})
+      ->ArgNames({"particles", "iterations", "dt_us"})
       ->Iterations(1)
       ->UseManualTime()
       ->Unit(benchmark::kMillisecond);
@@ -137,6 +148,7 @@ void add(const char* name, SolverKind kind, int particles, int iterations, int s
 void register_cases(bool smoke) {
   if (smoke) {
     add("Pbf/dam_break", SolverKind::pbf, 4000, 2, 3);
+    add("Pbf/dam_break", SolverKind::pbf, 4000, 4, 3, kSessionStepUs);
     add("Sph/dam_break", SolverKind::sph, 4000, 1, 1);
     for (bool batched : {false, true}) add_sessions(batched, 4, 2000, 3);
     return;
@@ -145,6 +157,10 @@ void register_cases(bool smoke) {
     for (int particles : {27000, 64000, 125000, 216000, 500000, 1000000, 2000000}) {
       add("Pbf/dam_break", SolverKind::pbf, particles, iterations, 200);
     }
+  }
+  // Its first half second after the warm-up, 60 steps.
+  for (int particles : {216000, 1000000}) {
+    add("Pbf/dam_break", SolverKind::pbf, particles, 4, 60, kSessionStepUs);
   }
   for (int particles : {27000, 216000, 1000000}) {
     add("Sph/dam_break", SolverKind::sph, particles, 1, 20);

@@ -51,17 +51,19 @@ if runs and "frames_per_s" in runs[0]:
         print(f"| {r['name'].split('/')[0]} | {f['width']}×{f['height']} | {f['particles']} | "
               f"{r['planes_readback_ms']:.3f} | {r['planes_encode_ms']:.2f} | {strips} | {rough} |")
 elif runs and "gpu_ms" in runs[0]:
-    print("| solver | particles | iterations | substeps/step | steps/s | GPU ms/step | GPU ms/substep | "
-          "grid | neighbours | predict | iterations (each) | vorticity | viscosity |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    print("| solver | particles | iterations | dt (ms) | substeps/step | steps/s | GPU ms/step | "
+          "GPU ms/substep | GPU s a simulated s | grid | neighbours | predict | iterations (each) | "
+          "vorticity | viscosity |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for r in runs:
         f = fields_of(r)
         solver = r["name"].split("/")[0]
         solve = f"{r['solve_ms']:.3f} (forces)"  # the densities come with the neighbour lists
         each = " / ".join(f"{r[k]:.3f}" for k in sorted((k for k in r if k.startswith("iteration") and k.endswith("_ms")), key=lambda k: int(k[9:-3])))
         print(f"| {solver} | {f['particles']} | {f['iterations'] if solver == 'Pbf' else '–'} | "
-              f"{r['substeps']:.2f} | {r['steps_per_s']:.1f} | {r['gpu_ms']:.3f} | "
-              f"{r['gpu_ms_per_substep']:.3f} | {r['grid_ms']:.3f} | "
+              f"{int(f['dt_us']) / 1000:g} | {r['substeps']:.2f} | {r['steps_per_s']:.1f} | "
+              f"{r['gpu_ms']:.3f} | {r['gpu_ms_per_substep']:.3f} | "
+              f"{r['gpu_s_per_simulated_s']:.3f} | {r['grid_ms']:.3f} | "
               f"{r.get('neighbours_ms', 0):.3f} | {r['predict_ms']:.3f} | {each or solve} | "
               f"{r['velocity_ms']:.3f} | {r['viscosity_ms']:.3f} |")
 else:
