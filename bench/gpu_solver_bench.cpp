@@ -2,8 +2,9 @@
 // flight) and GPU milliseconds per stage per step from timestamps: grid build (counting sort and
 // reorder; PBF's count is in predict), the neighbour lists (with PBF's first λ, SPH's densities),
 // predict, each density iteration (the last sets the velocity), vorticity (the curl, XSPH and the
-// compression, on a step's last substep), viscosity (the confinement, and the state written back
-// every substep), and the whole per substep. Sizes are the talk's table (27k–216k) and beyond, up to
+// compression, on a step's last substep), viscosity (the confinement and the state written back,
+// on a step's last substep; the others write theirs back in their last iteration), and the whole
+// per substep. Sizes are the talk's table (27k–216k) and beyond, up to
 // 2M; 2, 4 (the default) and 6 iterations; a fixed dt of 1 ms, as the talk steps, with CFL
 // substeps where the flow needs them (the `substeps` column). At 216k and 1M also a session's own
 // step (1/120 s, `dt_us:8333`) over the dam break's first half second, where the substep rule cuts

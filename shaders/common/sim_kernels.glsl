@@ -164,6 +164,23 @@ void record_largest(uint slot, float value) {
   if (gl_LocalInvocationIndex == 0) atomicMax(P.stats.v[slot], group_largest);
 }
 
+// A PBF substep's end for sorted slot k (where `in_range`): position p and velocity v become the
+// state (sorted order becomes state order), and the speed and wall approach count toward the
+// next step's substeps (their largest over the step). The finish pass ends a step's last
+// substep, the last correction pass the others. Every invocation must call it.
+void end_pbf_substep(uint k, bool in_range, vec3 p, vec3 v) {
+  float speed2 = 0.0, approach = 0.0;
+  if (in_range) {
+    P.position.v[k] = vec4(p, 0.0);
+    P.velocity.v[k] = vec4(v, 0.0);
+    P.id.v[k] = P.sorted_id.v[k];
+    speed2 = dot(v, v);
+    approach = wall_approach(p, v);
+  }
+  record_largest(0u, speed2);
+  record_largest(4u, approach);
+}
+
 // Adds the sum of `value` over the dispatch into the 64-bit counter P.stats.v[slot] (low word) and
 // [slot + 1] (high word), in units of 2^-20: each invocation's value at most 16 (NaN counted as
 // 16), so that a workgroup's sum (at most 128 invocations) fits in 32 bits; one global atomic per

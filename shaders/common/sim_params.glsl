@@ -78,8 +78,9 @@ layout(push_constant, std430) uniform SimPass {
   SimParams params;
   float dt;              // this substep's length, s
   float time_into_step;  // where the colliders are: seconds into the step
-  uint last_substep;        // PBF, a step's last substep: the sums pass runs (XSPH, the curl,
-                            // the compression added up in P.stats.v[2..3]); the finish confines
+  uint last_substep;        // PBF, a step's last substep: the sums pass (XSPH, the curl, the
+                            // compression added up in P.stats.v[2..3]) and the finish run; on
+                            // the others the last correction pass ends the substep
   float correction_weight;  // PBF correction pass: share of Δp applied (pbf_correction_weight)
   uint write_velocity;      // PBF correction pass: the last iteration's, which sets the velocity
 } pass;

@@ -3,7 +3,8 @@
 // PBF: the position correction Δp with s_corr (tensile instability), pushed off the walls by
 // the particle's own λ, weighted (pbf_correction_weight: the first and last iterations'), then
 // constrained; as PbfSolver::apply_position_corrections. The last iteration also sets the
-// velocity from the corrected position, as PbfSolver::velocity_from.
+// velocity from the corrected position, as PbfSolver::velocity_from; on a substep that is not its
+// step's last, no filter follows, and it ends the substep itself (end_pbf_substep).
 #include "common/core.glsl"
 #include "common/sim_params.glsl"
 #include "common/sim_kernels.glsl"
@@ -21,10 +22,8 @@ vec3 velocity_from(uint k, vec3 corrected) {
   return uncorrected + (change_length > most ? change * (most / change_length) : change);
 }
 
-void main() {
-  load_constants();
-  const uint k = invocation();
-  if (k >= P.particle_count) return;
+// Particle k's position after this iteration's correction.
+vec3 correct(uint k) {
   Vec4s x = P.iterate_lambda;
   const vec4 own = x.v[k];
   const vec3 p = own.xyz;
@@ -46,7 +45,21 @@ void main() {
   const vec3 wall_push = lambda_i * P.inv_rest_density * walls(p).yzw;
   vec3 unused;
   const vec3 correction = pass.correction_weight * (P.rest_volume * delta + wall_push);
-  const vec3 corrected = constrain(p + correction, unused, false);
-  P.iterate.v[k] = vec4(corrected, 0.0);
-  if (pass.write_velocity != 0u) P.sorted_velocity.v[k] = vec4(velocity_from(k, corrected), 0.0);
+  return constrain(p + correction, unused, false);
+}
+
+void main() {
+  load_constants();
+  const uint k = invocation();
+  const bool in_range = k < P.particle_count;
+  const bool ends_substep = pass.write_velocity != 0u && pass.last_substep == 0u;
+  vec3 corrected = vec3(0.0), velocity = vec3(0.0);
+  if (in_range) corrected = correct(k);
+  if (in_range && pass.write_velocity != 0u) velocity = velocity_from(k, corrected);
+  if (ends_substep) {
+    end_pbf_substep(k, in_range, corrected, velocity);
+  } else if (in_range) {
+    P.iterate.v[k] = vec4(corrected, 0.0);
+    if (pass.write_velocity != 0u) P.sorted_velocity.v[k] = vec4(velocity, 0.0);
+  }
 }

@@ -463,8 +463,9 @@ int GpuSolver::advance(float seconds, int substeps) {
                       grid_.record_clear(c);
                     }});
   for (int s = 0; s < substeps; ++s) {
-    const SimPass pass{params_buffer_.address(), dt, static_cast<float>(s + 1) * dt, 0, 1.0f, 0};
     const bool last = s + 1 == substeps;
+    const SimPass pass{params_buffer_.address(), dt, static_cast<float>(s + 1) * dt,
+                       last ? 1u : 0u, 1.0f, 0};
     if (pbf) {
       append_pbf_substep(passes, pass, last);
     } else {
@@ -501,25 +502,27 @@ void GpuSolver::append_pbf_substep(Passes& passes, const SimPass& pass, bool las
   add(Stage::grid, 0, pipelines_.reorder, pass);
   add(Stage::neighbours, 0, pipelines_.neighbours, pass);
 
-  // The listing computes the first iteration's λ.
+  // The listing computes the first iteration's λ. On a substep that is not the step's last, the
+  // last correction ends it (writes the state back); it reads no grid, so the next substep's may
+  // be cleared beside it.
   const int iterations = params().iterations;
   for (int k = 0; k < iterations; ++k) {
     SimPass correction = pass;
     correction.correction_weight = pbf_correction_weight(params(), k);
-    correction.write_velocity = k + 1 == iterations ? 1 : 0;
+    const bool sets_velocity = k + 1 == iterations;
+    correction.write_velocity = sets_velocity ? 1 : 0;
     if (k > 0) add(Stage::iteration, k, pipelines_.pbf_lambda, pass);
-    add(Stage::iteration, k, pipelines_.pbf_correct, correction);
+    passes.push_back({static_cast<int>(Stage::iteration), k,
+                      [this, correction, n, clear = sets_velocity && !last](VkCommandBuffer c) {
+                        pipelines_.pbf_correct.dispatch(c, correction, n);
+                        if (clear) grid_.record_clear(c);
+                      }});
   }
-  // XSPH, the curl and the compression, once a step at its corrected positions (pbf_step_xsph).
-  SimPass finish = pass;
-  finish.last_substep = last ? 1 : 0;
-  if (last) add(Stage::velocity, 0, pipelines_.pbf_sums, finish);
-  // The finish pass does not read the grid: the next substep's may be cleared beside it.
-  passes.push_back(
-      {static_cast<int>(Stage::viscosity), 0, [this, finish, n, last](VkCommandBuffer c) {
-         pipelines_.pbf_finish.dispatch(c, finish, n);
-         if (!last) grid_.record_clear(c);
-       }});
+  if (!last) return;
+  // XSPH, the curl and the compression, once a step at its corrected positions (pbf_step_xsph),
+  // then the confinement and the step's end.
+  add(Stage::velocity, 0, pipelines_.pbf_sums, pass);
+  add(Stage::viscosity, 0, pipelines_.pbf_finish, pass);
 }
 
 void GpuSolver::append_sph_substep(Passes& passes, const SimPass& pass,

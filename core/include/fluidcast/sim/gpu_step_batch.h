@@ -56,8 +56,8 @@ class GpuStepBatch {
   GpuStepBatch& operator=(const GpuStepBatch&) = delete;
 
   // Timestamps a submission may write: one after each pass up to 8191 passes (one PBF step at the
-  // default max_substeps, 256 substeps of 14 to 16 passes at 4 iterations, a step's last one more,
-  // fits), one after each group of passes beyond. 64 KiB of queries a slot.
+  // default max_substeps, 256 substeps of 13 to 15 passes at 4 iterations, a step's last two
+  // more, fits), one after each group of passes beyond. 64 KiB of queries a slot.
   static constexpr std::uint32_t kTimestampCapacity = 8192;
 
   // Queues a step of `owner` (after its steps queued before), weighing `particles` in the split

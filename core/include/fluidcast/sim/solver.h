@@ -60,7 +60,8 @@ struct StageTimes {
   double velocity_ms = 0;    // PBF, a step's last substep: vorticity, XSPH's sums and the
                              // compression the step leaves; SPH (CPU): CFL bound
   double viscosity_ms = 0;   // PBF: vorticity confinement, on a step's last substep (GPU: and
-                             // the state written back, every substep)
+                             // the state written back; the other substeps' in their last
+                             // iteration)
   std::vector<double> iteration_ms;  // PBF: each density iteration, summed over substeps
   std::uint64_t substeps = 0;
 
