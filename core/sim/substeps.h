@@ -100,8 +100,8 @@ class PbfSubsteps {
 };
 
 // How fast a particle closes on a wall of `inner` (the box particle centres keep to) that it would
-// reach within `reach` seconds at that speed, m/s; 0 for one that would not. The GPU's finish pass
-// measures the same (sim_kernels.glsl, wall_approach).
+// reach within `reach` seconds at that speed, m/s; 0 for one that would not. The GPU measures the
+// same at each substep's end (sim_kernels.glsl, wall_approach in end_pbf_substep).
 inline float wall_approach(glm::vec3 position, glm::vec3 velocity, const Box& inner, float reach) {
   float fastest = 0.0f;
   for (int axis = 0; axis < 3; ++axis) {

@@ -211,7 +211,7 @@ TEST_F(GpuPbfTest, JacobiDampingWeighsTheIterationsAsOnTheCpu) {
 // PBF with strong XSPH alone, where the GPU's c uncompounded parted it by 3.1 mm (the structures at
 // the default c by 0.7–1.3 mm); SPH),
 // then every particle's position against the CPU's. The sums pass runs only on a step's last
-// substep, and the finish pass takes the velocity the correction set on the others. Sums
+// substep; on the others the last correction pass writes the state back, with no finish pass. Sums
 // in another order leave the last bits apart (the order within a grid cell follows atomics); six
 // steps from rest hardly amplify them. Measured on lavapipe (1000 particles, spacing 3.6 cm, the
 // fastest moved 6–7 cm): PBF 1.4–5.2 µm apart; SPH 1.5 mm, as the GPU's substeps are equal within
