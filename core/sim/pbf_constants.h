@@ -25,12 +25,12 @@ PbfConstants derive_pbf_constants(const SolverParams& params, const FluidConstan
 float pbf_correction_weight(const SolverParams& params, int iteration);
 
 // XSPH's c for a step of `substeps` substeps. XSPH and vorticity confinement, filters of the
-// velocity, run once a step, on its last substep (with the compression measured there, they were a
-// third of a substep's work), with c compounded over the substeps, 1 − (1 − c)^substeps, about as
-// much smoothing as one at each substep gave (exactly for the particle-scale noise it is for), and
-// the confinement over the whole step. A 216k dam
-// break's first 0.5 s took the same 344 substeps, its largest density error 6.4 → 6.1 %, spray
-// 0.131 → 0.128 % (bench/results/velocity-filters-once-a-step-cpu-2026-11-29.md).
+// velocity, run once a step, on its last substep (with the compression measured there, they were
+// a third of a 1M substep's GPU time on an H200), with c compounded over the substeps,
+// 1 − (1 − c)^substeps, about as much smoothing as one at each substep gave, and the confinement
+// over the whole step. A 216k dam break's first 0.5 s took the same 344 substeps, its largest
+// density error 6.4 → 6.1 %, spray 0.131 → 0.128 %
+// (bench/results/velocity-filters-once-a-step-cpu-2026-11-29.md).
 float pbf_step_xsph(const SolverParams& params, int substeps);
 
 }  // namespace fluidcast::sim

@@ -185,8 +185,8 @@ glm::vec3 PbfSolver::velocity_from(std::size_t i, glm::vec3 corrected) const {
 
 // At the corrected positions and velocities: with vorticity confinement on, ω_i = Σ_j V (v_j − v_i)
 // × ∇_j W_ij, the SPH estimate of the curl of the velocity; XSPH's v_i + c Σ_j V (v_j − v_i) W_ij
-// with c = `xsph`; and the compression max(ρ/ρ0 − 1, 0), walls included. One pass: the same kernels serve all
-// three.
+// with c = `xsph`; and the compression max(ρ/ρ0 − 1, 0), walls included. One pass: the same
+// kernels serve all three.
 void PbfSolver::sum_over_neighbours(float xsph) {
   const std::size_t n = particles_.size();
   const bool confine = confines_vorticity();
