@@ -254,22 +254,18 @@ float Session::collider_radius() const { return std::max(0.04f, 4.0f * solver_->
 
 void Session::move_colliders(double seconds, double elapsed) {
   std::vector<sim::Collider> colliders;
-  std::map<std::uint32_t, HeldCollider> held;
+  std::map<std::uint32_t, FingerCollider> held;
   for (auto& [id, viewer] : viewers_) {
     const auto target = viewer->drag_point();
     if (!target || colliders.size() == sim::kMaxColliders) continue;
     const auto found = colliders_.find(id);
-    const bool follows = found != colliders_.end() && found->second.drag == target->drag;
-    sim::Collider collider;
-    collider.radius = collider_radius();
-    collider.centre = follows ? found->second.centre : target->point;
-    if (seconds > 0.0) {
-      collider.velocity = (target->point - collider.centre) / float(std::max(seconds, elapsed));
-      const float speed = glm::length(collider.velocity);
-      if (speed > 0.5f * sim::kMaxSpeed) collider.velocity *= 0.5f * sim::kMaxSpeed / speed;
-    }
-    held[id] = {collider.centre + collider.velocity * float(seconds), target->drag};
-    colliders.push_back(collider);
+    FingerCollider finger = found != colliders_.end() && found->second.drag() == target->drag
+                                ? std::move(found->second)
+                                : FingerCollider(target->point, target->drag);
+    const FingerCollider::Motion motion =
+        finger.follow(target->point, seconds, elapsed, 0.5f * sim::kMaxSpeed);
+    colliders.push_back({motion.centre, collider_radius(), motion.velocity});
+    held.emplace(id, std::move(finger));
   }
   solver_->set_colliders(colliders);
   colliders_ = std::move(held);

@@ -1,0 +1,60 @@
+// A dragging finger's sphere in the fluid: where the fluid has it, and how it moves towards the
+// finger's point each tick. It moves in simulated time at most as fast as the hand has moved in
+// wall time during this drag, so that a fluid in slow motion sees the finger in slow motion too.
+// Chasing the finger's point over each tick's wall time instead made it faster the slower the
+// fluid ran: the gap it left grew to the hand's travel in a tick divided by the simulation speed,
+// and so did its speed, which cut the steps into more substeps (the travel bound), which slowed
+// the fluid further. Pure: the session says when the fluid advanced and where the finger is.
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <glm/glm.hpp>
+
+namespace fluidcast::server {
+
+class FingerCollider {
+ public:
+  // The hand's speed is the path the finger's point travelled between the touch events of about
+  // this much of the latest wall time, over the time between them: long enough to smooth events
+  // that the network bunches, short enough to follow a flick.
+  static constexpr double kHandWindowSeconds = 0.2;
+  // The shortest wall time a speed is taken over, the interval of touch events at 20 a second:
+  // two events that arrive a tick apart may have left the hand 50 ms apart.
+  static constexpr double kShortestSpan = 0.05;
+
+  // A drag begins with its sphere at the finger's point.
+  FingerCollider(glm::vec3 point, std::uint64_t drag);
+
+  // Which of its viewer's drags this follows: another means a new finger, and a new sphere.
+  std::uint64_t drag() const { return drag_; }
+
+  struct Motion {
+    glm::vec3 centre;    // where the fluid has the sphere as the tick's steps begin, m
+    glm::vec3 velocity;  // m/s, over the tick's simulated seconds
+  };
+  // A tick that simulates `seconds` of the `elapsed` wall seconds since the last, with the
+  // finger's point at `target`: the sphere heads for it, to reach it within the tick's simulated
+  // seconds where it may go that fast: at most at the fastest the hand has moved in this drag,
+  // and at most `speed_limit` (m/s). The centre then moves on by `seconds` of that velocity, never
+  // past the finger's point.
+  Motion follow(glm::vec3 target, double seconds, double elapsed, float speed_limit);
+
+  // The fastest the hand has moved in this drag so far, m/s of wall time.
+  float hand_speed() const { return fastest_hand_; }
+
+ private:
+  struct Sample {
+    double time;  // wall seconds since the drag began
+    glm::vec3 point;
+  };
+  void record(glm::vec3 target, double elapsed);
+
+  glm::vec3 centre_;
+  std::uint64_t drag_;
+  double now_ = 0.0;
+  std::deque<Sample> samples_;  // where the finger's point moved, from just before the window on
+  float fastest_hand_ = 0.0f;
+};
+
+}  // namespace fluidcast::server

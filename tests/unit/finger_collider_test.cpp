@@ -1,0 +1,107 @@
+// A dragging finger's sphere: in simulated time it never moves faster than the hand did in wall
+// time, however slowly the fluid runs; in real time it keeps up with the finger; it reaches a
+// finger that stopped without passing it.
+#include "session/finger_collider.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace fluidcast::server {
+namespace {
+
+constexpr double kTick = 1.0 / 60.0;  // the session's ticks, wall seconds
+constexpr float kNoLimit = 1000.0f;
+
+// A hand sweeping to and fro, 0.3 m either side, 0.9 m/s at its fastest, its touch events
+// arriving 20 times a second (every third tick): the finger's point at tick k.
+glm::vec3 swept_finger(int k) {
+  const double t = kTick * double(k - k % 3);
+  return {0.3f * float(std::sin(3.0 * t)), 0.2f, 0.1f};
+}
+constexpr float kFastestHand = 0.9f;
+
+struct Sweep {
+  float fastest_sphere = 0.0f;  // m/s in simulated time
+  float widest_gap = 0.0f;      // m, between the finger and where the sphere ends a tick
+};
+
+// `ticks` ticks of the sweep with the fluid at `sim_speed` of real time.
+Sweep sweep(FingerCollider& finger, int first, int ticks, double sim_speed) {
+  Sweep run;
+  for (int k = first; k < first + ticks; ++k) {
+    const glm::vec3 target = swept_finger(k);
+    const auto motion = finger.follow(target, sim_speed * kTick, kTick, kNoLimit);
+    run.fastest_sphere = std::max(run.fastest_sphere, glm::length(motion.velocity));
+    const glm::vec3 end = motion.centre + motion.velocity * float(sim_speed * kTick);
+    run.widest_gap = std::max(run.widest_gap, glm::distance(end, target));
+  }
+  return run;
+}
+
+TEST(FingerCollider, InSlowMotionMovesNoFasterThanTheHand) {
+  for (const double sim_speed : {0.5, 0.1, 0.02}) {
+    FingerCollider finger(swept_finger(0), 1);
+    const Sweep run = sweep(finger, 0, 600, sim_speed);
+    // Chasing the finger over each tick's wall time made the sphere 1/sim_speed times faster than
+    // the hand: 45 m/s at 0.02.
+    EXPECT_LE(run.fastest_sphere, 1.05f * kFastestHand) << "at " << sim_speed << " of real time";
+    EXPECT_GT(run.fastest_sphere, 0.5f * kFastestHand) << "it follows at " << sim_speed;
+    EXPECT_LE(finger.hand_speed(), 1.05f * kFastestHand);
+  }
+}
+
+TEST(FingerCollider, InRealTimeKeepsUpWithTheFinger) {
+  FingerCollider finger(swept_finger(0), 1);
+  sweep(finger, 0, 60, 1.0);  // the hand's fastest is known after its first pass
+  const Sweep run = sweep(finger, 60, 600, 1.0);
+  // Touch events 50 ms apart leave the finger up to 4.5 cm ahead between them.
+  EXPECT_LE(run.widest_gap, 0.06f);
+  EXPECT_LE(run.fastest_sphere, 1.05f * kFastestHand);
+}
+
+TEST(FingerCollider, ReachesAFingerThatStoppedWithoutPassingIt) {
+  FingerCollider finger(swept_finger(0), 1);
+  const double sim_speed = 0.05;
+  const int moving = 100;  // the hand sweeps for 1.7 s, then rests where it is
+  sweep(finger, 0, moving, sim_speed);
+  const glm::vec3 rest = swept_finger(moving);
+  const float hand = finger.hand_speed();
+  const float first_gap = glm::distance(finger.follow(rest, 0.0, kTick, kNoLimit).centre, rest);
+  ASSERT_GT(first_gap, 0.1f) << "the sphere trails the hand when it stops";
+  // At the hand's fastest, in simulated time.
+  const int expected = int(std::ceil(first_gap / (hand * float(sim_speed * kTick))));
+  float gap = first_gap;
+  int ticks = 0;
+  while (ticks < 2 * expected && gap > 0.0f) {
+    const auto motion = finger.follow(rest, sim_speed * kTick, kTick, kNoLimit);
+    const glm::vec3 end = motion.centre + motion.velocity * float(sim_speed * kTick);
+    ASSERT_GE(glm::dot(end - motion.centre, rest - end), -1e-9f) << "past the finger";
+    const float next_gap = glm::distance(end, rest);
+    ASSERT_LT(next_gap, gap) << "stalled at tick " << ticks;
+    gap = next_gap;
+    ++ticks;
+    if (gap < 1e-6f) break;
+  }
+  EXPECT_LT(gap, 1e-6f);
+  EXPECT_LE(ticks, expected + 1);
+}
+
+TEST(FingerCollider, StartsAtTheFingerAndKeepsToTheSpeedLimit) {
+  const glm::vec3 start(0.1f, 0.2f, 0.3f);
+  FingerCollider finger(start, 7);
+  EXPECT_EQ(finger.drag(), 7u);
+  auto motion = finger.follow(start, kTick, kTick, kNoLimit);
+  EXPECT_EQ(motion.centre, start);
+  EXPECT_EQ(motion.velocity, glm::vec3(0.0f));
+  // A hand that flicks 1 m in a tick; the limit holds the sphere to 2 m/s.
+  motion = finger.follow(start + glm::vec3(1.0f, 0.0f, 0.0f), kTick, kTick, 2.0f);
+  EXPECT_NEAR(glm::length(motion.velocity), 2.0f, 1e-4f);
+  // Paused (no simulated time): it stays where it is.
+  const glm::vec3 before = finger.follow(start, 0.0, kTick, kNoLimit).centre;
+  EXPECT_EQ(finger.follow(start, 0.0, kTick, kNoLimit).centre, before);
+}
+
+}  // namespace
+}  // namespace fluidcast::server
