@@ -5,6 +5,7 @@
 #include <emscripten/emscripten.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <exception>
 #include <memory>
@@ -12,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "fluidcast/sim/finger_collider.h"
 #include "fluidcast/sim/scene.h"
 #include "fluidcast/sim/solver.h"
 
@@ -19,12 +21,20 @@ namespace {
 
 using namespace fluidcast::sim;
 
+// A finger down: where it points and the sphere that follows it (FingerCollider, as the server's
+// sessions have it).
+struct Finger {
+  FingerCollider sphere;
+  glm::vec3 target;
+  float radius;
+};
+
 struct LocalFluid {
   std::unique_ptr<Solver> solver;
   ParticleSet shown;  // the newest state, read by JavaScript in place
   std::string error;
-  std::vector<std::optional<Collider>> fingers;  // by finger id; lifted ones empty
-  std::vector<float> tank;                       // min x, y, z, max x, y, z
+  std::vector<std::optional<Finger>> fingers;  // by finger id; lifted ones empty
+  std::vector<float> tank;                     // min x, y, z, max x, y, z
   unsigned threads = 1;  // the solver's, 1 to FLUIDCAST_MAX_THREADS (Web Workers beyond one)
   int iterations = SolverParams{}.iterations;  // PBF's density iterations a substep
 };
@@ -59,14 +69,32 @@ void make(Scene scene, SolverKind kind, glm::vec3 gravity) {
   show();
 }
 
-// The fingers down become the solver's colliders; refused as a whole, nothing changes.
-void touch(std::vector<std::optional<Collider>> fingers) {
+// The fingers down become the solver's colliders, where their spheres are (the next step sets
+// them moving); refused as a whole, nothing changes.
+void touch(std::vector<std::optional<Finger>> fingers) {
   std::vector<Collider> down;
   for (const auto& finger : fingers) {
-    if (finger) down.push_back(*finger);
+    if (finger) down.push_back({finger->sphere.centre(), finger->radius, glm::vec3(0.0f)});
   }
   fluid.solver->set_colliders(down);
   fluid.fingers = std::move(fingers);
+}
+
+// The fingers' spheres for a step of `seconds` (0: none) that comes `wall_seconds` after the
+// last call: each moves towards its finger, in simulated time no faster than the hand moved
+// (FingerCollider).
+void move_fingers(float seconds, double wall_seconds) {
+  if (!(std::isfinite(wall_seconds) && wall_seconds >= 0.0)) {
+    throw std::invalid_argument("wall_seconds must be finite and at least 0, got " +
+                                std::to_string(wall_seconds));
+  }
+  std::vector<Collider> down;
+  for (auto& finger : fluid.fingers) {
+    if (!finger) continue;
+    const auto motion = finger->sphere.follow(finger->target, seconds, wall_seconds);
+    down.push_back({motion.centre, finger->radius, motion.velocity});
+  }
+  fluid.solver->set_colliders(down);
 }
 
 glm::vec3 gravity_now() { return fluid.solver ? fluid.solver->gravity() : kStandardGravity; }
@@ -118,13 +146,26 @@ EMSCRIPTEN_KEEPALIVE const char* fluid_load(const char* scene, const char* solve
 }
 
 // Advances by `seconds` (at most the solver's step, 1/120 s by default; the page calls it as
-// often as a frame needs), in as many substeps as the solver's rule asks.
-EMSCRIPTEN_KEEPALIVE const char* fluid_step(float seconds) {
+// often as a frame needs), in as many substeps as the solver's rule asks, `wall_seconds` after the
+// last call to this or fluid_wait (in slow motion, more than `seconds`).
+EMSCRIPTEN_KEEPALIVE const char* fluid_step(float seconds, double wall_seconds) {
   return attempt([&] {
     if (!fluid.solver) throw std::invalid_argument("no fluid: call fluid_create first");
+    if (!(seconds > 0.0f && std::isfinite(seconds))) {
+      throw std::invalid_argument("step: seconds must be positive, got " + std::to_string(seconds));
+    }
     const float step = std::min(seconds, fluid.solver->params().time_step);
+    move_fingers(step, wall_seconds);
     fluid.solver->step(step, fluid.solver->substeps_for(step));
     show();
+  });
+}
+
+// `wall_seconds` passed without a step (the page waits for the next, or is paused): the fingers'
+// spheres stay where they are, but see how fast the hands went.
+EMSCRIPTEN_KEEPALIVE const char* fluid_wait(double wall_seconds) {
+  return attempt([&] {
+    if (fluid.solver) move_fingers(0.0f, wall_seconds);
   });
 }
 
@@ -160,14 +201,30 @@ EMSCRIPTEN_KEEPALIVE const char* fluid_set_gravity(float x, float y, float z) {
   });
 }
 
-// A finger: a sphere at (x, y, z) m moving at (vx, vy, vz) m/s; `id` 0 to 15 (PointerEvent ids).
+// A finger at (x, y, z) m, held within the tank, its sphere `radius` m; `id` 0 to 15. A new one's
+// sphere starts there, one already down moves towards it at the next steps.
 EMSCRIPTEN_KEEPALIVE const char* fluid_set_finger(std::uint32_t id, float x, float y, float z,
-                                                  float vx, float vy, float vz, float radius) {
+                                                  float radius) {
   return attempt([&] {
     if (!fluid.solver) return;
-    std::vector<std::optional<Collider>> fingers = fluid.fingers;
+    if (id >= kMaxColliders) {
+      throw std::invalid_argument("finger: id must be below " + std::to_string(kMaxColliders) +
+                                  ", got " + std::to_string(id));
+    }
+    if (!is_finite(glm::vec3(x, y, z))) {
+      throw std::invalid_argument("finger: x, y and z must be finite");
+    }
+    // Beyond the walls a sphere would push nothing, and come back from afar.
+    const glm::vec3 target =
+        glm::clamp(glm::vec3(x, y, z), fluid.solver->tank().min, fluid.solver->tank().max);
+    std::vector<std::optional<Finger>> fingers = fluid.fingers;
     if (fingers.size() <= id) fingers.resize(id + 1);
-    fingers[id] = Collider{{x, y, z}, radius, {vx, vy, vz}};
+    if (fingers[id]) {
+      fingers[id]->target = target;
+      fingers[id]->radius = radius;
+    } else {
+      fingers[id] = Finger{FingerCollider(target), target, radius};
+    }
     touch(std::move(fingers));
   });
 }
@@ -175,7 +232,7 @@ EMSCRIPTEN_KEEPALIVE const char* fluid_set_finger(std::uint32_t id, float x, flo
 EMSCRIPTEN_KEEPALIVE const char* fluid_lift_finger(std::uint32_t id) {
   return attempt([&] {
     if (!fluid.solver || id >= fluid.fingers.size()) return;
-    std::vector<std::optional<Collider>> fingers = fluid.fingers;
+    std::vector<std::optional<Finger>> fingers = fluid.fingers;
     fingers[id].reset();
     touch(std::move(fingers));
   });

@@ -300,7 +300,7 @@ class LocalMode {
       let id = 0;
       while (used.has(id)) id++;
       const at = where(event);
-      this.pointers.set(event.pointerId, { id, ...at, at: performance.now(), world: null });
+      this.pointers.set(event.pointerId, { id, ...at });
       this.liftFingersIfTwo();
     });
     this.canvas.addEventListener('pointermove', (event) => {
@@ -330,19 +330,12 @@ class LocalMode {
     for (const pointer of this.pointers.values()) this.fluid.tell('lift', { finger: pointer.id });
   }
 
-  // One finger: a sphere that follows it through the water, with its speed in simulated time
-  // (the solver moves it on at that speed until the next move; in slow motion a wall second is
-  // less than a simulated one).
+  // One finger: a sphere that follows it through the water, in simulated time no faster than
+  // the hand moves (the solver's FingerCollider, as on the server).
   drag(pointer, at) {
-    const now = performance.now();
     const world = this.touchPoint(at.x, at.y);
-    const seconds = Math.max(1e-3, (now - pointer.at) / 1000 * Math.max(0.05, this.stats.speed));
-    const velocity = pointer.world
-      ? world.map((w, k) => Math.max(-10, Math.min(10, (w - pointer.world[k]) / seconds)))
-      : [0, 0, 0];
     const radius = Math.max(0.04, 4 * this.shape.spacing);
-    this.fluid.tell('finger', { finger: pointer.id, at: world, velocity, radius });
-    Object.assign(pointer, { at: now, world });
+    this.fluid.tell('finger', { finger: pointer.id, at: world, radius });
   }
 
   // Two fingers: their mean movement orbits, their spread zooms.

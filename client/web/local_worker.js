@@ -42,20 +42,22 @@ function runLocalFluid(port, fluid) {
   function tick() {
     if (!created) return;
     const now = performance.now();
-    const wall = last ? Math.min(0.1, (now - last) / 1000) : 0;
+    const elapsed = last ? (now - last) / 1000 : 0;  // the fingers' spheres see all of it
+    const wall = Math.min(0.1, elapsed);
     last = now;
     const dt = fluid._fluid_time_step();
     let stepped = 0;
     if (!paused) {
       owed = Math.min(owed + wall, 4 * dt);  // beyond that, slow motion rather than catching up
       if (owed >= dt) {
-        check(fluid._fluid_step(dt));
+        check(fluid._fluid_step(dt, elapsed));
         stepMs = performance.now() - now;
         owed -= dt;
         stepped = dt;
         fresh = true;
       }
     }
+    if (!stepped) check(fluid._fluid_wait(elapsed));
     simulated.push([now, stepped, wall]);
     while (now - simulated[0][0] > 1000) simulated.shift();
     send();
@@ -115,8 +117,7 @@ function runLocalFluid(port, fluid) {
     reset: () => { check(fluid._fluid_reset()); fresh = true; send(); },
     pause: ({ paused: now }) => { paused = now; last = 0; },
     gravity: ({ x, y, z }) => check(fluid._fluid_set_gravity(x, y, z)),
-    finger: ({ finger, at, velocity, radius }) =>
-      check(fluid._fluid_set_finger(finger, ...at, ...velocity, radius)),
+    finger: ({ finger, at, radius }) => check(fluid._fluid_set_finger(finger, ...at, radius)),
     lift: ({ finger }) => check(fluid._fluid_lift_finger(finger)),
     // The fluid as a Snapshot (fluidcast.proto's fields, less scene and solver, which the page
     // knows), to hand back to a server.

@@ -1,6 +1,7 @@
 # The simulation's CPU part (scenes, parameters, the neighbour grid, the CPU solvers), relative to
 # core/sim: in fluidcast_sim here, and compiled to WebAssembly for the page (client/wasm).
 set(FLUIDCAST_SIM_CPU_SOURCES
+  finger_collider.cpp
   fluid_constants.cpp
   fork_join_pool.cpp
   neighbour_grid.cpp

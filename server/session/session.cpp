@@ -254,16 +254,15 @@ float Session::collider_radius() const { return std::max(0.04f, 4.0f * solver_->
 
 void Session::move_colliders(double seconds, double elapsed) {
   std::vector<sim::Collider> colliders;
-  std::map<std::uint32_t, FingerCollider> held;
+  std::map<std::uint32_t, HeldFinger> held;
   for (auto& [id, viewer] : viewers_) {
     const auto target = viewer->drag_point();
     if (!target || colliders.size() == sim::kMaxColliders) continue;
     const auto found = colliders_.find(id);
-    FingerCollider finger = found != colliders_.end() && found->second.drag() == target->drag
-                                ? std::move(found->second)
-                                : FingerCollider(target->point, target->drag);
-    const FingerCollider::Motion motion =
-        finger.follow(target->point, seconds, elapsed, 0.5f * sim::kMaxSpeed);
+    HeldFinger finger = found != colliders_.end() && found->second.drag == target->drag
+                            ? std::move(found->second)
+                            : HeldFinger{sim::FingerCollider(target->point), target->drag};
+    const auto motion = finger.sphere.follow(target->point, seconds, elapsed);
     colliders.push_back({motion.centre, collider_radius(), motion.velocity});
     held.emplace(id, std::move(finger));
   }

@@ -14,10 +14,10 @@
 
 #include "fluidcast/codec/jpeg_encoder_pool.h"
 #include "fluidcast/render/particle_source.h"
+#include "fluidcast/sim/finger_collider.h"
 #include "fluidcast/sim/fork_join_pool.h"
 #include "fluidcast/sim/gpu_step_batch.h"
 #include "fluidcast/sim/solver.h"
-#include "finger_collider.h"
 #include "gpu_budget.h"
 #include "metrics.h"
 #include "server_limits.h"
@@ -139,9 +139,9 @@ class Session {
   void encode(Viewer& viewer, Viewer::Finished frame);
   float collider_radius() const;
   // The fingers' spheres for a tick that simulates `seconds` of the `elapsed` wall seconds since
-  // the last (FingerCollider): each moves from where the fluid last had it towards its finger, in
-  // simulated time never faster than the hand moved in wall time. A fluid in slow motion sees the
-  // finger in slow motion too.
+  // the last (sim::FingerCollider): each moves from where the fluid last had it towards its
+  // finger, in simulated time never faster than the hand moved in wall time. A fluid in slow
+  // motion sees the finger in slow motion too.
   void move_colliders(double seconds, double elapsed);
 
   std::string id_;
@@ -174,7 +174,12 @@ class Session {
   CostEstimate substep_cost_;     // ms of one substep (GPU time, or CPU time for a CPU solver)
   double measured_sim_ms_ = 0.0;  // the steps measured since the last frame was submitted
   SimSpeed speed_;
-  std::map<std::uint32_t, FingerCollider> colliders_;  // each dragging viewer's sphere
+  // Each dragging viewer's sphere, and which of its drags it follows (another: a new sphere).
+  struct HeldFinger {
+    sim::FingerCollider sphere;
+    std::uint64_t drag;
+  };
+  std::map<std::uint32_t, HeldFinger> colliders_;
   Clock::time_point last_input_ = Clock::now();
   glm::vec3 last_active_tilt_{0.0f, -1.0f, 0.0f};  // the last tilt that counted as input
 

@@ -38,7 +38,7 @@ function figures(module) {
 function run(module, seconds) {
   const dt = module._fluid_time_step();
   for (let t = 0; t < seconds - 1e-6; t += dt) {
-    const error = module._fluid_step(dt);
+    const error = module._fluid_step(dt, dt);  // in real time
     if (error) throw new Error(module.UTF8ToString(error));
   }
 }
@@ -111,18 +111,48 @@ async function main() {
         `${figures(module).com[0].toFixed(3)})`);
   module._fluid_set_gravity(0, -9.81, 0);
 
-  // A finger swept through the water speeds it up; lifted, it stops pushing.
-  module._fluid_reset();
-  run(module, 0.2);
-  const still = figures(module).maxSpeed;
-  for (let k = 0; k < 24; k++) {
-    const x = 0.05 + 0.5 * k / 24;
-    if (module._fluid_set_finger(0, x, 0.1, 0.15, 3, 0, 0, 0.06) !== 0) throw new Error('finger');
-    run(module, 1 / 120);
-  }
-  const pushed = figures(module).maxSpeed;
-  check(pushed > still + 1, `a finger pushes the fluid (speed ${still.toFixed(2)} → ${pushed.toFixed(2)} m/s)`);
+  // A finger swept through a pool (3 m/s) stirs it: the same 0.2 s from the same start, with it
+  // and without.
+  const kinetic = () => {
+    const n = module._fluid_count();
+    const v = new Float32Array(module.HEAPF32.buffer, module._fluid_velocities(), 3 * n);
+    return v.reduce((sum, c) => sum + c * c, 0) / n;
+  };
+  // `slowdown`: wall seconds a simulated one (slow motion: the hand moves the same in wall time);
+  // `reach`: how far the hand moves.
+  const sweep = (finger, slowdown = 1, reach = 0.6) => {
+    if (create(module, 'pool', 'pbf', 2000) !== null) throw new Error('pool');
+    run(module, 0.2);
+    const dt = 1 / 120;
+    for (let k = 0; k < 24; k++) {
+      const x = 0.05 + reach * k / 24;
+      if (finger && module._fluid_set_finger(0, x, 0.1, 0.15, 0.06) !== 0) throw new Error('finger');
+      const error = module._fluid_step(dt, slowdown * dt);
+      if (error) throw new Error(module.UTF8ToString(error));
+    }
+    return kinetic();
+  };
+  const unstirred = sweep(false), stirred = sweep(true);
+  const held = sweep(true, 1, 0), slowly = sweep(true, 10);
+  check(stirred > 10 * unstirred,
+        `a finger stirs the fluid (mean v² ${unstirred.toFixed(4)} → ${stirred.toFixed(4)} m²/s²)`);
+  // At a tenth of real time the sphere moves at the hand's 3 m/s of wall time, 0.3 m/s simulated:
+  // it stirs little more than a finger held still (which pushes the water it appears in away).
+  check(slowly - held < 0.2 * (stirred - held),
+        `in slow motion the finger is slow too (mean v² ${slowly.toFixed(4)} at a tenth of real ` +
+        `time, ${held.toFixed(4)} held still)`);
   check(module._fluid_lift_finger(0) === 0, 'the finger lifts');
+  // Between steps (slow motion, a pause) the page waits; a finger that moved meanwhile pushes only
+  // at the next step, and in slow motion its sphere moves no faster than the hand did.
+  const before = module._fluid_time();
+  check(module._fluid_set_finger(1, 0.1, 0.1, 0.15, 0.06) === 0 && module._fluid_wait(0.05) === 0 &&
+        module._fluid_set_finger(1, 0.2, 0.1, 0.15, 0.06) === 0 && module._fluid_wait(0.05) === 0 &&
+        module._fluid_time() === before, 'waiting does not step');
+  check(module._fluid_step(1 / 120, 0.1) === 0 && module._fluid_time() > before,
+        'a step in slow motion (more wall time than simulated)');
+  module._fluid_lift_finger(1);
+  check(create(module, 'dam_break', 'pbf', 2000) === null, 'the dam break again');
+  run(module, 0.4);
 
   // Continued from a state (as from a server's snapshot): same particles, same clock.
   const n = module._fluid_count();
@@ -157,6 +187,17 @@ async function main() {
   const unknown = create(module, 'lake', 'pbf', 100);
   check(unknown !== null && unknown.includes('lake') && unknown.includes('dam_break'),
         `an unknown scene is named, with the known ones: "${unknown}"`);
+  const said = (error) => (error ? module.UTF8ToString(error) : '');
+  for (const [what, call, word] of [
+    ['a finger id of 16', () => module._fluid_set_finger(16, 0.1, 0.1, 0.1, 0.05), 'id'],
+    ['a finger not at a number', () => module._fluid_set_finger(0, NaN, 0.1, 0.1, 0.05), 'finite'],
+    ['a finger of radius 0', () => module._fluid_set_finger(0, 0.1, 0.1, 0.1, 0), 'radius'],
+    ['a step of no time', () => module._fluid_step(0, 0.01), 'seconds'],
+    ['a step after negative wall time', () => module._fluid_step(0.005, -1), 'wall_seconds'],
+    ['a wait of wall time that is not a number', () => module._fluid_wait(NaN), 'wall_seconds']]) {
+    const error = said(call());  // the sentence lasts until the next call
+    check(error.includes(word) && module._fluid_count() === n, `${what} is refused: "${error}"`);
+  }
   const badGravity = module._fluid_set_gravity(NaN, 0, 0);
   check(badGravity !== 0 && module._fluid_count() === n,
         `gravity that is not finite is refused: "${module.UTF8ToString(badGravity)}"`);

@@ -4,14 +4,17 @@
 // Chasing the finger's point over each tick's wall time instead made it faster the slower the
 // fluid ran: the gap it left grew to the hand's travel in a tick divided by the simulation speed,
 // and so did its speed, which cut the steps into more substeps (the travel bound), which slowed
-// the fluid further. Pure: the session says when the fluid advanced and where the finger is.
+// the fluid further. Pure: the server's session and the page's local fluid say when the fluid
+// advanced and where the finger is.
 #pragma once
 
-#include <cstdint>
+#include <cstddef>
 #include <deque>
 #include <glm/glm.hpp>
 
-namespace fluidcast::server {
+#include "fluidcast/sim/solver.h"
+
+namespace fluidcast::sim {
 
 class FingerCollider {
  public:
@@ -23,11 +26,16 @@ class FingerCollider {
   // two events that arrive a tick apart may have left the hand 50 ms apart.
   static constexpr double kShortestSpan = 0.05;
 
-  // A drag begins with its sphere at the finger's point.
-  FingerCollider(glm::vec3 point, std::uint64_t drag);
+  // Samples kept at most, whatever the ticks' rate (the window holds 24 at 120 ticks a second).
+  static constexpr std::size_t kMostSamples = 64;
+  // However fast the hand: within what Solver::set_colliders takes of a collider (kMaxSpeed).
+  static constexpr float kFastest = 0.5f * kMaxSpeed;
 
-  // Which of its viewer's drags this follows: another means a new finger, and a new sphere.
-  std::uint64_t drag() const { return drag_; }
+  // A drag begins with its sphere at the finger's point.
+  explicit FingerCollider(glm::vec3 point);
+
+  // Where the fluid has the sphere now, m.
+  glm::vec3 centre() const { return centre_; }
 
   struct Motion {
     glm::vec3 centre;    // where the fluid has the sphere as the tick's steps begin, m
@@ -35,10 +43,11 @@ class FingerCollider {
   };
   // A tick that simulates `seconds` of the `elapsed` wall seconds since the last, with the
   // finger's point at `target`: the sphere heads for it, to reach it within the tick's simulated
-  // seconds where it may go that fast: at most at the fastest the hand has moved in this drag,
-  // and at most `speed_limit` (m/s). The centre then moves on by `seconds` of that velocity, never
-  // past the finger's point.
-  Motion follow(glm::vec3 target, double seconds, double elapsed, float speed_limit);
+  // seconds where it may go that fast: at most at the fastest the hand has moved in this drag
+  // (and kFastest). The centre then moves on by `seconds` of that velocity, never past the
+  // finger's point. A tick that simulates nothing (paused) still sees where the hand went.
+  // Seconds that are not finite and positive count as none.
+  Motion follow(glm::vec3 target, double seconds, double elapsed);
 
   // The fastest the hand has moved in this drag so far, m/s of wall time.
   float hand_speed() const { return fastest_hand_; }
@@ -51,10 +60,9 @@ class FingerCollider {
   void record(glm::vec3 target, double elapsed);
 
   glm::vec3 centre_;
-  std::uint64_t drag_;
   double now_ = 0.0;
   std::deque<Sample> samples_;  // where the finger's point moved, from just before the window on
   float fastest_hand_ = 0.0f;
 };
 
-}  // namespace fluidcast::server
+}  // namespace fluidcast::sim
