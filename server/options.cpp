@@ -85,6 +85,12 @@ ServerOptions read_server_options(CLI::App& app, int argc, const char* const* ar
                  "(the rest renders); beyond it fluids run in slow motion, frames keep their rate")
       ->envname("FLUIDCAST_SIM_SHARE")
       ->check(CLI::Range(0.05, 0.95));
+  app.add_option("--busy-share", o.busy_share,
+                 "Of each tick's period, the GPU time all sessions may take together when a GPU "
+                 "solver's fluid wants more than --sim-share: simulation gets what rendering "
+                 "leaves up to it (default: 0.8 on a GPU; --sim-share, so none, on a CPU device)")
+      ->envname("FLUIDCAST_BUSY_SHARE")
+      ->check(CLI::Range(0.05, 0.95));
   app.add_option("--max-fps", l.max_fps, "Highest frame rate a viewer may ask for")
       ->envname("FLUIDCAST_MAX_FPS")
       ->check(CLI::Range(1u, 1000u));
@@ -193,6 +199,7 @@ ServerOptions read_server_options(CLI::App& app, int argc, const char* const* ar
 ServerLimits ServerOptions::limits_for(bool hardware, std::uint32_t fitting_particles) const {
   ServerLimits chosen = limits;
   if (!hardware) chosen.target_fps = 30;
+  chosen.busy_share = busy_share.value_or(hardware ? chosen.busy_share : chosen.sim_share);
   chosen.default_particles =
       std::min(default_particles.value_or(fitting_particles), chosen.max_particles);
   chosen.target_fps = std::min(target_fps.value_or(chosen.target_fps), chosen.max_fps);

@@ -22,8 +22,9 @@ struct ServerOptions {
   std::uint32_t gpu_memory_mib = 0;  // the most GPU memory the server allocates; 0: no limit
   SolverBackend backend = SolverBackend::automatic;
   ServerLimits limits;  // as given, but for the two below
-  // New sessions' particles and the tick rate, where the operator gave them.
+  // New sessions' particles, the tick rate and the busy share, where the operator gave them.
   std::optional<std::uint32_t> default_particles, target_fps;
+  std::optional<double> busy_share;
   std::string tls_certificate, tls_key;  // PEM files; both or neither
   std::string token_file;                // a file whose first line is the token clients must send
   // Other sites' pages that may open /ws (scheme://host[:port]); the server's own always may.
@@ -39,8 +40,10 @@ struct ServerOptions {
 
   // The limits for the device: where the operator gave no tick rate, a CPU device (lavapipe,
   // which renders a 20 000-particle session at 1.5–4 frames/s with a second of latency) gets 30
-  // frames/s, a GPU ServerLimits' default; where the operator gave no default particle count,
-  // `fitting_particles`, what the device was measured to keep in real time (default_size.h).
+  // frames/s, a GPU ServerLimits' default; where the operator gave no busy share, a CPU device
+  // gets the simulation's share (no more for simulation), a GPU ServerLimits' default; where the
+  // operator gave no default particle count, `fitting_particles`, what the device was measured to
+  // keep in real time (default_size.h).
   ServerLimits limits_for(bool hardware, std::uint32_t fitting_particles) const;
 };
 

@@ -54,7 +54,7 @@ std::vector<double> share_between_clients(double budget, std::span<const double>
   return shares;
 }
 
-std::vector<GpuGrant> grant_gpu_time(double period_ms, double sim_share,
+std::vector<GpuGrant> grant_gpu_time(double period_ms, double sim_share, double busy_share,
                                      std::span<const GpuDemand> demands) {
   std::vector<double> sim(demands.size()), render(demands.size());
   std::vector<std::string> clients(demands.size());
@@ -71,11 +71,24 @@ std::vector<GpuGrant> grant_gpu_time(double period_ms, double sim_share,
     const std::size_t own_others = own->second - (demand.watched ? 1 : 0);
     return watched_sessions.size() - 1 + (own_others > 0 ? 1 : 0);
   };
-  const std::vector<double> sim_granted =
-      share_between_clients(sim_share * period_ms, sim, clients);
-  double sim_on_gpu = 0.0;
+  std::vector<double> sim_granted = share_between_clients(sim_share * period_ms, sim, clients);
+  double sim_on_gpu = 0.0, render_wanted = 0.0;
+  // Only GPU solvers take more: a CPU solver's steps take the worker thread's time, which the
+  // tick's other work needs.
+  std::vector<double> unmet_on_gpu(demands.size(), 0.0);
   for (std::size_t k = 0; k < demands.size(); ++k) {
-    if (demands[k].sim_on_gpu) sim_on_gpu += sim_granted[k];
+    render_wanted += render[k];
+    if (!demands[k].sim_on_gpu) continue;
+    sim_on_gpu += sim_granted[k];
+    unmet_on_gpu[k] = sim[k] - sim_granted[k];
+  }
+  const double spare = busy_share * period_ms - sim_on_gpu - render_wanted;
+  if (spare > 0.0) {
+    const std::vector<double> more = share_between_clients(spare, unmet_on_gpu, clients);
+    for (std::size_t k = 0; k < demands.size(); ++k) {
+      sim_granted[k] += more[k];
+      sim_on_gpu += more[k];
+    }
   }
   const std::vector<double> render_granted =
       share_between_clients(period_ms - sim_on_gpu, render, clients);

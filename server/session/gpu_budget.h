@@ -3,7 +3,8 @@
 //
 // Each tick of period T, the hub asks every session what it would spend (its due frames at their
 // measured cost, the substeps real time owes at their measured cost), grants simulation up to
-// sim_share·T in all and rendering the rest of T, both shared out by equal GPU time per client and
+// sim_share·T in all (more, up to busy_share·T with rendering, where rendering leaves it) and
+// rendering the rest of T, both shared out by equal GPU time per client and
 // then per session of that client,
 // and each session spends its grant through accounts that carry credit from tick to tick: a
 // frame or a substep dearer than one tick's share runs once enough ticks have paid for it.
@@ -73,12 +74,14 @@ struct FrameCharge {
   double settle(double measured_ms) const;
 };
 
-// The rule, for all sessions at once: simulation shares sim_share·period, rendering the rest of
-// the period (what simulation on the GPU leaves included), each between clients and then between
-// a client's sessions. A tick that comes late grants no more:
+// The rule, for all sessions at once: simulation shares sim_share·period; where GPU solvers want
+// more, what rendering does not ask for up to busy_share·period in all is shared out among their
+// unmet demands too; rendering gets the rest of the period (what simulation on the GPU leaves
+// included). Each is shared between clients and then between a client's sessions. A tick that
+// comes late grants no more:
 // when the device cannot keep the tick rate, frame rates and fluids slow down alike, and an item
 // that overran its tick does not pay for itself.
-std::vector<GpuGrant> grant_gpu_time(double period_ms, double sim_share,
+std::vector<GpuGrant> grant_gpu_time(double period_ms, double sim_share, double busy_share,
                                      std::span<const GpuDemand> demands);
 
 // Credit in GPU milliseconds. A tick's grant adds to it; an item (a frame, a substep) may be

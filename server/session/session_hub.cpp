@@ -316,7 +316,8 @@ void SessionHub::tick_all(Clock::time_point now) {
     }
   }
   const double period_ms = 1000.0 / limits_.target_fps;
-  const std::vector<GpuGrant> grants = grant_gpu_time(period_ms, limits_.sim_share, demands);
+  const std::vector<GpuGrant> grants =
+      grant_gpu_time(period_ms, limits_.sim_share, limits_.busy_share, demands);
   for (std::size_t k = 0; k < ticking.size(); ++k) {
     try {
       ticking[k]->simulate(grants[k]);

@@ -50,7 +50,7 @@ TEST(GrantGpuTimeTest, AHeavySessionCannotTakeTheLightOnesShare) {
   const std::vector<GpuDemand> demands = {
       {40.0, 7.0, true}, {1.0, 1.0, true}, {1.0, 1.0, true}, {1.0, 1.0, true}};
   const double period = 1000.0 / 60.0;
-  const auto grants = grant_gpu_time(period, 0.5, demands);
+  const auto grants = grant_gpu_time(period, 0.5, 0.5, demands);
   for (std::size_t k = 1; k < 4; ++k) {
     EXPECT_DOUBLE_EQ(grants[k].sim_ms, 1.0);
     EXPECT_DOUBLE_EQ(grants[k].render_ms, 1.0);
@@ -84,21 +84,51 @@ TEST(GrantGpuTimeTest, ManySessionsOfOneClientDoNotCrowdOutAnother) {
   // A client with seven sessions and a bystander with one, each wanting a 10 ms frame a tick.
   std::vector<GpuDemand> demands(8, GpuDemand{0.0, 10.0, true, false, "attacker"});
   demands[7].client = "bystander";
-  const auto grants = grant_gpu_time(20.0, 0.5, demands);
+  const auto grants = grant_gpu_time(20.0, 0.5, 0.5, demands);
   EXPECT_DOUBLE_EQ(grants[7].render_ms, 10.0);  // half the device: all it asks
   for (std::size_t k = 0; k < 7; ++k) EXPECT_NEAR(grants[k].render_ms, 10.0 / 7.0, 1e-12);
 }
 
 TEST(GrantGpuTimeTest, RenderingGetsWhatSimulationLeaves) {
   const std::vector<GpuDemand> demands = {{0.0, 30.0, true}};
-  const auto grants = grant_gpu_time(20.0, 0.5, demands);
+  const auto grants = grant_gpu_time(20.0, 0.5, 0.5, demands);
   EXPECT_DOUBLE_EQ(grants[0].render_ms, 20.0);
   EXPECT_FALSE(grants[0].contended());  // alone: nobody waits behind its frames
 }
 
+TEST(GrantGpuTimeTest, AGpuSolverTakesWhatRenderingLeavesUpToTheBusyShare) {
+  // A 1M-particle viewer alone: its fluid wants 40 ms a tick, its frame 1 ms.
+  const std::vector<GpuDemand> lone = {{40.0, 1.0, true}};
+  auto grants = grant_gpu_time(20.0, 0.5, 0.8, lone);
+  EXPECT_DOUBLE_EQ(grants[0].sim_ms, 15.0);    // 0.8 of the period, less the frame
+  EXPECT_DOUBLE_EQ(grants[0].render_ms, 1.0);  // the frame; 4 ms of headroom stay idle
+  // At or below the simulation's share, none beyond it.
+  EXPECT_DOUBLE_EQ(grant_gpu_time(20.0, 0.5, 0.5, lone)[0].sim_ms, 10.0);
+  EXPECT_DOUBLE_EQ(grant_gpu_time(20.0, 0.5, 0.3, lone)[0].sim_ms, 10.0);
+  // Frames due come first: with 3 ms of them, the fluid gets 0.8 · 20 − 3; with 7, its share.
+  std::vector<GpuDemand> busy = {{40.0, 1.0, true, true, "a"}, {0.0, 2.0, true, true, "b"}};
+  grants = grant_gpu_time(20.0, 0.5, 0.8, busy);
+  EXPECT_DOUBLE_EQ(grants[0].sim_ms, 13.0);
+  EXPECT_DOUBLE_EQ(grants[1].render_ms, 2.0);
+  busy[1].render_ms = 6.0;
+  grants = grant_gpu_time(20.0, 0.5, 0.8, busy);
+  EXPECT_DOUBLE_EQ(grants[0].sim_ms, 10.0);
+  EXPECT_DOUBLE_EQ(grants[1].render_ms, 6.0);
+  // Two heavy clients split the spare equally; a CPU solver's steps get none of it.
+  const std::vector<GpuDemand> heavy = {
+      {40.0, 1.0, true, true, "a"}, {40.0, 1.0, true, true, "b"}, {40.0, 1.0, true, false, "c"}};
+  grants = grant_gpu_time(30.0, 0.5, 0.8, heavy);
+  EXPECT_DOUBLE_EQ(grants[2].sim_ms, 5.0);  // its third of the simulation's share
+  EXPECT_DOUBLE_EQ(grants[0].sim_ms, 5.0 + 0.5 * (24.0 - 10.0 - 3.0));
+  EXPECT_DOUBLE_EQ(grants[0].sim_ms, grants[1].sim_ms);
+  double total = 0.0;
+  for (const GpuGrant& g : grants) total += (&g == &grants[2] ? 0.0 : g.sim_ms) + g.render_ms;
+  EXPECT_LE(total, 30.0 + 1e-9);
+}
+
 TEST(GrantGpuTimeTest, ACpuSolversStepsLeaveTheDeviceToRendering) {
   const std::vector<GpuDemand> demands = {{10.0, 20.0, true, false}, {10.0, 20.0, true, false}};
-  const auto grants = grant_gpu_time(16.0, 0.5, demands);
+  const auto grants = grant_gpu_time(16.0, 0.5, 0.5, demands);
   EXPECT_DOUBLE_EQ(grants[0].sim_ms, 4.0);
   EXPECT_DOUBLE_EQ(grants[0].render_ms, 8.0);  // half the whole period, not of what is left
 }
@@ -107,26 +137,26 @@ TEST(GrantGpuTimeTest, OnlyOtherSessionsViewersMakeAContest) {
   // Watched, with no frame due this tick: its next frame would still wait behind a long one.
   const std::vector<GpuDemand> demands = {
       {5.0, 3.0, true, true, "a"}, {5.0, 0.0, true, true, "b"}, {0.0, 0.0, false, true, "c"}};
-  const auto grants = grant_gpu_time(16.0, 0.5, demands);
+  const auto grants = grant_gpu_time(16.0, 0.5, 0.5, demands);
   EXPECT_EQ(grants[0].others_watched, 1u);
   EXPECT_EQ(grants[1].others_watched, 1u);
   EXPECT_EQ(grants[2].others_watched, 2u);
   const std::vector<GpuDemand> alone = {{5.0, 3.0, true}, {0.0, 0.0, false}};
-  EXPECT_FALSE(grant_gpu_time(16.0, 0.5, alone)[0].contended());
+  EXPECT_FALSE(grant_gpu_time(16.0, 0.5, 0.5, alone)[0].contended());
 }
 
 TEST(GrantGpuTimeTest, ThoseWaitingBehindAFrameAreCountedByClient) {
   // A phone beside a client with seven watched sessions: its long frames hold back one client.
   std::vector<GpuDemand> demands(8, GpuDemand{0.0, 5.0, true, true, "many"});
   demands[7].client = "phone";
-  const auto grants = grant_gpu_time(16.0, 0.5, demands);
+  const auto grants = grant_gpu_time(16.0, 0.5, 0.5, demands);
   EXPECT_EQ(grants[7].others_watched, 1u);
   // One of the seven: the phone, and its own client's six other sessions, once.
   EXPECT_EQ(grants[0].others_watched, 2u);
   // A client's only other session watched still waits behind its frames.
   const std::vector<GpuDemand> own = {
       {0.0, 5.0, true, true, "a"}, {0.0, 5.0, true, true, "a"}, {0.0, 0.0, false, true, "b"}};
-  const auto own_grants = grant_gpu_time(16.0, 0.5, own);
+  const auto own_grants = grant_gpu_time(16.0, 0.5, 0.5, own);
   EXPECT_EQ(own_grants[0].others_watched, 1u);
   EXPECT_EQ(own_grants[2].others_watched, 1u);
 }
