@@ -82,15 +82,16 @@ ServerOptions read_server_options(CLI::App& app, int argc, const char* const* ar
       ->check(CLI::Range(1u, 1000u));
   app.add_option("--sim-share", l.sim_share,
                  "Of each tick's period, the GPU time all sessions' simulation may take together "
-                 "(the rest renders); beyond it fluids run in slow motion, frames keep their rate")
+                 "whatever the frames need; beyond it (and --busy-share) fluids run in slow "
+                 "motion, frames keep their rate")
       ->envname("FLUIDCAST_SIM_SHARE")
-      ->check(CLI::Range(0.05, 0.95));
+      ->check(finite_range(0.05, 0.95));
   app.add_option("--busy-share", o.busy_share,
                  "Of each tick's period, the GPU time all sessions may take together when a GPU "
                  "solver's fluid wants more than --sim-share: simulation gets what rendering "
                  "leaves up to it (default: 0.8 on a GPU; --sim-share, so none, on a CPU device)")
       ->envname("FLUIDCAST_BUSY_SHARE")
-      ->check(CLI::Range(0.05, 0.95));
+      ->check(finite_range(0.05, 0.95));
   app.add_option("--max-fps", l.max_fps, "Highest frame rate a viewer may ask for")
       ->envname("FLUIDCAST_MAX_FPS")
       ->check(CLI::Range(1u, 1000u));

@@ -1,6 +1,7 @@
 // How many particles a new session gets when its client does not say: the most that this
 // server's solver keeps in real time within ServerLimits::sim_share of the device, measured at
 // start on the device itself (a CPU, lavapipe or a GPU of any size get a count that fits them).
+// Not busy_share: what that adds is what other sessions' frames leave, gone when they come.
 #pragma once
 
 #include <array>

@@ -185,7 +185,8 @@ std::shared_ptr<Session> SessionHub::create_session(const v1::NewSession& create
       collect_debts(*running, now);
     }
   }
-  // The share of each account's time that repays a debt: the client's part of the device's.
+  // The share of each account's time that repays a debt: the client's part of the device's (the
+  // simulation's least: what --busy-share adds depends on others' frames, and is not counted).
   const double sim_share = limits_.sim_share / double(clients.size());
   const double render_share =
       (gpu_solver_ ? 1.0 - limits_.sim_share : 1.0) / double(clients.size());

@@ -26,6 +26,13 @@ err=$("$server" --gpu-memory 10 2>&1 >/dev/null)
 status=$?
 [[ $status -eq 2 && "$err" == *--gpu-memory* && "$err" == *"at least 64 MiB"* ]] ||
   fail "--gpu-memory 10: exit $status, '$err'"
+# A share that is not a number (CLI11's range check alone lets "nan" through).
+for flag in --sim-share --busy-share; do
+  err=$("$server" $flag nan 2>&1 >/dev/null)
+  status=$?
+  [[ $status -eq 2 && "$err" == *$flag* && "$err" == *"not a finite number"* ]] ||
+    fail "$flag nan: exit $status, '$err'"
+done
 # A bad value in a flag's environment variable names the variable.
 err=$(FLUIDCAST_GRPC_PORT=abc "$server" 2>&1 >/dev/null)
 status=$?

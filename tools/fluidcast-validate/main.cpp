@@ -253,15 +253,15 @@ int main(int argc, char** argv) {
   tools::add_spec_options(app, o.params, sim::solver_param_specs());
   auto* front = app.add_option("--max-front-error", o.max_front_error,
                                "Bound on the mean relative front error (shifted)")
-                    ->check(CLI::Range(0.0, 10.0))
+                    ->check(finite_range(0.0, 10.0))
                     ->capture_default_str();
   auto* average = app.add_option("--max-average-density-error", o.max_average_density_error,
                                  "Bound on the pool's average density error")
-                      ->check(CLI::Range(0.0, 1.0))
+                      ->check(finite_range(0.0, 1.0))
                       ->capture_default_str();
   auto* largest = app.add_option("--max-density-error", o.max_density_error,
                                  "Bound on the pool's largest density error")
-                      ->check(CLI::Range(0.0, 1.0))
+                      ->check(finite_range(0.0, 1.0))
                       ->capture_default_str();
   try {
     app.parse(argc, argv);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -16,6 +17,21 @@ inline constexpr int kBadFlag = 2;
 
 inline void add_version_flag(CLI::App& app, const std::string& program) {
   app.set_version_flag("--version", program + " " + kVersion);
+}
+
+// A floating-point flag's range: CLI::Range alone lets "nan" through (both of its comparisons are
+// false), and "inf" where the range is open.
+inline CLI::Validator finite_range(double low, double high) {
+  const CLI::Range range(low, high);
+  return CLI::Validator(
+      [range](std::string& input) {
+        double value = 0.0;
+        if (!CLI::detail::lexical_cast(input, value) || !std::isfinite(value)) {
+          return "Value " + input + " is not a finite number";
+        }
+        return range(input);
+      },
+      range.get_description());
 }
 
 // For a CLI::ParseError from app.parse(): what CLI11 prints for it, and the exit code. A bad value
