@@ -10,11 +10,15 @@
 #   script on a machine without a GPU. BIN (default build/bin) says where the programs are.
 #   CASES="5 6" runs only those cases (1-based, in the order below): the first six took over
 #   seven minutes on an H100, more than a device call has beside other work.
+#   SERVER_FLAGS="--busy-share=0.5" adds flags for every case's server (that one: the solver kept
+#   to --sim-share, as issue 13's interactive target counts its GPU time).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:-frame-loop.md}
 smoke=${2:-}
 bin=${BIN:-build/bin}
+server_flags=()
+for flag in ${SERVER_FLAGS:-}; do server_flags+=("--server-flag=$flag"); done
 seconds=20 warm_up=5
 # clients width height particles renderer max-growth-MB scene
 cases=(
@@ -50,14 +54,15 @@ fi
     echo "$bin/fluidcast-bench-load --clients $clients --width $width --height $height" \
       "--particles $particles --scene $scene --renderer $renderer --warm-up $warm_up" \
       "--seconds $seconds" \
-      "--max-growth-mb $growth --server-flag=--backend=gpu --server-flag=--max-particles=2000000"
+      "--max-growth-mb $growth --server-flag=--backend=gpu --server-flag=--max-particles=2000000" \
+      "${server_flags[@]}"
     echo '```'
     echo
     "$bin"/fluidcast-bench-load --clients "$clients" --width "$width" --height "$height" \
       --particles "$particles" --scene "$scene" --renderer "$renderer" --warm-up "$warm_up" \
       --seconds "$seconds" \
       --max-growth-mb "$growth" --server-flag=--backend=gpu \
-      --server-flag=--max-particles=2000000 || echo "(exit $?)"
+      --server-flag=--max-particles=2000000 "${server_flags[@]}" || echo "(exit $?)"
     echo
   done
 } | tee "$out"

@@ -17,7 +17,8 @@
 #               (for docs/images: ssfr-ellipsoids-216k.png, -1m.png)
 #       loop    the frame-loop table (bench/frame_loop_table.sh; on an H100 over 7 minutes: give
 #               CASES="1 2 3" and CASES="4 5 6" a call each; case 7, a finger in a 1M pool at rest,
-#               came after the H200's lease)
+#               came after the H200's lease; SERVER_FLAGS="--busy-share=0.5" keeps the solver
+#               to --sim-share, as issue 13's interactive target counts it)
 #       validate  the validation against Martin & Moyce and the resting pool at 1M
 #       burst   whether the 1M dam break still bursts (it did on an H100 on 2026-11-25, before
 #               the corrections' velocity cap and the rule's wait for fresh figures):
