@@ -92,7 +92,9 @@ void move_fingers(float seconds, double wall_seconds) {
   for (auto& finger : fluid.fingers) {
     if (!finger) continue;
     const auto motion = finger->sphere.follow(finger->target, seconds, wall_seconds);
-    down.push_back({motion.centre, finger->radius, motion.velocity});
+    if (motion.size > 0.0f) {
+      down.push_back({motion.centre, motion.size * finger->radius, motion.velocity});
+    }
   }
   fluid.solver->set_colliders(down);
 }

@@ -29,14 +29,15 @@ void FingerCollider::record(glm::vec3 target, double elapsed) {
 
 FingerCollider::Motion FingerCollider::follow(glm::vec3 target, double seconds, double elapsed) {
   record(target, elapsed);
-  const Motion still{centre_, glm::vec3(0.0f)};
-  if (!(seconds > 0.0 && std::isfinite(seconds))) return still;
+  const auto size = [this] { return static_cast<float>(std::min(1.0, simulated_ / kGrowSeconds)); };
+  if (!(seconds > 0.0 && std::isfinite(seconds))) return {centre_, glm::vec3(0.0f), size()};
+  simulated_ += seconds;
   const glm::vec3 gap = target - centre_;
   const float distance = glm::length(gap);
   const float most = std::min(fastest_hand_, kFastest) * static_cast<float>(seconds);
   const glm::vec3 travel = distance > most ? gap * (most / distance) : gap;
-  if (!is_finite(travel)) return still;
-  const Motion motion{centre_, travel / static_cast<float>(seconds)};
+  if (!is_finite(travel)) return {centre_, glm::vec3(0.0f), size()};
+  const Motion motion{centre_, travel / static_cast<float>(seconds), size()};
   centre_ += travel;
   return motion;
 }

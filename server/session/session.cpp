@@ -263,7 +263,9 @@ void Session::move_colliders(double seconds, double elapsed) {
                             ? std::move(found->second)
                             : HeldFinger{sim::FingerCollider(target->point), target->drag};
     const auto motion = finger.sphere.follow(target->point, seconds, elapsed);
-    colliders.push_back({motion.centre, collider_radius(), motion.velocity});
+    if (motion.size > 0.0f) {
+      colliders.push_back({motion.centre, motion.size * collider_radius(), motion.velocity});
+    }
     held.emplace(id, std::move(finger));
   }
   solver_->set_colliders(colliders);

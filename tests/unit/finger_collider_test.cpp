@@ -103,6 +103,28 @@ TEST(FingerCollider, FollowsAFlickAfterARest) {
   EXPECT_LT(finger.hand_speed(), 3.5f);
 }
 
+TEST(FingerCollider, GrowsToItsRadiusOverATenthOfASimulatedSecond) {
+  const glm::vec3 start(0.1f, 0.2f, 0.3f);
+  FingerCollider paused(start);
+  EXPECT_EQ(paused.follow(start, 0.0, kTick).size, 0.0f) << "not in a paused fluid yet";
+  // In slow motion, over simulated time: a tenth of real time takes ten times the ticks.
+  for (const double sim_speed : {1.0, 0.1}) {
+    FingerCollider finger(start);
+    const int ticks = int(std::lround(FingerCollider::kGrowSeconds / (sim_speed * kTick)));
+    float size = 0.0f;
+    for (int k = 1; k <= ticks + 2; ++k) {
+      const float next = finger.follow(start, sim_speed * kTick, kTick).size;
+      ASSERT_GT(next, size) << "grows at tick " << k;
+      if (k <= ticks) {
+        EXPECT_NEAR(next, float(k) / float(ticks), 1e-4f) << k;
+      }
+      size = next;
+      if (size == 1.0f) break;
+    }
+    EXPECT_EQ(size, 1.0f);
+  }
+}
+
 TEST(FingerCollider, StartsAtTheFingerAndStaysFiniteWhateverTheTimes) {
   const glm::vec3 start(0.1f, 0.2f, 0.3f);
   FingerCollider finger(start);

@@ -4,8 +4,8 @@
 // Chasing the finger's point over each tick's wall time instead made it faster the slower the
 // fluid ran: the gap it left grew to the hand's travel in a tick divided by the simulation speed,
 // and so did its speed, which cut the steps into more substeps (the travel bound), which slowed
-// the fluid further. Pure: the server's session and the page's local fluid say when the fluid
-// advanced and where the finger is.
+// the fluid further. A new sphere grows in (kGrowSeconds). Pure: the server's session and the
+// page's local fluid say when the fluid advanced and where the finger is.
 #pragma once
 
 #include <cstddef>
@@ -28,6 +28,10 @@ class FingerCollider {
 
   // Samples kept at most, whatever the ticks' rate (the window holds 24 at 120 ticks a second).
   static constexpr std::size_t kMostSamples = 64;
+  // A new sphere grows to its radius over this much simulated time. Appearing whole in the water
+  // it threw what it displaced out within a substep (v = Δx/Δt, not capped as the density
+  // corrections are): a finger held still in a 2000-particle pool raised its mean v² fivefold.
+  static constexpr double kGrowSeconds = 0.1;
   // However fast the hand: within what Solver::set_colliders takes of a collider (kMaxSpeed).
   static constexpr float kFastest = 0.5f * kMaxSpeed;
 
@@ -40,6 +44,9 @@ class FingerCollider {
   struct Motion {
     glm::vec3 centre;    // where the fluid has the sphere as the tick's steps begin, m
     glm::vec3 velocity;  // m/s, over the tick's simulated seconds
+    // Of its radius, the sphere has grown to this over the tick (kGrowSeconds); 0: not in the
+    // fluid yet (a drag that began while the fluid was paused).
+    float size;
   };
   // A tick that simulates `seconds` of the `elapsed` wall seconds since the last, with the
   // finger's point at `target`: the sphere heads for it, to reach it within the tick's simulated
@@ -60,7 +67,8 @@ class FingerCollider {
   void record(glm::vec3 target, double elapsed);
 
   glm::vec3 centre_;
-  double now_ = 0.0;
+  double now_ = 0.0;            // wall seconds since the drag began
+  double simulated_ = 0.0;      // simulated seconds since the drag began
   std::deque<Sample> samples_;  // where the finger's point moved, from just before the window on
   float fastest_hand_ = 0.0f;
 };
