@@ -22,11 +22,12 @@ namespace {
 using namespace fluidcast::sim;
 
 // A finger down: where it points and the sphere that follows it (FingerCollider, as the server's
-// sessions have it).
+// sessions have it). A lifted one's sphere goes on to where it pointed last, then is gone.
 struct Finger {
   FingerCollider sphere;
   glm::vec3 target;
   float radius;
+  bool lifted = false;
 };
 
 struct LocalFluid {
@@ -90,6 +91,7 @@ void move_fingers(float seconds, double wall_seconds) {
   }
   std::vector<Collider> down;
   for (auto& finger : fluid.fingers) {
+    if (finger && finger->lifted && finger->sphere.arrived()) finger.reset();
     if (!finger) continue;
     const auto motion = finger->sphere.follow(finger->target, seconds, wall_seconds);
     if (motion.size > 0.0f) {
@@ -221,7 +223,7 @@ EMSCRIPTEN_KEEPALIVE const char* fluid_set_finger(std::uint32_t id, float x, flo
         glm::clamp(glm::vec3(x, y, z), fluid.solver->tank().min, fluid.solver->tank().max);
     std::vector<std::optional<Finger>> fingers = fluid.fingers;
     if (fingers.size() <= id) fingers.resize(id + 1);
-    if (fingers[id]) {
+    if (fingers[id] && !fingers[id]->lifted) {
       fingers[id]->target = target;
       fingers[id]->radius = radius;
     } else {
@@ -235,7 +237,7 @@ EMSCRIPTEN_KEEPALIVE const char* fluid_lift_finger(std::uint32_t id) {
   return attempt([&] {
     if (!fluid.solver || id >= fluid.fingers.size()) return;
     std::vector<std::optional<Finger>> fingers = fluid.fingers;
-    fingers[id].reset();
+    if (fingers[id]) fingers[id]->lifted = true;
     touch(std::move(fingers));
   });
 }

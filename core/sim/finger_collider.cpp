@@ -35,7 +35,8 @@ FingerCollider::Motion FingerCollider::follow(glm::vec3 target, double seconds, 
   const glm::vec3 gap = target - centre_;
   const float distance = glm::length(gap);
   const float most = std::min(fastest_hand_, kFastest) * static_cast<float>(seconds);
-  const glm::vec3 travel = distance > most ? gap * (most / distance) : gap;
+  arrived_ = !(distance > most);
+  const glm::vec3 travel = arrived_ ? gap : gap * (most / distance);
   if (!is_finite(travel)) return {centre_, glm::vec3(0.0f), size()};
   const Motion motion{centre_, travel / static_cast<float>(seconds), size()};
   centre_ += travel;

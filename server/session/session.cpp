@@ -257,16 +257,23 @@ void Session::move_colliders(double seconds, double elapsed) {
   std::map<std::uint32_t, HeldFinger> held;
   for (auto& [id, viewer] : viewers_) {
     const auto target = viewer->drag_point();
-    if (!target || colliders.size() == sim::kMaxColliders) continue;
     const auto found = colliders_.find(id);
-    HeldFinger finger = found != colliders_.end() && found->second.drag == target->drag
-                            ? std::move(found->second)
-                            : HeldFinger{sim::FingerCollider(target->point), target->drag};
-    const auto motion = finger.sphere.follow(target->point, seconds, elapsed);
+    const bool held_before = found != colliders_.end();
+    std::optional<HeldFinger> finger;
+    if (target) {
+      finger = held_before && found->second.drag == target->drag
+                   ? std::move(found->second)
+                   : HeldFinger{sim::FingerCollider(target->point), target->drag, target->point};
+      finger->target = target->point;
+    } else if (held_before && !found->second.sphere.arrived()) {
+      finger = std::move(found->second);
+    }
+    if (!finger || colliders.size() == sim::kMaxColliders) continue;
+    const auto motion = finger->sphere.follow(finger->target, seconds, elapsed);
     if (motion.size > 0.0f) {
       colliders.push_back({motion.centre, motion.size * collider_radius(), motion.velocity});
     }
-    held.emplace(id, std::move(finger));
+    held.emplace(id, std::move(*finger));
   }
   solver_->set_colliders(colliders);
   colliders_ = std::move(held);

@@ -140,8 +140,9 @@ class Session {
   float collider_radius() const;
   // The fingers' spheres for a tick that simulates `seconds` of the `elapsed` wall seconds since
   // the last (sim::FingerCollider): each moves from where the fluid last had it towards its
-  // finger, in simulated time never faster than the hand moved in wall time. A fluid in slow
-  // motion sees the finger in slow motion too.
+  // finger, in simulated time never faster than the hand moved in wall time, and a lifted
+  // finger's on to where the finger was last. A fluid in slow motion sees the finger in slow
+  // motion too.
   void move_colliders(double seconds, double elapsed);
 
   std::string id_;
@@ -174,10 +175,12 @@ class Session {
   CostEstimate substep_cost_;     // ms of one substep (GPU time, or CPU time for a CPU solver)
   double measured_sim_ms_ = 0.0;  // the steps measured since the last frame was submitted
   SimSpeed speed_;
-  // Each dragging viewer's sphere, and which of its drags it follows (another: a new sphere).
+  // Each dragging viewer's sphere, which of its drags it follows (another: a new sphere) and the
+  // finger's last point (where a lifted finger's sphere finishes its path).
   struct HeldFinger {
     sim::FingerCollider sphere;
     std::uint64_t drag;
+    glm::vec3 target;
   };
   std::map<std::uint32_t, HeldFinger> colliders_;
   Clock::time_point last_input_ = Clock::now();

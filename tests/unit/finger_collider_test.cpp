@@ -71,6 +71,7 @@ TEST(FingerCollider, ReachesAFingerThatStoppedWithoutPassingIt) {
   const float hand = finger.hand_speed();
   const float first_gap = glm::distance(finger.follow(rest, 0.0, kTick).centre, rest);
   ASSERT_GT(first_gap, 0.1f) << "the sphere trails the hand when it stops";
+  EXPECT_FALSE(finger.arrived());
   // At the hand's fastest, in simulated time.
   const int expected = int(std::ceil(first_gap / (hand * float(sim_speed * kTick))));
   float gap = first_gap;
@@ -87,6 +88,7 @@ TEST(FingerCollider, ReachesAFingerThatStoppedWithoutPassingIt) {
   }
   EXPECT_LT(gap, 1e-6f);
   EXPECT_LE(ticks, expected + 1);
+  EXPECT_TRUE(finger.arrived());
 }
 
 TEST(FingerCollider, FollowsAFlickAfterARest) {

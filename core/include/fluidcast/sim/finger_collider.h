@@ -40,6 +40,9 @@ class FingerCollider {
 
   // Where the fluid has the sphere now, m.
   glm::vec3 centre() const { return centre_; }
+  // The sphere is where the finger's point was at the last tick. A lifted finger's sphere goes on
+  // until it is: in slow motion it trails the hand, and a stroke would otherwise end short.
+  bool arrived() const { return arrived_; }
 
   struct Motion {
     glm::vec3 centre;    // where the fluid has the sphere as the tick's steps begin, m
@@ -71,6 +74,7 @@ class FingerCollider {
   double simulated_ = 0.0;      // simulated seconds since the drag began
   std::deque<Sample> samples_;  // where the finger's point moved, from just before the window on
   float fastest_hand_ = 0.0f;
+  bool arrived_ = true;
 };
 
 }  // namespace fluidcast::sim
