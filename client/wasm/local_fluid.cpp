@@ -34,7 +34,7 @@ struct LocalFluid {
   std::unique_ptr<Solver> solver;
   ParticleSet shown;  // the newest state, read by JavaScript in place
   std::string error;
-  std::vector<std::optional<Finger>> fingers;  // by finger id; lifted ones empty
+  std::vector<std::optional<Finger>> fingers;  // by finger id; empty: none, or lifted and done
   std::vector<float> tank;                     // min x, y, z, max x, y, z
   unsigned threads = 1;  // the solver's, 1 to FLUIDCAST_MAX_THREADS (Web Workers beyond one)
   int iterations = SolverParams{}.iterations;  // PBF's density iterations a substep
@@ -70,8 +70,8 @@ void make(Scene scene, SolverKind kind, glm::vec3 gravity) {
   show();
 }
 
-// The fingers down become the solver's colliders, where their spheres are (the next step sets
-// them moving); refused as a whole, nothing changes.
+// The fingers become the solver's colliders, whole where their spheres are: the check that they
+// are valid (refused as a whole, nothing changes); the next step sets their sizes and motion.
 void touch(std::vector<std::optional<Finger>> fingers) {
   std::vector<Collider> down;
   for (const auto& finger : fingers) {
@@ -91,12 +91,12 @@ void move_fingers(float seconds, double wall_seconds) {
   }
   std::vector<Collider> down;
   for (auto& finger : fluid.fingers) {
-    if (finger && finger->lifted && finger->sphere.arrived()) finger.reset();
     if (!finger) continue;
     const auto motion = finger->sphere.follow(finger->target, seconds, wall_seconds);
-    if (motion.size > 0.0f) {
-      down.push_back({motion.centre, motion.size * finger->radius, motion.velocity});
-    }
+    const float radius = motion.size * finger->radius;
+    if (radius > 0.0f) down.push_back({motion.centre, radius, motion.velocity});
+    // Lifted and where it pointed: this step's move is the sphere's last.
+    if (finger->lifted && finger->sphere.arrived()) finger.reset();
   }
   fluid.solver->set_colliders(down);
 }

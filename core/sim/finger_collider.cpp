@@ -11,6 +11,7 @@ void FingerCollider::record(glm::vec3 target, double elapsed) {
   if (elapsed > 0.0 && std::isfinite(elapsed)) now_ += elapsed;
   // Only where the finger's point moved: a tick between two touch events is not a hand at rest.
   if (samples_.back().point == target) return;
+  arrived_ = false;  // until a tick that simulates time takes the sphere there
   samples_.push_back({now_, target});
   // Keep the newest sample from before the window: the path is then measured over all of it.
   while (samples_.size() > 2 &&

@@ -129,7 +129,8 @@ void Session::rebuild(SessionSetup setup) {
     solver_ = std::move(solver);
   }
   setup_ = setup;
-  forget_costs();  // another count or solver: another cost
+  forget_costs();      // another count or solver: another cost
+  colliders_.clear();  // the fingers' spheres grow into the new fluid afresh
   for (auto& [id, viewer] : viewers_) viewer->look_at(solver_->tank());
 }
 
@@ -270,9 +271,8 @@ void Session::move_colliders(double seconds, double elapsed) {
     }
     if (!finger || colliders.size() == sim::kMaxColliders) continue;
     const auto motion = finger->sphere.follow(finger->target, seconds, elapsed);
-    if (motion.size > 0.0f) {
-      colliders.push_back({motion.centre, motion.size * collider_radius(), motion.velocity});
-    }
+    const float radius = motion.size * collider_radius();
+    if (radius > 0.0f) colliders.push_back({motion.centre, radius, motion.velocity});
     held.emplace(id, std::move(*finger));
   }
   solver_->set_colliders(colliders);
@@ -308,6 +308,7 @@ void Session::rebuild_or_reset() {
   } else {
     reset_wanted_ = false;
     solver_->reset();
+    colliders_.clear();
   }
 }
 
