@@ -93,8 +93,7 @@ void move_fingers(float seconds, double wall_seconds) {
   for (auto& finger : fluid.fingers) {
     if (!finger) continue;
     const auto motion = finger->sphere.follow(finger->target, seconds, wall_seconds);
-    const float radius = motion.size * finger->radius;
-    if (radius > 0.0f) down.push_back({motion.centre, radius, motion.velocity});
+    if (const auto collider = motion.collider(finger->radius)) down.push_back(*collider);
     // Lifted and where it pointed: this step's move is the sphere's last.
     if (finger->lifted && finger->sphere.arrived()) finger.reset();
   }

@@ -271,8 +271,7 @@ void Session::move_colliders(double seconds, double elapsed) {
     }
     if (!finger || colliders.size() == sim::kMaxColliders) continue;
     const auto motion = finger->sphere.follow(finger->target, seconds, elapsed);
-    const float radius = motion.size * collider_radius();
-    if (radius > 0.0f) colliders.push_back({motion.centre, radius, motion.velocity});
+    if (const auto collider = motion.collider(collider_radius())) colliders.push_back(*collider);
     held.emplace(id, std::move(*finger));
   }
   solver_->set_colliders(colliders);

@@ -108,7 +108,9 @@ TEST(FingerCollider, FollowsAFlickAfterARest) {
 TEST(FingerCollider, GrowsToItsRadiusOverATenthOfASimulatedSecond) {
   const glm::vec3 start(0.1f, 0.2f, 0.3f);
   FingerCollider paused(start);
-  EXPECT_EQ(paused.follow(start, 0.0, kTick).size, 0.0f) << "not in a paused fluid yet";
+  const auto before_any_step = paused.follow(start, 0.0, kTick);
+  EXPECT_EQ(before_any_step.size, 0.0f) << "not in a paused fluid yet";
+  EXPECT_FALSE(before_any_step.collider(0.05f)) << "no collider of radius 0";
   // In slow motion, over simulated time: a tenth of real time takes ten times the ticks.
   for (const double sim_speed : {1.0, 0.1}) {
     FingerCollider finger(start);

@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <deque>
 #include <glm/glm.hpp>
+#include <optional>
 
 #include "fluidcast/sim/solver.h"
 
@@ -50,6 +51,12 @@ class FingerCollider {
     // Of its radius, the sphere has grown to this over the tick (kGrowSeconds); 0: not in the
     // fluid yet (a drag that began while the fluid was paused).
     float size;
+    // The solver's collider for a sphere of full radius `radius` m; nothing while it has no size
+    // (Solver::set_colliders refuses a radius of 0).
+    std::optional<Collider> collider(float radius) const {
+      if (!(size * radius > 0.0f)) return std::nullopt;
+      return Collider{centre, size * radius, velocity};
+    }
   };
   // A tick that simulates `seconds` of the `elapsed` wall seconds since the last, with the
   // finger's point at `target`: the sphere heads for it, to reach it within the tick's simulated
