@@ -12,7 +12,7 @@ uint K_max_candidates;
 Uints K_cell_start;
 Uints K_sorted_cell;
 uint K_particle_count;
-Uints K_neighbours;
+Uvec4s K_neighbours;
 Uints K_neighbour_count;
 
 void load_constants() {
@@ -146,12 +146,26 @@ ivec3 sorted_cell(uint k) {
   FOR_EACH_CANDIDATE_IN(K_cell_start, K_grid_dims, cell, j, K_max_candidates)
 
 // This substep's neighbours of sorted slot k, as neighbours.comp listed them from the positions
-// the substep began with (the CPU solvers' lists, NeighbourList, are the same):
-//   for (uint e = 0u, count = neighbour_count(k); e < count; ++e) {
-//     const uint j = neighbour(k, e); ...
-// Slot-major, so that the invocations of a workgroup read one list entry each from one row.
+// the substep began with (the CPU solvers' lists, NeighbourList, are the same), four at a time:
+//   const uint count = neighbour_count(k);
+//   for (uint g = 0u; 4u * g < count; ++g) {
+//     const vec4 others[4] = gather(x, neighbour_group(k, g));
+//     [[unroll]] for (uint l = 0u; l < 4u; ++l) {
+//       if (4u * g + l == count) break;
+//       ... others[l] ...
+// A gather pass waits on memory, one neighbour's loads after another's: a group's four entries
+// come in one 16-byte load, and its four neighbours' loads are all issued before the first is
+// used. Entries past the count repeat k, so that all four may be loaded. Slot-major, so that
+// the invocations of a workgroup read one group each from one row.
 uint neighbour_count(uint k) { return K_neighbour_count.v[k]; }
-uint neighbour(uint k, uint e) { return K_neighbours.v[k + e * K_particle_count]; }
+uvec4 neighbour_group(uint k, uint g) { return K_neighbours.v[k + g * K_particle_count]; }
+vec4[4] gather(Vec4s values, uvec4 j) {
+  return vec4[4](values.v[j.x], values.v[j.y], values.v[j.z], values.v[j.w]);
+}
+// glslang takes every buffer reference for one type in an overload.
+vec2[4] gather_pairs(Vec2s values, uvec4 j) {
+  return vec2[4](values.v[j.x], values.v[j.y], values.v[j.z], values.v[j.w]);
+}
 
 // The largest value over the dispatch, into P.stats.v[slot]: one global atomic per workgroup.
 // Every invocation must call it (no early return before).

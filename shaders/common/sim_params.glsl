@@ -29,8 +29,9 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Si
                        // compression summed, 64 bits in units of 2^-20, [4] PBF: bits of the
                        // largest wall approach (StatsSlot in gpu_sim_params.h)
   Floats density_ratio;  // ρ/ρ0 per particle in state order, from the last solver pass (render)
-  Uints neighbours;      // this substep's neighbours of sorted slot k: slot k + s · particle_count
-  Uints neighbour_count; //   for s below neighbour_count.v[k] (at most max_neighbours)
+  Uvec4s neighbours;     // this substep's neighbours of sorted slot k, four to an element: entries
+                         //   4g..4g + 3 at k + g · particle_count (sim_kernels.glsl, neighbour_group)
+  Uints neighbour_count; //   below neighbour_count.v[k] (at most max_neighbours)
 
   vec4 wall_fluid_min; // the walls' fluid at rest lies outside this box: the tank grown by the
   vec4 wall_fluid_max; //   wall offset (FluidConstants::wall_offset)

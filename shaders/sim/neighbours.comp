@@ -20,6 +20,7 @@ void main() {
   const vec3 p = x.v[k].xyz;
   const uint most = P.max_neighbours;
   uint count = 0u;
+  uvec4 group = uvec4(k);  // the list's entries come out four at a time; k fills a last group
   LambdaSum lambda = lambda_sum_start();
   float density_sum = poly6(0.0);
   const ivec3 cell = sorted_cell(k);
@@ -28,14 +29,19 @@ void main() {
     const vec3 r = p - x.v[j].xyz;
     const float r2 = dot(r, r);
     if (!(r2 < K_h2) || j == k) continue;
-    K_neighbours.v[k + count * K_particle_count] = j;
+    group = mix(group, uvec4(j), equal(uvec4(0u, 1u, 2u, 3u), uvec4(count & 3u)));
     ++count;
+    if ((count & 3u) == 0u) {
+      K_neighbours.v[k + ((count >> 2) - 1u) * K_particle_count] = group;
+      group = uvec4(k);
+    }
     if (pbf) {
       lambda_sum_add(lambda, r, r2);
     } else {
       density_sum += poly6(r2);
     }
   }
+  if ((count & 3u) != 0u) K_neighbours.v[k + (count >> 2) * K_particle_count] = group;
   K_neighbour_count.v[k] = count;
   if (pbf) {
     write_lambda(k, p, lambda);

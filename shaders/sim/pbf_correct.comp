@@ -31,16 +31,19 @@ vec3 correct(uint k) {
   const float scorr_scale = P.scorr_scale, inv_w_dq = P.inv_w_dq, exponent = P.scorr_exponent;
   const bool exponent_is_four = exponent == 4.0;
   vec3 delta = vec3(0.0);
-  for (uint e = 0u, count = neighbour_count(k); e < count; ++e) {
-    const uint j = neighbour(k, e);
-    const vec4 other = x.v[j];
-    const vec3 r = p - other.xyz;
-    const float r2 = dot(r, r);
-    if (!(r2 < K_h2)) continue;
-    const float s = poly6(r2) * inv_w_dq;
-    const float s2 = s * s;
-    const float scorr = -scorr_scale * (exponent_is_four ? s2 * s2 : pow(s, exponent));
-    delta += (lambda_i + other.w + scorr) * spiky_gradient(r, r2);
+  const uint count = neighbour_count(k);
+  for (uint g = 0u; 4u * g < count; ++g) {
+    const vec4 others[4] = gather(x, neighbour_group(k, g));
+    [[unroll]] for (uint l = 0u; l < 4u; ++l) {
+      if (4u * g + l == count) break;
+      const vec3 r = p - others[l].xyz;
+      const float r2 = dot(r, r);
+      if (!(r2 < K_h2)) continue;
+      const float s = poly6(r2) * inv_w_dq;
+      const float s2 = s * s;
+      const float scorr = -scorr_scale * (exponent_is_four ? s2 * s2 : pow(s, exponent));
+      delta += (lambda_i + others[l].w + scorr) * spiky_gradient(r, r2);
+    }
   }
   const vec3 wall_push = lambda_i * P.inv_rest_density * walls(p).yzw;
   vec3 unused;

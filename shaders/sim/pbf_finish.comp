@@ -22,13 +22,16 @@ void main() {
       Vec4s vorticity = P.vorticity;
       const vec4 omega = vorticity.v[k];
       vec3 eta = vec3(0.0);
-      for (uint e = 0u, count = neighbour_count(k); e < count; ++e) {
-        const uint j = neighbour(k, e);
-        const vec3 r = p - x.v[j].xyz;
-        const float r2 = dot(r, r);
-        if (!(r2 < K_h2)) continue;
-        const vec4 omega_j = vorticity.v[j];
-        eta += (omega_j.w - omega.w) * spiky_gradient(r, r2);
+      const uint count = neighbour_count(k);
+      for (uint g = 0u; 4u * g < count; ++g) {
+        const uvec4 j = neighbour_group(k, g);
+        const vec4 others[4] = gather(x, j), other_omegas[4] = gather(vorticity, j);
+        [[unroll]] for (uint l = 0u; l < 4u; ++l) {
+          if (4u * g + l == count) break;
+          const vec3 r = p - others[l].xyz;
+          const float r2 = dot(r, r);
+          if (r2 < K_h2) eta += (other_omegas[l].w - omega.w) * spiky_gradient(r, r2);
+        }
       }
       const float eta_length = length(eta);
       if (eta_length > 1e-12) {

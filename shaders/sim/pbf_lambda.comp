@@ -14,12 +14,15 @@ void main() {
   Vec4s x = P.iterate;
   const vec3 p = x.v[k].xyz;
   LambdaSum sum = lambda_sum_start();
-  for (uint e = 0u, count = neighbour_count(k); e < count; ++e) {
-    const uint j = neighbour(k, e);
-    const vec3 r = p - x.v[j].xyz;
-    const float r2 = dot(r, r);
-    if (!(r2 < K_h2)) continue;
-    lambda_sum_add(sum, r, r2);
+  const uint count = neighbour_count(k);
+  for (uint g = 0u; 4u * g < count; ++g) {
+    const vec4 others[4] = gather(x, neighbour_group(k, g));
+    [[unroll]] for (uint l = 0u; l < 4u; ++l) {
+      if (4u * g + l == count) break;
+      const vec3 r = p - others[l].xyz;
+      const float r2 = dot(r, r);
+      if (r2 < K_h2) lambda_sum_add(sum, r, r2);
+    }
   }
   write_lambda(k, p, sum);
 }

@@ -22,16 +22,21 @@ void main() {
     const bool confine = P.vorticity_epsilon > 0.0;
     vec3 omega = vec3(0.0), smoothing = vec3(0.0);
     float density = poly6(0.0);
-    for (uint e = 0u, count = neighbour_count(k); e < count; ++e) {
-      const uint j = neighbour(k, e);
-      const vec3 r = p - x.v[j].xyz;
-      const float r2 = dot(r, r);
-      if (!(r2 < K_h2)) continue;
-      const vec3 relative = velocities.v[j].xyz - v;
-      if (confine) omega += cross(relative, -spiky_gradient(r, r2));
-      const float w = poly6(r2);
-      smoothing += relative * w;
-      density += w;
+    const uint count = neighbour_count(k);
+    for (uint g = 0u; 4u * g < count; ++g) {
+      const uvec4 j = neighbour_group(k, g);
+      const vec4 others[4] = gather(x, j), other_velocities[4] = gather(velocities, j);
+      [[unroll]] for (uint l = 0u; l < 4u; ++l) {
+        if (4u * g + l == count) break;
+        const vec3 r = p - others[l].xyz;
+        const float r2 = dot(r, r);
+        if (!(r2 < K_h2)) continue;
+        const vec3 relative = other_velocities[l].xyz - v;
+        if (confine) omega += cross(relative, -spiky_gradient(r, r2));
+        const float w = poly6(r2);
+        smoothing += relative * w;
+        density += w;
+      }
     }
     if (confine) {
       omega *= P.rest_volume;

@@ -19,21 +19,28 @@ void main() {
     const vec2 own = density.v[k];
     const float pressure_term_i = own.y / (own.x * own.x);
     vec3 pressure_acceleration = vec3(0.0), viscous_sum = vec3(0.0);
-    for (uint e = 0u, count = neighbour_count(k); e < count; ++e) {
-      const uint j = neighbour(k, e);
-      const vec3 r = p - x.v[j].xyz;
-      const float r2 = dot(r, r);
-      if (!(r2 < K_h2)) continue;
-      const float distance = sqrt(r2);
-      const vec2 other = density.v[j];
-      const vec3 vj = velocity.v[j].xyz;
-      float pair = pressure_term_i + other.y / (other.x * other.x);
-      const float approach = dot(v - vj, r);
-      if (approach < 0.0) {
-        pair -= artificial_viscosity / (own.x + other.x) * approach / (distance * distance + softening);
+    const uint count = neighbour_count(k);
+    for (uint g = 0u; 4u * g < count; ++g) {
+      const uvec4 j = neighbour_group(k, g);
+      const vec4 others[4] = gather(x, j), other_velocities[4] = gather(velocity, j);
+      const vec2 other_densities[4] = gather_pairs(density, j);
+      [[unroll]] for (uint l = 0u; l < 4u; ++l) {
+        if (4u * g + l == count) break;
+        const vec3 r = p - others[l].xyz;
+        const float r2 = dot(r, r);
+        if (!(r2 < K_h2)) continue;
+        const float distance = sqrt(r2);
+        const vec2 other = other_densities[l];
+        const vec3 vj = other_velocities[l].xyz;
+        float pair = pressure_term_i + other.y / (other.x * other.x);
+        const float approach = dot(v - vj, r);
+        if (approach < 0.0) {
+          pair -= artificial_viscosity / (own.x + other.x) * approach /
+                  (distance * distance + softening);
+        }
+        pressure_acceleration -= pair * spiky_gradient(r, r2);
+        viscous_sum += (vj - v) * (viscosity_laplacian(distance) / other.x);
       }
-      pressure_acceleration -= pair * spiky_gradient(r, r2);
-      viscous_sum += (vj - v) * (viscosity_laplacian(distance) / other.x);
     }
     const vec3 wall_acceleration = -2.0 * pressure_term_i * walls(p).yzw;
     const vec3 a = P.gravity.xyz + P.mass * pressure_acceleration + wall_acceleration +

@@ -143,7 +143,8 @@ TEST_P(GpuSolverTest, MoreParticlesThanTheMemoryBudgetAreRefusedUpFront) {
 }
 
 // However much memory there is, the neighbour lists' 32-bit index bounds the count: at kernel
-// ratio 4 a particle lists up to 537 neighbours, and 2^31 entries hold 3,999,038 particles' lists.
+// ratio 4 a particle lists up to 537 neighbours, 135 elements of four entries, and 2^31 elements
+// hold 15,907,286 particles' lists.
 TEST_P(GpuSolverTest, TheNeighbourListsIndexBoundsTheParticlesThatFit) {
   SceneParams scene;
   scene.kind = SceneKind::pool;
@@ -154,8 +155,8 @@ TEST_P(GpuSolverTest, TheNeighbourListsIndexBoundsTheParticlesThatFit) {
   const gpu_solver::GpuSolver solver(GetParam(), context(), build_scene(scene), params, nullptr,
                                      terabyte);
   ASSERT_EQ(solver.fluid().max_neighbours, 537u);
-  EXPECT_EQ(solver.particles_listable(), 3999038u);
-  EXPECT_EQ(solver.particles_that_fit(), 3999038u);
+  EXPECT_EQ(solver.particles_listable(), 15907286u);
+  EXPECT_EQ(solver.particles_that_fit(), 15907286u);
 }
 
 // As Pbf.CompressionLeftBehindDoesNotBurst (unit/pbf_test.cpp), on the GPU with the default

@@ -20,15 +20,22 @@ constexpr std::uint32_t kGroup = GpuNeighbourGrid::kGroupSize;
 static_assert(kGroup <= 128, "record_sum (sim_kernels.glsl) sums a workgroup in 32 bits");
 // Of the device-local heap, what a simulation may plan to use: the driver and other work need some.
 constexpr double kUsableMemoryShare = 0.9;
-// The shaders index the neighbour lists with a 32-bit index that SPIR-V may take as signed.
-constexpr std::uint64_t kMostListEntries = 0x7fffffff;
+// The shaders read a neighbour list four entries to an element (neighbour_group in
+// sim_kernels.glsl), which they index with a 32-bit index that SPIR-V may take as signed.
+constexpr std::uint32_t kEntriesPerListElement = 4;
+constexpr std::uint64_t kMostListElements = 0x7fffffff;
+
+std::uint64_t list_elements(std::uint32_t max_neighbours) {
+  return (std::uint64_t{max_neighbours} + kEntriesPerListElement - 1) / kEntriesPerListElement;
+}
 
 std::uint64_t bytes_per_particle(SolverKind kind, std::uint32_t max_neighbours) {
   // position, velocity, id, their sorted copies, and the density ratio for the renderer
   constexpr std::uint64_t state = 2 * (16 + 16 + 4) + 4;
   constexpr std::uint64_t pbf = 16 + 16 + 16 + 16;  // predicted, iterate, iterate with λ, ω
   constexpr std::uint64_t sph = 8 + 16;             // density and pressure, acceleration
-  const std::uint64_t list = 4 * (std::uint64_t{max_neighbours} + 1);  // and its length
+  const std::uint64_t list =  // and its length
+      4 * (kEntriesPerListElement * list_elements(max_neighbours) + 1);
   return state + (kind == SolverKind::pbf ? pbf : sph) + list +
          GpuNeighbourGrid::bytes_per_particle();
 }
@@ -107,7 +114,7 @@ std::uint64_t GpuSolver::bytes_needed(std::size_t particles) const {
 }
 
 std::size_t GpuSolver::particles_listable() const {
-  return kMostListEntries / fluid().max_neighbours;
+  return kMostListElements / list_elements(fluid().max_neighbours);
 }
 
 std::size_t GpuSolver::particles_that_fit() const {
@@ -158,7 +165,7 @@ GpuSolver::Buffers GpuSolver::allocate(std::size_t capacity) {
   b.density = device(pbf ? 0 : 8);
   b.acceleration = device(pbf ? 0 : 16);
   b.density_ratio = device(4);
-  b.neighbours = device(4 * std::uint64_t{fluid().max_neighbours});
+  b.neighbours = device(4 * kEntriesPerListElement * list_elements(fluid().max_neighbours));
   b.neighbour_count = device(4);
   b.capacity = capacity;
   grid_.reserve(capacity);  // room for more than the particles held is harmless

@@ -49,7 +49,8 @@ class GpuSolver final : public Solver {
   }
 
   // GPU memory needed for `particles`, and how many fit: in the budget, and in the neighbour
-  // lists' index (particles_listable: 2^31 entries, 3.9 million particles at kernel ratio 4).
+  // lists' index (particles_listable: 2^31 elements of four entries, 15.9 million particles at
+  // kernel ratio 4).
   std::uint64_t bytes_needed(std::size_t particles) const;
   std::size_t particles_that_fit() const;
   std::size_t particles_listable() const;
