@@ -16,6 +16,8 @@ int run_benchmarks(int argc, char** argv,
   for (int i = 0; i < argc; ++i) {
     if (std::strcmp(argv[i], "--smoke") == 0) {
       options.smoke = true;
+    } else if (std::strcmp(argv[i], "--pipeline-statistics") == 0) {
+      options.pipeline_statistics = true;
     } else if (std::strcmp(argv[i], "--device") == 0 && i + 1 < argc) {
       options.device = static_cast<std::uint32_t>(std::stoul(argv[++i]));
     } else {
@@ -46,6 +48,7 @@ int run_gpu_benchmarks(int argc, char** argv,
     gpu::ContextOptions context_options = gpu::options_from_environment();
     context_options.validation = false;
     if (options.device) context_options.device_index = options.device;
+    context_options.pipeline_statistics = options.pipeline_statistics;
     g_context = std::make_unique<gpu::Context>(context_options);
     benchmark::AddCustomContext("device", g_context->info().describe());
     register_cases(options.smoke);

@@ -1,6 +1,8 @@
 // What every fluidcast benchmark program does around Google Benchmark: `--smoke` asks for one
 // small case per benchmark (ctest runs it, so CI proves the benchmark runs), `--device N` picks
-// the Vulkan device, and every other flag goes to Google Benchmark.
+// the Vulkan device, `--pipeline-statistics` has the GPU's pipelines keep what the driver says of
+// their code (gpu::ContextOptions::pipeline_statistics), and every other flag goes to Google
+// Benchmark.
 #pragma once
 
 #include <cstdint>
@@ -15,6 +17,7 @@ namespace fluidcast::bench {
 struct BenchOptions {
   bool smoke = false;
   std::optional<std::uint32_t> device;
+  bool pipeline_statistics = false;
 };
 
 // Calls register_cases, then runs what Google Benchmark's flags select. Returns the exit code.

@@ -9,9 +9,10 @@
 # part cut off by its timeout still leaves the earlier ones (bench/results/h200-2026-11-28.md).
 # PART: programs  the programs the parts run (for the bundle), on standard output
 #       tests   every GPU test with the validation layer on (a message fails its test)
-#       solver  fluidcast-bench-gpu: the solver table (dt = 1 ms, and a session's 1/120 s at 216k
-#               and 1M: GPU s a simulated s, added 2026-11-29, a few s more) and many sessions
-#               batched against serial
+#       solver  fluidcast-bench-gpu: what the driver says of each pass's code (pipelines.txt:
+#               registers and the like, added 2026-11-29), the solver table (dt = 1 ms, and a
+#               session's 1/120 s at 216k and 1M: GPU s a simulated s, added 2026-11-29, a few s
+#               more) and many sessions batched against serial
 #       render  fluidcast-bench-render: passes, encode from RGBA and from planes, roughness; and
 #               the dam break at 216k and 1M, t = 0.5 s, with spheres and ellipsoids, as PNG
 #               (for docs/images: ssfr-ellipsoids-216k.png, -1m.png)
@@ -69,6 +70,10 @@ case "$part" in
     exit $status
     ;;
   solver)
+    # What the driver says of each pass's code (registers: how many invocations a multiprocessor
+    # keeps in flight), in a run of its own: the timings do not depend on its capture.
+    "$bin/fluidcast-bench-gpu" --pipeline-statistics --benchmark_filter=none 2>&1 |
+      grep -E '^(pipeline|gpu:)' | tee "$out/pipelines.txt" || true
     "$bin/fluidcast-bench-gpu" "${smoke_flag[@]}" --benchmark_out="$out/bench-gpu.json" \
       --benchmark_out_format=json 2>&1 | tee "$out/bench-gpu.log"
     table "$out/bench-gpu.json"

@@ -14,10 +14,13 @@
 // submission (`batched`, as the server records a tick) or each in its own (`serial`): GPU
 // milliseconds per round for all of them together, and the wall clock per round.
 // `--smoke` runs small cases (for CI, on lavapipe); `--device N` picks the device;
+// `--pipeline-statistics` prints first what the driver says of each pass's compiled code
+// (registers and the like; where the device offers VK_KHR_pipeline_executable_properties);
 // other flags go to Google Benchmark (e.g. --benchmark_filter=Pbf).
 #include <benchmark/benchmark.h>
 
 #include <chrono>
+#include <cstdio>
 #include <memory>
 #include <string>
 #include <utility>
@@ -25,6 +28,7 @@
 
 #include "bench_main.h"
 #include "fluidcast/gpu/context.h"
+#include "fluidcast/sim/gpu_solver_statistics.h"
 #include "fluidcast/sim/gpu_step_batch.h"
 #include "fluidcast/sim/solver.h"
 
@@ -146,7 +150,19 @@ void add(const char* name, SolverKind kind, int particles, int iterations, int s
       ->Unit(benchmark::kMillisecond);
 }
 
+void print_pipeline_statistics() {
+  for (const PassStatistics& pass : gpu_solver_pipeline_statistics(bench::gpu_context())) {
+    std::printf("pipeline %s:", pass.pass.c_str());
+    for (const auto& [name, value] : pass.statistics) {
+      std::printf(" %s %s;", name.c_str(), value.c_str());
+    }
+    std::printf("\n");
+  }
+  std::fflush(stdout);
+}
+
 void register_cases(bool smoke) {
+  if (bench::gpu_context().pipeline_statistics_captured()) print_pipeline_statistics();
   if (smoke) {
     add("Pbf/dam_break", SolverKind::pbf, 4000, 2, 3);
     add("Pbf/dam_break", SolverKind::pbf, 4000, 4, 3, kSessionStepUs);

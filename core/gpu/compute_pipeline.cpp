@@ -12,7 +12,9 @@ namespace fluidcast::gpu {
 ComputePipeline::ComputePipeline(Context& context, std::span<const std::uint32_t> spirv,
                                  std::uint32_t push_constant_bytes, std::uint32_t group_size,
                                  std::span<const std::uint32_t> constants)
-    : push_constant_bytes_(push_constant_bytes),
+    : device_(context.device()),
+      captured_(context.pipeline_statistics_captured()),
+      push_constant_bytes_(push_constant_bytes),
       group_size_(group_size),
       max_groups_x_(context.limits().maxComputeWorkGroupCount[0]),
       max_groups_y_(context.limits().maxComputeWorkGroupCount[1]) {
@@ -49,10 +51,45 @@ ComputePipeline::ComputePipeline(Context& context, std::span<const std::uint32_t
   info.stage.pName = "main";
   info.stage.pSpecializationInfo = &specialization;
   info.layout = raw_layout;
+  if (captured_) info.flags |= VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR;
   VkPipeline raw_pipeline;
   FLUIDCAST_VK_CHECK(
       vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &info, nullptr, &raw_pipeline));
   pipeline_ = UniquePipeline(device, raw_pipeline);
+}
+
+std::vector<PipelineStatistic> ComputePipeline::statistics() const {
+  if (!captured_) return {};
+  const auto get = reinterpret_cast<PFN_vkGetPipelineExecutableStatisticsKHR>(
+      vkGetDeviceProcAddr(device_, "vkGetPipelineExecutableStatisticsKHR"));
+  // A compute pipeline compiles to one executable.
+  const VkPipelineExecutableInfoKHR executable{VK_STRUCTURE_TYPE_PIPELINE_EXECUTABLE_INFO_KHR,
+                                               nullptr, pipeline_.get(), 0};
+  std::uint32_t count = 0;
+  FLUIDCAST_VK_CHECK(get(device_, &executable, &count, nullptr));
+  std::vector<VkPipelineExecutableStatisticKHR> raw(
+      count, {VK_STRUCTURE_TYPE_PIPELINE_EXECUTABLE_STATISTIC_KHR});
+  FLUIDCAST_VK_CHECK(get(device_, &executable, &count, raw.data()));
+  std::vector<PipelineStatistic> statistics;
+  for (const VkPipelineExecutableStatisticKHR& s : raw) {
+    std::string value;
+    switch (s.format) {
+      case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_BOOL32_KHR:
+        value = s.value.b32 ? "true" : "false";
+        break;
+      case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_INT64_KHR:
+        value = std::to_string(s.value.i64);
+        break;
+      case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_UINT64_KHR:
+        value = std::to_string(s.value.u64);
+        break;
+      default:
+        value = std::to_string(s.value.f64);
+        break;
+    }
+    statistics.push_back({s.name, value});
+  }
+  return statistics;
 }
 
 void ComputePipeline::check_push(std::uint32_t bytes) const {

@@ -118,6 +118,20 @@ DeviceInfo describe_device(VkPhysicalDevice device, std::uint32_t index) {
   return info;
 }
 
+bool lists_extension(const std::vector<VkExtensionProperties>& extensions, const char* name) {
+  return std::any_of(extensions.begin(), extensions.end(), [&](const VkExtensionProperties& e) {
+    return std::strcmp(e.extensionName, name) == 0;
+  });
+}
+
+bool device_offers_extension(VkPhysicalDevice device, const char* name) {
+  std::uint32_t count = 0;
+  vkEnumerateDeviceExtensionProperties(device, nullptr, &count, nullptr);
+  std::vector<VkExtensionProperties> extensions(count);
+  vkEnumerateDeviceExtensionProperties(device, nullptr, &count, extensions.data());
+  return lists_extension(extensions, name);
+}
+
 bool layer_installed(const char* name) {
   std::uint32_t count = 0;
   vkEnumerateInstanceLayerProperties(&count, nullptr);
@@ -133,9 +147,7 @@ bool layer_offers_extension(const char* layer, const char* extension) {
   vkEnumerateInstanceExtensionProperties(layer, &count, nullptr);
   std::vector<VkExtensionProperties> extensions(count);
   vkEnumerateInstanceExtensionProperties(layer, &count, extensions.data());
-  return std::any_of(extensions.begin(), extensions.end(), [&](const VkExtensionProperties& e) {
-    return std::strcmp(e.extensionName, extension) == 0;
-  });
+  return lists_extension(extensions, extension);
 }
 
 VkInstance create_instance(bool validation) {
@@ -286,7 +298,11 @@ Context::Context(ContextOptions options) {
     vkGetPhysicalDeviceProperties(physical_device_, &properties_);
     queue_family_ = *pick_queue_family(physical_device_);
     timestamp_valid_bits_ = timestamp_bits(physical_device_, queue_family_);
-    create_device(options.independent_blend);
+    create_device(options.independent_blend, options.pipeline_statistics);
+    if (options.pipeline_statistics && !pipeline_statistics_) {
+      log("gpu: pipeline statistics requested but the device does not offer " +
+          std::string(VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME));
+    }
     memory_ =
         std::make_unique<MemoryAllocator>(device_, physical_device_, options.memory_limit_bytes);
     log("gpu: using device " + info_.describe() + (validation ? ", validation on" : ""));
@@ -309,7 +325,7 @@ void Context::create_messenger() {
   FLUIDCAST_VK_CHECK(create(instance_, &info, nullptr, &messenger_));
 }
 
-void Context::create_device(bool independent_blend) {
+void Context::create_device(bool independent_blend, bool pipeline_statistics) {
   const float priority = 1.0f;
   VkDeviceQueueCreateInfo queue_info{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
   queue_info.queueFamilyIndex = queue_family_;
@@ -325,10 +341,26 @@ void Context::create_device(bool independent_blend) {
   VkPhysicalDeviceFeatures features{};
   independent_blend_ = independent_blend && supported.independentBlend == VK_TRUE;
   features.independentBlend = independent_blend_ ? VK_TRUE : VK_FALSE;
+  VkPhysicalDevicePipelineExecutablePropertiesFeaturesKHR executable_info{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_EXECUTABLE_PROPERTIES_FEATURES_KHR};
+  std::vector<const char*> extensions;
+  if (pipeline_statistics &&
+      device_offers_extension(physical_device_, VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME)) {
+    VkPhysicalDeviceFeatures2 offered{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2,
+                                      &executable_info};
+    vkGetPhysicalDeviceFeatures2(physical_device_, &offered);
+    pipeline_statistics_ = executable_info.pipelineExecutableInfo == VK_TRUE;
+  }
+  if (pipeline_statistics_) {
+    extensions.push_back(VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME);
+    v12.pNext = &executable_info;
+  }
   VkDeviceCreateInfo device_info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &v12};
   device_info.queueCreateInfoCount = 1;
   device_info.pQueueCreateInfos = &queue_info;
   device_info.pEnabledFeatures = &features;
+  device_info.enabledExtensionCount = static_cast<std::uint32_t>(extensions.size());
+  device_info.ppEnabledExtensionNames = extensions.data();
   FLUIDCAST_VK_CHECK(vkCreateDevice(physical_device_, &device_info, nullptr, &device_));
   vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
   VkSemaphoreTypeCreateInfo timeline_type{VK_STRUCTURE_TYPE_SEMAPHORE_TYPE_CREATE_INFO};

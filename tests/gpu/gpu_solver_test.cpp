@@ -6,8 +6,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
+#include <vector>
 
 #include "../unit/solver_test_support.h"
 #include "gpu_test_support.h"
@@ -157,6 +160,34 @@ TEST_P(GpuSolverTest, TheNeighbourListsIndexBoundsTheParticlesThatFit) {
   ASSERT_EQ(solver.fluid().max_neighbours, 537u);
   EXPECT_EQ(solver.particles_listable(), 15907286u);
   EXPECT_EQ(solver.particles_that_fit(), 15907286u);
+}
+
+// fluidcast-bench-gpu --pipeline-statistics: every pass listed, with what the driver says of its
+// code where the device offers it (NVIDIA's drivers: registers and the like), and nothing but a
+// sentence in the log where it does not (lavapipe). Its own context, the validation layer on.
+TEST(GpuSolverPipelineStatistics, EveryPassIsListedWithWhatTheDriverSays) {
+  gpu::ContextOptions options = gpu::options_from_environment();
+  options.validation = true;
+  options.pipeline_statistics = true;
+  std::vector<std::string> log;
+  options.log = [&](const std::string& line) { log.push_back(line); };
+  gpu::Context context(options);
+  const std::vector<PassStatistics> passes = gpu_solver_pipeline_statistics(context);
+  ASSERT_EQ(passes.size(), 9u);
+  EXPECT_EQ(passes[2].pass, "neighbours");
+  for (const PassStatistics& pass : passes) {
+    EXPECT_EQ(pass.statistics.empty(), !context.pipeline_statistics_captured()) << pass.pass;
+    for (const auto& [name, value] : pass.statistics) {
+      EXPECT_FALSE(name.empty() || value.empty()) << pass.pass;
+    }
+  }
+  const bool said_so =
+      std::any_of(log.begin(), log.end(), [](const std::string& line) {
+        return line.find("does not offer VK_KHR_pipeline_executable_properties") !=
+               std::string::npos;
+      });
+  EXPECT_EQ(said_so, !context.pipeline_statistics_captured());
+  EXPECT_TRUE(context.validation_errors().empty());
 }
 
 // As Pbf.CompressionLeftBehindDoesNotBurst (unit/pbf_test.cpp), on the GPU with the default

@@ -62,6 +62,19 @@ GpuSolver::Pipelines::Pipelines(gpu::Context& c)
       sph_force(c, shaders::sim_sph_force_comp, sizeof(SimPass), kGroup),
       sph_integrate(c, shaders::sim_sph_integrate_comp, sizeof(SimPass), kGroup) {}
 
+std::vector<PassStatistics> GpuSolver::pipeline_statistics(gpu::Context& context) {
+  const Pipelines p(context);
+  const std::pair<const char*, const gpu::ComputePipeline*> passes[] = {
+      {"predict", &p.predict},       {"reorder", &p.reorder},
+      {"neighbours", &p.neighbours}, {"pbf_lambda", &p.pbf_lambda},
+      {"pbf_correct", &p.pbf_correct}, {"pbf_sums", &p.pbf_sums},
+      {"pbf_finish", &p.pbf_finish}, {"sph_force", &p.sph_force},
+      {"sph_integrate", &p.sph_integrate}};
+  std::vector<PassStatistics> statistics;
+  for (const auto& [name, pipeline] : passes) statistics.push_back({name, pipeline->statistics()});
+  return statistics;
+}
+
 GpuSolver::GpuSolver(SolverKind kind, gpu::Context& context, Scene scene,
                      const SolverParams& params, GpuStepBatch* batch,
                      std::uint64_t memory_budget_bytes)
@@ -559,6 +572,10 @@ namespace fluidcast::sim {
 std::unique_ptr<Solver> make_gpu_solver(SolverKind kind, gpu::Context& context, Scene scene,
                                         const SolverParams& params, GpuStepBatch* batch) {
   return std::make_unique<gpu_solver::GpuSolver>(kind, context, std::move(scene), params, batch);
+}
+
+std::vector<PassStatistics> gpu_solver_pipeline_statistics(gpu::Context& context) {
+  return gpu_solver::GpuSolver::pipeline_statistics(context);
 }
 
 }  // namespace fluidcast::sim

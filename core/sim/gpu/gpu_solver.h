@@ -18,6 +18,7 @@
 
 #include "fluidcast/gpu/compute_pipeline.h"
 #include "fluidcast/sim/gpu_neighbour_grid.h"
+#include "fluidcast/sim/gpu_solver_statistics.h"
 #include "fluidcast/sim/gpu_step_batch.h"
 #include "fluidcast/sim/solver.h"
 #include "gpu/gpu_sim_params.h"
@@ -54,6 +55,9 @@ class GpuSolver final : public Solver {
   std::uint64_t bytes_needed(std::size_t particles) const;
   std::size_t particles_that_fit() const;
   std::size_t particles_listable() const;
+
+  // gpu_solver_pipeline_statistics (gpu_solver_statistics.h).
+  static std::vector<PassStatistics> pipeline_statistics(gpu::Context& context);
 
  protected:
   int advance(float seconds, int substeps) override;

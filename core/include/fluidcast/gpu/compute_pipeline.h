@@ -6,11 +6,19 @@
 
 #include <cstdint>
 #include <span>
+#include <string>
+#include <vector>
 
 #include "fluidcast/gpu/context.h"
 #include "fluidcast/gpu/handle.h"
 
 namespace fluidcast::gpu {
+
+// One figure the driver gives of a pipeline's compiled code ("Register Count": "40").
+struct PipelineStatistic {
+  std::string name;
+  std::string value;
+};
 
 class ComputePipeline {
  public:
@@ -19,6 +27,10 @@ class ComputePipeline {
                   std::span<const std::uint32_t> constants = {});
 
   std::uint32_t group_size() const { return group_size_; }
+
+  // What the driver says of the compiled code, in its words, where the context captures it
+  // (Context::pipeline_statistics_captured); none otherwise.
+  std::vector<PipelineStatistic> statistics() const;
 
   // Binds the pipeline and dispatches enough workgroups for `items` invocations (none for 0).
   // Beyond the device's workgroup-count limit in x the groups spill into y; shaders compute their
@@ -45,6 +57,8 @@ class ComputePipeline {
   void check_push(std::uint32_t bytes) const;  // throws std::logic_error for the wrong size
   void bind(VkCommandBuffer commands, const void* push, std::uint32_t bytes) const;
 
+  VkDevice device_;
+  bool captured_;
   UniquePipelineLayout layout_;
   UniquePipeline pipeline_;
   std::uint32_t push_constant_bytes_;

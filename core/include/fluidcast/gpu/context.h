@@ -59,6 +59,10 @@ struct ContextOptions {
   // chosen device reads no more than it, so that budgets drawn from it (the GPU solver's) keep
   // within it too.
   std::uint64_t memory_limit_bytes = 0;
+  // Compute pipelines keep what the driver says of their compiled code (registers and the like:
+  // ComputePipeline::statistics) where the device offers VK_KHR_pipeline_executable_properties.
+  // For benchmarks: a driver may compile more slowly, or skip its pipeline cache.
+  bool pipeline_statistics = false;
   // Where the context says which device it chose; stderr by default.
   std::function<void(const std::string&)> log;
 };
@@ -89,6 +93,8 @@ class Context {
   std::uint32_t timestamp_valid_bits() const { return timestamp_valid_bits_; }
   // Colour attachments of one pass may blend differently (independentBlend).
   bool independent_blend_supported() const { return independent_blend_; }
+  // ContextOptions::pipeline_statistics was asked for and the device offers them.
+  bool pipeline_statistics_captured() const { return pipeline_statistics_; }
   float timestamp_period_ns() const { return properties_.limits.timestampPeriod; }
   MemoryAllocator& memory() { return *memory_; }
 
@@ -126,7 +132,7 @@ class Context {
       const VkDebugUtilsMessengerCallbackDataEXT* data, void* user);
   void create_messenger();  // validation messages to on_validation_message
   // The device with one queue of queue_family_, and the timeline semaphore of the submissions.
-  void create_device(bool independent_blend);
+  void create_device(bool independent_blend, bool pipeline_statistics);
   void release();  // what the destructor does; also when the constructor fails half-way
 
   struct RetiredObject {
@@ -155,6 +161,7 @@ class Context {
   std::uint32_t queue_family_ = 0;
   std::uint32_t timestamp_valid_bits_ = 0;
   bool independent_blend_ = false;
+  bool pipeline_statistics_ = false;
   std::unique_ptr<MemoryAllocator> memory_;
   VkSemaphore finished_ = VK_NULL_HANDLE;  // timeline: the serial of the newest finished submission
   mutable std::mutex submit_mutex_;        // the queue, the serial and the retired objects
