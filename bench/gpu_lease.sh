@@ -73,7 +73,7 @@ case "$part" in
     # What the driver says of each pass's code (registers: how many invocations a multiprocessor
     # keeps in flight), in a run of its own: the timings do not depend on its capture.
     "$bin/fluidcast-bench-gpu" --pipeline-statistics --benchmark_filter=none 2>&1 |
-      grep -E '^(pipeline|gpu:)' | tee "$out/pipelines.txt" || true
+      tee "$out/pipelines.log" | grep -E '^(pipeline|gpu:)' | tee "$out/pipelines.txt" || true
     "$bin/fluidcast-bench-gpu" "${smoke_flag[@]}" --benchmark_out="$out/bench-gpu.json" \
       --benchmark_out_format=json 2>&1 | tee "$out/bench-gpu.log"
     table "$out/bench-gpu.json"

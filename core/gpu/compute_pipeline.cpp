@@ -1,5 +1,6 @@
 #include "fluidcast/gpu/compute_pipeline.h"
 
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -69,7 +70,12 @@ std::vector<PipelineStatistic> ComputePipeline::statistics() const {
   FLUIDCAST_VK_CHECK(get(device_, &executable, &count, nullptr));
   std::vector<VkPipelineExecutableStatisticKHR> raw(
       count, {VK_STRUCTURE_TYPE_PIPELINE_EXECUTABLE_STATISTIC_KHR});
-  FLUIDCAST_VK_CHECK(get(device_, &executable, &count, raw.data()));
+  // VK_INCOMPLETE: fewer than the driver has, all of them valid.
+  if (const VkResult result = get(device_, &executable, &count, raw.data());
+      result != VK_INCOMPLETE) {
+    FLUIDCAST_VK_CHECK(result);
+  }
+  raw.resize(count);
   std::vector<PipelineStatistic> statistics;
   for (const VkPipelineExecutableStatisticKHR& s : raw) {
     std::string value;
@@ -83,9 +89,12 @@ std::vector<PipelineStatistic> ComputePipeline::statistics() const {
       case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_UINT64_KHR:
         value = std::to_string(s.value.u64);
         break;
-      default:
-        value = std::to_string(s.value.f64);
+      default: {
+        char text[32];
+        std::snprintf(text, sizeof text, "%g", s.value.f64);
+        value = text;
         break;
+      }
     }
     statistics.push_back({s.name, value});
   }

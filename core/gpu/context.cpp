@@ -301,7 +301,8 @@ Context::Context(ContextOptions options) {
     create_device(options.independent_blend, options.pipeline_statistics);
     if (options.pipeline_statistics && !pipeline_statistics_) {
       log("gpu: pipeline statistics requested but the device does not offer " +
-          std::string(VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME));
+          std::string(VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME) +
+          " (or its pipelineExecutableInfo feature)");
     }
     memory_ =
         std::make_unique<MemoryAllocator>(device_, physical_device_, options.memory_limit_bytes);

@@ -1,6 +1,7 @@
 #include "gestures.h"
 
 #include <algorithm>
+#include <utility>
 
 namespace fluidcast::server {
 namespace {
@@ -24,6 +25,7 @@ GestureChange Gestures::apply(const v1::PointerEvent& event) {
   switch (event.phase()) {
     case v1::PointerEvent::DOWN:
       pointers_[id] = at;
+      lifted_.reset();
       if (pointers_.size() > 1) multi_touch_ = true;
       change.drag_started = touches_fluid_ && pointers_.size() == 1;
       break;
@@ -49,19 +51,24 @@ GestureChange Gestures::apply(const v1::PointerEvent& event) {
       break;
     }
     case v1::PointerEvent::UP:
-    case v1::PointerEvent::CANCEL:
-      pointers_.erase(id);
+    case v1::PointerEvent::CANCEL: {
+      const auto found = pointers_.find(id);
+      if (found == pointers_.end()) break;
+      // Its last move's point: a cancel's own carries nothing the hand did.
+      if (dragging()) lifted_ = found->second;
+      pointers_.erase(found);
       if (pointers_.empty()) multi_touch_ = false;
       break;
+    }
     default:
       break;
   }
   return change;
 }
 
-std::optional<glm::vec2> Gestures::drag() const {
-  if (!touches_fluid_ || pointers_.size() != 1 || multi_touch_) return std::nullopt;
-  return pointers_.begin()->second;
+std::optional<glm::vec2> Gestures::drag() {
+  if (dragging()) return pointers_.begin()->second;
+  return std::exchange(lifted_, std::nullopt);
 }
 
 }  // namespace fluidcast::server

@@ -27,11 +27,16 @@ class Gestures {
   explicit Gestures(bool touches_fluid) : touches_fluid_(touches_fluid) {}
 
   GestureChange apply(const v1::PointerEvent& event);
-  // Where the dragging finger is; nothing when no single finger drags.
-  std::optional<glm::vec2> drag() const;
+  // Where the dragging finger is, asked once a tick: nothing when no single finger drags; once,
+  // after the dragging finger lifted, the last point it reached, so that the stretch it moved
+  // since the last tick is followed even when it lifted in the same tick.
+  std::optional<glm::vec2> drag();
 
  private:
+  bool dragging() const { return touches_fluid_ && pointers_.size() == 1 && !multi_touch_; }
+
   bool touches_fluid_;
+  std::optional<glm::vec2> lifted_;  // where a drag's finger lifted, until drag() gives it
   std::map<std::uint32_t, glm::vec2> pointers_;
   // Set once a second finger joined; the finger left behind does not drag until all are up.
   bool multi_touch_ = false;

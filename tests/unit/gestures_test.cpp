@@ -25,7 +25,40 @@ TEST(GesturesTest, OneFingerDragsWhereItIs) {
   EXPECT_FLOAT_EQ(gestures.drag()->x, 0.3f);
   EXPECT_FLOAT_EQ(gestures.drag()->y, 0.5f);
   gestures.apply(pointer(3, v1::PointerEvent::UP, 0.3f, 0.5f));
+  ASSERT_TRUE(gestures.drag());  // once: where it lifted
   EXPECT_FALSE(gestures.drag());
+}
+
+// Moves and the lift between two ticks: the tick after them still gets the last point the finger
+// reached (before, the drag was over by then and its last stretch was never followed), once. A
+// cancel counts its finger's last move, not its own position.
+TEST(GesturesTest, AFingerLiftedBetweenTicksLeavesItsLastPointOnce) {
+  Gestures gestures(true);
+  gestures.apply(pointer(3, v1::PointerEvent::DOWN, 0.2f, 0.4f));
+  ASSERT_TRUE(gestures.drag());
+  gestures.apply(pointer(3, v1::PointerEvent::MOVE, 0.4f, 0.5f));
+  gestures.apply(pointer(3, v1::PointerEvent::MOVE, 0.6f, 0.7f));
+  gestures.apply(pointer(3, v1::PointerEvent::UP, 0.6f, 0.7f));
+  const auto last = gestures.drag();
+  ASSERT_TRUE(last);
+  EXPECT_FLOAT_EQ(last->x, 0.6f);
+  EXPECT_FLOAT_EQ(last->y, 0.7f);
+  EXPECT_FALSE(gestures.drag());
+
+  gestures.apply(pointer(4, v1::PointerEvent::DOWN, 0.1f, 0.1f));
+  gestures.apply(pointer(4, v1::PointerEvent::MOVE, 0.2f, 0.3f));
+  gestures.apply(pointer(4, v1::PointerEvent::CANCEL, 0.0f, 0.0f));
+  const auto cancelled = gestures.drag();
+  ASSERT_TRUE(cancelled);
+  EXPECT_FLOAT_EQ(cancelled->x, 0.2f);
+  EXPECT_FLOAT_EQ(cancelled->y, 0.3f);
+
+  // A new finger down before the tick: its drag, not the lifted one's point.
+  gestures.apply(pointer(5, v1::PointerEvent::DOWN, 0.5f, 0.5f));
+  gestures.apply(pointer(5, v1::PointerEvent::UP, 0.5f, 0.5f));
+  gestures.apply(pointer(6, v1::PointerEvent::DOWN, 0.9f, 0.9f));
+  ASSERT_TRUE(gestures.drag());
+  EXPECT_FLOAT_EQ(gestures.drag()->x, 0.9f);
 }
 
 TEST(GesturesTest, TwoFingersOrbitAndZoomAndTheOneLeftDoesNotDrag) {

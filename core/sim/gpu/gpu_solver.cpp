@@ -150,8 +150,8 @@ GpuSolver::Buffers GpuSolver::allocate(std::size_t capacity) {
       char ratio[16];
       std::snprintf(ratio, sizeof ratio, "%g", static_cast<double>(params().kernel_ratio));
       throw ParamError("{particles}: " + std::to_string(capacity) + " particles at kernel ratio " +
-                       ratio + " need neighbour lists of more entries than the GPU solver " +
-                       "indexes (2^31); at most " + std::to_string(particles_listable()) +
+                       ratio + " need neighbour lists longer than the GPU solver indexes (2^31 " +
+                       "groups of four entries); at most " + std::to_string(particles_listable()) +
                        " at this ratio");
     }
     throw ParamError("{particles}: " + std::to_string(capacity) + " particles need " +

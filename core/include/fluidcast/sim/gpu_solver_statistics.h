@@ -15,8 +15,9 @@ struct PassStatistics {
   std::vector<gpu::PipelineStatistic> statistics;
 };
 
-// Every pass of both solvers, compiled on `context`; an empty list for each unless the context
-// captures statistics (gpu::ContextOptions::pipeline_statistics).
+// Every pass of both solvers but the grid's sort (its count, prefix sum and scatter), compiled on
+// `context`; an empty list for each unless the context captures statistics
+// (gpu::ContextOptions::pipeline_statistics).
 std::vector<PassStatistics> gpu_solver_pipeline_statistics(gpu::Context& context);
 
 }  // namespace fluidcast::sim
