@@ -130,7 +130,7 @@ void Session::rebuild(SessionSetup setup) {
   }
   setup_ = setup;
   forget_costs();      // another count or solver: another cost
-  colliders_.clear();  // the fingers' spheres grow into the new fluid afresh
+  fingers_.clear();  // the fingers' spheres grow into the new fluid afresh
   for (auto& [id, viewer] : viewers_) viewer->look_at(solver_->tank());
 }
 
@@ -254,28 +254,11 @@ void Session::end_all(const Refusal& why) {
 float Session::collider_radius() const { return std::max(0.04f, 4.0f * solver_->scene().spacing); }
 
 void Session::move_colliders(double seconds, double elapsed) {
-  std::vector<sim::Collider> colliders;
-  std::map<std::uint32_t, HeldFinger> held;
+  std::vector<FingerStrokes::Finger> live;
   for (auto& [id, viewer] : viewers_) {
-    const auto target = viewer->drag_point();
-    const auto found = colliders_.find(id);
-    const bool held_before = found != colliders_.end();
-    std::optional<HeldFinger> finger;
-    if (target) {
-      finger = held_before && found->second.drag == target->drag
-                   ? std::move(found->second)
-                   : HeldFinger{sim::FingerCollider(target->point), target->drag, target->point};
-      finger->target = target->point;
-    } else if (held_before && !found->second.sphere.arrived()) {
-      finger = std::move(found->second);
-    }
-    if (!finger || colliders.size() == sim::kMaxColliders) continue;
-    const auto motion = finger->sphere.follow(finger->target, seconds, elapsed);
-    if (const auto collider = motion.collider(collider_radius())) colliders.push_back(*collider);
-    held.emplace(id, std::move(*finger));
+    if (const auto target = viewer->drag_point()) live.push_back({id, target->drag, target->point});
   }
-  solver_->set_colliders(colliders);
-  colliders_ = std::move(held);
+  solver_->set_colliders(fingers_.move(live, seconds, elapsed, collider_radius()));
 }
 
 void Session::apply_rebuilds(Clock::time_point now) {
@@ -307,7 +290,7 @@ void Session::rebuild_or_reset() {
   } else {
     reset_wanted_ = false;
     solver_->reset();
-    colliders_.clear();
+    fingers_.clear();
   }
 }
 

@@ -14,10 +14,10 @@
 
 #include "fluidcast/codec/jpeg_encoder_pool.h"
 #include "fluidcast/render/particle_source.h"
-#include "fluidcast/sim/finger_collider.h"
 #include "fluidcast/sim/fork_join_pool.h"
 #include "fluidcast/sim/gpu_step_batch.h"
 #include "fluidcast/sim/solver.h"
+#include "finger_strokes.h"
 #include "gpu_budget.h"
 #include "metrics.h"
 #include "server_limits.h"
@@ -141,8 +141,8 @@ class Session {
   // The fingers' spheres for a tick that simulates `seconds` of the `elapsed` wall seconds since
   // the last (sim::FingerCollider): each moves from where the fluid last had it towards its
   // finger, in simulated time never faster than the hand moved in wall time, and a lifted
-  // finger's on to where the finger was last. A fluid in slow motion sees the finger in slow
-  // motion too.
+  // finger's on to where the finger was last, beside a next stroke of the same viewer's
+  // (FingerStrokes). A fluid in slow motion sees the finger in slow motion too.
   void move_colliders(double seconds, double elapsed);
 
   std::string id_;
@@ -175,14 +175,7 @@ class Session {
   CostEstimate substep_cost_;     // ms of one substep (GPU time, or CPU time for a CPU solver)
   double measured_sim_ms_ = 0.0;  // the steps measured since the last frame was submitted
   SimSpeed speed_;
-  // Each dragging viewer's sphere, which of its drags it follows (another: a new sphere) and the
-  // finger's last point (where a lifted finger's sphere finishes its path).
-  struct HeldFinger {
-    sim::FingerCollider sphere;
-    std::uint64_t drag;
-    glm::vec3 target;
-  };
-  std::map<std::uint32_t, HeldFinger> colliders_;
+  FingerStrokes fingers_;  // the dragging viewers' spheres, and the strokes still finishing
   Clock::time_point last_input_ = Clock::now();
   glm::vec3 last_active_tilt_{0.0f, -1.0f, 0.0f};  // the last tilt that counted as input
 

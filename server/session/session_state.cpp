@@ -128,7 +128,7 @@ std::uint32_t Session::load(const v1::Snapshot& snapshot) {
                         "send fewer, or later");
   }
   forget_costs();  // another count: another cost
-  colliders_.clear();
+  fingers_.clear();
   solver_->set_time(snapshot.time());
   speed_.restart();  // the clock jumped: no speed is measured across it
   return static_cast<std::uint32_t>(particles.position.size());
