@@ -4,6 +4,7 @@
 // slow motion do. Pure: the session says where the fingers are and how far the fluid advanced.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -25,7 +26,8 @@ class FingerStrokes {
   // One tick that simulates `seconds` of the `elapsed` wall seconds since the last (as
   // FingerCollider::follow), the fingers on the fluid now being `live`. Returns the solver's
   // colliders, spheres of full radius `radius`: the live drags' first, then the finishing
-  // strokes', oldest first, at most sim::kMaxColliders; the spheres past that are dropped.
+  // strokes', the most recently lifted first, at most sim::kMaxColliders; the spheres past that
+  // (the longest finishing) are dropped.
   std::vector<sim::Collider> move(std::span<const Finger> live, double seconds, double elapsed,
                                   float radius);
   // A fluid rebuilt, reset or loaded: the spheres grow into it afresh.
@@ -39,7 +41,7 @@ class FingerStrokes {
     sim::FingerCollider sphere;
     glm::vec3 target;  // the finger's last point
   };
-  std::vector<Stroke> strokes_;  // live drags first, then the finishing, oldest first
+  std::vector<Stroke> strokes_;  // live drags first, then the finishing, most recently lifted first
 };
 
 }  // namespace fluidcast::server

@@ -29,7 +29,9 @@ class Gestures {
   GestureChange apply(const v1::PointerEvent& event);
   // Where the dragging finger is, asked once a tick: nothing when no single finger drags; once,
   // after the dragging finger lifted, the last point it reached, so that the stretch it moved
-  // since the last tick is followed even when it lifted in the same tick.
+  // since the last tick is followed even when it lifted in the same tick. A finger that comes
+  // down before that tick takes its place: the lifted one's last stretch is then not followed
+  // (its drag is over for DragProbe too).
   std::optional<glm::vec2> drag();
 
  private:

@@ -58,7 +58,7 @@ TEST(FingerStrokes, LiveDragsComeFirstUnderTheCap) {
   tick(strokes, fingers);
   tick(strokes, {});
   ASSERT_EQ(strokes.size(), sim::kMaxColliders);
-  // A seventeenth viewer puts a finger down: its sphere is kept, the oldest finishing one goes.
+  // A seventeenth viewer puts a finger down: its sphere is kept, one finishing stroke goes.
   tick(strokes, {{99, 1, glm::vec3(0.5f, 0.5f, 0.5f)}});
   const auto colliders = tick(strokes, {{99, 1, glm::vec3(0.5f, 0.5f, 0.5f)}});
   ASSERT_EQ(strokes.size(), sim::kMaxColliders);

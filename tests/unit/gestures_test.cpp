@@ -53,12 +53,20 @@ TEST(GesturesTest, AFingerLiftedBetweenTicksLeavesItsLastPointOnce) {
   EXPECT_FLOAT_EQ(cancelled->x, 0.2f);
   EXPECT_FLOAT_EQ(cancelled->y, 0.3f);
 
-  // A new finger down before the tick: its drag, not the lifted one's point.
+  // A new finger down before the tick: its drag, not the lifted one's point; and with a second
+  // finger down too, no drag at all (the lifted point would be taken for the new drag's).
   gestures.apply(pointer(5, v1::PointerEvent::DOWN, 0.5f, 0.5f));
   gestures.apply(pointer(5, v1::PointerEvent::UP, 0.5f, 0.5f));
   gestures.apply(pointer(6, v1::PointerEvent::DOWN, 0.9f, 0.9f));
   ASSERT_TRUE(gestures.drag());
   EXPECT_FLOAT_EQ(gestures.drag()->x, 0.9f);
+  gestures.apply(pointer(6, v1::PointerEvent::UP, 0.9f, 0.9f));
+  ASSERT_TRUE(gestures.drag());
+  gestures.apply(pointer(7, v1::PointerEvent::DOWN, 0.1f, 0.2f));
+  gestures.apply(pointer(7, v1::PointerEvent::UP, 0.1f, 0.2f));
+  gestures.apply(pointer(8, v1::PointerEvent::DOWN, 0.3f, 0.3f));
+  gestures.apply(pointer(9, v1::PointerEvent::DOWN, 0.7f, 0.7f));
+  EXPECT_FALSE(gestures.drag());
 }
 
 TEST(GesturesTest, TwoFingersOrbitAndZoomAndTheOneLeftDoesNotDrag) {
