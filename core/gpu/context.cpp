@@ -80,11 +80,13 @@ std::uint32_t timestamp_bits(VkPhysicalDevice device, std::uint32_t family) {
 
 DeviceInfo describe_device(VkPhysicalDevice device, std::uint32_t index) {
   VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+  VkPhysicalDeviceMaintenance3Properties maintenance{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES, &driver};
   VkPhysicalDeviceProperties2 properties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
   vkGetPhysicalDeviceProperties(device, &properties.properties);
   const bool has_driver_properties = properties.properties.apiVersion >= VK_API_VERSION_1_2;
   if (has_driver_properties) {
-    properties.pNext = &driver;
+    properties.pNext = &maintenance;
     vkGetPhysicalDeviceProperties2(device, &properties);
   }
   const auto& p = properties.properties;
@@ -93,6 +95,7 @@ DeviceInfo describe_device(VkPhysicalDevice device, std::uint32_t index) {
   info.name = p.deviceName;
   info.type = type_name(p.deviceType);
   info.api_version = version_string(p.apiVersion);
+  info.largest_allocation_bytes = maintenance.maxMemoryAllocationSize;
   info.driver = has_driver_properties ? std::string(driver.driverName) + " " + driver.driverInfo
                                       : "driver version " + std::to_string(p.driverVersion);
 
@@ -304,8 +307,8 @@ Context::Context(ContextOptions options) {
           std::string(VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME) +
           " (or its pipelineExecutableInfo feature)");
     }
-    memory_ =
-        std::make_unique<MemoryAllocator>(device_, physical_device_, options.memory_limit_bytes);
+    memory_ = std::make_unique<MemoryAllocator>(
+        device_, physical_device_, info_.largest_allocation_bytes, options.memory_limit_bytes);
     log("gpu: using device " + info_.describe() + (validation ? ", validation on" : ""));
   } catch (...) {
     release();
@@ -346,7 +349,8 @@ void Context::create_device(bool independent_blend, bool pipeline_statistics) {
       VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_EXECUTABLE_PROPERTIES_FEATURES_KHR};
   std::vector<const char*> extensions;
   if (pipeline_statistics &&
-      device_offers_extension(physical_device_, VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME)) {
+      device_offers_extension(physical_device_,
+                              VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME)) {
     VkPhysicalDeviceFeatures2 offered{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2,
                                       &executable_info};
     vkGetPhysicalDeviceFeatures2(physical_device_, &offered);

@@ -37,17 +37,12 @@ VkMemoryRequirements requirements_for(const VkMemoryRequirements& requirements, 
 }
 
 MemoryAllocator::MemoryAllocator(VkDevice device, VkPhysicalDevice physical_device,
-                                 VkDeviceSize limit)
-    : device_(device), limit_(limit) {
+                                 VkDeviceSize largest_allocation, VkDeviceSize limit)
+    : device_(device), limit_(limit), largest_allocation_(largest_allocation) {
   vkGetPhysicalDeviceMemoryProperties(physical_device, &properties_);
-  VkPhysicalDeviceMaintenance3Properties maintenance{
-      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
-  VkPhysicalDeviceProperties2 device_properties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2,
-                                                &maintenance};
-  vkGetPhysicalDeviceProperties2(physical_device, &device_properties);
-  granularity_ =
-      std::max<VkDeviceSize>(device_properties.properties.limits.bufferImageGranularity, 1);
-  largest_allocation_ = maintenance.maxMemoryAllocationSize;
+  VkPhysicalDeviceProperties device_properties;
+  vkGetPhysicalDeviceProperties(physical_device, &device_properties);
+  granularity_ = std::max<VkDeviceSize>(device_properties.limits.bufferImageGranularity, 1);
 }
 
 MemoryAllocator::~MemoryAllocator() = default;

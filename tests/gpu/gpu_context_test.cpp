@@ -149,6 +149,7 @@ TEST_F(GpuContextTest, MoreThanTheDeviceAllocatesInOnePieceIsOutOfMemory) {
   VkPhysicalDeviceProperties2 properties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2,
                                          &maintenance};
   vkGetPhysicalDeviceProperties2(context().physical_device(), &properties);
+  EXPECT_EQ(context().info().largest_allocation_bytes, maintenance.maxMemoryAllocationSize);
   VkMemoryRequirements requirements{};
   requirements.size = maintenance.maxMemoryAllocationSize + 1;
   requirements.alignment = 256;

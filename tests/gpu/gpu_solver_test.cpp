@@ -159,7 +159,39 @@ TEST_P(GpuSolverTest, TheNeighbourListsIndexBoundsTheParticlesThatFit) {
                                      terabyte);
   ASSERT_EQ(solver.fluid().max_neighbours, 537u);
   EXPECT_EQ(solver.particles_listable(), 15907286u);
-  EXPECT_EQ(solver.particles_that_fit(), 15907286u);
+  // A particle's lists take 135 × 16 bytes, and they are one buffer.
+  const std::uint64_t in_one_allocation = context().info().largest_allocation_bytes / 2160;
+  EXPECT_EQ(solver.particles_listed_in_one_allocation(), in_one_allocation);
+  EXPECT_EQ(solver.particles_that_fit(), std::min<std::uint64_t>(15907286u, in_one_allocation));
+}
+
+// Lists larger than the device allocates in one piece (lavapipe: 2 GiB, 994,205 particles at
+// ratio 4) are refused up front with that limit named, not by the allocator's out-of-memory.
+TEST_P(GpuSolverTest, ListsLargerThanOneAllocationAreRefusedUpFront) {
+  SolverParams params;
+  params.kernel_ratio = 4.0f;
+  SceneParams scene;
+  scene.kind = SceneKind::pool;
+  scene.particles = 1000;
+  const std::uint64_t terabyte = std::uint64_t{1} << 40;
+  const std::size_t most =
+      gpu_solver::GpuSolver(GetParam(), context(), build_scene(scene), params, nullptr, terabyte)
+          .particles_listed_in_one_allocation();
+  if (most >= 15907286u) GTEST_SKIP() << "this device allocates the lists to their index bound";
+  scene.particles = static_cast<int>(most + 1);
+  params.max_particles = scene.particles;
+  try {
+    gpu_solver::GpuSolver(GetParam(), context(), build_scene(scene), params, nullptr, terabyte);
+    ADD_FAILURE() << "no error";
+  } catch (const ParamError& e) {
+    std::printf("%s\n", e.what());
+    const std::string text = e.what();
+    EXPECT_NE(text.find("particles: " + std::to_string(most + 1) + " particles"),
+              std::string::npos);
+    EXPECT_NE(text.find("in one piece"), std::string::npos);
+    EXPECT_NE(text.find("at most " + std::to_string(most) + " particles at this ratio"),
+              std::string::npos);
+  }
 }
 
 // fluidcast-bench-gpu --pipeline-statistics: every pass listed, with what the driver says of its
@@ -181,11 +213,9 @@ TEST(GpuSolverPipelineStatistics, EveryPassIsListedWithWhatTheDriverSays) {
       EXPECT_FALSE(name.empty() || value.empty()) << pass.pass;
     }
   }
-  const bool said_so =
-      std::any_of(log.begin(), log.end(), [](const std::string& line) {
-        return line.find("does not offer VK_KHR_pipeline_executable_properties") !=
-               std::string::npos;
-      });
+  const bool said_so = std::any_of(log.begin(), log.end(), [](const std::string& line) {
+    return line.find("does not offer VK_KHR_pipeline_executable_properties") != std::string::npos;
+  });
   EXPECT_EQ(said_so, !context.pipeline_statistics_captured());
   EXPECT_TRUE(context.validation_errors().empty());
 }
@@ -235,23 +265,22 @@ TEST_F(GpuPbfTest, JacobiDampingWeighsTheIterationsAsOnTheCpu) {
 }
 
 // Each pass of a GPU substep, particle by particle: six steps of two substeps of a dam break from
-// rest in lockstep with the CPU solver, at every pass structure (PBF with one iteration, where the listing's λ and
-// the correction that sets the velocity are the whole solve, two, and four; PBF without vorticity
-// confinement, whose sums pass computes no ω and whose finish pass confines nothing, and without
-// XSPH either; PBF with strong confinement and no XSPH, where the confinement over the whole step
-// shows: confining over the last substep's length alone parted the run by 1.4 mm against 2 µm;
-// PBF with strong XSPH alone, where the GPU's c uncompounded parted it by 3.1 mm (the structures at
-// the default c by 0.7–1.3 mm); SPH),
-// then every particle's position against the CPU's. The sums pass runs only on a step's last
-// substep; on the others the last correction pass writes the state back, with no finish pass. Sums
-// in another order leave the last bits apart (the order within a grid cell follows atomics); six
-// steps from rest hardly amplify them. Measured on lavapipe (1000 particles, spacing 3.6 cm, the
-// fastest moved 6–7 cm): PBF 1.4–5.2 µm apart; SPH 1.5 mm, as the GPU's substeps are equal within
-// a step and the CPU's adapt. With one neighbour left out of the listing's sums the run parted by
-// 7.7–22 mm (PBF) and 39 mm (SPH) (at the solvers' own substeps), and with the finish pass taking
-// the sums pass's velocity where that pass had not run, by 37 mm (measured when only PBF without
-// vorticity or XSPH skipped the sums pass; every PBF structure skips it now).
-// Bounds: a hundredth of a spacing for PBF, a fifth for SPH.
+// rest in lockstep with the CPU solver, at every pass structure (PBF with one iteration, where the
+// listing's λ and the correction that sets the velocity are the whole solve, two, and four; PBF
+// without vorticity confinement, whose sums pass computes no ω and whose finish pass confines
+// nothing, and without XSPH either; PBF with strong confinement and no XSPH, where the confinement
+// over the whole step shows: confining over the last substep's length alone parted the run by 1.4
+// mm against 2 µm; PBF with strong XSPH alone, where the GPU's c uncompounded parted it by 3.1 mm
+// (the structures at the default c by 0.7–1.3 mm); SPH), then every particle's position against the
+// CPU's. The sums pass runs only on a step's last substep; on the others the last correction pass
+// writes the state back, with no finish pass. Sums in another order leave the last bits apart (the
+// order within a grid cell follows atomics); six steps from rest hardly amplify them. Measured on
+// lavapipe (1000 particles, spacing 3.6 cm, the fastest moved 6–7 cm): PBF 1.4–5.2 µm apart;
+// SPH 1.5 mm, as the GPU's substeps are equal within a step and the CPU's adapt. With one neighbour
+// left out of the listing's sums the run parted by 7.7–22 mm (PBF) and 39 mm (SPH) (at the solvers'
+// own substeps), and with the finish pass taking the sums pass's velocity where that pass had not
+// run, by 37 mm (measured when only PBF without vorticity or XSPH skipped the sums pass; every PBF
+// structure skips it now). Bounds: a hundredth of a spacing for PBF, a fifth for SPH.
 struct PassStructure {
   SolverKind kind;
   int iterations;

@@ -29,13 +29,17 @@ std::uint64_t list_elements(std::uint32_t max_neighbours) {
   return (std::uint64_t{max_neighbours} + kEntriesPerListElement - 1) / kEntriesPerListElement;
 }
 
+// A particle's share of the neighbour lists: the largest buffer there is a share of.
+std::uint64_t list_bytes_per_particle(std::uint32_t max_neighbours) {
+  return 4 * kEntriesPerListElement * list_elements(max_neighbours);
+}
+
 std::uint64_t bytes_per_particle(SolverKind kind, std::uint32_t max_neighbours) {
   // position, velocity, id, their sorted copies, and the density ratio for the renderer
   constexpr std::uint64_t state = 2 * (16 + 16 + 4) + 4;
   constexpr std::uint64_t pbf = 16 + 16 + 16 + 16;  // predicted, iterate, iterate with λ, ω
   constexpr std::uint64_t sph = 8 + 16;             // density and pressure, acceleration
-  const std::uint64_t list =  // and its length
-      4 * (kEntriesPerListElement * list_elements(max_neighbours) + 1);
+  const std::uint64_t list = list_bytes_per_particle(max_neighbours) + 4;  // and its length
   return state + (kind == SolverKind::pbf ? pbf : sph) + list +
          GpuNeighbourGrid::bytes_per_particle();
 }
@@ -65,10 +69,14 @@ GpuSolver::Pipelines::Pipelines(gpu::Context& c)
 std::vector<PassStatistics> GpuSolver::pipeline_statistics(gpu::Context& context) {
   const Pipelines p(context);
   const std::pair<const char*, const gpu::ComputePipeline*> passes[] = {
-      {"predict", &p.predict},       {"reorder", &p.reorder},
-      {"neighbours", &p.neighbours}, {"pbf_lambda", &p.pbf_lambda},
-      {"pbf_correct", &p.pbf_correct}, {"pbf_sums", &p.pbf_sums},
-      {"pbf_finish", &p.pbf_finish}, {"sph_force", &p.sph_force},
+      {"predict", &p.predict},
+      {"reorder", &p.reorder},
+      {"neighbours", &p.neighbours},
+      {"pbf_lambda", &p.pbf_lambda},
+      {"pbf_correct", &p.pbf_correct},
+      {"pbf_sums", &p.pbf_sums},
+      {"pbf_finish", &p.pbf_finish},
+      {"sph_force", &p.sph_force},
       {"sph_integrate", &p.sph_integrate}};
   std::vector<PassStatistics> statistics;
   for (const auto& [name, pipeline] : passes) statistics.push_back({name, pipeline->statistics()});
@@ -130,13 +138,19 @@ std::size_t GpuSolver::particles_listable() const {
   return kMostListElements / list_elements(fluid().max_neighbours);
 }
 
+std::size_t GpuSolver::particles_listed_in_one_allocation() const {
+  return context_->info().largest_allocation_bytes /
+         list_bytes_per_particle(fluid().max_neighbours);
+}
+
 std::size_t GpuSolver::particles_that_fit() const {
   const std::uint64_t grid_bytes = bytes_needed(0);
   const std::uint64_t in_memory =
       memory_budget_ > grid_bytes
           ? (memory_budget_ - grid_bytes) / bytes_per_particle(kind_, fluid().max_neighbours)
           : 0;
-  return std::min<std::uint64_t>(in_memory, particles_listable());
+  return std::min<std::uint64_t>(
+      {in_memory, particles_listable(), particles_listed_in_one_allocation()});
 }
 
 GpuSolver::Buffers GpuSolver::allocate(std::size_t capacity) {
@@ -146,13 +160,21 @@ GpuSolver::Buffers GpuSolver::allocate(std::size_t capacity) {
       std::snprintf(text, sizeof text, "%.1f MiB", static_cast<double>(bytes) / (1 << 20));
       return std::string(text);
     };
+    char ratio[16];
+    std::snprintf(ratio, sizeof ratio, "%g", static_cast<double>(params().kernel_ratio));
+    const std::string lists = "{particles}: " + std::to_string(capacity) +
+                              " particles at kernel ratio " + ratio + " need neighbour lists ";
     if (capacity > particles_listable()) {
-      char ratio[16];
-      std::snprintf(ratio, sizeof ratio, "%g", static_cast<double>(params().kernel_ratio));
-      throw ParamError("{particles}: " + std::to_string(capacity) + " particles at kernel ratio " +
-                       ratio + " need neighbour lists longer than the GPU solver indexes (2^31 " +
-                       "groups of four entries); at most " + std::to_string(particles_listable()) +
+      throw ParamError(lists + "longer than the GPU solver indexes (2^31 groups of four " +
+                       "entries); at most " + std::to_string(particles_listable()) +
                        " at this ratio");
+    }
+    if (capacity > particles_listed_in_one_allocation()) {
+      throw ParamError(
+          lists + "(" + std::to_string(list_bytes_per_particle(fluid().max_neighbours)) +
+          " bytes a particle) in one buffer, and " + context_->info().name + " allocates at most " +
+          mib(context_->info().largest_allocation_bytes) + " in one piece: at most " +
+          std::to_string(particles_listed_in_one_allocation()) + " particles at this ratio");
     }
     throw ParamError("{particles}: " + std::to_string(capacity) + " particles need " +
                      mib(bytes_needed(capacity)) + " of GPU memory, over the budget of " +
@@ -178,7 +200,7 @@ GpuSolver::Buffers GpuSolver::allocate(std::size_t capacity) {
   b.density = device(pbf ? 0 : 8);
   b.acceleration = device(pbf ? 0 : 16);
   b.density_ratio = device(4);
-  b.neighbours = device(4 * kEntriesPerListElement * list_elements(fluid().max_neighbours));
+  b.neighbours = device(list_bytes_per_particle(fluid().max_neighbours));
   b.neighbour_count = device(4);
   b.capacity = capacity;
   grid_.reserve(capacity);  // room for more than the particles held is harmless
@@ -484,8 +506,8 @@ int GpuSolver::advance(float seconds, int substeps) {
                     }});
   for (int s = 0; s < substeps; ++s) {
     const bool last = s + 1 == substeps;
-    const SimPass pass{params_buffer_.address(), dt, static_cast<float>(s + 1) * dt,
-                       last ? 1u : 0u, 1.0f, 0};
+    const SimPass pass{params_buffer_.address(), dt,   static_cast<float>(s + 1) * dt,
+                       last ? 1u : 0u,           1.0f, 0};
     if (pbf) {
       append_pbf_substep(passes, pass, last);
     } else {

@@ -49,12 +49,14 @@ class GpuSolver final : public Solver {
                            buffers_.density_ratio.address()};
   }
 
-  // GPU memory needed for `particles`, and how many fit: in the budget, and in the neighbour
-  // lists' index (particles_listable: 2^31 elements of four entries, 15.9 million particles at
-  // kernel ratio 4).
+  // GPU memory needed for `particles`, and how many fit: in the budget, in the neighbour lists'
+  // index (particles_listable: 2^31 elements of four entries, 15.9 million particles at kernel
+  // ratio 4), and in the one buffer that holds the lists, no larger than the device allocates in
+  // one piece (lavapipe: 2 GiB, 994 thousand particles at ratio 4).
   std::uint64_t bytes_needed(std::size_t particles) const;
   std::size_t particles_that_fit() const;
   std::size_t particles_listable() const;
+  std::size_t particles_listed_in_one_allocation() const;
 
   // gpu_solver_pipeline_statistics (gpu_solver_statistics.h).
   static std::vector<PassStatistics> pipeline_statistics(gpu::Context& context);

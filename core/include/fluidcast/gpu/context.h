@@ -35,6 +35,8 @@ struct DeviceInfo {
   std::string api_version;
   std::string driver;
   std::uint64_t device_local_bytes = 0;
+  // The most the device allocates in one piece (maxMemoryAllocationSize): the largest buffer.
+  std::uint64_t largest_allocation_bytes = 0;
   std::vector<std::string> rejected_because;  // empty when the device is usable
   std::string describe() const;               // one line
   // A GPU of any kind, not a driver that runs Vulkan on the CPU (lavapipe, SwiftShader).

@@ -64,8 +64,10 @@ class MemoryAllocator {
  public:
   static constexpr VkDeviceSize kBlockSize = VkDeviceSize{64} << 20;
 
-  // `limit`: the most bytes its blocks may hold in all (0: no limit but the device's).
-  MemoryAllocator(VkDevice device, VkPhysicalDevice physical_device, VkDeviceSize limit = 0);
+  // `largest_allocation`: the most the device allocates in one piece (DeviceInfo); `limit`: the
+  // most bytes its blocks may hold in all (0: no limit but the device's).
+  MemoryAllocator(VkDevice device, VkPhysicalDevice physical_device,
+                  VkDeviceSize largest_allocation, VkDeviceSize limit = 0);
   ~MemoryAllocator();
   MemoryAllocator(const MemoryAllocator&) = delete;
   MemoryAllocator& operator=(const MemoryAllocator&) = delete;
@@ -99,8 +101,8 @@ class MemoryAllocator {
   VkPhysicalDeviceMemoryProperties properties_{};
   VkDeviceSize granularity_ = 1;  // bufferImageGranularity
   VkDeviceSize limit_ = 0;
-  VkDeviceSize largest_allocation_ = 0;  // maxMemoryAllocationSize
-  VkDeviceSize block_bytes_ = 0;         // held in blocks now
+  VkDeviceSize largest_allocation_ = 0;
+  VkDeviceSize block_bytes_ = 0;  // held in blocks now
   mutable std::mutex mutex_;
   std::vector<Block> blocks_;
   std::uint64_t allocations_made_ = 0;
