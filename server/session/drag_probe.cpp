@@ -1,5 +1,9 @@
 #include "drag_probe.h"
 
+#include <utility>
+
+#include "fluidcast/sim/solver.h"
+
 namespace fluidcast::server {
 
 void DragProbe::start() {
@@ -8,18 +12,34 @@ void DragProbe::start() {
   ++drags_;
 }
 
-std::optional<DragProbe::DragPoint> DragProbe::point(std::optional<glm::vec2> finger,
+void DragProbe::lift(glm::vec2 finger, const render::OrbitCamera& camera, float aspect) {
+  if (const auto last = point(finger, camera, aspect)) {
+    if (lifted_.size() == sim::kMaxColliders) lifted_.erase(lifted_.begin());
+    lifted_.push_back(*last);
+  }
+  depth_.reset();
+}
+
+std::vector<DragProbe::DragPoint> DragProbe::points(std::optional<glm::vec2> finger,
+                                                    const render::OrbitCamera& camera,
+                                                    float aspect) {
+  std::vector<DragPoint> points = std::exchange(lifted_, {});
+  if (finger) {
+    if (const auto live = point(*finger, camera, aspect)) points.push_back(*live);
+  } else {
+    depth_.reset();
+  }
+  return points;
+}
+
+std::optional<DragProbe::DragPoint> DragProbe::point(glm::vec2 finger,
                                                      const render::OrbitCamera& camera,
                                                      float aspect) {
-  if (!finger) {
-    depth_.reset();
-    return std::nullopt;
-  }
   if (!depth_) {
     if (frames_ < kProbeFrames) return std::nullopt;  // the probe has not answered yet
     depth_ = camera.distance;
   }
-  return DragPoint{render::unproject(camera.view(), camera.projection(aspect), *finger, *depth_),
+  return DragPoint{render::unproject(camera.view(), camera.projection(aspect), finger, *depth_),
                    drags_};
 }
 

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <glm/glm.hpp>
 #include <optional>
+#include <vector>
 
 #include "fluidcast/render/camera.h"
 
@@ -27,14 +28,23 @@ class DragProbe {
 
   // A finger started a drag.
   void start();
-  // Where the drag holds the fluid now: `finger` is its point of the frame (nothing when no finger
-  // drags); nothing while the probe has not answered yet.
-  std::optional<DragPoint> point(std::optional<glm::vec2> finger, const render::OrbitCamera& camera,
-                                 float aspect);
+  // The drag's finger lifted at `finger` (its point of the frame): its last point is given by the
+  // next points(), beside a drag begun since, so that the stretch it moved since the last tick is
+  // followed (nothing when the probe had not answered yet, as for points()).
+  void lift(glm::vec2 finger, const render::OrbitCamera& camera, float aspect);
+  // Asked once a tick. The points of the drags that lifted since the last call (oldest first, the
+  // last sim::kMaxColliders at most), then where the live drag holds the fluid: `finger` is its
+  // point of the frame (nothing when no finger drags), and it has none while the probe has not
+  // answered yet.
+  std::vector<DragPoint> points(std::optional<glm::vec2> finger, const render::OrbitCamera& camera,
+                                float aspect);
   // A frame that probed came back: `hit` where it met the surface, if it did, seen by `camera`.
   void probed(std::optional<glm::vec3> hit, const render::OrbitCamera& camera);
 
  private:
+  std::optional<DragPoint> point(glm::vec2 finger, const render::OrbitCamera& camera, float aspect);
+
+  std::vector<DragPoint> lifted_;
   std::optional<float> depth_;
   int frames_ = 0;
   std::uint64_t drags_ = 0;

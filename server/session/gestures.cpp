@@ -1,7 +1,7 @@
 #include "gestures.h"
 
 #include <algorithm>
-#include <utility>
+#include <iterator>
 
 namespace fluidcast::server {
 namespace {
@@ -23,12 +23,14 @@ GestureChange Gestures::apply(const v1::PointerEvent& event) {
   const glm::vec2 at(event.x(), event.y());
   const std::uint32_t id = event.pointer_id();
   switch (event.phase()) {
-    case v1::PointerEvent::DOWN:
+    case v1::PointerEvent::DOWN: {
+      const std::optional<glm::vec2> dragged = drag();
       pointers_[id] = at;
-      lifted_.reset();
       if (pointers_.size() > 1) multi_touch_ = true;
       change.drag_started = touches_fluid_ && pointers_.size() == 1;
+      if (dragged && !dragging()) change.drag_ended_at = dragged;  // a second finger joined
       break;
+    }
     case v1::PointerEvent::MOVE: {
       const auto found = pointers_.find(id);
       if (found == pointers_.end()) break;  // a move of a pointer that never went down
@@ -54,8 +56,9 @@ GestureChange Gestures::apply(const v1::PointerEvent& event) {
     case v1::PointerEvent::CANCEL: {
       const auto found = pointers_.find(id);
       if (found == pointers_.end()) break;
-      // Its last move's point: a cancel's own carries nothing the hand did.
-      if (dragging()) lifted_ = found->second;
+      if (dragging()) {
+        change.drag_ended_at = event.phase() == v1::PointerEvent::UP ? at : found->second;
+      }
       pointers_.erase(found);
       if (pointers_.empty()) multi_touch_ = false;
       break;
@@ -66,9 +69,9 @@ GestureChange Gestures::apply(const v1::PointerEvent& event) {
   return change;
 }
 
-std::optional<glm::vec2> Gestures::drag() {
+std::optional<glm::vec2> Gestures::drag() const {
   if (dragging()) return pointers_.begin()->second;
-  return std::exchange(lifted_, std::nullopt);
+  return std::nullopt;
 }
 
 }  // namespace fluidcast::server

@@ -14,7 +14,11 @@ namespace fluidcast::server {
 
 struct GestureChange {
   bool drag_started = false;  // a single finger went down: grab the surface under it
-  float yaw_degrees = 0.0f;   // two fingers: add to the camera's yaw and pitch
+  // The drag ended (its finger lifted, or a second finger joined): where its finger was last (an
+  // UP's own point; a cancel's carries nothing the hand did, so the last move's), for the stretch
+  // since the last tick to be followed.
+  std::optional<glm::vec2> drag_ended_at;
+  float yaw_degrees = 0.0f;  // two fingers: add to the camera's yaw and pitch
   float pitch_degrees = 0.0f;
   float zoom = 1.0f;  // two fingers: multiply the camera's distance
 };
@@ -27,18 +31,13 @@ class Gestures {
   explicit Gestures(bool touches_fluid) : touches_fluid_(touches_fluid) {}
 
   GestureChange apply(const v1::PointerEvent& event);
-  // Where the dragging finger is, asked once a tick: nothing when no single finger drags; once,
-  // after the dragging finger lifted, the last point it reached, so that the stretch it moved
-  // since the last tick is followed even when it lifted in the same tick. A finger that comes
-  // down before that tick takes its place: the lifted one's last stretch is then not followed
-  // (its drag is over for DragProbe too).
-  std::optional<glm::vec2> drag();
+  // Where the dragging finger is: nothing when no single finger drags.
+  std::optional<glm::vec2> drag() const;
 
  private:
   bool dragging() const { return touches_fluid_ && pointers_.size() == 1 && !multi_touch_; }
 
   bool touches_fluid_;
-  std::optional<glm::vec2> lifted_;  // where a drag's finger lifted, until drag() gives it
   std::map<std::uint32_t, glm::vec2> pointers_;
   // Set once a second finger joined; the finger left behind does not drag until all are up.
   bool multi_touch_ = false;

@@ -129,7 +129,7 @@ void Session::rebuild(SessionSetup setup) {
     solver_ = std::move(solver);
   }
   setup_ = setup;
-  forget_costs();      // another count or solver: another cost
+  forget_costs();    // another count or solver: another cost
   fingers_.clear();  // the fingers' spheres grow into the new fluid afresh
   for (auto& [id, viewer] : viewers_) viewer->look_at(solver_->tank());
 }
@@ -256,7 +256,9 @@ float Session::collider_radius() const { return std::max(0.04f, 4.0f * solver_->
 void Session::move_colliders(double seconds, double elapsed) {
   std::vector<FingerStrokes::Finger> live;
   for (auto& [id, viewer] : viewers_) {
-    if (const auto target = viewer->drag_point()) live.push_back({id, target->drag, target->point});
+    for (const DragProbe::DragPoint& finger : viewer->drag_points()) {
+      live.push_back({id, finger.drag, finger.point});
+    }
   }
   solver_->set_colliders(fingers_.move(live, seconds, elapsed, collider_radius()));
 }

@@ -12,12 +12,12 @@
 #include <string>
 #include <vector>
 
+#include "finger_strokes.h"
 #include "fluidcast/codec/jpeg_encoder_pool.h"
 #include "fluidcast/render/particle_source.h"
 #include "fluidcast/sim/fork_join_pool.h"
 #include "fluidcast/sim/gpu_step_batch.h"
 #include "fluidcast/sim/solver.h"
-#include "finger_strokes.h"
 #include "gpu_budget.h"
 #include "metrics.h"
 #include "server_limits.h"

@@ -124,6 +124,7 @@ void Viewer::reset_view() {
 
 void Viewer::apply_pointer(const v1::PointerEvent& event) {
   const GestureChange change = gestures_.apply(event);
+  if (change.drag_ended_at) drag_.lift(*change.drag_ended_at, camera_, aspect());
   if (change.drag_started) drag_.start();
   camera_.yaw_degrees = std::remainder(camera_.yaw_degrees + change.yaw_degrees, 360.0f);
   camera_.pitch_degrees += change.pitch_degrees;
@@ -137,10 +138,10 @@ glm::vec3 Viewer::gravity_from_tilt(const v1::Tilt& tilt) const {
   return camera_to_world * glm::vec3(tilt.x(), tilt.y(), tilt.z());
 }
 
-std::optional<DragProbe::DragPoint> Viewer::drag_point() {
+std::vector<DragProbe::DragPoint> Viewer::drag_points() {
   const std::optional<glm::vec2> finger = gestures_.drag();
   renderer_->probe = finger;
-  return drag_.point(finger, camera_, float(render_width_) / float(render_height_));
+  return drag_.points(finger, camera_, aspect());
 }
 
 bool Viewer::due(Clock::time_point now) const {

@@ -67,10 +67,11 @@ class Viewer {
   // The camera back to where a new viewer's starts, the whole tank in view.
   void reset_view();
 
-  // Where the finger holds the fluid, in the scene, when a drag holds it (DragProbe): the session
-  // moves the finger's sphere there in simulated time. Also points the renderer's probe at the
-  // finger, for the frames that find the depth.
-  std::optional<DragProbe::DragPoint> drag_point();
+  // Where this viewer's fingers hold the fluid, in the scene (DragProbe::points: the drags that
+  // ended since the last tick, at their last point, then the live one): the session moves each
+  // finger's sphere there in simulated time. Asked once a tick; also points the renderer's probe
+  // at the live finger, for the frames that find the depth.
+  std::vector<DragProbe::DragPoint> drag_points();
 
   // A new frame size (asked for, or chosen by adaptation) takes a new renderer, made here at most
   // once per kResizeEvery, the newest size winning: a client that keeps resizing cannot keep the
@@ -135,6 +136,7 @@ class Viewer {
   const std::shared_ptr<std::atomic<int>>& encoding() const { return encoding_; }
 
  private:
+  float aspect() const { return float(render_width_) / float(render_height_); }
   // The size frames are to be rendered at; the first renderer is made at once, later ones by
   // settle_size().
   void aim_size(std::uint32_t width, std::uint32_t height);

@@ -1,5 +1,6 @@
 // The depth a drag holds the fluid at: the surface the probe found under the finger, else, after
-// DragProbe::kProbeFrames frames without one, the camera's target depth; each drag afresh.
+// DragProbe::kProbeFrames frames without one, the camera's target depth; each drag afresh; and a
+// lifted drag's last point at its own depth, beside the next drag's.
 #include "session/drag_probe.h"
 
 #include <gtest/gtest.h>
@@ -11,20 +12,29 @@ float depth_of(glm::vec3 point, const render::OrbitCamera& camera) {
   return -(camera.view() * glm::vec4(point, 1.0f)).z;
 }
 
+// The live drag's point, when the tick has only that.
+std::optional<DragProbe::DragPoint> live(DragProbe& drag, std::optional<glm::vec2> finger,
+                                         const render::OrbitCamera& camera) {
+  const std::vector<DragProbe::DragPoint> points = drag.points(finger, camera, 1.0f);
+  EXPECT_LE(points.size(), 1u);
+  if (points.empty()) return std::nullopt;
+  return points.back();
+}
+
 TEST(DragProbe, HoldsTheFluidAtTheSurfaceTheProbeFound) {
   render::OrbitCamera camera;
   DragProbe drag;
   drag.start();
   const glm::vec2 finger(0.5f, 0.5f);
-  EXPECT_FALSE(drag.point(finger, camera, 1.0f)) << "not before the probe answers";
+  EXPECT_FALSE(live(drag, finger, camera)) << "not before the probe answers";
   const glm::vec3 surface = camera.target + 0.3f * glm::normalize(camera.eye() - camera.target);
   drag.probed(surface, camera);
-  const auto held = drag.point(finger, camera, 1.0f);
+  const auto held = live(drag, finger, camera);
   ASSERT_TRUE(held);
   EXPECT_LT(glm::distance(held->point, surface), 1e-4f);
   EXPECT_EQ(held->drag, 1u);
   // The finger moves: the same depth, elsewhere.
-  const auto moved = drag.point(glm::vec2(0.7f, 0.4f), camera, 1.0f);
+  const auto moved = live(drag, glm::vec2(0.7f, 0.4f), camera);
   EXPECT_NEAR(depth_of(moved->point, camera), camera.distance - 0.3f, 1e-4f);
 }
 
@@ -33,10 +43,10 @@ TEST(DragProbe, WithoutASurfaceTheTargetDepthAfterAFewFrames) {
   DragProbe drag;
   drag.start();
   for (int k = 0; k < DragProbe::kProbeFrames; ++k) {
-    EXPECT_FALSE(drag.point(glm::vec2(0.5f), camera, 1.0f)) << k;
+    EXPECT_FALSE(live(drag, glm::vec2(0.5f), camera)) << k;
     drag.probed(std::nullopt, camera);
   }
-  const auto held = drag.point(glm::vec2(0.5f), camera, 1.0f);
+  const auto held = live(drag, glm::vec2(0.5f), camera);
   ASSERT_TRUE(held);
   EXPECT_NEAR(depth_of(held->point, camera), camera.distance, 1e-4f);
 }
@@ -46,12 +56,48 @@ TEST(DragProbe, EachDragStartsAfresh) {
   DragProbe drag;
   drag.start();
   drag.probed(camera.target, camera);
-  ASSERT_TRUE(drag.point(glm::vec2(0.5f), camera, 1.0f));
-  EXPECT_FALSE(drag.point(std::nullopt, camera, 1.0f)) << "the finger lifted";
+  ASSERT_TRUE(live(drag, glm::vec2(0.5f), camera));
+  EXPECT_FALSE(live(drag, std::nullopt, camera)) << "the finger lifted";
   drag.start();
-  EXPECT_FALSE(drag.point(glm::vec2(0.5f), camera, 1.0f)) << "a new drag waits for its probe";
+  EXPECT_FALSE(live(drag, glm::vec2(0.5f), camera)) << "a new drag waits for its probe";
   drag.probed(camera.target, camera);
-  EXPECT_EQ(drag.point(glm::vec2(0.5f), camera, 1.0f)->drag, 2u);
+  EXPECT_EQ(live(drag, glm::vec2(0.5f), camera)->drag, 2u);
+}
+
+// A finger lifted and the next came down before the tick: the tick has the lifted drag's last
+// point, at the depth that drag held (before, the new drag had taken its place and the stroke's
+// last stretch was never followed), then the new drag's once its probe answers.
+TEST(DragProbe, ALiftedDragsLastPointComesBesideTheNextDrag) {
+  render::OrbitCamera camera;
+  DragProbe drag;
+  drag.start();
+  const glm::vec3 surface = camera.target + 0.3f * glm::normalize(camera.eye() - camera.target);
+  drag.probed(surface, camera);
+  ASSERT_TRUE(live(drag, glm::vec2(0.5f), camera));
+  drag.lift(glm::vec2(0.8f, 0.6f), camera, 1.0f);
+  drag.start();
+  const std::vector<DragProbe::DragPoint> tick = drag.points(glm::vec2(0.2f), camera, 1.0f);
+  ASSERT_EQ(tick.size(), 1u) << "the new drag waits for its probe";
+  EXPECT_EQ(tick[0].drag, 1u);
+  EXPECT_NEAR(depth_of(tick[0].point, camera), camera.distance - 0.3f, 1e-4f);
+  const glm::vec3 lifted_at = render::unproject(camera.view(), camera.projection(1.0f),
+                                                glm::vec2(0.8f, 0.6f), camera.distance - 0.3f);
+  EXPECT_LT(glm::distance(tick[0].point, lifted_at), 1e-4f);
+  // Given once; the new drag holds the camera's target once its probe has found nothing.
+  for (int k = 0; k < DragProbe::kProbeFrames; ++k) drag.probed(std::nullopt, camera);
+  const auto next = live(drag, glm::vec2(0.2f), camera);
+  ASSERT_TRUE(next);
+  EXPECT_EQ(next->drag, 2u);
+  EXPECT_NEAR(depth_of(next->point, camera), camera.distance, 1e-4f);
+}
+
+// A drag lifted before its probe answered has no point to give, as it had none while it lasted.
+TEST(DragProbe, ADragLiftedBeforeItsProbeAnsweredGivesNothing) {
+  render::OrbitCamera camera;
+  DragProbe drag;
+  drag.start();
+  drag.lift(glm::vec2(0.5f), camera, 1.0f);
+  EXPECT_TRUE(drag.points(std::nullopt, camera, 1.0f).empty());
 }
 
 }  // namespace

@@ -1,8 +1,8 @@
 // Pointer events to gestures: one finger drags, two orbit and zoom, and a finger left behind
 // after two does not drag; a view-only viewer's one finger orbits.
-#include <gtest/gtest.h>
-
 #include "session/gestures.h"
+
+#include <gtest/gtest.h>
 
 namespace fluidcast::server {
 namespace {
@@ -24,48 +24,38 @@ TEST(GesturesTest, OneFingerDragsWhereItIs) {
   ASSERT_TRUE(gestures.drag());
   EXPECT_FLOAT_EQ(gestures.drag()->x, 0.3f);
   EXPECT_FLOAT_EQ(gestures.drag()->y, 0.5f);
-  gestures.apply(pointer(3, v1::PointerEvent::UP, 0.3f, 0.5f));
-  ASSERT_TRUE(gestures.drag());  // once: where it lifted
+  const GestureChange lift = gestures.apply(pointer(3, v1::PointerEvent::UP, 0.3f, 0.5f));
+  ASSERT_TRUE(lift.drag_ended_at);
   EXPECT_FALSE(gestures.drag());
 }
 
-// Moves and the lift between two ticks: the tick after them still gets the last point the finger
-// reached (before, the drag was over by then and its last stretch was never followed), once. A
-// cancel counts its finger's last move, not its own position.
-TEST(GesturesTest, AFingerLiftedBetweenTicksLeavesItsLastPointOnce) {
+// A drag ends where its finger lifted: an UP's own point (the hand may have moved since its last
+// move), a cancel's last move (its own point carries nothing the hand did), and where it was when
+// a second finger joined; the fingers that lift after that end no drag (none was on).
+TEST(GesturesTest, ADragEndsWhereItsFingerLifted) {
   Gestures gestures(true);
   gestures.apply(pointer(3, v1::PointerEvent::DOWN, 0.2f, 0.4f));
-  ASSERT_TRUE(gestures.drag());
   gestures.apply(pointer(3, v1::PointerEvent::MOVE, 0.4f, 0.5f));
-  gestures.apply(pointer(3, v1::PointerEvent::MOVE, 0.6f, 0.7f));
-  gestures.apply(pointer(3, v1::PointerEvent::UP, 0.6f, 0.7f));
-  const auto last = gestures.drag();
-  ASSERT_TRUE(last);
-  EXPECT_FLOAT_EQ(last->x, 0.6f);
-  EXPECT_FLOAT_EQ(last->y, 0.7f);
-  EXPECT_FALSE(gestures.drag());
+  const auto up = gestures.apply(pointer(3, v1::PointerEvent::UP, 0.6f, 0.7f)).drag_ended_at;
+  ASSERT_TRUE(up);
+  EXPECT_FLOAT_EQ(up->x, 0.6f);
+  EXPECT_FLOAT_EQ(up->y, 0.7f);
 
   gestures.apply(pointer(4, v1::PointerEvent::DOWN, 0.1f, 0.1f));
   gestures.apply(pointer(4, v1::PointerEvent::MOVE, 0.2f, 0.3f));
-  gestures.apply(pointer(4, v1::PointerEvent::CANCEL, 0.0f, 0.0f));
-  const auto cancelled = gestures.drag();
-  ASSERT_TRUE(cancelled);
-  EXPECT_FLOAT_EQ(cancelled->x, 0.2f);
-  EXPECT_FLOAT_EQ(cancelled->y, 0.3f);
+  const auto cancel =
+      gestures.apply(pointer(4, v1::PointerEvent::CANCEL, 0.0f, 0.0f)).drag_ended_at;
+  ASSERT_TRUE(cancel);
+  EXPECT_FLOAT_EQ(cancel->x, 0.2f);
+  EXPECT_FLOAT_EQ(cancel->y, 0.3f);
 
-  // A new finger down before the tick: its drag, not the lifted one's point; and with a second
-  // finger down too, no drag at all (the lifted point would be taken for the new drag's).
   gestures.apply(pointer(5, v1::PointerEvent::DOWN, 0.5f, 0.5f));
-  gestures.apply(pointer(5, v1::PointerEvent::UP, 0.5f, 0.5f));
-  gestures.apply(pointer(6, v1::PointerEvent::DOWN, 0.9f, 0.9f));
-  ASSERT_TRUE(gestures.drag());
-  EXPECT_FLOAT_EQ(gestures.drag()->x, 0.9f);
-  gestures.apply(pointer(6, v1::PointerEvent::UP, 0.9f, 0.9f));
-  ASSERT_TRUE(gestures.drag());
-  gestures.apply(pointer(7, v1::PointerEvent::DOWN, 0.1f, 0.2f));
-  gestures.apply(pointer(7, v1::PointerEvent::UP, 0.1f, 0.2f));
-  gestures.apply(pointer(8, v1::PointerEvent::DOWN, 0.3f, 0.3f));
-  gestures.apply(pointer(9, v1::PointerEvent::DOWN, 0.7f, 0.7f));
+  gestures.apply(pointer(5, v1::PointerEvent::MOVE, 0.55f, 0.5f));
+  const auto joined = gestures.apply(pointer(6, v1::PointerEvent::DOWN, 0.7f, 0.7f)).drag_ended_at;
+  ASSERT_TRUE(joined);
+  EXPECT_FLOAT_EQ(joined->x, 0.55f);
+  EXPECT_FALSE(gestures.apply(pointer(5, v1::PointerEvent::UP, 0.5f, 0.5f)).drag_ended_at);
+  EXPECT_FALSE(gestures.apply(pointer(6, v1::PointerEvent::UP, 0.7f, 0.7f)).drag_ended_at);
   EXPECT_FALSE(gestures.drag());
 }
 
