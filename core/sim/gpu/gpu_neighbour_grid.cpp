@@ -54,14 +54,23 @@ std::uint64_t GpuNeighbourGrid::bytes_for_cells(std::size_t cells) {
   return (cells + 1 + cells / (kScanBlock - 1) + 16) * sizeof(std::uint32_t);
 }
 
+GpuNeighbourGrid::Pipelines::Pipelines(gpu::Context& c)
+    : count(c, shaders::sim_grid_count_comp, sizeof(GridPass), kGroupSize),
+      scan(c, shaders::sim_grid_scan_comp, sizeof(ScanPass), kScanGroupSize),
+      scan_add(c, shaders::sim_grid_scan_add_comp, sizeof(ScanPass), kScanGroupSize),
+      scatter(c, shaders::sim_grid_scatter_comp, sizeof(GridPass), kGroupSize) {}
+
+std::vector<PassStatistics> GpuNeighbourGrid::pipeline_statistics(gpu::Context& context) {
+  const Pipelines p(context);
+  return {{"grid_count", p.count.statistics()},
+          {"grid_scan", p.scan.statistics()},
+          {"grid_scan_add", p.scan_add.statistics()},
+          {"grid_scatter", p.scatter.statistics()}};
+}
+
 GpuNeighbourGrid::GpuNeighbourGrid(gpu::Context& context, const GridGeometry& geometry,
                                    std::size_t capacity)
-    : context_(&context),
-      geometry_(geometry),
-      count_(context, shaders::sim_grid_count_comp, sizeof(GridPass), kGroupSize),
-      scan_(context, shaders::sim_grid_scan_comp, sizeof(ScanPass), kScanGroupSize),
-      scan_add_(context, shaders::sim_grid_scan_add_comp, sizeof(ScanPass), kScanGroupSize),
-      scatter_(context, shaders::sim_grid_scatter_comp, sizeof(GridPass), kGroupSize) {
+    : context_(&context), geometry_(geometry), pipelines_(context) {
   const auto cells = static_cast<std::uint32_t>(geometry.cell_count());
   cell_start_ = gpu::Buffer(context, (std::uint64_t{cells} + 1) * sizeof(std::uint32_t),
                             gpu::MemoryDomain::device);
@@ -102,14 +111,14 @@ void GpuNeighbourGrid::append_build(std::vector<GpuStepBatch::Pass>& passes, VkD
   append_count(passes, key, count, stage);
   append_scan(passes, stage);
   passes.push_back({stage, 0, [this, pass = grid_pass(*this, key, count)](VkCommandBuffer c) {
-                      scatter_.dispatch(c, pass, pass.particle_count);
+                      pipelines_.scatter.dispatch(c, pass, pass.particle_count);
                     }});
 }
 
 void GpuNeighbourGrid::append_count(std::vector<GpuStepBatch::Pass>& passes, VkDeviceAddress key,
                                     std::uint32_t count, int stage) const {
   passes.push_back({stage, 0, [this, pass = grid_pass(*this, key, count)](VkCommandBuffer c) {
-                      count_.dispatch(c, pass, pass.particle_count);
+                      pipelines_.count.dispatch(c, pass, pass.particle_count);
                     }});
 }
 
@@ -126,7 +135,7 @@ void GpuNeighbourGrid::append_scan(std::vector<GpuStepBatch::Pass>& passes, int 
     scan.count = level_counts_[k];
     scan.write_block_sums = k + 1 < levels ? 1 : 0;
     add([this, scan](VkCommandBuffer c) {
-      scan_.dispatch(c, scan, std::uint64_t{blocks(scan.count)} * kScanGroupSize);
+      pipelines_.scan.dispatch(c, scan, std::uint64_t{blocks(scan.count)} * kScanGroupSize);
     });
   }
   // Down again: add each block's scanned total to its elements.
@@ -135,7 +144,9 @@ void GpuNeighbourGrid::append_scan(std::vector<GpuStepBatch::Pass>& passes, int 
     scan_add.data = k == 0 ? cell_start_.address() : block_sums_[k - 1].address();
     scan_add.block_sums = block_sums_[k].address();
     scan_add.count = level_counts_[k];
-    add([this, scan_add](VkCommandBuffer c) { scan_add_.dispatch(c, scan_add, scan_add.count); });
+    add([this, scan_add](VkCommandBuffer c) {
+      pipelines_.scan_add.dispatch(c, scan_add, scan_add.count);
+    });
   }
 }
 

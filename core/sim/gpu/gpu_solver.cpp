@@ -78,7 +78,7 @@ std::vector<PassStatistics> GpuSolver::pipeline_statistics(gpu::Context& context
       {"pbf_finish", &p.pbf_finish},
       {"sph_force", &p.sph_force},
       {"sph_integrate", &p.sph_integrate}};
-  std::vector<PassStatistics> statistics;
+  std::vector<PassStatistics> statistics = GpuNeighbourGrid::pipeline_statistics(context);
   for (const auto& [name, pipeline] : passes) statistics.push_back({name, pipeline->statistics()});
   return statistics;
 }

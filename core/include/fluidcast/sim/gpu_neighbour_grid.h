@@ -11,6 +11,7 @@
 
 #include "fluidcast/gpu/buffer.h"
 #include "fluidcast/gpu/compute_pipeline.h"
+#include "fluidcast/sim/gpu_solver_statistics.h"
 #include "fluidcast/sim/gpu_step_batch.h"
 #include "fluidcast/sim/neighbour_grid.h"
 
@@ -31,6 +32,9 @@ class GpuNeighbourGrid {
   static std::uint64_t bytes_for_cells(std::size_t cells);
 
   GpuNeighbourGrid(gpu::Context& context, const GridGeometry& geometry, std::size_t capacity);
+
+  // What the driver says of the grid's passes (gpu_solver_pipeline_statistics).
+  static std::vector<PassStatistics> pipeline_statistics(gpu::Context& context);
 
   // Makes room for `capacity` particles (never shrinks); unchanged if it throws.
   void reserve(std::size_t capacity);
@@ -60,7 +64,11 @@ class GpuNeighbourGrid {
  private:
   gpu::Context* context_;
   GridGeometry geometry_;
-  gpu::ComputePipeline count_, scan_, scan_add_, scatter_;
+  struct Pipelines {
+    explicit Pipelines(gpu::Context& context);
+    gpu::ComputePipeline count, scan, scan_add, scatter;
+  };
+  Pipelines pipelines_;
   std::size_t capacity_ = 0;
   gpu::Buffer cell_of_, rank_, order_, sorted_cell_;
   gpu::Buffer cell_start_;

@@ -15,8 +15,9 @@ struct PassStatistics {
   std::vector<gpu::PipelineStatistic> statistics;
 };
 
-// Every pass of both solvers but the grid's sort (its count, prefix sum and scatter), compiled on
-// `context`; an empty list for each unless the context captures statistics
+// Every pass of the GPU neighbour grid (its count, prefix sum and scatter; the solvers fold the
+// count and the scatter into passes of their own on most substeps) and of both solvers, compiled
+// on `context`; an empty list for each unless the context captures statistics
 // (gpu::ContextOptions::pipeline_statistics).
 std::vector<PassStatistics> gpu_solver_pipeline_statistics(gpu::Context& context);
 
