@@ -92,7 +92,8 @@ std::vector<ScriptedEvent> default_gesture(double seconds) {
   for (double t = 0.2 + 1.0 / kMovesPerSecond; t < seconds - 0.2; t += 1.0 / kMovesPerSecond) {
     events.push_back(pointer_at(t, v1::PointerEvent::MOVE, x_at(t), 0.6f));
   }
-  events.push_back(pointer_at(std::max(0.3, seconds - 0.2), v1::PointerEvent::UP, 0.5f, 0.6f));
+  const double lift = std::max(0.3, seconds - 0.2);
+  events.push_back(pointer_at(lift, v1::PointerEvent::UP, x_at(lift), 0.6f));
   return events;
 }
 

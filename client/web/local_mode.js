@@ -317,6 +317,8 @@ class LocalMode {
     const up = (event) => {
       const pointer = this.pointers.get(event.pointerId);
       if (!pointer) return;
+      // An up's own point is where the finger left the glass; a cancel's is not the hand's.
+      if (event.type === 'pointerup' && this.pointers.size === 1) this.drag(pointer, where(event));
       this.fluid.tell('lift', { finger: pointer.id });
       this.pointers.delete(event.pointerId);
     };

@@ -20,12 +20,11 @@ void DragProbe::lift(glm::vec2 finger, const render::OrbitCamera& camera, float 
   depth_.reset();
 }
 
-std::vector<DragProbe::DragPoint> DragProbe::points(std::optional<glm::vec2> finger,
-                                                    const render::OrbitCamera& camera,
-                                                    float aspect) {
-  std::vector<DragPoint> points = std::exchange(lifted_, {});
+DragProbe::Points DragProbe::points(std::optional<glm::vec2> finger,
+                                    const render::OrbitCamera& camera, float aspect) {
+  Points points{std::exchange(lifted_, {}), std::nullopt};
   if (finger) {
-    if (const auto live = point(*finger, camera, aspect)) points.push_back(*live);
+    points.live = point(*finger, camera, aspect);
   } else {
     depth_.reset();
   }
@@ -43,8 +42,9 @@ std::optional<DragProbe::DragPoint> DragProbe::point(glm::vec2 finger,
                    drags_};
 }
 
-void DragProbe::probed(std::optional<glm::vec3> hit, const render::OrbitCamera& camera) {
-  if (depth_) return;
+void DragProbe::probed(std::uint64_t drag, std::optional<glm::vec3> hit,
+                       const render::OrbitCamera& camera) {
+  if (drag != drags_ || depth_) return;
   ++frames_;
   if (hit) depth_ = -(camera.view() * glm::vec4(*hit, 1.0f)).z;
 }

@@ -32,14 +32,18 @@ class DragProbe {
   // next points(), beside a drag begun since, so that the stretch it moved since the last tick is
   // followed (nothing when the probe had not answered yet, as for points()).
   void lift(glm::vec2 finger, const render::OrbitCamera& camera, float aspect);
-  // Asked once a tick. The points of the drags that lifted since the last call (oldest first, the
-  // last sim::kMaxColliders at most), then where the live drag holds the fluid: `finger` is its
-  // point of the frame (nothing when no finger drags), and it has none while the probe has not
-  // answered yet.
-  std::vector<DragPoint> points(std::optional<glm::vec2> finger, const render::OrbitCamera& camera,
-                                float aspect);
-  // A frame that probed came back: `hit` where it met the surface, if it did, seen by `camera`.
-  void probed(std::optional<glm::vec3> hit, const render::OrbitCamera& camera);
+  struct Points {
+    std::vector<DragPoint> ended;   // oldest first, the last sim::kMaxColliders at most
+    std::optional<DragPoint> live;  // none while the probe has not answered yet
+  };
+  // Asked once a tick: the last points of the drags that ended since the last call, and where the
+  // live drag holds the fluid; `finger` is its point of the frame (nothing when no finger drags).
+  Points points(std::optional<glm::vec2> finger, const render::OrbitCamera& camera, float aspect);
+  // The drag a frame probes for now (a frame's probe answers for the drag it was drawn for).
+  std::uint64_t drag() const { return drags_; }
+  // A frame that probed for `drag` came back: `hit` where it met the surface, if it did, seen by
+  // `camera`. A frame drawn for an earlier drag counts for nothing.
+  void probed(std::uint64_t drag, std::optional<glm::vec3> hit, const render::OrbitCamera& camera);
 
  private:
   std::optional<DragPoint> point(glm::vec2 finger, const render::OrbitCamera& camera, float aspect);

@@ -24,10 +24,11 @@ class FingerStrokes {
   };
 
   // One tick that simulates `seconds` of the `elapsed` wall seconds since the last (as
-  // FingerCollider::follow), the fingers on the fluid now being `live`. Returns the solver's
-  // colliders, spheres of full radius `radius`: the live drags' first, then the finishing
-  // strokes', the most recently lifted first, at most sim::kMaxColliders; the spheres past that
-  // (the longest finishing) are dropped.
+  // FingerCollider::follow), with the fingers' points this tick in `live`: the live drags' first,
+  // then the last points of drags that ended since the last tick (they finish from the next).
+  // Returns the solver's colliders, spheres of full radius `radius`, in that order, then the
+  // finishing strokes', the most recently lifted first, at most sim::kMaxColliders; the spheres
+  // past that (the longest finishing) are dropped.
   std::vector<sim::Collider> move(std::span<const Finger> live, double seconds, double elapsed,
                                   float radius);
   // A fluid rebuilt, reset or loaded: the spheres grow into it afresh.

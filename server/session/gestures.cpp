@@ -28,7 +28,8 @@ GestureChange Gestures::apply(const v1::PointerEvent& event) {
       pointers_[id] = at;
       if (pointers_.size() > 1) multi_touch_ = true;
       change.drag_started = touches_fluid_ && pointers_.size() == 1;
-      if (dragged && !dragging()) change.drag_ended_at = dragged;  // a second finger joined
+      // A second finger joined, or the dragging one came down again (its UP was lost).
+      if (dragged && (!dragging() || change.drag_started)) change.drag_ended_at = dragged;
       break;
     }
     case v1::PointerEvent::MOVE: {

@@ -254,12 +254,16 @@ void Session::end_all(const Refusal& why) {
 float Session::collider_radius() const { return std::max(0.04f, 4.0f * solver_->scene().spacing); }
 
 void Session::move_colliders(double seconds, double elapsed) {
-  std::vector<FingerStrokes::Finger> live;
+  // Live drags first: FingerStrokes keeps the first under the solver's cap.
+  std::vector<FingerStrokes::Finger> live, ended;
   for (auto& [id, viewer] : viewers_) {
-    for (const DragProbe::DragPoint& finger : viewer->drag_points()) {
-      live.push_back({id, finger.drag, finger.point});
+    const DragProbe::Points fingers = viewer->drag_points();
+    if (fingers.live) live.push_back({id, fingers.live->drag, fingers.live->point});
+    for (const DragProbe::DragPoint& finger : fingers.ended) {
+      ended.push_back({id, finger.drag, finger.point});
     }
   }
+  live.insert(live.end(), ended.begin(), ended.end());
   solver_->set_colliders(fingers_.move(live, seconds, elapsed, collider_radius()));
 }
 

@@ -138,7 +138,7 @@ glm::vec3 Viewer::gravity_from_tilt(const v1::Tilt& tilt) const {
   return camera_to_world * glm::vec3(tilt.x(), tilt.y(), tilt.z());
 }
 
-std::vector<DragProbe::DragPoint> Viewer::drag_points() {
+DragProbe::Points Viewer::drag_points() {
   const std::optional<glm::vec2> finger = gestures_.drag();
   renderer_->probe = finger;
   return drag_.points(finger, camera_, aspect());
@@ -172,6 +172,7 @@ void Viewer::submit(const render::ParticleView& particles, const sim::Box& tank,
     throw refusal_for_frames(e, render_width_, render_height_);
   }
   shows.renderer = std::string(render::renderer_name(kind));
+  if (renderer_->probe) shows.probed_drag = drag_.drag();
   shows.submitted = Clock::now();
   in_flight_.push_back(std::move(shows));
 }
@@ -180,7 +181,6 @@ bool Viewer::frame_finished() { return !in_flight_.empty() && renderer_->oldest_
 
 std::optional<Viewer::Finished> Viewer::take_finished(Clock::time_point now) {
   if (in_flight_.empty()) return std::nullopt;
-  const bool probed = renderer_->probe.has_value();
   codec::Image image = renderer_->take_oldest();
   const auto taken = Clock::now();
   const double queue_ms =
@@ -193,7 +193,9 @@ std::optional<Viewer::Finished> Viewer::take_finished(Clock::time_point now) {
   // stays) and, on some drivers, compiles its pipelines: not what its frames cost.
   if (renderer_warm_) frame_cost_.add(gpu_ms(finished));
   renderer_warm_ = true;
-  if (probed) drag_.probed(renderer_->last_probe_hit(), camera_);
+  if (finished.shows.probed_drag) {
+    drag_.probed(*finished.shows.probed_drag, renderer_->last_probe_hit(), camera_);
+  }
   return finished;
 }
 

@@ -71,7 +71,7 @@ class Viewer {
   // ended since the last tick, at their last point, then the live one): the session moves each
   // finger's sphere there in simulated time. Asked once a tick; also points the renderer's probe
   // at the live finger, for the frames that find the depth.
-  std::vector<DragProbe::DragPoint> drag_points();
+  DragProbe::Points drag_points();
 
   // A new frame size (asked for, or chosen by adaptation) takes a new renderer, made here at most
   // once per kResizeEvery, the newest size winning: a client that keeps resizing cannot keep the
@@ -99,6 +99,7 @@ class Viewer {
     std::string renderer;
     // Set where it was drawn while others watched: what its session's account paid for it.
     std::optional<FrameCharge> charge;
+    std::optional<std::uint64_t> probed_drag;  // the drag it read the surface back for, if any
   };
   struct Finished {
     codec::Image image;  // YCbCr 4:2:0 planes, ready for the JPEG encoder

@@ -12,13 +12,12 @@ float depth_of(glm::vec3 point, const render::OrbitCamera& camera) {
   return -(camera.view() * glm::vec4(point, 1.0f)).z;
 }
 
-// The live drag's point, when the tick has only that.
+// The live drag's point, when the tick has no ended drag.
 std::optional<DragProbe::DragPoint> live(DragProbe& drag, std::optional<glm::vec2> finger,
                                          const render::OrbitCamera& camera) {
-  const std::vector<DragProbe::DragPoint> points = drag.points(finger, camera, 1.0f);
-  EXPECT_LE(points.size(), 1u);
-  if (points.empty()) return std::nullopt;
-  return points.back();
+  const DragProbe::Points points = drag.points(finger, camera, 1.0f);
+  EXPECT_TRUE(points.ended.empty());
+  return points.live;
 }
 
 TEST(DragProbe, HoldsTheFluidAtTheSurfaceTheProbeFound) {
@@ -28,7 +27,7 @@ TEST(DragProbe, HoldsTheFluidAtTheSurfaceTheProbeFound) {
   const glm::vec2 finger(0.5f, 0.5f);
   EXPECT_FALSE(live(drag, finger, camera)) << "not before the probe answers";
   const glm::vec3 surface = camera.target + 0.3f * glm::normalize(camera.eye() - camera.target);
-  drag.probed(surface, camera);
+  drag.probed(drag.drag(), surface, camera);
   const auto held = live(drag, finger, camera);
   ASSERT_TRUE(held);
   EXPECT_LT(glm::distance(held->point, surface), 1e-4f);
@@ -44,7 +43,7 @@ TEST(DragProbe, WithoutASurfaceTheTargetDepthAfterAFewFrames) {
   drag.start();
   for (int k = 0; k < DragProbe::kProbeFrames; ++k) {
     EXPECT_FALSE(live(drag, glm::vec2(0.5f), camera)) << k;
-    drag.probed(std::nullopt, camera);
+    drag.probed(drag.drag(), std::nullopt, camera);
   }
   const auto held = live(drag, glm::vec2(0.5f), camera);
   ASSERT_TRUE(held);
@@ -55,12 +54,12 @@ TEST(DragProbe, EachDragStartsAfresh) {
   render::OrbitCamera camera;
   DragProbe drag;
   drag.start();
-  drag.probed(camera.target, camera);
+  drag.probed(drag.drag(), camera.target, camera);
   ASSERT_TRUE(live(drag, glm::vec2(0.5f), camera));
   EXPECT_FALSE(live(drag, std::nullopt, camera)) << "the finger lifted";
   drag.start();
   EXPECT_FALSE(live(drag, glm::vec2(0.5f), camera)) << "a new drag waits for its probe";
-  drag.probed(camera.target, camera);
+  drag.probed(drag.drag(), camera.target, camera);
   EXPECT_EQ(live(drag, glm::vec2(0.5f), camera)->drag, 2u);
 }
 
@@ -72,19 +71,20 @@ TEST(DragProbe, ALiftedDragsLastPointComesBesideTheNextDrag) {
   DragProbe drag;
   drag.start();
   const glm::vec3 surface = camera.target + 0.3f * glm::normalize(camera.eye() - camera.target);
-  drag.probed(surface, camera);
+  drag.probed(drag.drag(), surface, camera);
   ASSERT_TRUE(live(drag, glm::vec2(0.5f), camera));
   drag.lift(glm::vec2(0.8f, 0.6f), camera, 1.0f);
   drag.start();
-  const std::vector<DragProbe::DragPoint> tick = drag.points(glm::vec2(0.2f), camera, 1.0f);
-  ASSERT_EQ(tick.size(), 1u) << "the new drag waits for its probe";
-  EXPECT_EQ(tick[0].drag, 1u);
-  EXPECT_NEAR(depth_of(tick[0].point, camera), camera.distance - 0.3f, 1e-4f);
+  const DragProbe::Points tick = drag.points(glm::vec2(0.2f), camera, 1.0f);
+  EXPECT_FALSE(tick.live) << "the new drag waits for its probe";
+  ASSERT_EQ(tick.ended.size(), 1u);
+  EXPECT_EQ(tick.ended[0].drag, 1u);
+  EXPECT_NEAR(depth_of(tick.ended[0].point, camera), camera.distance - 0.3f, 1e-4f);
   const glm::vec3 lifted_at = render::unproject(camera.view(), camera.projection(1.0f),
                                                 glm::vec2(0.8f, 0.6f), camera.distance - 0.3f);
-  EXPECT_LT(glm::distance(tick[0].point, lifted_at), 1e-4f);
+  EXPECT_LT(glm::distance(tick.ended[0].point, lifted_at), 1e-4f);
   // Given once; the new drag holds the camera's target once its probe has found nothing.
-  for (int k = 0; k < DragProbe::kProbeFrames; ++k) drag.probed(std::nullopt, camera);
+  for (int k = 0; k < DragProbe::kProbeFrames; ++k) drag.probed(drag.drag(), std::nullopt, camera);
   const auto next = live(drag, glm::vec2(0.2f), camera);
   ASSERT_TRUE(next);
   EXPECT_EQ(next->drag, 2u);
@@ -97,7 +97,24 @@ TEST(DragProbe, ADragLiftedBeforeItsProbeAnsweredGivesNothing) {
   DragProbe drag;
   drag.start();
   drag.lift(glm::vec2(0.5f), camera, 1.0f);
-  EXPECT_TRUE(drag.points(std::nullopt, camera, 1.0f).empty());
+  EXPECT_TRUE(drag.points(std::nullopt, camera, 1.0f).ended.empty());
+}
+
+// A frame drawn for the drag before, back after the next began, answers nothing for the new one:
+// its surface was under the other finger.
+TEST(DragProbe, AFrameProbedForTheDragBeforeCountsForNothing) {
+  render::OrbitCamera camera;
+  DragProbe drag;
+  drag.start();
+  const std::uint64_t first = drag.drag();
+  drag.start();
+  const glm::vec3 elsewhere = camera.target + 0.3f * glm::normalize(camera.eye() - camera.target);
+  for (int k = 0; k < DragProbe::kProbeFrames; ++k) drag.probed(first, elsewhere, camera);
+  EXPECT_FALSE(live(drag, glm::vec2(0.5f), camera)) << "the new drag's probe has not answered";
+  drag.probed(drag.drag(), camera.target, camera);
+  const auto held = live(drag, glm::vec2(0.5f), camera);
+  ASSERT_TRUE(held);
+  EXPECT_NEAR(depth_of(held->point, camera), camera.distance, 1e-4f);
 }
 
 }  // namespace

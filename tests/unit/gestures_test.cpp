@@ -57,6 +57,13 @@ TEST(GesturesTest, ADragEndsWhereItsFingerLifted) {
   EXPECT_FALSE(gestures.apply(pointer(5, v1::PointerEvent::UP, 0.5f, 0.5f)).drag_ended_at);
   EXPECT_FALSE(gestures.apply(pointer(6, v1::PointerEvent::UP, 0.7f, 0.7f)).drag_ended_at);
   EXPECT_FALSE(gestures.drag());
+
+  // A finger that comes down again without its UP (lost): the drag before ends where it was.
+  gestures.apply(pointer(7, v1::PointerEvent::DOWN, 0.1f, 0.2f));
+  const GestureChange again = gestures.apply(pointer(7, v1::PointerEvent::DOWN, 0.8f, 0.9f));
+  EXPECT_TRUE(again.drag_started);
+  ASSERT_TRUE(again.drag_ended_at);
+  EXPECT_FLOAT_EQ(again.drag_ended_at->x, 0.1f);
 }
 
 TEST(GesturesTest, TwoFingersOrbitAndZoomAndTheOneLeftDoesNotDrag) {

@@ -15,10 +15,11 @@ struct PassStatistics {
   std::vector<gpu::PipelineStatistic> statistics;
 };
 
-// Every pass of the GPU neighbour grid (its count, prefix sum and scatter; the solvers fold the
-// count and the scatter into passes of their own on most substeps) and of both solvers, compiled
-// on `context`; an empty list for each unless the context captures statistics
-// (gpu::ContextOptions::pipeline_statistics).
+// Every pass of the GPU neighbour grid (its count, prefix sum and scatter) and of both solvers,
+// compiled on `context`; an empty list for each unless the context captures statistics
+// (gpu::ContextOptions::pipeline_statistics). PBF counts and scatters in passes of its own
+// (predict, reorder), SPH runs grid_count and scatters in reorder, and only the renderer's
+// anisotropy runs grid_scatter.
 std::vector<PassStatistics> gpu_solver_pipeline_statistics(gpu::Context& context);
 
 }  // namespace fluidcast::sim
