@@ -5,11 +5,11 @@
 
 namespace fluidcast::server {
 
-std::vector<sim::Collider> FingerStrokes::move(std::span<const Finger> live, double seconds,
+std::vector<sim::Collider> FingerStrokes::move(std::span<const Finger> fingers, double seconds,
                                                double elapsed, float radius) {
   std::vector<Stroke> kept;
   std::vector<bool> followed(strokes_.size(), false);
-  for (const Finger& finger : live) {
+  for (const Finger& finger : fingers) {
     const auto same = [&](const Stroke& s) {
       return s.viewer == finger.viewer && s.drag == finger.drag;
     };

@@ -24,12 +24,12 @@ class FingerStrokes {
   };
 
   // One tick that simulates `seconds` of the `elapsed` wall seconds since the last (as
-  // FingerCollider::follow), with the fingers' points this tick in `live`: the live drags' first,
-  // then the last points of drags that ended since the last tick (they finish from the next).
-  // Returns the solver's colliders, spheres of full radius `radius`, in that order, then the
+  // FingerCollider::follow), with the fingers' points this tick in `fingers`: the live drags'
+  // first, then the last points of drags that ended since the last tick (they finish from the
+  // next). Returns the solver's colliders, spheres of full radius `radius`, in that order, then the
   // finishing strokes', the most recently lifted first, at most sim::kMaxColliders; the spheres
   // past that (the longest finishing) are dropped.
-  std::vector<sim::Collider> move(std::span<const Finger> live, double seconds, double elapsed,
+  std::vector<sim::Collider> move(std::span<const Finger> fingers, double seconds, double elapsed,
                                   float radius);
   // A fluid rebuilt, reset or loaded: the spheres grow into it afresh.
   void clear() { strokes_.clear(); }

@@ -255,16 +255,16 @@ float Session::collider_radius() const { return std::max(0.04f, 4.0f * solver_->
 
 void Session::move_colliders(double seconds, double elapsed) {
   // Live drags first: FingerStrokes keeps the first under the solver's cap.
-  std::vector<FingerStrokes::Finger> live, ended;
+  std::vector<FingerStrokes::Finger> fingers, ended;
   for (auto& [id, viewer] : viewers_) {
-    const DragProbe::Points fingers = viewer->drag_points();
-    if (fingers.live) live.push_back({id, fingers.live->drag, fingers.live->point});
-    for (const DragProbe::DragPoint& finger : fingers.ended) {
+    const DragProbe::Points points = viewer->drag_points();
+    if (points.live) fingers.push_back({id, points.live->drag, points.live->point});
+    for (const DragProbe::DragPoint& finger : points.ended) {
       ended.push_back({id, finger.drag, finger.point});
     }
   }
-  live.insert(live.end(), ended.begin(), ended.end());
-  solver_->set_colliders(fingers_.move(live, seconds, elapsed, collider_radius()));
+  fingers.insert(fingers.end(), ended.begin(), ended.end());
+  solver_->set_colliders(fingers_.move(fingers, seconds, elapsed, collider_radius()));
 }
 
 void Session::apply_rebuilds(Clock::time_point now) {
