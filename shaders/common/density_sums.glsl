@@ -20,7 +20,7 @@ void lambda_sum_add(inout LambdaSum sum, vec3 r, float r2) {
   sum.sum_squares += dot(g, g);
 }
 
-// λ into iterate_lambda beside the position it was computed at, and ρ/ρ0 for the renderer.
+// λ into iterate_scalar beside the position it was computed at, and ρ/ρ0 for the renderer.
 void write_lambda(uint k, vec3 p, LambdaSum sum) {
   const vec4 wall = walls(p);
   const vec3 gradient_i = sum.gradient + P.inv_rest_density * wall.yzw;
@@ -29,7 +29,7 @@ void write_lambda(uint k, vec3 p, LambdaSum sum) {
   const float constraint = max(ratio - 1.0, 0.0);
   const float lambda = constraint == 0.0 ? 0.0
       : -constraint / (sum.sum_squares + dot(gradient_i, gradient_i) + P.relaxation_epsilon);
-  P.iterate_lambda.v[k] = vec4(p, lambda);
+  P.iterate_scalar.v[k] = vec4(p, lambda);
 }
 
 // SPH: density (Σ W, walls as fluid at rest) and Tait pressure, clamped at 0; as

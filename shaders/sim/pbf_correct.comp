@@ -24,7 +24,7 @@ vec3 velocity_from(uint k, vec3 corrected) {
 
 // Particle k's position after this iteration's correction.
 vec3 correct(uint k) {
-  Vec4s x = P.iterate_lambda;
+  Vec4s x = P.iterate_scalar;
   const vec4 own = x.v[k];
   const vec3 p = own.xyz;
   const float lambda_i = own.w;

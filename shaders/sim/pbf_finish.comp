@@ -13,24 +13,23 @@ void main() {
   const bool in_range = k < P.particle_count;
   vec3 p = vec3(0.0), velocity = vec3(0.0);
   if (in_range) {
-    Vec4s x = P.iterate;
-    p = x.v[k].xyz;
+    p = P.iterate.v[k].xyz;
     // The sums pass wrote the smoothed velocity in place of the state's, which the reorder has
     // already read.
     velocity = P.velocity.v[k].xyz;
     if (P.vorticity_epsilon > 0.0) {
-      Vec4s vorticity = P.vorticity;
-      const vec4 omega = vorticity.v[k];
+      const vec4 omega = P.vorticity.v[k];
+      // Positions with |ω| in w, as the sums pass left them.
+      Vec4s x = P.iterate_scalar;
       vec3 eta = vec3(0.0);
       const uint count = neighbour_count(k);
       for (uint g = 0u; 4u * g < count; ++g) {
-        const uvec4 j = neighbour_group(k, g);
-        const vec4 others[4] = gather(x, j), other_omegas[4] = gather(vorticity, j);
+        const vec4 others[4] = gather(x, neighbour_group(k, g));
         [[unroll]] for (uint l = 0u; l < 4u; ++l) {
           if (4u * g + l == count) break;
           const vec3 r = p - others[l].xyz;
           const float r2 = dot(r, r);
-          if (r2 < K_h2) eta += (other_omegas[l].w - omega.w) * spiky_gradient(r, r2);
+          if (r2 < K_h2) eta += (others[l].w - omega.w) * spiky_gradient(r, r2);
         }
       }
       const float eta_length = length(eta);

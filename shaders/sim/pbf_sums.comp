@@ -40,7 +40,10 @@ void main() {
     }
     if (confine) {
       omega *= P.rest_volume;
-      P.vorticity.v[k] = vec4(omega, length(omega));
+      const float omega_length = length(omega);
+      P.vorticity.v[k] = vec4(omega, omega_length);
+      // The λ there are spent: the finish pass gathers |ω| beside the positions instead.
+      P.iterate_scalar.v[k] = vec4(p, omega_length);
     }
     P.velocity.v[k] = vec4(v + P.xsph * P.rest_volume * smoothing, 0.0);
     compression = max((P.mass * density + walls(p).x) * P.inv_rest_density - 1.0, 0.0);

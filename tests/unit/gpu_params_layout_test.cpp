@@ -65,7 +65,7 @@ TEST(GpuParamsLayout, SimParamsMatchesTheGlslBlock) {
                                                   FIELD(SimParams, sorted_id),
                                                   FIELD(SimParams, predicted),
                                                   FIELD(SimParams, iterate),
-                                                  FIELD(SimParams, iterate_lambda),
+                                                  FIELD(SimParams, iterate_scalar),
                                                   FIELD(SimParams, vorticity),
                                                   FIELD(SimParams, density),
                                                   FIELD(SimParams, acceleration),

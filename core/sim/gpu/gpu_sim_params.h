@@ -19,7 +19,7 @@ static_assert(kMaxColliders == 16, "MAX_COLLIDERS in sim_params.glsl");
 struct SimParams {
   VkDeviceAddress position, velocity, id;
   VkDeviceAddress sorted_position, sorted_velocity, sorted_id;
-  VkDeviceAddress predicted, iterate, iterate_lambda, vorticity;
+  VkDeviceAddress predicted, iterate, iterate_scalar, vorticity;
   VkDeviceAddress density, acceleration;
   VkDeviceAddress order, cell_start, sorted_cell, cell_of, rank, stats, density_ratio;
   VkDeviceAddress neighbours, neighbour_count;

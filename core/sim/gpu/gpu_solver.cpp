@@ -195,7 +195,7 @@ GpuSolver::Buffers GpuSolver::allocate(std::size_t capacity) {
   const bool pbf = kind_ == SolverKind::pbf;
   b.predicted = device(pbf ? 16 : 0);
   b.iterate = device(pbf ? 16 : 0);
-  b.iterate_lambda = device(pbf ? 16 : 0);
+  b.iterate_scalar = device(pbf ? 16 : 0);
   b.vorticity = device(pbf ? 16 : 0);
   b.density = device(pbf ? 0 : 8);
   b.acceleration = device(pbf ? 0 : 16);
@@ -386,7 +386,7 @@ void GpuSolver::set_addresses(SimParams& p) const {
   p.sorted_id = buffers_.sorted_id.address();
   p.predicted = buffers_.predicted.address();
   p.iterate = buffers_.iterate.address();
-  p.iterate_lambda = buffers_.iterate_lambda.address();
+  p.iterate_scalar = buffers_.iterate_scalar.address();
   p.vorticity = buffers_.vorticity.address();
   p.density = buffers_.density.address();
   p.acceleration = buffers_.acceleration.address();

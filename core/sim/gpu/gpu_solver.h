@@ -94,7 +94,7 @@ class GpuSolver final : public Solver {
 
   struct Buffers {
     gpu::Buffer position, velocity, id, sorted_position, sorted_velocity, sorted_id;
-    gpu::Buffer predicted, iterate, iterate_lambda, vorticity;  // PBF
+    gpu::Buffer predicted, iterate, iterate_scalar, vorticity;  // PBF
     gpu::Buffer density, acceleration;                          // SPH
     gpu::Buffer density_ratio;                                  // both, for the renderer
     gpu::Buffer neighbours, neighbour_count;                    // both: this substep's lists
