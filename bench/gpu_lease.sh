@@ -21,6 +21,13 @@
 #               came after the H200's lease; SERVER_FLAGS="--busy-share=0.5" keeps the solver
 #               to --sim-share, as issue 13's interactive target counts it)
 #       validate  the validation against Martin & Moyce and the resting pool at 1M
+#       lease   the whole plan in one device call, the parts most wanted first, each under a
+#               timeout of its own: tests, solver, the bricks branch's bench (when
+#               BIN/fluidcast-bench-gpu-bricks is there), the frame loop's cases 1 and 7 and the
+#               same kept to --sim-share, case 5 (32 viewers), burst, validate. W is packed into
+#               PACK (e.g. PACK=$OUT/all.tgz) after each part, so a call cut off at its limit
+#               still brings back every part before. About 7 minutes on an H200 (2026-11-28's
+#               times); a device start takes the rest of a 15-minute budget.
 #       burst   whether the 1M dam break still bursts (it did on an H100 on 2026-11-25, before
 #               the corrections' velocity cap and the rule's wait for fresh figures):
 #               fluidcast-sim to t = 0.5 s (its substeps, centre of mass height, largest speed
@@ -42,7 +49,7 @@ gpu_tests=(gpu_context_test gpu_neighbour_grid_test gpu_solver_test gpu_step_bat
   anisotropy_test default_size_test timestamps_test)
 programs=(fluidcast-server fluidcast-sim fluidcast-validate fluidcast-bench-gpu
   fluidcast-bench-render fluidcast-bench-load fluidcast-bench-soak "${gpu_tests[@]}")
-usage="usage: bench/gpu_lease.sh programs|tests|solver|render|loop|validate|burst OUT [--smoke]"
+usage="usage: bench/gpu_lease.sh programs|tests|solver|render|loop|validate|burst|lease OUT [--smoke]"
 part=${1:?$usage}
 if [[ "$part" == programs ]]; then
   echo "${programs[@]}"
@@ -126,8 +133,34 @@ case "$part" in
     sim "p$big-frames" --particles "$big" --render "$out/frames" --render-every 15 \
       --renderer points --camera 30,35,1.9 --width 960 --height 540
     ;;
+  lease)
+    pack=${PACK:?"PACK: the archive to pack $out into after each part, e.g. PACK=\$OUT/all.tgz"}
+    step() {  # SECONDS NAME COMMAND...: one part under its timeout, its output in NAME.log
+      local seconds=$1 name=$2
+      shift 2
+      echo "== $name: at most $seconds s, from $(date +%T)"
+      local status=0
+      timeout "$seconds" "$@" >"$out/$name.log" 2>&1 || status=$?
+      echo "$name: exit $status$([[ $status == 124 ]] && echo ' (cut off by its timeout)')"
+      tail -4 "$out/$name.log"
+      tar czf "$pack" -C "$out" .
+    }
+    self=bench/gpu_lease.sh
+    step 90 tests "$self" tests "$out/tests" "$smoke"
+    step 60 solver "$self" solver "$out/solver" "$smoke"
+    if [[ -x "$bin/fluidcast-bench-gpu-bricks" ]]; then
+      step 45 bricks "$bin/fluidcast-bench-gpu-bricks" --pipeline-statistics \
+        --benchmark_filter='Pbf/dam_break/particles:(64000|1000000)/iterations:4/dt_us:1000/|Sessions/batched/sessions:32/particles:64000/'
+    fi
+    step 110 loop-1-7 env CASES="1 7" "$self" loop "$out/loop-1-7" "$smoke"
+    step 110 loop-1-7-sim-share env CASES="1 7" SERVER_FLAGS="--busy-share=0.5" \
+      "$self" loop "$out/loop-1-7-sim-share" "$smoke"
+    step 60 loop-5 env CASES="5" "$self" loop "$out/loop-5" "$smoke"
+    step 100 burst "$self" burst "$out/burst" "$smoke"
+    step 90 validate "$self" validate "$out/validate" "$smoke"
+    ;;
   *)
-    echo "bench/gpu_lease.sh: PART must be tests, solver, render, loop, validate or burst, not '$part'" >&2
+    echo "bench/gpu_lease.sh: PART must be tests, solver, render, loop, validate, burst or lease, not '$part'" >&2
     exit 2
     ;;
 esac
