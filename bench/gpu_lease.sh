@@ -16,18 +16,20 @@
 #       render  fluidcast-bench-render: passes, encode from RGBA and from planes, roughness; and
 #               the dam break at 216k and 1M, t = 0.5 s, with spheres and ellipsoids, as PNG
 #               (for docs/images: ssfr-ellipsoids-216k.png, -1m.png)
+#       bricks  the bench of the branch gpu-cell-bricks, where BIN has it as
+#               fluidcast-bench-gpu-bricks: the 64k and 1M dam break at 4 iterations, 32 × 64k
 #       loop    the frame-loop table (bench/frame_loop_table.sh; on an H100 over 7 minutes: give
 #               CASES="1 2 3" and CASES="4 5 6" a call each; case 7, a finger in a 1M pool at rest,
 #               came after the H200's lease; SERVER_FLAGS="--busy-share=0.5" keeps the solver
 #               to --sim-share, as issue 13's interactive target counts it)
 #       validate  the validation against Martin & Moyce and the resting pool at 1M
-#       lease   the whole plan in one device call, the parts most wanted first, each under a
-#               timeout of its own: tests, solver, the bricks branch's bench (when
+#       lease   what the next lease needs most, in one device call, each part under a timeout
+#               of its own: tests, solver, the bricks branch's bench (when
 #               BIN/fluidcast-bench-gpu-bricks is there), the frame loop's cases 1 and 7 and the
-#               same kept to --sim-share, case 5 (32 viewers), burst, validate. W is packed into
-#               PACK (e.g. PACK=$OUT/all.tgz) after each part, so a call cut off at its limit
-#               still brings back every part before. About 7 minutes on an H200 (2026-11-28's
-#               times); a device start takes the rest of a 15-minute budget.
+#               same kept to --sim-share, case 5 (32 viewers), burst, validate (not render, nor
+#               the loop's other cases). W is packed into PACK (e.g. PACK=$OUT/all.tgz) after
+#               each part, so a call cut off at its limit still brings back every part before.
+#               At most 575 s, about 440 s at the H200's 2026-11-28 times.
 #       burst   whether the 1M dam break still bursts (it did on an H100 on 2026-11-25, before
 #               the corrections' velocity cap and the rule's wait for fresh figures):
 #               fluidcast-sim to t = 0.5 s (its substeps, centre of mass height, largest speed
@@ -49,7 +51,7 @@ gpu_tests=(gpu_context_test gpu_neighbour_grid_test gpu_solver_test gpu_step_bat
   anisotropy_test default_size_test timestamps_test)
 programs=(fluidcast-server fluidcast-sim fluidcast-validate fluidcast-bench-gpu
   fluidcast-bench-render fluidcast-bench-load fluidcast-bench-soak "${gpu_tests[@]}")
-usage="usage: bench/gpu_lease.sh programs|tests|solver|render|loop|validate|burst|lease OUT [--smoke]"
+usage="usage: bench/gpu_lease.sh programs|tests|solver|bricks|render|loop|validate|burst|lease OUT [--smoke]"
 part=${1:?$usage}
 if [[ "$part" == programs ]]; then
   echo "${programs[@]}"
@@ -99,6 +101,18 @@ case "$part" in
       done
     fi
     ;;
+  bricks)
+    # The branch gpu-cell-bricks's bench (bench/results/neighbour-groups-lavapipe-2026-11-29.md),
+    # built apart and bundled as fluidcast-bench-gpu-bricks: its passes, then the rows to compare.
+    "$bin/fluidcast-bench-gpu-bricks" --pipeline-statistics --benchmark_filter=none 2>&1 |
+      grep -E '^(pipeline|gpu:)' | tee "$out/pipelines.txt" || true
+    filter='Pbf/dam_break/particles:(64000|1000000)/iterations:4/dt_us:1000/|Sessions/batched/sessions:32/particles:64000/'
+    [[ "$smoke" == --smoke ]] && filter='Pbf/dam_break/particles:4000/iterations:4/'
+    "$bin/fluidcast-bench-gpu-bricks" "${smoke_flag[@]}" --benchmark_filter="$filter" \
+      --benchmark_out="$out/bench-gpu-bricks.json" --benchmark_out_format=json 2>&1 |
+      tee "$out/bench-gpu-bricks.log"
+    table "$out/bench-gpu-bricks.json"
+    ;;
   loop)
     BIN="$bin" bench/frame_loop_table.sh "$out/frame-loop.md" "$smoke" 2>&1 | tail -20
     ;;
@@ -115,8 +129,12 @@ case "$part" in
     sim() {  # NAME FLAGS...: one run to t = 0.5 s and its last line (substeps, centre of mass,
       local name=$1  # largest speed, spray)
       shift
-      timeout 90 "$bin/fluidcast-sim" --backend gpu --until "${until:-0.5}" "$@" >"$out/$name.log" 2>&1
-      echo "$name (exit $?): $(tail -1 "$out/$name.log")"
+      local status=0
+      # --foreground: within the process group of a timeout around the whole part (lease), which
+      # then stops this run too rather than leave it on the GPU beside the next part.
+      timeout --foreground 90 "$bin/fluidcast-sim" --backend gpu --until "${until:-0.5}" "$@" \
+        >"$out/$name.log" 2>&1 || status=$?
+      echo "$name (exit $status): $(tail -1 "$out/$name.log")"
     }
     counts=(216000 500000 1000000 2000000)
     big=1000000
@@ -140,27 +158,29 @@ case "$part" in
       shift 2
       echo "== $name: at most $seconds s, from $(date +%T)"
       local status=0
-      timeout "$seconds" "$@" >"$out/$name.log" 2>&1 || status=$?
+      timeout -k 5 "$seconds" "$@" >"$out/$name.log" 2>&1 || status=$?
       echo "$name: exit $status$([[ $status == 124 ]] && echo ' (cut off by its timeout)')"
       tail -4 "$out/$name.log"
-      tar czf "$pack" -C "$out" .
+      # Whole or not at all: a call cut off while packing keeps the archive of the part before.
+      tar czf "$pack.partial" -C "$out" . && mv "$pack.partial" "$pack" || echo "pack: failed"
     }
     self=bench/gpu_lease.sh
-    step 90 tests "$self" tests "$out/tests" "$smoke"
-    step 60 solver "$self" solver "$out/solver" "$smoke"
+    # The timeouts add up to 575 s, within a device call's 600; on an H200 the parts took about
+    # 440 s in all (tests 50, solver 12, the loop 39 a case, burst over 90, validate 75).
+    step 75 tests "$self" tests "$out/tests" "$smoke"
+    step 45 solver "$self" solver "$out/solver" "$smoke"
     if [[ -x "$bin/fluidcast-bench-gpu-bricks" ]]; then
-      step 45 bricks "$bin/fluidcast-bench-gpu-bricks" --pipeline-statistics \
-        --benchmark_filter='Pbf/dam_break/particles:(64000|1000000)/iterations:4/dt_us:1000/|Sessions/batched/sessions:32/particles:64000/'
+      step 35 bricks "$self" bricks "$out/bricks" "$smoke"
     fi
-    step 110 loop-1-7 env CASES="1 7" "$self" loop "$out/loop-1-7" "$smoke"
-    step 110 loop-1-7-sim-share env CASES="1 7" SERVER_FLAGS="--busy-share=0.5" \
+    step 95 loop-1-7 env -u SERVER_FLAGS CASES="1 7" "$self" loop "$out/loop-1-7" "$smoke"
+    step 95 loop-1-7-sim-share env CASES="1 7" SERVER_FLAGS="--busy-share=0.5" \
       "$self" loop "$out/loop-1-7-sim-share" "$smoke"
-    step 60 loop-5 env CASES="5" "$self" loop "$out/loop-5" "$smoke"
-    step 100 burst "$self" burst "$out/burst" "$smoke"
-    step 90 validate "$self" validate "$out/validate" "$smoke"
+    step 55 loop-5 env -u SERVER_FLAGS CASES="5" "$self" loop "$out/loop-5" "$smoke"
+    step 90 burst "$self" burst "$out/burst" "$smoke"
+    step 85 validate "$self" validate "$out/validate" "$smoke"
     ;;
   *)
-    echo "bench/gpu_lease.sh: PART must be tests, solver, render, loop, validate, burst or lease, not '$part'" >&2
+    echo "bench/gpu_lease.sh: PART must be tests, solver, bricks, render, loop, validate, burst or lease, not '$part'" >&2
     exit 2
     ;;
 esac

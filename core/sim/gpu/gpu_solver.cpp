@@ -37,7 +37,7 @@ std::uint64_t list_bytes_per_particle(std::uint32_t max_neighbours) {
 std::uint64_t bytes_per_particle(SolverKind kind, std::uint32_t max_neighbours) {
   // position, velocity, id, their sorted copies, and the density ratio for the renderer
   constexpr std::uint64_t state = 2 * (16 + 16 + 4) + 4;
-  constexpr std::uint64_t pbf = 16 + 16 + 16 + 16;  // predicted, iterate, iterate with λ, ω
+  constexpr std::uint64_t pbf = 16 + 16 + 16 + 16;  // predicted, iterate, iterate_scalar, ω
   constexpr std::uint64_t sph = 8 + 16;             // density and pressure, acceleration
   const std::uint64_t list = list_bytes_per_particle(max_neighbours) + 4;  // and its length
   return state + (kind == SolverKind::pbf ? pbf : sph) + list +
