@@ -16,8 +16,8 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Si
   Uints sorted_id;
   Vec4s predicted;     // PBF: predicted positions in state order (the sort key)
   Vec4s iterate;       // PBF: predicted positions in sorted order, corrected by each iteration
-  Vec4s iterate_scalar;  // PBF: positions with, in w, what the next pass gathers beside them (one
-                        // load a neighbour): λ for the correction, |ω| for the confinement
+  Vec4s iterate_scalar;  // PBF: positions with, in w, what the next pass gathers beside them
+                         //   (one load a neighbour): λ for the correction, |ω| for the confinement
   Vec4s vorticity;     // PBF: ω, and |ω| in w
   Vec2s density;       // SPH: density and pressure
   Vec4s acceleration;  // SPH
