@@ -267,6 +267,19 @@ TEST_F(GpuPbfTest, JacobiDampingWeighsTheIterationsAsOnTheCpu) {
   EXPECT_NEAR(kinetic_energy(Backend::gpu, 0.0f), cpu_in_full, 0.05 * by_the_damping);
 }
 
+// The largest distance between one particle's places in two sets of the same particles (matched
+// by id).
+double farthest_apart_by_id(const ParticleSet& a, const ParticleSet& b) {
+  EXPECT_EQ(a.size(), b.size());
+  std::vector<glm::vec3> position_in_a(a.size());
+  for (std::size_t i = 0; i < a.size(); ++i) position_in_a.at(a.id[i]) = a.position[i];
+  double farthest = 0.0;
+  for (std::size_t i = 0; i < b.size(); ++i) {
+    farthest = std::max<double>(farthest, glm::length(b.position[i] - position_in_a.at(b.id[i])));
+  }
+  return farthest;
+}
+
 // Each pass of a GPU substep, particle by particle: six steps of two substeps of a dam break from
 // rest in lockstep with the CPU solver, at every pass structure (PBF with one iteration, where the
 // listing's λ and the correction that sets the velocity are the whole solve, two, and four; PBF
@@ -284,19 +297,6 @@ TEST_F(GpuPbfTest, JacobiDampingWeighsTheIterationsAsOnTheCpu) {
 // own substeps), and with the finish pass taking the sums pass's velocity where that pass had not
 // run, by 37 mm (measured when only PBF without vorticity or XSPH skipped the sums pass; every PBF
 // structure skips it now). Bounds: a hundredth of a spacing for PBF, a fifth for SPH.
-// The largest distance between one particle's places in two sets of the same particles (matched
-// by id).
-double farthest_apart_by_id(const ParticleSet& a, const ParticleSet& b) {
-  EXPECT_EQ(a.size(), b.size());
-  std::vector<glm::vec3> position_in_a(a.size());
-  for (std::size_t i = 0; i < a.size(); ++i) position_in_a.at(a.id[i]) = a.position[i];
-  double farthest = 0.0;
-  for (std::size_t i = 0; i < b.size(); ++i) {
-    farthest = std::max<double>(farthest, glm::length(b.position[i] - position_in_a.at(b.id[i])));
-  }
-  return farthest;
-}
-
 struct PassStructure {
   SolverKind kind;
   int iterations;
