@@ -24,10 +24,11 @@ run: build
 test: build
 	ctest --preset $(PRESET) -j $(JOBS)
 
-# The unit and integration tests built with AddressSanitizer and UndefinedBehaviorSanitizer
-# (build/asan; CI runs it after `make test`). Left out: frame-rate comparisons, adaptive quality
-# (it reads how late acknowledgements come against the frames' pace; it failed once in five runs
-# on two cores), the load test and the bound on a server's memory (the sanitizers slow the server
+# The unit, integration and GPU tests built with AddressSanitizer and UndefinedBehaviorSanitizer
+# (build/asan; CI runs it after `make test`; the GPU tests on lavapipe, about 5 minutes of it:
+# what they check is our host code's lifetimes, Mesa is not instrumented). Left out: frame-rate
+# comparisons, adaptive quality (it reads how late acknowledgements come against the frames'
+# pace; it failed once in five runs on two cores), the load test and the bound on a server's memory (the sanitizers slow the server
 # several times and hold freed memory in quarantine, which is what those would measure), and the
 # descriptor-exhaustion tests: UBSan checks a virtual call's object by writing it to a pipe, which
 # it cannot open when the process has no descriptors left, and then reports every such call
@@ -35,7 +36,7 @@ test: build
 test-sanitized: deps
 	cmake --preset asan
 	cmake --build --preset asan -j $(JOBS)
-	ctest --preset asan -j $(JOBS) -L 'unit|integration' \
+	ctest --preset asan -j $(JOBS) -L 'unit|integration|gpu' \
 	  -E 'FrameLoopTest|AdaptiveQualityFalls|load_8_clients|DoesNotGrowTheServersMemory|WhenDescriptorsRunOut'
 
 # The server and its integration tests built with ThreadSanitizer (build/tsan; CI runs it after
