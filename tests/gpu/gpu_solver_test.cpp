@@ -68,23 +68,30 @@ TEST_P(GpuSolverTest, AgreesWithTheCpuSolverOnADamBreak) {
 
 // The density bound of the substep rule reads the compression the GPU adds up: with a tight
 // tolerance a settling pool's steps are cut into more substeps, as the CPU solver cuts them.
+// Measured on lavapipe: the same plan at each of the 20 steps (2, 2, then 1 five times, then 2);
+// with the walls' share left out of the GPU's compression, 1 instead of 2 at 14 steps. A plan
+// near a whole number may round either way: one step apart, and two over the run, are allowed.
 TEST_P(GpuSolverTest, TheDensityBoundCutsStepsAsOnTheCpu) {
   if (GetParam() != SolverKind::pbf) GTEST_SKIP() << "a PBF rule";
   SolverParams params;
   params.pbf_density_tolerance = 0.001f;
   auto cpu = make_solver(SolverKind::pbf, SceneKind::pool, 1000, params);
   auto gpu = make_solver(SolverKind::pbf, SceneKind::pool, 1000, params, Backend::gpu);
-  int most = 0;
+  int most = 0, all_cpu = 0, all_gpu = 0;
   for (int k = 0; k < 20; ++k) {
     const int planned_cpu = cpu->substeps_for(params.time_step);
     const int planned_gpu = gpu->substeps_for(params.time_step);
     EXPECT_NEAR(planned_gpu, planned_cpu, 1) << "step " << k;
     most = std::max(most, planned_gpu);
+    all_cpu += planned_cpu;
+    all_gpu += planned_gpu;
     cpu->step(params.time_step, planned_cpu);
     gpu->step(params.time_step, planned_gpu);
     gpu->synchronize();
   }
-  std::printf("most substeps planned: %d\n", most);
+  std::printf("substeps planned: %d (CPU) and %d (GPU), most in a step %d\n", all_cpu, all_gpu,
+              most);
+  EXPECT_NEAR(all_gpu, all_cpu, 2);
   EXPECT_GE(most, 2);
 }
 
