@@ -288,6 +288,16 @@ double farthest_apart_by_id(const ParticleSet& a, const ParticleSet& b) {
   return farthest;
 }
 
+// A finger pushed through the middle of `fluid` at 3 m/s, for both solvers: where it stands within
+// a step, and what it does to the particles it meets, show in lockstep.
+void push_a_finger_through(const ParticleSet& fluid, Solver& a, Solver& b) {
+  glm::vec3 middle(0.0f);
+  for (const glm::vec3& p : fluid.position) middle += p;
+  const Collider finger{middle / static_cast<float>(fluid.size()), 0.08f, {3.0f, 0.0f, 0.0f}};
+  a.set_colliders({&finger, 1});
+  b.set_colliders({&finger, 1});
+}
+
 // Each pass of a GPU substep, particle by particle: six steps of two substeps of a dam break from
 // rest in lockstep with the CPU solver, at every pass structure (PBF with one iteration, where the
 // listing's λ and the correction that sets the velocity are the whole solve, two, and four; PBF
@@ -340,11 +350,13 @@ TEST_P(GpuStepsTest, MoveEveryParticleAsTheCpuSolverDoes) {
 
 // PBF where its limits act, in lockstep (two substeps a step, as the CPU solver is told): the dam
 // break's column squeezed to 0.85 of its size toward the tank's corner (1.6 times rest density,
-// so that the corrections' velocity is capped at pbf_max_acceleration·Δt), and every tenth
-// particle thrown at 400 m/s along x (so that the prediction slows it to pbf_travel·h a substep).
-// Two steps, then every particle against the CPU's. Measured on lavapipe (1000 particles, four
-// runs): 2.5–2.7 µm apart; with the cap doubled 96 mm, without the prediction's speed limit 1.24 m
-// (the tests before this one caught neither). Bound: a hundredth of a spacing, as GpuStepsTest's.
+// so that the corrections' velocity is capped at pbf_max_acceleration·Δt), every tenth particle
+// thrown at 400 m/s along x (so that the prediction slows it to pbf_travel·h a substep), and a
+// finger pushed through. Two steps, then every particle against the CPU's. Measured on lavapipe
+// (1000 particles, spacing 4.6 cm): 30 µm apart (2.5–2.7 µm without the finger); with the cap
+// doubled 96 mm, without the prediction's speed limit 1.24 m, with the finger where it stands a
+// substep into the step on every substep 46 mm (no test caught these three before). Bound: a
+// hundredth of a spacing, as GpuStepsTest's.
 TEST_F(GpuPbfTest, MovesASqueezedThrownFluidAsTheCpuSolverDoesInLockstep) {
   const SolverParams params;
   auto cpu = make_solver(SolverKind::pbf, SceneKind::dam_break, 1000, params);
@@ -360,6 +372,7 @@ TEST_F(GpuPbfTest, MovesASqueezedThrownFluidAsTheCpuSolverDoesInLockstep) {
   }
   cpu->replace_particles(start.position, start.velocity);
   gpu->replace_particles(start.position, start.velocity);
+  push_a_finger_through(start, *cpu, *gpu);
   for (int step = 0; step < 2; ++step) {
     cpu->step(params.time_step, 2);
     gpu->step(params.time_step, 2);
@@ -381,7 +394,7 @@ TEST_F(GpuPbfTest, MovesASqueezedThrownFluidAsTheCpuSolverDoesInLockstep) {
 // lavapipe (1000 particles, 20 steps of 2 ms, the fastest moved 8.1 cm): 0.24 µm apart; 117 µm
 // with the viscous term weighted by the particle's own density instead of each neighbour's, which
 // GpuStepsTest's SPH case, parted 1.5 mm by its adaptive substeps, does not see. Bound: a
-// thousandth of a spacing (36 µm).
+// thousandth of a spacing (46 µm).
 class GpuSphTest : public fluidcast::testing::GpuTest {};
 
 TEST_F(GpuSphTest, MovesEveryParticleAsTheCpuSolverDoesInLockstep) {
@@ -410,6 +423,31 @@ TEST_F(GpuSphTest, MovesEveryParticleAsTheCpuSolverDoesInLockstep) {
   const double farthest_moved = farthest_apart_by_id(start, cpu_end);
   std::printf("SPH in lockstep: farthest apart %.3g m, farthest moved %.3g m\n", farthest_apart,
               farthest_moved);
+  EXPECT_LT(farthest_apart, 0.001 * cpu->fluid().spacing);
+}
+
+// SPH with a finger pushed through the dam break's column, in lockstep: steps of 0.5 ms, one
+// substep each (the finger's pushes shorten the CPU's substeps below 1 ms now and then, so two a
+// step would not stay equal), so that the walls' and the finger's hold on the velocity show.
+// Measured on lavapipe (20 steps, the farthest pushed 8.0 cm): 0.12 µm apart; with the finger
+// taking away half of a particle's speed toward it instead of all, 2.0 mm (no test caught that
+// before). Bound: a thousandth of a spacing, as the sheared fluid's.
+TEST_F(GpuSphTest, PushesAFingerThroughTheFluidAsTheCpuSolverDoesInLockstep) {
+  const SolverParams params;
+  auto cpu = make_solver(SolverKind::sph, SceneKind::dam_break, 1000, params);
+  auto gpu = make_solver(SolverKind::sph, SceneKind::dam_break, 1000, params, Backend::gpu);
+  const ParticleSet start = cpu->snapshot();
+  push_a_finger_through(start, *cpu, *gpu);
+  constexpr float kStep = 0.5e-3f;
+  for (int step = 0; step < 20; ++step) {
+    ASSERT_EQ(cpu->step(kStep, 1), 1) << "step " << step;
+    gpu->step(kStep, 1);
+    gpu->synchronize();
+  }
+  const ParticleSet cpu_end = cpu->snapshot();
+  const double farthest_apart = farthest_apart_by_id(cpu_end, gpu->snapshot());
+  std::printf("SPH with a finger, in lockstep: farthest apart %.3g m, farthest moved %.3g m\n",
+              farthest_apart, farthest_apart_by_id(start, cpu_end));
   EXPECT_LT(farthest_apart, 0.001 * cpu->fluid().spacing);
 }
 
