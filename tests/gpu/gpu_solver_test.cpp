@@ -35,7 +35,7 @@ class GpuSolverTest : public fluidcast::testing::GpuTest,
 // energy 1.4–3.7 % / 1.0–1.1 %, centre of mass 0.9–1.9 mm / 0.5–0.6 mm, front 0 / 0.2 mm, max
 // density error 0.004–0.010 / 0.006–0.007, mean density error 0.0001–0.0002 / 0.00013. The
 // tolerances are two to five times those, in units that mean something: a particle spacing for
-// positions (3.6 cm here).
+// positions (4.6 cm here).
 TEST_P(GpuSolverTest, AgreesWithTheCpuSolverOnADamBreak) {
   constexpr int kParticles = 1000;
   auto cpu = make_solver(GetParam(), SceneKind::dam_break, kParticles);
@@ -344,7 +344,7 @@ void push_a_finger_through(const ParticleSet& fluid, Solver& a, Solver& b) {
 // CPU's. The sums pass runs only on a step's last substep; on the others the last correction pass
 // writes the state back, with no finish pass. Sums in another order leave the last bits apart (the
 // order within a grid cell follows atomics); six steps from rest hardly amplify them. Measured on
-// lavapipe (1000 particles, spacing 3.6 cm, the fastest moved 6–7 cm): PBF 1.4–5.2 µm apart;
+// lavapipe (1000 particles, spacing 4.6 cm, the fastest moved 6–7 cm): PBF 1.4–5.2 µm apart;
 // SPH 1.5 mm, as the GPU's substeps are equal within a step and the CPU's adapt. With one neighbour
 // left out of the listing's sums the run parted by 7.7–22 mm (PBF) and 39 mm (SPH) (at the solvers'
 // own substeps), and with the finish pass taking the sums pass's velocity where that pass had not
