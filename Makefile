@@ -26,7 +26,8 @@ test: build
 
 # The unit, integration and GPU tests built with AddressSanitizer and UndefinedBehaviorSanitizer
 # (build/asan; CI runs it after `make test`; the GPU tests on lavapipe, about 5 minutes of it:
-# what they check is our host code's lifetimes, Mesa is not instrumented). Left out: frame-rate
+# our host code's use of memory around Vulkan, though not its leaks, which Mesa's own leaks would
+# drown: leak detection is off for them, and Mesa is not instrumented). Left out: frame-rate
 # comparisons, adaptive quality (it reads how late acknowledgements come against the frames'
 # pace; it failed once in five runs on two cores), the load test and the bound on a server's memory (the sanitizers slow the server
 # several times and hold freed memory in quarantine, which is what those would measure), and the

@@ -20,6 +20,7 @@ namespace fluidcast::sim {
 namespace {
 
 using testing::Backend;
+using testing::farthest_apart_by_id;
 using testing::make_solver;
 using testing::run_for;
 using testing::stats;
@@ -98,8 +99,9 @@ TEST_P(GpuSolverTest, TheDensityBoundCutsStepsAsOnTheCpu) {
 // SPH's substeps are planned from the largest speed and acceleration the GPU records, as the CPU
 // plans them from its own (sph_stable_substep). A dam break at the defaults, where the speed of
 // sound and the fluid's own speed set the plan, for 0.5 s; then one with a soft fluid (c = 5 m/s)
-// under 200 m/s² of gravity, where the acceleration sets it, for its first ten steps (the runs
-// part after that, as a splashing flow amplifies the last bits). Measured on lavapipe: the same
+// under 200 m/s² of gravity, where the acceleration sets it, for its first ten steps (the CPU
+// cuts each step as the state allows, the GPU into its plan's equal substeps, so the runs part,
+// and a splashing flow soon parts their plans too). Measured on lavapipe: the same
 // plan at every step of the first (344 substeps), within one of the second's (52 against 51);
 // with the GPU's speed not recorded 300 against 344, with its acceleration not recorded 35
 // against 51 (no test caught either before).
@@ -310,19 +312,6 @@ TEST_F(GpuPbfTest, JacobiDampingWeighsTheIterationsAsOnTheCpu) {
   EXPECT_NEAR(kinetic_energy(Backend::gpu, 0.0f), cpu_in_full, 0.05 * by_the_damping);
 }
 
-// The largest distance between one particle's places in two sets of the same particles (matched
-// by id).
-double farthest_apart_by_id(const ParticleSet& a, const ParticleSet& b) {
-  EXPECT_EQ(a.size(), b.size());
-  std::vector<glm::vec3> position_in_a(a.size());
-  for (std::size_t i = 0; i < a.size(); ++i) position_in_a.at(a.id[i]) = a.position[i];
-  double farthest = 0.0;
-  for (std::size_t i = 0; i < b.size(); ++i) {
-    farthest = std::max<double>(farthest, glm::length(b.position[i] - position_in_a.at(b.id[i])));
-  }
-  return farthest;
-}
-
 // A finger pushed through the middle of `fluid` at 3 m/s, for both solvers: where it stands within
 // a step, and what it does to the particles it meets, show in lockstep.
 void push_a_finger_through(const ParticleSet& fluid, Solver& a, Solver& b) {
@@ -422,14 +411,15 @@ TEST_F(GpuPbfTest, MovesASqueezedThrownFluidAsTheCpuSolverDoesInLockstep) {
 }
 
 // SPH in lockstep: steps short enough that the CPU solver, which sets each substep's length from
-// the state just computed, takes the two equal substeps the GPU takes (checked at every step), so
-// that the runs part only by the order of their sums. The fluid starts sheared, 2 m/s from the
-// floor to the column's top, with μ = 5 Pa·s: the viscous term moves it, and at the surface a
-// particle's density and its neighbours' differ, so that the term's weights show. Measured on
-// lavapipe (1000 particles, 20 steps of 2 ms, the fastest moved 8.1 cm): 0.24 µm apart; 117 µm
-// with the viscous term weighted by the particle's own density instead of each neighbour's, which
-// GpuStepsTest's SPH case, parted 1.5 mm by its adaptive substeps, does not see. Bound: a
-// thousandth of a spacing (46 µm).
+// the state just computed, takes two substeps a step as the GPU does (the count checked at every
+// step; they are the step's halves, as the GPU's, where the state allows half a step, which the
+// agreement below shows it did), so that the runs part only by the order of their sums. The fluid
+// starts sheared, 2 m/s from the floor to the column's top, with μ = 5 Pa·s: the viscous term moves
+// it, and at the surface a particle's density and its neighbours' differ, so that the term's
+// weights show. Measured on lavapipe (1000 particles, 20 steps of 2 ms, the fastest moved 8.1 cm):
+// 0.24 µm apart; 117 µm with the viscous term weighted by the particle's own density instead of
+// each neighbour's, which GpuStepsTest's SPH case, parted 1.5 mm by its adaptive substeps, does not
+// see. Bound: a thousandth of a spacing (46 µm).
 class GpuSphTest : public fluidcast::testing::GpuTest {};
 
 TEST_F(GpuSphTest, MovesEveryParticleAsTheCpuSolverDoesInLockstep) {

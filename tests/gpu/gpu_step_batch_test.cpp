@@ -7,15 +7,16 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <map>
 
+#include "../unit/solver_test_support.h"
 #include "fluidcast/sim/solver.h"
 #include "gpu_test_support.h"
 
 namespace fluidcast::sim {
 namespace {
 
-using testing::GpuTest;
+using fluidcast::testing::GpuTest;
+using testing::farthest_apart_by_id;
 
 struct Fluid {
   SolverKind kind;
@@ -93,18 +94,6 @@ TEST_F(GpuStepBatchTest, StepsNotYetFinishedCountForThePbfDensityRule) {
   solver->synchronize();
 }
 
-// The largest distance between the same particle in two fluids.
-float largest_difference(const ParticleSet& a, const ParticleSet& b) {
-  EXPECT_EQ(a.size(), b.size());
-  std::map<std::uint32_t, glm::vec3> by_id;
-  for (std::size_t i = 0; i < a.size(); ++i) by_id[a.id[i]] = a.position[i];
-  float largest = 0.0f;
-  for (std::size_t i = 0; i < b.size(); ++i) {
-    largest = std::max(largest, glm::length(b.position[i] - by_id.at(b.id[i])));
-  }
-  return largest;
-}
-
 TEST_F(GpuStepBatchTest, BatchedStepsGiveTheFluidOfStepsOneByOne) {
   GpuStepBatch batch(context());
   std::vector<std::unique_ptr<Solver>> alone, again, together;
@@ -123,7 +112,7 @@ TEST_F(GpuStepBatchTest, BatchedStepsGiveTheFluidOfStepsOneByOne) {
     SCOPED_TRACE(std::string(to_string(kFluids[s].kind)) + ", " +
                  std::to_string(kFluids[s].particles) + " particles");
     const ParticleSet a = alone[s]->snapshot();
-    const float batched = largest_difference(a, together[s]->snapshot());
+    const double batched = farthest_apart_by_id(a, together[s]->snapshot());
     // Within a cell the sort's order follows atomics, which a GPU may complete in any order, so
     // two runs of the same unbatched steps can round differently and drift apart: that drift is
     // this device's floor. Batched steps must agree with one-by-one ones to a hundredth of a
@@ -131,16 +120,16 @@ TEST_F(GpuStepBatchTest, BatchedStepsGiveTheFluidOfStepsOneByOne) {
     // up sessions' ranges or missed a barrier moves particles by spacings. (One pair of runs may
     // happen to round alike, floor 0, while the batched one drifted by 1.05e-3 spacings: lavapipe,
     // once in a full run.)
-    const float floor = largest_difference(a, again[s]->snapshot());
-    const float moved = largest_difference(alone[s]->scene().particles, a);
-    const float spacing = alone[s]->fluid().spacing;
+    const double floor = farthest_apart_by_id(a, again[s]->snapshot());
+    const double moved = farthest_apart_by_id(alone[s]->scene().particles, a);
+    const double spacing = alone[s]->fluid().spacing;
     std::printf(
         "largest difference %.3g m batched, %.3g m between two unbatched runs; largest "
         "motion %.3g m\n",
         batched, floor, moved);
-    EXPECT_LT(batched, std::max(1e-2f * spacing, 8.0f * floor));
-    EXPECT_LT(floor, 0.1f * spacing) << "two runs of the same steps drifted apart";
-    EXPECT_GT(moved, 2.0f * spacing);
+    EXPECT_LT(batched, std::max(1e-2 * spacing, 8.0 * floor));
+    EXPECT_LT(floor, 0.1 * spacing) << "two runs of the same steps drifted apart";
+    EXPECT_GT(moved, 2.0 * spacing);
   }
 }
 
@@ -246,13 +235,7 @@ TEST_F(GpuStepBatchTest, ASnapshotSubmitsTheStepsItMustSee) {
   for (int k = 0; k < kSteps; ++k) solver->step(solver->params().time_step, kSubsteps);
   const ParticleSet later = solver->snapshot();  // no batch.submit(): the snapshot does it
   EXPECT_FALSE(batch.holds(solver.get()));
-  std::map<std::uint32_t, glm::vec3> by_id;
-  for (std::size_t i = 0; i < start.size(); ++i) by_id[start.id[i]] = start.position[i];
-  float moved = 0.0f;
-  for (std::size_t i = 0; i < later.size(); ++i) {
-    moved = std::max(moved, glm::length(later.position[i] - by_id.at(later.id[i])));
-  }
-  EXPECT_GT(moved, solver->fluid().spacing);
+  EXPECT_GT(farthest_apart_by_id(start, later), solver->fluid().spacing);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <set>
 #include <string>
 
@@ -46,6 +47,19 @@ inline std::unique_ptr<Solver> make_solver(SolverKind kind, SceneKind scene, int
 inline void run_for(Solver& solver, double seconds) {
   const auto steps = static_cast<int>(std::lround(seconds / solver.params().time_step));
   for (int k = 0; k < steps; ++k) solver.step();
+}
+
+// The largest distance between one particle's places in two sets of the same particles (matched
+// by id).
+inline double farthest_apart_by_id(const ParticleSet& a, const ParticleSet& b) {
+  EXPECT_EQ(a.size(), b.size());
+  std::map<std::uint32_t, glm::vec3> position_in_a;
+  for (std::size_t i = 0; i < a.size(); ++i) position_in_a[a.id[i]] = a.position[i];
+  double farthest = 0.0;
+  for (std::size_t i = 0; i < b.size(); ++i) {
+    farthest = std::max<double>(farthest, glm::length(b.position[i] - position_in_a.at(b.id[i])));
+  }
+  return farthest;
 }
 
 inline FluidStatistics stats(const Solver& solver) {
