@@ -1,7 +1,10 @@
 // The native client with a window, under Xvfb: a streamed frame on screen, local mode on its own,
 // the local cap, and the handoff (the server dies mid-stream, the client carries the fluid on,
 // the server comes back and the client streams again); and the same handoff headless.
+#include <arpa/inet.h>
 #include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -9,7 +12,9 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <regex>
 #include <string>
 #include <thread>
@@ -63,12 +68,38 @@ int frames_in(const std::string& output) {
 
 const std::string kOut = "test-output/";
 
+// A loopback port no socket holds now, below the range the kernel hands out to outgoing
+// connections (ip_local_port_range): a server's own port 0 comes from that range, and while the
+// server was away another test's connection took it as its source port once, so the server could
+// not come back on it.
+int port_below_the_ephemeral_range() {
+  int lowest_ephemeral = 32768;
+  std::ifstream("/proc/sys/net/ipv4/ip_local_port_range") >> lowest_ephemeral;
+  std::mt19937 random(std::random_device{}());
+  std::uniform_int_distribution<int> pick(std::max(1024, lowest_ephemeral - 8000),
+                                          lowest_ephemeral - 1);
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    const int port = pick(random);
+    const int probe = socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_port = htons(static_cast<std::uint16_t>(port));
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    const bool free = bind(probe, reinterpret_cast<const sockaddr*>(&address), sizeof address) == 0;
+    close(probe);
+    if (free) return port;
+  }
+  throw std::runtime_error("no free loopback port below the ephemeral range");
+}
+
 // A server that goes away `after` and comes back on the same port `for_how_long` later (SIGTERM:
 // every stream ends with UNAVAILABLE).
 class Outage {
  public:
   Outage(std::chrono::seconds after, std::chrono::seconds for_how_long)
-      : server_(std::make_unique<testing::ServerProcess>()), address_(server_->grpc_address()) {
+      : server_(std::make_unique<testing::ServerProcess>(std::vector<std::string>{
+            "--grpc-port", std::to_string(port_below_the_ephemeral_range())})),
+        address_(server_->grpc_address()) {
     thread_ = std::thread([this, after, for_how_long] {
       std::this_thread::sleep_for(after);
       server_.reset();
@@ -157,8 +188,8 @@ TEST(WindowClientTest, HandsOffToLocalAndBack) {
   Outage outage(std::chrono::seconds(5), std::chrono::seconds(5));
   const ClientRun run = run_client("--server " + outage.address() +
                                    " --scene drop --particles 1500 --width 320 --height 240 "
-                                   "--seconds " + std::to_string(20 + kLongerUnderAsanSeconds) +
-                                   " --screenshot " +
+                                   "--seconds " +
+                                   std::to_string(20 + kLongerUnderAsanSeconds) + " --screenshot " +
                                    kOut + "window_handoff.png");
   std::printf("%s", run.output.c_str());
   ASSERT_EQ(run.status, 0);
