@@ -312,6 +312,57 @@ TEST_F(GpuPbfTest, JacobiDampingWeighsTheIterationsAsOnTheCpu) {
   EXPECT_NEAR(kinetic_energy(Backend::gpu, 0.0f), cpu_in_full, 0.05 * by_the_damping);
 }
 
+// PBF's substep rule counts a particle closing on a wall as far ahead as the figures that plan a
+// step may be old (wall_reach: the steps in flight, and the step itself), which the last pass of
+// each substep measures. The column, without gravity, is thrown at 6 m/s at either end wall from
+// so far that after one step its front would be three quarters of that reach from the wall: the
+// next plan takes the walls' bound, more than the travel bound. Measured on lavapipe: the front
+// closing at 6.65 m/s, 0.66 of the reach away, and 2 substeps planned; 1 with the shader's reach
+// halved on either side (the other wall tests' fluid comes within half of it, and did not see
+// that).
+TEST_F(GpuPbfTest, CountsAFluidClosingOnAWallFromAsFarAsItsFiguresMayBeOld) {
+  const SolverParams params;
+  const float step = params.time_step;
+  constexpr float kSpeed = 6.0f;
+  SceneParams scene;
+  scene.kind = SceneKind::dam_break;
+  scene.particles = 1000;
+  for (const float toward : {-1.0f, 1.0f}) {
+    SCOPED_TRACE(toward < 0.0f ? "toward the near wall" : "toward the far wall");
+    gpu_solver::GpuSolver gpu(SolverKind::pbf, context(), build_scene(scene), params);
+    gpu.set_gravity({0.0f, 0.0f, 0.0f});
+    const Box inner = gpu.inner_tank();
+    const float reach = gpu.wall_reach();
+    std::vector<glm::vec3> positions = gpu.snapshot().position;
+    float front = -toward * std::numeric_limits<float>::infinity();  // the end nearest the wall
+    for (const glm::vec3& p : positions) front = toward * std::max(toward * front, toward * p.x);
+    const float wall = toward < 0.0f ? inner.min.x : inner.max.x;
+    const float gap = 0.75f * kSpeed * reach + kSpeed * step;
+    for (glm::vec3& p : positions) p.x += wall - toward * gap - front;
+    gpu.replace_particles(positions,
+                          std::vector<glm::vec3>(positions.size(), {toward * kSpeed, 0.0f, 0.0f}));
+    gpu.step();
+    gpu.synchronize();
+    const ParticleSet after = gpu.snapshot();
+    float fastest = 0.0f, soonest = std::numeric_limits<float>::infinity();  // s to the wall
+    for (std::size_t i = 0; i < after.size(); ++i) {
+      fastest = std::max(fastest, glm::length(after.velocity[i]));
+      const float closing = toward * after.velocity[i].x;
+      if (closing > 0.0f)
+        soonest = std::min(soonest, toward * (wall - after.position[i].x) / closing);
+    }
+    ASSERT_LT(soonest, reach) << "the column is out of the reach after a step";
+    ASSERT_GT(soonest, 0.5f * reach) << "the column came within half the reach in a step";
+    const float approach = largest_wall_approach(after.position, after.velocity, inner, reach);
+    const PbfSubsteps rule(params, gpu.fluid().kernel_radius);
+    const int planned = gpu.substeps_for(step);
+    std::printf("closing on the wall at %.2f m/s, %.2f of the reach away: %d substeps planned\n",
+                approach, soonest / reach, planned);
+    EXPECT_GE(planned, rule.count(step, fastest, 0.0f, approach, 0.0f));
+    EXPECT_GT(planned, rule.count(step, fastest, 0.0f, 0.0f, 0.0f));
+  }
+}
+
 // A finger pushed through the middle of `fluid` at 3 m/s, for both solvers: where it stands within
 // a step, and what it does to the particles it meets, show in lockstep.
 void push_a_finger_through(const ParticleSet& fluid, Solver& a, Solver& b) {
@@ -320,6 +371,18 @@ void push_a_finger_through(const ParticleSet& fluid, Solver& a, Solver& b) {
   const Collider finger{middle / static_cast<float>(fluid.size()), 0.08f, {3.0f, 0.0f, 0.0f}};
   a.set_colliders({&finger, 1});
   b.set_colliders({&finger, 1});
+}
+
+// `steps` steps of `seconds` each, in `substeps` equal substeps, on both solvers: the GPU's
+// finished before the next (with steps in flight it would plan from older figures), and the
+// count the CPU took checked at every step (CPU SPH sets its substeps from the state), so that
+// the runs part only by the order of their sums.
+void step_in_lockstep(Solver& cpu, Solver& gpu, float seconds, int substeps, int steps) {
+  for (int step = 0; step < steps; ++step) {
+    ASSERT_EQ(cpu.step(seconds, substeps), substeps) << "step " << step;
+    gpu.step(seconds, substeps);
+    gpu.synchronize();
+  }
 }
 
 // Each pass of a GPU substep, particle by particle: six steps of two substeps of a dam break from
@@ -357,7 +420,7 @@ TEST_P(GpuStepsTest, MoveEveryParticleAsTheCpuSolverDoes) {
   auto cpu = make_solver(structure.kind, SceneKind::dam_break, 1000, params);
   auto gpu = make_solver(structure.kind, SceneKind::dam_break, 1000, params, Backend::gpu);
   // Two substeps a step, so that each step has one that is not its last (where the sums pass may
-  // not run).
+  // not run). Not step_in_lockstep: the CPU's SPH takes as many as the state asks.
   for (int step = 0; step < 6; ++step) {
     cpu->step(params.time_step, 2);
     gpu->step(params.time_step, 2);
@@ -397,11 +460,7 @@ TEST_F(GpuPbfTest, MovesASqueezedThrownFluidAsTheCpuSolverDoesInLockstep) {
   cpu->replace_particles(start.position, start.velocity);
   gpu->replace_particles(start.position, start.velocity);
   push_a_finger_through(start, *cpu, *gpu);
-  for (int step = 0; step < 2; ++step) {
-    cpu->step(params.time_step, 2);
-    gpu->step(params.time_step, 2);
-    gpu->synchronize();
-  }
+  step_in_lockstep(*cpu, *gpu, params.time_step, 2, 2);
   const ParticleSet cpu_end = cpu->snapshot();
   const double farthest_apart = farthest_apart_by_id(cpu_end, gpu->snapshot());
   std::printf(
@@ -437,12 +496,7 @@ TEST_F(GpuSphTest, MovesEveryParticleAsTheCpuSolverDoesInLockstep) {
   }
   cpu->replace_particles(start.position, start.velocity);
   gpu->replace_particles(start.position, start.velocity);
-  constexpr float kStep = 2.0e-3f;
-  for (int step = 0; step < 20; ++step) {
-    ASSERT_EQ(cpu->step(kStep, 2), 2) << "step " << step;
-    gpu->step(kStep, 2);
-    gpu->synchronize();
-  }
+  step_in_lockstep(*cpu, *gpu, 2.0e-3f, 2, 20);
   const ParticleSet cpu_end = cpu->snapshot();
   const double farthest_apart = farthest_apart_by_id(cpu_end, gpu->snapshot());
   const double farthest_moved = farthest_apart_by_id(start, cpu_end);
@@ -463,12 +517,7 @@ TEST_F(GpuSphTest, PushesAFingerThroughTheFluidAsTheCpuSolverDoesInLockstep) {
   auto gpu = make_solver(SolverKind::sph, SceneKind::dam_break, 1000, params, Backend::gpu);
   const ParticleSet start = cpu->snapshot();
   push_a_finger_through(start, *cpu, *gpu);
-  constexpr float kStep = 0.5e-3f;
-  for (int step = 0; step < 20; ++step) {
-    ASSERT_EQ(cpu->step(kStep, 1), 1) << "step " << step;
-    gpu->step(kStep, 1);
-    gpu->synchronize();
-  }
+  step_in_lockstep(*cpu, *gpu, 0.5e-3f, 1, 20);
   const ParticleSet cpu_end = cpu->snapshot();
   const double farthest_apart = farthest_apart_by_id(cpu_end, gpu->snapshot());
   std::printf("SPH with a finger, in lockstep: farthest apart %.3g m, farthest moved %.3g m\n",

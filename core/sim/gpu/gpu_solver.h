@@ -58,6 +58,10 @@ class GpuSolver final : public Solver {
   std::size_t particles_listable() const;
   std::size_t particles_listed_in_one_allocation() const;
 
+  // How far ahead, s, a particle closing on a wall counts for the substep rule: the figures that
+  // plan a step may be as many steps old as run at once, and the step itself comes after.
+  float wall_reach() const { return params().time_step * static_cast<float>(kStepsInFlight + 1); }
+
   // gpu_solver_pipeline_statistics (gpu_solver_statistics.h).
   static std::vector<PassStatistics> pipeline_statistics(gpu::Context& context);
 
@@ -108,9 +112,6 @@ class GpuSolver final : public Solver {
   Buffers allocate_for(std::size_t n);
   // The parameter block of a step of `substeps` substeps.
   SimParams step_params(int substeps) const;
-  // How far ahead, s, a particle closing on a wall counts for the substep rule: the figures that
-  // plan a step may be as many steps old as run at once, and the step itself comes after.
-  float wall_reach() const { return params().time_step * static_cast<float>(kStepsInFlight + 1); }
   void set_addresses(SimParams& p) const;  // every buffer the shaders read or write
   // Submits this solver's steps still waiting in the batch, so that what follows in the queue
   // (uploads, downloads, waits) comes after them.
