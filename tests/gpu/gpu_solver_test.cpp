@@ -363,6 +363,102 @@ TEST_F(GpuPbfTest, CountsAFluidClosingOnAWallFromAsFarAsItsFiguresMayBeOld) {
   }
 }
 
+// A ball of water, 20 cm across, loaded at rest without gravity in the dam break's tank, away from
+// every wall (so that only the travel bound plans until it nears the far wall, and the density
+// rule starts with no bound: nothing compresses the ball), then pulled along the tank toward the
+// far wall at 1000 m/s², 8.3 m/s faster each step. Its steps wait in `batch`, so that those not
+// yet submitted are certain not to have finished.
+constexpr float kPull = 1000.0f;
+
+std::unique_ptr<gpu_solver::GpuSolver> pulled_ball(gpu::Context& context, GpuStepBatch& batch) {
+  SceneParams scene;
+  scene.kind = SceneKind::dam_break;
+  scene.particles = 1000;
+  SolverParams params;
+  params.pbf_density_tolerance = 0.1f;
+  auto solver = std::make_unique<gpu_solver::GpuSolver>(SolverKind::pbf, context,
+                                                        build_scene(scene), params, &batch);
+  solver->set_gravity({0.0f, 0.0f, 0.0f});
+  const std::vector<glm::vec3> ball =
+      ball_of_particles({0.3f, 0.5f, 0.15f}, 0.1f, solver->fluid().spacing, solver->tank());
+  solver->replace_particles(ball, std::vector<glm::vec3>(ball.size(), glm::vec3(0.0f)));
+  solver->set_gravity({kPull, 0.0f, 0.0f});
+  return solver;
+}
+
+// The plan PBF's rule makes from the solver's fluid as it is now (its travel and wall bounds), with
+// `unseen` steps to come before the planned one, each of which may add gravity's Δt to a speed.
+// The snapshot submits the steps waiting in the batch.
+int plan_from_now(gpu_solver::GpuSolver& solver, int unseen) {
+  const ParticleSet now = solver.snapshot();
+  float fastest = 0.0f;
+  for (const glm::vec3& v : now.velocity) fastest = std::max(fastest, glm::length(v));
+  const float step = solver.params().time_step, g = glm::length(solver.gravity());
+  const float gained = static_cast<float>(unseen) * g * step;
+  const float approach =
+      largest_wall_approach(now.position, now.velocity, solver.inner_tank(), solver.wall_reach());
+  const PbfSubsteps rule(solver.params(), solver.fluid().kernel_radius);
+  return rule.count(step, fastest + gained, 0.0f, approach > 0.0f ? approach + gained : 0.0f, g);
+}
+
+// The travel and wall bounds count the steps that have not finished: each may add g·Δt to the
+// speeds the plan reads. One step seen (8.3 m/s), two waiting: the plan is the rule's for 25 m/s.
+// Measured on lavapipe: 4 substeps, against 2 for the speed seen alone; 2 with the speed's
+// allowance left out (no test caught that before).
+TEST_F(GpuPbfTest, StepsNotYetFinishedCountForTheTravelBound) {
+  GpuStepBatch batch(context());
+  const auto ball = pulled_ball(context(), batch);
+  const float step = ball->params().time_step;
+  ball->step(step, 1);
+  batch.submit();
+  ball->synchronize();
+  const int seen = ball->substeps_for(step);
+  const int expected = plan_from_now(*ball, 2);
+  ASSERT_GT(expected, plan_from_now(*ball, 0));
+  ball->step(step, seen);
+  ball->step(step, seen);
+  const int planned = ball->substeps_for(step);
+  std::printf("pulled ball: %d substeps seen, %d planned with two steps waiting\n", seen, planned);
+  EXPECT_EQ(planned, expected);
+  batch.submit();
+  ball->synchronize();
+}
+
+// Steps that finish together are counted in their order: the plan reads the newest one's
+// figures. Three steps of the pulled ball, finished together: the plan is the rule's for the
+// fluid at the third step's end, 25 m/s and within the far wall's reach. Measured on lavapipe:
+// 9 substeps; with the finished steps read newest first (the oldest's figures kept), 2 (no test
+// caught that before).
+TEST_F(GpuPbfTest, StepsFinishedTogetherLeaveTheNewestFigures) {
+  GpuStepBatch batch(context());
+  const auto ball = pulled_ball(context(), batch);
+  const float step = ball->params().time_step;
+  for (const int substeps : {1, 2, 3}) ball->step(step, substeps);
+  batch.submit();
+  ball->synchronize();
+  const int planned = ball->substeps_for(step);
+  std::printf("pulled ball, three steps finished together: %d substeps planned\n", planned);
+  EXPECT_EQ(planned, plan_from_now(*ball, 0));
+}
+
+// A fluid loaded while steps run plans from itself: the running steps' figures describe the
+// fluid it replaced. The pulled ball after two steps not yet read back, replaced by itself at
+// rest without gravity: one substep, as for any fluid at rest. Measured on lavapipe: 1; with the
+// replaced fluid's figures counted, 2 (no test caught that before).
+TEST_F(GpuPbfTest, AFluidLoadedWhileStepsRunPlansFromItself) {
+  GpuStepBatch batch(context());
+  const auto ball = pulled_ball(context(), batch);
+  const float step = ball->params().time_step;
+  const ParticleSet at_rest = ball->snapshot();
+  ball->step(step, 1);
+  ball->step(step, 2);
+  ASSERT_GT(plan_from_now(*ball, 0), 1);  // the fluid the running steps leave
+  ball->set_gravity({0.0f, 0.0f, 0.0f});
+  ball->replace_particles(at_rest.position, at_rest.velocity);
+  ball->synchronize();
+  EXPECT_EQ(ball->substeps_for(step), 1);
+}
+
 // A finger pushed through the middle of `fluid` at 3 m/s, for both solvers: where it stands within
 // a step, and what it does to the particles it meets, show in lockstep.
 void push_a_finger_through(const ParticleSet& fluid, Solver& a, Solver& b) {
