@@ -402,24 +402,31 @@ int plan_from_now(gpu_solver::GpuSolver& solver, int unseen) {
 }
 
 // The travel and wall bounds count the steps that have not finished: each may add g·Δt to the
-// speeds the plan reads. One step seen (8.3 m/s), two waiting: the plan is the rule's for 25 m/s.
-// Measured on lavapipe: 4 substeps, against 2 for the speed seen alone; 2 with the speed's
-// allowance left out (no test caught that before).
-TEST_F(GpuPbfTest, StepsNotYetFinishedCountForTheTravelBound) {
+// speeds the plan reads. Twice, with two steps waiting: first with one step seen (8.3 m/s, far
+// from the walls), where the plan is the travel bound's for 25 m/s; then with those two seen too
+// (25 m/s, within the far wall's reach), where it is the walls' bound's for an approach of
+// 42 m/s. Measured on lavapipe: 4 and 12 substeps, against 2 and 8 for the figures seen alone;
+// with the speed's allowance left out 2 at first, with the approach's 8 then (no test caught
+// either before).
+TEST_F(GpuPbfTest, StepsNotYetFinishedCountForTheTravelAndWallBounds) {
   GpuStepBatch batch(context());
   const auto ball = pulled_ball(context(), batch);
   const float step = ball->params().time_step;
   ball->step(step, 1);
-  batch.submit();
-  ball->synchronize();
-  const int seen = ball->substeps_for(step);
-  const int expected = plan_from_now(*ball, 2);
-  ASSERT_GT(expected, plan_from_now(*ball, 0));
-  ball->step(step, seen);
-  ball->step(step, seen);
-  const int planned = ball->substeps_for(step);
-  std::printf("pulled ball: %d substeps seen, %d planned with two steps waiting\n", seen, planned);
-  EXPECT_EQ(planned, expected);
+  for (const char* bound : {"travel", "walls"}) {
+    SCOPED_TRACE(bound);
+    batch.submit();
+    ball->synchronize();
+    const int seen = ball->substeps_for(step);
+    const int expected = plan_from_now(*ball, 2);
+    ASSERT_GT(expected, plan_from_now(*ball, 0));
+    ball->step(step, seen);
+    ball->step(step, seen);
+    const int planned = ball->substeps_for(step);
+    std::printf("pulled ball, %s: %d substeps seen, %d planned with two steps waiting\n", bound,
+                seen, planned);
+    EXPECT_EQ(planned, expected);
+  }
   batch.submit();
   ball->synchronize();
 }
@@ -439,6 +446,26 @@ TEST_F(GpuPbfTest, StepsFinishedTogetherLeaveTheNewestFigures) {
   const int planned = ball->substeps_for(step);
   std::printf("pulled ball, three steps finished together: %d substeps planned\n", planned);
   EXPECT_EQ(planned, plan_from_now(*ball, 0));
+}
+
+// A fluid just loaded plans its first step from its own speed and walls, which the GPU has not
+// measured yet: the pulled ball without gravity, loaded at 20 m/s toward the far wall (out of its
+// reach: the travel bound plans) and at 40 m/s (within it: the walls' bound). Measured on
+// lavapipe: 2 and 10 substeps; with the loaded speed left out 1 and 10, with the loaded approach
+// left out 2 and 4 (no test caught either before).
+TEST_F(GpuPbfTest, AFluidJustLoadedPlansFromItsOwnSpeedAndWalls) {
+  GpuStepBatch batch(context());
+  const auto ball = pulled_ball(context(), batch);
+  ball->set_gravity({0.0f, 0.0f, 0.0f});
+  const ParticleSet at_rest = ball->snapshot();
+  for (const float speed : {20.0f, 40.0f}) {
+    SCOPED_TRACE(std::to_string(speed) + " m/s");
+    ball->replace_particles(at_rest.position,
+                            std::vector<glm::vec3>(at_rest.size(), {speed, 0.0f, 0.0f}));
+    const int planned = ball->substeps_for(ball->params().time_step);
+    std::printf("ball loaded at %.0f m/s: %d substeps planned\n", speed, planned);
+    EXPECT_EQ(planned, plan_from_now(*ball, 0));
+  }
 }
 
 // A fluid loaded while steps run plans from itself: the running steps' figures describe the
