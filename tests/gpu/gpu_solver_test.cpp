@@ -312,16 +312,41 @@ TEST_F(GpuPbfTest, JacobiDampingWeighsTheIterationsAsOnTheCpu) {
   EXPECT_NEAR(kinetic_energy(Backend::gpu, 0.0f), cpu_in_full, 0.05 * by_the_damping);
 }
 
+// PBF's plan from the solver's fluid as it is now, with `unseen` steps to come before the planned
+// one, each of which may add gravity's Δt to a speed: its travel and wall bounds, as
+// GpuSolver::substeps_for reads them. A fresh rule, with no density bound: the tests below keep
+// theirs out of the plan (a fluid nothing compresses, a loose tolerance). The snapshot submits
+// the steps waiting in the solver's batch.
+int plan_from_now(const gpu_solver::GpuSolver& solver, int unseen) {
+  const ParticleSet now = solver.snapshot();
+  float fastest = 0.0f;
+  for (const glm::vec3& v : now.velocity) fastest = std::max(fastest, glm::length(v));
+  const float step = solver.params().time_step, g = glm::length(solver.gravity());
+  const float gained = static_cast<float>(unseen) * g * step;
+  const float approach =
+      largest_wall_approach(now.position, now.velocity, solver.inner_tank(), solver.wall_reach());
+  const PbfSubsteps rule(solver.params(), solver.fluid().kernel_radius);
+  return rule.count(step, fastest + gained, 0.0f, approach > 0.0f ? approach + gained : 0.0f, g,
+                    unseen);
+}
+
+// A loose density tolerance: what the density bound plans stays below the bounds a test watches.
+SolverParams density_bound_out_of_the_plan() {
+  SolverParams params;
+  params.pbf_density_tolerance = 0.1f;
+  return params;
+}
+
 // PBF's substep rule counts a particle closing on a wall as far ahead as the figures that plan a
 // step may be old (wall_reach: the steps in flight, and the step itself), which the last pass of
 // each substep measures. The column, without gravity, is thrown at 6 m/s at either end wall from
 // so far that after one step its front would be three quarters of that reach from the wall: the
-// next plan takes the walls' bound, more than the travel bound. Measured on lavapipe: the front
-// closing at 6.65 m/s, 0.66 of the reach away, and 2 substeps planned; 1 with the shader's reach
-// halved on either side (the other wall tests' fluid comes within half of it, and did not see
-// that).
+// next plan takes the walls' bound, more than the travel bound. Measured on lavapipe: the fastest
+// approach 6.65 m/s, the nearest particle 0.66 of the reach away, and 2 substeps planned; 1 with
+// the shader's reach halved on either side (the other wall tests' fluid comes within half of it,
+// and did not see that).
 TEST_F(GpuPbfTest, CountsAFluidClosingOnAWallFromAsFarAsItsFiguresMayBeOld) {
-  const SolverParams params;
+  const SolverParams params = density_bound_out_of_the_plan();
   const float step = params.time_step;
   constexpr float kSpeed = 6.0f;
   SceneParams scene;
@@ -331,12 +356,11 @@ TEST_F(GpuPbfTest, CountsAFluidClosingOnAWallFromAsFarAsItsFiguresMayBeOld) {
     SCOPED_TRACE(toward < 0.0f ? "toward the near wall" : "toward the far wall");
     gpu_solver::GpuSolver gpu(SolverKind::pbf, context(), build_scene(scene), params);
     gpu.set_gravity({0.0f, 0.0f, 0.0f});
-    const Box inner = gpu.inner_tank();
     const float reach = gpu.wall_reach();
     std::vector<glm::vec3> positions = gpu.snapshot().position;
     float front = -toward * std::numeric_limits<float>::infinity();  // the end nearest the wall
     for (const glm::vec3& p : positions) front = toward * std::max(toward * front, toward * p.x);
-    const float wall = toward < 0.0f ? inner.min.x : inner.max.x;
+    const float wall = toward < 0.0f ? gpu.inner_tank().min.x : gpu.inner_tank().max.x;
     const float gap = 0.75f * kSpeed * reach + kSpeed * step;
     for (glm::vec3& p : positions) p.x += wall - toward * gap - front;
     gpu.replace_particles(positions,
@@ -353,61 +377,42 @@ TEST_F(GpuPbfTest, CountsAFluidClosingOnAWallFromAsFarAsItsFiguresMayBeOld) {
     }
     ASSERT_LT(soonest, reach) << "the column is out of the reach after a step";
     ASSERT_GT(soonest, 0.5f * reach) << "the column came within half the reach in a step";
-    const float approach = largest_wall_approach(after.position, after.velocity, inner, reach);
-    const PbfSubsteps rule(params, gpu.fluid().kernel_radius);
     const int planned = gpu.substeps_for(step);
-    std::printf("closing on the wall at %.2f m/s, %.2f of the reach away: %d substeps planned\n",
-                approach, soonest / reach, planned);
-    EXPECT_GE(planned, rule.count(step, fastest, 0.0f, approach, 0.0f));
-    EXPECT_GT(planned, rule.count(step, fastest, 0.0f, 0.0f, 0.0f));
+    std::printf("nearest particle %.2f of the reach away: %d substeps planned\n", soonest / reach,
+                planned);
+    EXPECT_EQ(planned, plan_from_now(gpu, 0));
+    EXPECT_GT(planned, PbfSubsteps(params, gpu.fluid().kernel_radius)
+                           .count(step, fastest, 0.0f, 0.0f, 0.0f));  // the travel bound's
   }
 }
 
 // A ball of water, 20 cm across, loaded at rest without gravity in the dam break's tank, away from
 // every wall (so that only the travel bound plans until it nears the far wall, and the density
 // rule starts with no bound: nothing compresses the ball), then pulled along the tank toward the
-// far wall at 1000 m/s², 8.3 m/s faster each step. Its steps wait in `batch`, so that those not
-// yet submitted are certain not to have finished.
-constexpr float kPull = 1000.0f;
-
+// far wall at 1000 m/s², 8.3 m/s faster each step (up to the speed limit of the substeps its
+// steps take). Its steps wait in `batch`, so that those not yet submitted are certain not to have
+// finished.
 std::unique_ptr<gpu_solver::GpuSolver> pulled_ball(gpu::Context& context, GpuStepBatch& batch) {
   SceneParams scene;
   scene.kind = SceneKind::dam_break;
   scene.particles = 1000;
-  SolverParams params;
-  params.pbf_density_tolerance = 0.1f;
-  auto solver = std::make_unique<gpu_solver::GpuSolver>(SolverKind::pbf, context,
-                                                        build_scene(scene), params, &batch);
+  auto solver = std::make_unique<gpu_solver::GpuSolver>(
+      SolverKind::pbf, context, build_scene(scene), density_bound_out_of_the_plan(), &batch);
   solver->set_gravity({0.0f, 0.0f, 0.0f});
   const std::vector<glm::vec3> ball =
       ball_of_particles({0.3f, 0.5f, 0.15f}, 0.1f, solver->fluid().spacing, solver->tank());
   solver->replace_particles(ball, std::vector<glm::vec3>(ball.size(), glm::vec3(0.0f)));
-  solver->set_gravity({kPull, 0.0f, 0.0f});
+  solver->set_gravity({1000.0f, 0.0f, 0.0f});
   return solver;
-}
-
-// The plan PBF's rule makes from the solver's fluid as it is now (its travel and wall bounds), with
-// `unseen` steps to come before the planned one, each of which may add gravity's Δt to a speed.
-// The snapshot submits the steps waiting in the batch.
-int plan_from_now(gpu_solver::GpuSolver& solver, int unseen) {
-  const ParticleSet now = solver.snapshot();
-  float fastest = 0.0f;
-  for (const glm::vec3& v : now.velocity) fastest = std::max(fastest, glm::length(v));
-  const float step = solver.params().time_step, g = glm::length(solver.gravity());
-  const float gained = static_cast<float>(unseen) * g * step;
-  const float approach =
-      largest_wall_approach(now.position, now.velocity, solver.inner_tank(), solver.wall_reach());
-  const PbfSubsteps rule(solver.params(), solver.fluid().kernel_radius);
-  return rule.count(step, fastest + gained, 0.0f, approach > 0.0f ? approach + gained : 0.0f, g);
 }
 
 // The travel and wall bounds count the steps that have not finished: each may add g·Δt to the
 // speeds the plan reads. Twice, with two steps waiting: first with one step seen (8.3 m/s, far
 // from the walls), where the plan is the travel bound's for 25 m/s; then with those two seen too
-// (25 m/s, within the far wall's reach), where it is the walls' bound's for an approach of
-// 42 m/s. Measured on lavapipe: 4 and 12 substeps, against 2 and 8 for the figures seen alone;
-// with the speed's allowance left out 2 at first, with the approach's 8 then (no test caught
-// either before).
+// (22 m/s, the speed limit of their two substeps; within the far wall's reach), where it is the
+// walls' bound's for an approach of 39 m/s. Measured on lavapipe: 4 and 12 substeps, against 2
+// and 8 for the figures seen alone; with the speed's allowance left out 2 at first, with the
+// approach's 8 then (no test caught either before).
 TEST_F(GpuPbfTest, StepsNotYetFinishedCountForTheTravelAndWallBounds) {
   GpuStepBatch batch(context());
   const auto ball = pulled_ball(context(), batch);
@@ -427,8 +432,6 @@ TEST_F(GpuPbfTest, StepsNotYetFinishedCountForTheTravelAndWallBounds) {
                 seen, planned);
     EXPECT_EQ(planned, expected);
   }
-  batch.submit();
-  ball->synchronize();
 }
 
 // Steps that finish together are counted in their order: the plan reads the newest one's
@@ -468,8 +471,8 @@ TEST_F(GpuPbfTest, AFluidJustLoadedPlansFromItsOwnSpeedAndWalls) {
   }
 }
 
-// A fluid loaded while steps run plans from itself: the running steps' figures describe the
-// fluid it replaced. The pulled ball after two steps not yet read back, replaced by itself at
+// A fluid loaded while steps run plans from itself: those steps' figures describe the fluid it
+// replaced. The pulled ball after two steps finished but not yet read back, replaced by itself at
 // rest without gravity: one substep, as for any fluid at rest. Measured on lavapipe: 1; with the
 // replaced fluid's figures counted, 2 (no test caught that before).
 TEST_F(GpuPbfTest, AFluidLoadedWhileStepsRunPlansFromItself) {
@@ -479,7 +482,7 @@ TEST_F(GpuPbfTest, AFluidLoadedWhileStepsRunPlansFromItself) {
   const ParticleSet at_rest = ball->snapshot();
   ball->step(step, 1);
   ball->step(step, 2);
-  ASSERT_GT(plan_from_now(*ball, 0), 1);  // the fluid the running steps leave
+  ASSERT_GT(plan_from_now(*ball, 0), 1);  // the fluid those steps leave
   ball->set_gravity({0.0f, 0.0f, 0.0f});
   ball->replace_particles(at_rest.position, at_rest.velocity);
   ball->synchronize();
@@ -496,15 +499,13 @@ void push_a_finger_through(const ParticleSet& fluid, Solver& a, Solver& b) {
   b.set_colliders({&finger, 1});
 }
 
-// `steps` steps of `seconds` each, in `substeps` equal substeps, on both solvers: the GPU's
-// finished before the next (with steps in flight it would plan from older figures), and the
-// count the CPU took checked at every step (CPU SPH sets its substeps from the state), so that
-// the runs part only by the order of their sums.
+// `steps` steps of `seconds` each, in `substeps` equal substeps, on both solvers, the count the
+// CPU took checked at every step (CPU SPH sets its substeps from the state), so that the runs
+// part only by the order of their sums. Call it in ASSERT_NO_FATAL_FAILURE.
 void step_in_lockstep(Solver& cpu, Solver& gpu, float seconds, int substeps, int steps) {
   for (int step = 0; step < steps; ++step) {
     ASSERT_EQ(cpu.step(seconds, substeps), substeps) << "step " << step;
     gpu.step(seconds, substeps);
-    gpu.synchronize();
   }
 }
 
@@ -583,7 +584,7 @@ TEST_F(GpuPbfTest, MovesASqueezedThrownFluidAsTheCpuSolverDoesInLockstep) {
   cpu->replace_particles(start.position, start.velocity);
   gpu->replace_particles(start.position, start.velocity);
   push_a_finger_through(start, *cpu, *gpu);
-  step_in_lockstep(*cpu, *gpu, params.time_step, 2, 2);
+  ASSERT_NO_FATAL_FAILURE(step_in_lockstep(*cpu, *gpu, params.time_step, 2, 2));
   const ParticleSet cpu_end = cpu->snapshot();
   const double farthest_apart = farthest_apart_by_id(cpu_end, gpu->snapshot());
   std::printf(
@@ -619,7 +620,7 @@ TEST_F(GpuSphTest, MovesEveryParticleAsTheCpuSolverDoesInLockstep) {
   }
   cpu->replace_particles(start.position, start.velocity);
   gpu->replace_particles(start.position, start.velocity);
-  step_in_lockstep(*cpu, *gpu, 2.0e-3f, 2, 20);
+  ASSERT_NO_FATAL_FAILURE(step_in_lockstep(*cpu, *gpu, 2.0e-3f, 2, 20));
   const ParticleSet cpu_end = cpu->snapshot();
   const double farthest_apart = farthest_apart_by_id(cpu_end, gpu->snapshot());
   const double farthest_moved = farthest_apart_by_id(start, cpu_end);
@@ -640,7 +641,7 @@ TEST_F(GpuSphTest, PushesAFingerThroughTheFluidAsTheCpuSolverDoesInLockstep) {
   auto gpu = make_solver(SolverKind::sph, SceneKind::dam_break, 1000, params, Backend::gpu);
   const ParticleSet start = cpu->snapshot();
   push_a_finger_through(start, *cpu, *gpu);
-  step_in_lockstep(*cpu, *gpu, 0.5e-3f, 1, 20);
+  ASSERT_NO_FATAL_FAILURE(step_in_lockstep(*cpu, *gpu, 0.5e-3f, 1, 20));
   const ParticleSet cpu_end = cpu->snapshot();
   const double farthest_apart = farthest_apart_by_id(cpu_end, gpu->snapshot());
   std::printf("SPH with a finger, in lockstep: farthest apart %.3g m, farthest moved %.3g m\n",
