@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
 #include <vector>
 
 namespace fluidcast::sim {
@@ -101,15 +102,32 @@ TEST(PbfSubsteps, ACompressedStepHoldsTheBoundForTheRecentSteps) {
   EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f), 1);
 }
 
+// A step that left more than half the tolerance holds the bound for kRecentSteps steps, as a
+// compressed one does, however little the steps after it show; one that left less says nothing
+// against lengthening. At half a step, 0.6 of the tolerance allows 0.65 of a step, 0.4 of it 0.79.
+TEST(PbfSubsteps, OnlyAStepPastHalfTheToleranceHoldsTheBound) {
+  for (const float share : {0.6f, 0.4f}) {
+    SCOPED_TRACE(std::to_string(share) + " of the tolerance");
+    PbfSubsteps substeps = rule(1.0f, 0.01f);
+    substeps.observe(kStep / 2, share * 0.01f);
+    ASSERT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f), 2);
+    for (int k = 1; k < PbfSubsteps::kRecentSteps; ++k) substeps.observe(kStep / 2, 0.0001f);
+    EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f), share > 0.5f ? 2 : 1);
+  }
+}
+
 // Within the tolerance substeps never shorten, and lengthen only as far as would leave 0.7² of it
 // by the Δt² rule: 0.13 of the tolerance at half a step would be 0.52 of it at a whole step, 0.11
-// would be 0.44.
+// would be 0.44. Each held long enough for the compressed step to leave the window and the bound
+// to grow as far as it may (with 20 steps it had grown only to 0.8 of a step, short of where the
+// margin stops it, and a margin of 0.85 passed).
 TEST(PbfSubsteps, TheyLengthenWithAMarginBelowTheTolerance) {
+  constexpr int kSettled = PbfSubsteps::kRecentSteps + 20;
   PbfSubsteps substeps = rule(1.0f, 0.01f);
   substeps.observe(kStep, 0.04f);
-  for (int k = 0; k < 20; ++k) substeps.observe(kStep / 2, 0.0013f);
+  for (int k = 0; k < kSettled; ++k) substeps.observe(kStep / 2, 0.0013f);
   EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f), 2);
-  for (int k = 0; k < 20; ++k) substeps.observe(kStep / 2, 0.0011f);
+  for (int k = 0; k < kSettled; ++k) substeps.observe(kStep / 2, 0.0011f);
   EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f), 1);
   for (int k = 0; k < 20; ++k) substeps.observe(kStep, 0.0095f);
   EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f), 1);
