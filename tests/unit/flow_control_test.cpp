@@ -40,6 +40,12 @@ TEST_F(FlowControlTest, FramesFollowTheRateAskedFor) {
   flow.acknowledge(frame(), now);
   EXPECT_FALSE(flow.due(now + milliseconds(30)));
   EXPECT_TRUE(flow.due(now + milliseconds(34)));  // 1/30 s
+  flow.ask(10, 80, true);  // a new rate starts now, not after the old interval
+  EXPECT_TRUE(flow.due(now + milliseconds(1)));
+  flow.acknowledge(frame(), now);
+  flow.acknowledge(frame(), now);
+  EXPECT_FALSE(flow.due(now + milliseconds(90)));
+  EXPECT_TRUE(flow.due(now + milliseconds(101)));
 }
 
 TEST_F(FlowControlTest, AViewerThatDoesNotAcknowledgeGetsAFrameASecondAfterItsThird) {
@@ -66,6 +72,18 @@ TEST_F(FlowControlTest, AcknowledgementsOfFramesNotSentOrAlreadyAcknowledgedAreI
   EXPECT_DOUBLE_EQ(*flow.round_trip_ms(), 40.0);
 }
 
+// A frame acknowledged after more have been sent than the record of send times holds: its round
+// trip is not known, and the last one measured stands.
+TEST_F(FlowControlTest, AnAcknowledgementTooLateForTheRecordMeasuresNothing) {
+  const std::uint64_t first = frame();
+  for (int k = 0; k < 70; ++k) {
+    now += milliseconds(1);
+    frame();
+  }
+  flow.acknowledge(first, now + milliseconds(5));
+  EXPECT_FALSE(flow.round_trip_ms());
+}
+
 TEST_F(FlowControlTest, FallingBehindLowersQualityThenSizeAndKeepingUpRaisesThemBack) {
   round_trip(milliseconds(200));
   EXPECT_EQ(flow.jpeg_quality(), 70);
@@ -76,6 +94,34 @@ TEST_F(FlowControlTest, FallingBehindLowersQualityThenSizeAndKeepingUpRaisesThem
   for (int k = 0; k < 40; ++k) round_trip(milliseconds(10));
   EXPECT_EQ(flow.render_size(), (FlowControl::Size{640, 480}));  // the size first
   EXPECT_EQ(flow.jpeg_quality(), 80);                            // then quality
+}
+
+// Frames queued behind the viewer mean it is behind, however short the round trip of the one it
+// acknowledged.
+TEST_F(FlowControlTest, FramesQueuedBehindTheViewerLowerQualityHoweverShortTheRoundTrip) {
+  const std::uint64_t first = frame();
+  for (std::uint64_t k = 0; k < FlowControl::kMaxFramesInFlight; ++k) frame();
+  flow.acknowledge(first, now + milliseconds(10));
+  ASSERT_TRUE(flow.throttled());
+  EXPECT_EQ(flow.jpeg_quality(), 70);
+}
+
+// At most one step of adaptation a kAdaptEvery, however many acknowledgements arrive.
+TEST_F(FlowControlTest, AdaptationStepsAtMostOnceAnInterval) {
+  const std::uint64_t first = frame();
+  frame();
+  frame();
+  for (std::uint64_t k = 0; k < 3; ++k) flow.acknowledge(first + k, now + milliseconds(200 + k));
+  EXPECT_EQ(flow.jpeg_quality(), 70);
+}
+
+// Quality comes back to the one asked, not past it, whatever steps it went down and up by.
+TEST_F(FlowControlTest, QualityComesBackToTheOneAskedExactly) {
+  flow.ask(30, 83, true);
+  for (int k = 0; k < 12; ++k) round_trip(milliseconds(200));
+  ASSERT_EQ(flow.jpeg_quality(), FlowControl::kLowestAdaptiveQuality);
+  for (int k = 0; k < 40; ++k) round_trip(milliseconds(10));
+  EXPECT_EQ(flow.jpeg_quality(), 83);
 }
 
 TEST_F(FlowControlTest, InBetweenNothingChangesAndWithoutAdaptationNeither) {
@@ -94,6 +140,10 @@ TEST_F(FlowControlTest, AskingAgainStartsFromWhatWasAsked) {
   EXPECT_EQ(flow.render_size(), (FlowControl::Size{320, 240}));
   flow.ask(30, 0, true);
   EXPECT_EQ(flow.jpeg_quality(), FlowControl::kDefaultQuality);
+  for (int k = 0; k < 12; ++k) round_trip(milliseconds(200));
+  ASSERT_LT(flow.render_size().width, 320u);
+  flow.ask(30, 80, true);
+  EXPECT_EQ(flow.render_size(), (FlowControl::Size{320, 240}));
 }
 
 TEST_F(FlowControlTest, TheWaitForAFrameRunsFromJoiningThenFromTheLastFrame) {
