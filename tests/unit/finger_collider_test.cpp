@@ -157,5 +157,28 @@ TEST(FingerCollider, StartsAtTheFingerAndStaysFiniteWhateverTheTimes) {
   }
 }
 
+// Wall time that runs backwards counts as none: a hand that moved 0.05 m, then 0.25 m more, in
+// events 0.1 s apart moved 0.3 m over 0.15 s (the first move taken as begun 50 ms before it was
+// seen): 2 m/s, whatever a tick between its events said. Counting that tick's −10 s made it 6.
+TEST(FingerCollider, WallTimeRunningBackwardsCountsAsNone) {
+  const glm::vec3 start(0.1f, 0.2f, 0.3f);
+  FingerCollider finger(start);
+  finger.follow(start + glm::vec3(0.05f, 0.0f, 0.0f), kTick, 0.1);
+  finger.follow(start + glm::vec3(0.05f, 0.0f, 0.0f), kTick, -10.0);
+  finger.follow(start + glm::vec3(0.3f, 0.0f, 0.0f), kTick, 0.1);
+  EXPECT_NEAR(finger.hand_speed(), 2.0f, 1e-4f);
+}
+
+// A finger that moves while the fluid is paused leaves a sphere that has not arrived: a lifted
+// finger's sphere finishes its stroke once the fluid runs again.
+TEST(FingerCollider, AFingerMovedWhilePausedHasNotArrived) {
+  const glm::vec3 start(0.1f, 0.2f, 0.3f);
+  FingerCollider finger(start);
+  finger.follow(start, kTick, kTick);
+  ASSERT_TRUE(finger.arrived());
+  finger.follow(start + glm::vec3(0.1f, 0.0f, 0.0f), 0.0, kTick);
+  EXPECT_FALSE(finger.arrived());
+}
+
 }  // namespace
 }  // namespace fluidcast::sim
