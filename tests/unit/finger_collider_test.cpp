@@ -174,7 +174,7 @@ TEST(FingerCollider, WallTimeRunningBackwardsCountsAsNone) {
 TEST(FingerCollider, AFingerMovedWhilePausedHasNotArrived) {
   const glm::vec3 start(0.1f, 0.2f, 0.3f);
   FingerCollider finger(start);
-  finger.follow(start, kTick, kTick);
+  finger.follow(start, kTick, kTick);  // a running tick where the finger is: arrived
   ASSERT_TRUE(finger.arrived());
   finger.follow(start + glm::vec3(0.1f, 0.0f, 0.0f), 0.0, kTick);
   EXPECT_FALSE(finger.arrived());

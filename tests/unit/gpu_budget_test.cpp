@@ -217,7 +217,8 @@ TEST(GpuAccountTest, CreditCannotBeHoarded) {
   EXPECT_EQ(account.affordable(1.0), 5);
   EXPECT_EQ(account.affordable(4.0), 1);
   EXPECT_EQ(account.affordable(1e-300), 1 << 20);  // however cheap, a count that fits
-  // Without a price (none measured, or a timestamp gone wrong), one at a time.
+  // An item with no price (0 or NaN) still runs one at a time while the balance is positive, not
+  // 1 << 20 of them.
   EXPECT_EQ(account.affordable(0.0), 1);
   EXPECT_EQ(account.affordable(std::nan("")), 1);
   account.spend(6.0);
@@ -273,7 +274,7 @@ TEST(ClientDebtsTest, AClientsNextSessionInheritsWhatItsLastOneOwed) {
   EXPECT_DOUBLE_EQ(debts.take("a", 10.0, 1.0), 90.0);
   debts.record("b", 50.0, 0.0);
   EXPECT_DOUBLE_EQ(debts.take("b", 1000.0, 1.0 / 3.0), 0.0);
-  // A small share repays slowly: a quarter of 60 ms.
+  // A quarter share forgives a quarter of the 60 ms waited: 15 of the 50 owed.
   debts.record("c", 50.0, 0.0);
   EXPECT_DOUBLE_EQ(debts.take("c", 60.0, 0.25), 35.0);
 }

@@ -119,8 +119,8 @@ TEST(PbfSubsteps, OnlyAStepPastHalfTheToleranceHoldsTheBound) {
 // Within the tolerance substeps never shorten, and lengthen only as far as would leave 0.7² of it
 // by the Δt² rule: 0.13 of the tolerance at half a step would be 0.52 of it at a whole step, 0.11
 // would be 0.44. Each held long enough for the compressed step to leave the window and the bound
-// to grow as far as it may (with 20 steps it had grown only to 0.8 of a step, short of where the
-// margin stops it, and a margin of 0.85 passed).
+// to grow as far as it may (after 20 it would have reached only 0.8 of a step, short of where the
+// margin stops it, and a margin of 0.85 would pass).
 TEST(PbfSubsteps, TheyLengthenWithAMarginBelowTheTolerance) {
   constexpr int kSettled = PbfSubsteps::kRecentSteps + 20;
   PbfSubsteps substeps = rule(1.0f, 0.01f);
