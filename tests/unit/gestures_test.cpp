@@ -20,7 +20,9 @@ TEST(GesturesTest, OneFingerDragsWhereItIs) {
   Gestures gestures(true);
   EXPECT_FALSE(gestures.drag());
   EXPECT_TRUE(gestures.apply(pointer(3, v1::PointerEvent::DOWN, 0.2f, 0.4f)).drag_started);
-  gestures.apply(pointer(3, v1::PointerEvent::MOVE, 0.3f, 0.5f));
+  const GestureChange move = gestures.apply(pointer(3, v1::PointerEvent::MOVE, 0.3f, 0.5f));
+  EXPECT_EQ(move.yaw_degrees, 0.0f) << "a finger dragging the fluid does not orbit";
+  EXPECT_EQ(move.pitch_degrees, 0.0f);
   ASSERT_TRUE(gestures.drag());
   EXPECT_FLOAT_EQ(gestures.drag()->x, 0.3f);
   EXPECT_FLOAT_EQ(gestures.drag()->y, 0.5f);
@@ -82,6 +84,17 @@ TEST(GesturesTest, TwoFingersOrbitAndZoomAndTheOneLeftDoesNotDrag) {
   gestures.apply(pointer(0, v1::PointerEvent::UP, 0.5f, 0.5f));
   EXPECT_TRUE(gestures.apply(pointer(0, v1::PointerEvent::DOWN, 0.5f, 0.5f)).drag_started);
   EXPECT_TRUE(gestures.drag());
+}
+
+// A pinch zooms by at most a factor of two a move, and fingers that came down on one point (no
+// spread to compare with) do not zoom at all.
+TEST(GesturesTest, APinchZoomsByAtMostTwiceAMove) {
+  Gestures gestures(true);
+  gestures.apply(pointer(0, v1::PointerEvent::DOWN, 0.5f, 0.5f));
+  gestures.apply(pointer(1, v1::PointerEvent::DOWN, 0.5f, 0.5f));
+  EXPECT_EQ(gestures.apply(pointer(1, v1::PointerEvent::MOVE, 0.55f, 0.5f)).zoom, 1.0f);
+  EXPECT_EQ(gestures.apply(pointer(1, v1::PointerEvent::MOVE, 0.95f, 0.5f)).zoom, 0.5f);
+  EXPECT_EQ(gestures.apply(pointer(1, v1::PointerEvent::MOVE, 0.55f, 0.5f)).zoom, 2.0f);
 }
 
 TEST(GesturesTest, MovesOfUnknownPointersAreIgnored) {
