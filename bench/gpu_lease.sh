@@ -16,20 +16,24 @@
 #       render  fluidcast-bench-render: passes, encode from RGBA and from planes, roughness; and
 #               the dam break at 216k and 1M, t = 0.5 s, with spheres and ellipsoids, as PNG
 #               (for docs/images: ssfr-ellipsoids-216k.png, -1m.png)
-#       bricks  the bench of the branch gpu-cell-bricks, where BIN has it as
-#               fluidcast-bench-gpu-bricks: the 64k and 1M dam break at 4 iterations, 32 × 64k
+#       tiles   the variant with cells in bricks and shared-memory tiles (built here first with
+#               bench/build_variant.sh tiles bench/results/gpu-tiles-2026-11-30.patch, bundled as
+#               fluidcast-bench-gpu-tiles and gpu_solver_test-tiles): its solver tests with the
+#               validation layer, what the driver says of its passes, then the 216k and 1M dam
+#               break at 4 iterations and 32 × 64k, with tiles and without
+#               (FLUIDCAST_TILE_SHARED_BYTES=0: cells in bricks alone)
 #       loop    the frame-loop table (bench/frame_loop_table.sh; on an H100 over 7 minutes: give
 #               CASES="1 2 3" and CASES="4 5 6" a call each; case 7, a finger in a 1M pool at rest,
 #               came after the H200's lease; SERVER_FLAGS="--busy-share=0.5" keeps the solver
 #               to --sim-share, as issue 13's interactive target counts it)
 #       validate  the validation against Martin & Moyce and the resting pool at 1M
 #       lease   what the next lease needs most, in one device call, each part under a timeout
-#               of its own: tests, solver, the bricks branch's bench (when
-#               BIN/fluidcast-bench-gpu-bricks is there), the frame loop's cases 1 and 7 and the
+#               of its own: tests, solver, the tiles variant (when
+#               BIN/fluidcast-bench-gpu-tiles is there), the frame loop's cases 1 and 7 and the
 #               same kept to --sim-share, case 5 (32 viewers), burst, validate (not render, nor
 #               the loop's other cases). W is packed into PACK (e.g. PACK=$OUT/all.tgz) after
 #               each part, so a call cut off at its limit still brings back every part before.
-#               At most 575 s, about 440 s at the H200's 2026-11-28 times.
+#               At most 585 s, about 480 s at the H200's 2026-11-28 times.
 #       burst   whether the 1M dam break still bursts (it did on an H100 on 2026-11-25, before
 #               the corrections' velocity cap and the rule's wait for fresh figures):
 #               fluidcast-sim to t = 0.5 s (its substeps, centre of mass height, largest speed
@@ -51,9 +55,13 @@ gpu_tests=(gpu_context_test gpu_neighbour_grid_test gpu_solver_test gpu_step_bat
   anisotropy_test default_size_test timestamps_test)
 programs=(fluidcast-server fluidcast-sim fluidcast-validate fluidcast-bench-gpu
   fluidcast-bench-render fluidcast-bench-load fluidcast-bench-soak "${gpu_tests[@]}")
-usage="usage: bench/gpu_lease.sh programs|tests|solver|bricks|render|loop|validate|burst|lease OUT [--smoke]"
+usage="usage: bench/gpu_lease.sh programs|tests|solver|tiles|render|loop|validate|burst|lease OUT [--smoke]"
 part=${1:?$usage}
 if [[ "$part" == programs ]]; then
+  # and the tiles variant, where bench/build_variant.sh has built it
+  for variant in fluidcast-bench-gpu-tiles gpu_solver_test-tiles; do
+    [[ -x build/bin/$variant ]] && programs+=("$variant")
+  done
   echo "${programs[@]}"
   exit 0
 fi
@@ -101,17 +109,25 @@ case "$part" in
       done
     fi
     ;;
-  bricks)
-    # The branch gpu-cell-bricks's bench (bench/results/neighbour-groups-lavapipe-2026-11-29.md),
-    # built apart and bundled as fluidcast-bench-gpu-bricks: its passes, then the rows to compare.
-    "$bin/fluidcast-bench-gpu-bricks" --pipeline-statistics --benchmark_filter=none 2>&1 |
+  tiles)
+    # The tiles variant (bench/results/gpu-tiles-2026-11-30.md), built apart: its solver tests
+    # with the validation layer (shared memory and barriers lavapipe cannot prove), what the
+    # driver says of its passes, then the rows to compare with main's, with tiles and without.
+    status=0
+    FLUIDCAST_VALIDATION=1 "$bin/gpu_solver_test-tiles" >"$out/tests.log" 2>&1 || status=1
+    grep -E "^\[  (PASSED|FAILED)|validation|workgroups" "$out/tests.log" || true
+    "$bin/fluidcast-bench-gpu-tiles" --pipeline-statistics --benchmark_filter=none 2>&1 |
       grep -E '^(pipeline|gpu:)' | tee "$out/pipelines.txt" || true
-    filter='Pbf/dam_break/particles:(64000|1000000)/iterations:4/dt_us:1000/|Sessions/batched/sessions:32/particles:64000/'
+    filter='Pbf/dam_break/particles:(216000|1000000)/iterations:4/dt_us:1000/|Sessions/batched/sessions:32/particles:64000/'
     [[ "$smoke" == --smoke ]] && filter='Pbf/dam_break/particles:4000/iterations:4/'
-    "$bin/fluidcast-bench-gpu-bricks" "${smoke_flag[@]}" --benchmark_filter="$filter" \
-      --benchmark_out="$out/bench-gpu-bricks.json" --benchmark_out_format=json 2>&1 |
-      tee "$out/bench-gpu-bricks.log"
-    table "$out/bench-gpu-bricks.json"
+    for shared in device 0; do
+      (if [[ "$shared" != device ]]; then export FLUIDCAST_TILE_SHARED_BYTES=$shared; fi
+       "$bin/fluidcast-bench-gpu-tiles" "${smoke_flag[@]}" --benchmark_filter="$filter" \
+         --benchmark_out="$out/bench-gpu-tiles-$shared.json" --benchmark_out_format=json 2>&1 |
+         tee "$out/bench-gpu-tiles-$shared.log")
+      table "$out/bench-gpu-tiles-$shared.json"
+    done
+    exit $status
     ;;
   loop)
     BIN="$bin" bench/frame_loop_table.sh "$out/frame-loop.md" "$smoke" 2>&1 | tail -20
@@ -165,22 +181,23 @@ case "$part" in
       tar czf "$pack.partial" -C "$out" . && mv "$pack.partial" "$pack" || echo "pack: failed"
     }
     self=bench/gpu_lease.sh
-    # The timeouts add up to 575 s, within a device call's 600; on an H200 the parts took about
-    # 440 s in all (tests 50, solver 12, the loop 39 a case, burst over 90, validate 75).
-    step 75 tests "$self" tests "$out/tests" "$smoke"
+    # The timeouts add up to 585 s, within a device call's 600; on an H200 the parts took about
+    # 440 s in all (tests 50, solver 12, the loop 39 a case, burst over 90, validate 75), and the
+    # tiles part should take about 40 (a solver test program and two short tables).
+    step 70 tests "$self" tests "$out/tests" "$smoke"
     step 45 solver "$self" solver "$out/solver" "$smoke"
-    if [[ -x "$bin/fluidcast-bench-gpu-bricks" ]]; then
-      step 35 bricks "$self" bricks "$out/bricks" "$smoke"
+    if [[ -x "$bin/fluidcast-bench-gpu-tiles" ]]; then
+      step 60 tiles "$self" tiles "$out/tiles" "$smoke"
     fi
     step 95 loop-1-7 env -u SERVER_FLAGS CASES="1 7" "$self" loop "$out/loop-1-7" "$smoke"
     step 95 loop-1-7-sim-share env CASES="1 7" SERVER_FLAGS="--busy-share=0.5" \
       "$self" loop "$out/loop-1-7-sim-share" "$smoke"
     step 55 loop-5 env -u SERVER_FLAGS CASES="5" "$self" loop "$out/loop-5" "$smoke"
-    step 90 burst "$self" burst "$out/burst" "$smoke"
+    step 80 burst "$self" burst "$out/burst" "$smoke"
     step 85 validate "$self" validate "$out/validate" "$smoke"
     ;;
   *)
-    echo "bench/gpu_lease.sh: PART must be tests, solver, bricks, render, loop, validate, burst or lease, not '$part'" >&2
+    echo "bench/gpu_lease.sh: PART must be tests, solver, tiles, render, loop, validate, burst or lease, not '$part'" >&2
     exit 2
     ;;
 esac
