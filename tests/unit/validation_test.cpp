@@ -312,6 +312,191 @@ TEST(ValidationTest, TheAdvertisedRulesAreTheEnforcedOnes) {
   }
 }
 
+// Each bound of the protocol is inclusive: the value at it passes, the next one is refused, and
+// the refusal names the field as the message spells it.
+TEST(ValidationTest, EveryBoundPassesAtItsEdgeAndNotBeyond) {
+  ServerLimits limits;
+  const auto field_of = [](const std::function<void()>& check) -> std::string {
+    try {
+      check();
+    } catch (const Refusal& refusal) {
+      return refusal.what();
+    }
+    return "accepted";
+  };
+  // Strings: 256 bytes at most.
+  auto join = hello();
+  join.mutable_hello()->set_join(std::string(256, 'k'));
+  EXPECT_NO_THROW(validate_hello(join, limits, std::nullopt));
+  join.mutable_hello()->set_join(std::string(257, 'k'));
+  EXPECT_EQ(field_of([&] { validate_hello(join, limits, std::nullopt); }).rfind("Hello.join", 0),
+            0u);
+  // The server's limits: its own figure is allowed.
+  auto create = hello();
+  create.mutable_hello()->mutable_create()->set_particles(limits.max_particles);
+  create.mutable_hello()->mutable_viewport()->set_width(limits.max_width);
+  create.mutable_hello()->mutable_viewport()->set_height(limits.max_height);
+  create.mutable_hello()->mutable_quality()->set_max_fps(limits.max_fps);
+  EXPECT_NO_THROW(validate_hello(create, limits, std::nullopt));
+  create.mutable_hello()->mutable_viewport()->set_width(limits.max_width + 1);
+  EXPECT_EQ(code_of([&] { validate_hello(create, limits, std::nullopt); }),
+            RefusalCode::resource_exhausted);
+  v1::ClientMessage particles;
+  particles.mutable_command()->set_particles(limits.max_particles);
+  EXPECT_NO_THROW(validate_event(particles, limits, Access::control));
+  particles.mutable_command()->set_particles(1);
+  EXPECT_NO_THROW(validate_event(particles, limits, Access::control));
+  // The pointer's corners of the frame.
+  v1::ClientMessage pointer;
+  pointer.mutable_pointer()->set_phase(v1::PointerEvent::MOVE);
+  for (const auto& [x, y] : {std::pair{0.0f, 0.0f}, std::pair{1.0f, 1.0f}, std::pair{1.0f, 0.0f}}) {
+    pointer.mutable_pointer()->set_x(x);
+    pointer.mutable_pointer()->set_y(y);
+    EXPECT_NO_THROW(validate_event(pointer, limits, Access::control)) << x << ", " << y;
+  }
+  pointer.mutable_pointer()->set_y(-0.01f);
+  EXPECT_EQ(field_of([&] {
+              validate_event(pointer, limits, Access::control);
+            }).rfind("PointerEvent.x and .y", 0),
+            0u);
+}
+
+// A value that is not a number is refused wherever a number goes, not let through by a
+// comparison that NaN fails.
+TEST(ValidationTest, NoFieldTakesANonFiniteNumber) {
+  const ServerLimits limits;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float infinity = std::numeric_limits<float>::infinity();
+  for (const float bad : {nan, infinity}) {
+    for (int field = 0; field < 3; ++field) {
+      v1::ClientMessage message;
+      v1::Camera& camera = *message.mutable_command()->mutable_camera();
+      camera.set_distance(2.0f);
+      camera.set_field_of_view_degrees(45.0f);
+      if (field == 0) camera.set_pitch_degrees(bad);
+      if (field == 1) camera.set_yaw_degrees(bad);
+      if (field == 2) camera.set_field_of_view_degrees(bad);
+      EXPECT_EQ(code_of([&] { validate_event(message, limits, Access::control); }),
+                RefusalCode::invalid_argument)
+          << "camera field " << field << " = " << bad;
+    }
+    v1::ClientMessage tilt;
+    tilt.mutable_tilt()->set_y(-9.81f);
+    tilt.mutable_tilt()->set_x(bad);
+    EXPECT_EQ(code_of([&] { validate_event(tilt, limits, Access::control); }),
+              RefusalCode::invalid_argument)
+        << bad;
+    v1::ClientMessage pointer;
+    pointer.mutable_pointer()->set_phase(v1::PointerEvent::DOWN);
+    pointer.mutable_pointer()->set_y(bad);
+    EXPECT_EQ(code_of([&] { validate_event(pointer, limits, Access::control); }),
+              RefusalCode::invalid_argument)
+        << bad;
+  }
+}
+
+// What a Hello must carry, and what a Command must not leave out.
+TEST(ValidationTest, AMessageMissingWhatItNeedsIsRefused) {
+  const ServerLimits limits;
+  v1::ClientMessage no_viewport;
+  no_viewport.mutable_hello();
+  try {
+    validate_hello(no_viewport, limits, std::nullopt);
+    ADD_FAILURE() << "accepted a Hello without a viewport";
+  } catch (const Refusal& refusal) {  // not a viewport of 0 × 0 pixels, which it did not send
+    EXPECT_EQ(refusal.code(), RefusalCode::invalid_argument);
+    EXPECT_STREQ(refusal.what(), "Hello.viewport is missing");
+  }
+  auto flat = hello();
+  flat.mutable_hello()->mutable_viewport()->set_height(0);
+  EXPECT_EQ(code_of([&] { validate_hello(flat, limits, std::nullopt); }),
+            RefusalCode::invalid_argument);
+  auto join = hello();
+  join.mutable_hello()->set_join("");
+  EXPECT_EQ(code_of([&] { validate_hello(join, limits, std::nullopt); }),
+            RefusalCode::invalid_argument);
+  auto resume = hello();
+  resume.mutable_hello()->mutable_resume()->set_key("");
+  EXPECT_EQ(code_of([&] { validate_hello(resume, limits, std::nullopt); }),
+            RefusalCode::invalid_argument);
+  v1::ClientMessage scene;
+  scene.mutable_command()->set_scene("");
+  EXPECT_EQ(code_of([&] { validate_event(scene, limits, Access::control); }),
+            RefusalCode::invalid_argument);
+  v1::ClientMessage solver;
+  solver.mutable_command()->set_solver("");
+  EXPECT_EQ(code_of([&] { validate_event(solver, limits, Access::control); }),
+            RefusalCode::invalid_argument);
+  v1::ClientMessage nothing;
+  nothing.mutable_command();
+  EXPECT_EQ(code_of([&] { validate_event(nothing, limits, Access::control); }),
+            RefusalCode::invalid_argument);
+}
+
+// A state handed back to a new session: whole particles, as many velocities as positions, at least
+// one particle, no more than a stream carries or the server holds, and names it knows.
+TEST(ValidationTest, AStateHandedBackIsCheckedWhole) {
+  ServerLimits limits;
+  const auto with_state = [](int particles, int velocities) {
+    v1::ClientMessage message = hello();
+    v1::Snapshot& state = *message.mutable_hello()->mutable_create()->mutable_state();
+    for (int k = 0; k < 3 * particles; ++k) state.add_positions(0.1f);
+    for (int k = 0; k < velocities; ++k) state.add_velocities(0.0f);
+    return message;
+  };
+  EXPECT_NO_THROW(validate_hello(with_state(2, 6), limits, std::nullopt));
+  EXPECT_EQ(code_of([&] { validate_hello(with_state(2, 5), limits, std::nullopt); }),
+            RefusalCode::invalid_argument);
+  auto partial = with_state(2, 7);
+  partial.mutable_hello()->mutable_create()->mutable_state()->add_positions(0.1f);
+  EXPECT_EQ(code_of([&] { validate_hello(partial, limits, std::nullopt); }),
+            RefusalCode::invalid_argument);
+  EXPECT_EQ(code_of([&] { validate_hello(with_state(0, 0), limits, std::nullopt); }),
+            RefusalCode::invalid_argument);
+  const int most = static_cast<int>(kMaxStateParticles);
+  EXPECT_NO_THROW(validate_hello(with_state(most, 3 * most), limits, std::nullopt));
+  EXPECT_EQ(
+      code_of([&] { validate_hello(with_state(most + 1, 3 * most + 3), limits, std::nullopt); }),
+      RefusalCode::resource_exhausted);
+  limits.max_particles = 1;
+  EXPECT_EQ(code_of([&] { validate_hello(with_state(2, 6), limits, std::nullopt); }),
+            RefusalCode::resource_exhausted);
+  limits = ServerLimits{};
+  auto named = with_state(1, 3);
+  named.mutable_hello()->mutable_create()->mutable_state()->set_scene("ocean");
+  try {
+    validate_hello(named, limits, std::nullopt);
+    ADD_FAILURE() << "accepted a state of the scene 'ocean'";
+  } catch (const Refusal& refusal) {
+    EXPECT_EQ(std::string(refusal.what()).rfind("Snapshot.scene", 0), 0u) << refusal.what();
+  }
+}
+
+// A stream's three budgets are apart: state requests and acknowledgements spent do not stop its
+// input, and input spent does not stop its acknowledgements.
+TEST(ValidationTest, EachKindOfMessageSpendsItsOwnRate) {
+  ServerLimits limits;
+  limits.max_input_events_per_second = 5;
+  limits.max_fps = 2;  // kAcknowledgementsPerFrame a frame: 8 a second
+  StreamRates rates(limits);
+  v1::ClientMessage state;
+  state.mutable_state_request();
+  v1::ClientMessage ack;
+  ack.mutable_ack();
+  v1::ClientMessage input;
+  input.mutable_pointer()->set_phase(v1::PointerEvent::MOVE);
+  for (std::uint32_t k = 0; k < kStateRequestsPerSecond; ++k) check_rate(state, rates, limits);
+  EXPECT_EQ(code_of([&] { check_rate(state, rates, limits); }), RefusalCode::resource_exhausted);
+  for (std::uint32_t k = 0; k < limits.max_input_events_per_second; ++k) {
+    check_rate(input, rates, limits);
+  }
+  EXPECT_EQ(code_of([&] { check_rate(input, rates, limits); }), RefusalCode::resource_exhausted);
+  for (std::uint32_t k = 0; k < kAcknowledgementsPerFrame * limits.max_fps; ++k) {
+    check_rate(ack, rates, limits);
+  }
+  EXPECT_EQ(code_of([&] { check_rate(ack, rates, limits); }), RefusalCode::resource_exhausted);
+}
+
 TEST(ValidationTest, TheRateLimitAllowsASecondsBurstThenTheRate) {
   InputRateLimit limit(10);
   auto now = std::chrono::steady_clock::now();
