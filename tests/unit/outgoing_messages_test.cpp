@@ -40,6 +40,8 @@ TEST(OutgoingMessagesTest, OnlyTheNewestStateWaits) {
   queue.push(state(3.0));
   queue.stop_frames();
   EXPECT_FALSE(queue.next());
+  queue.push(state(4.0));  // and none pushed after the end
+  EXPECT_FALSE(queue.next());
 }
 
 TEST(OutgoingMessagesTest, ControlFirstThenOnlyTheNewestFrame) {
@@ -83,6 +85,13 @@ TEST(OutgoingMessagesTest, AWrittenFrameSaysHowLongItTookAControlMessageDoesNot)
   ASSERT_TRUE(send_ms);
   EXPECT_GE(*send_ms, 5.0);  // from its push, waiting behind the welcome included
   EXPECT_FALSE(queue.written());  // once
+  // What next() gives is what written() speaks of: a frame taken but not reported written, then
+  // a control message written, gives no frame's time.
+  queue.push(frame(2));
+  ASSERT_TRUE(queue.next()->has_frame());
+  queue.push(welcome());
+  ASSERT_TRUE(queue.next()->has_welcome());
+  EXPECT_FALSE(queue.written());
 }
 
 }  // namespace
