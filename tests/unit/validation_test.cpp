@@ -3,8 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <limits>
+#include <set>
 
 #include "session/input_rules.h"
 #include "session/refusal.h"
@@ -146,9 +148,26 @@ TEST(AccessTest, KeysAreRandomAndOpenOnlyTheirSession) {
   EXPECT_EQ(one.opens(two.control), std::nullopt);
   EXPECT_EQ(one.opens(""), std::nullopt);
   EXPECT_EQ(one.opens(one.control.substr(0, 31)), std::nullopt);
-  std::string near = one.control;
-  near.back() = near.back() == '0' ? '1' : '0';
-  EXPECT_EQ(one.opens(near), std::nullopt);
+  for (const std::size_t at : {std::size_t{0}, one.control.size() / 2, one.control.size() - 1}) {
+    std::string near = one.control;  // one character off, wherever it is
+    near[at] = near[at] == '0' ? '1' : '0';
+    EXPECT_EQ(one.opens(near), std::nullopt) << at;
+  }
+}
+
+// A key's 32 characters are hexadecimal digits, every one of the sixteen in either half of a
+// byte: 128 random bits, none lost in the spelling.
+TEST(AccessTest, KeysSpellAllOfTheirBits) {
+  std::array<std::set<char>, 2> digits;  // in the high and the low half of each byte
+  for (int k = 0; k < 200; ++k) {
+    const std::string key = new_key();
+    ASSERT_EQ(key.size(), 32u);
+    for (std::size_t c = 0; c < key.size(); ++c) digits[c % 2].insert(key[c]);
+  }
+  const std::set<char> hexadecimal{'0', '1', '2', '3', '4', '5', '6', '7',
+                                   '8', '9', 'a', 'b', 'c', 'd', 'e', 'f'};
+  EXPECT_EQ(digits[0], hexadecimal);
+  EXPECT_EQ(digits[1], hexadecimal);
 }
 
 TEST(ValidationTest, InputOutOfItsRangeIsRefused) {
