@@ -186,6 +186,34 @@ TEST(JpegStrips, StripsThatDoNotFitTogetherAreRefused) {
   EXPECT_THROW(encode_jpeg_rows(picture, 48, 32, {80}), std::invalid_argument);  // past the end
 }
 
+// Each way strips can fail to make one JPEG is refused, so that the frame is encoded whole instead.
+TEST(JpegStrips, StripsThatWouldJoinWrongAreRefused) {
+  const JpegOptions fine{80, ChromaSubsampling::s444};  // blocks of 8 rows
+  const ImageRgba picture = test_picture(96, 48);
+  // A strip before the last shorter than the rest: the restart intervals would fall mid-strip.
+  std::vector<std::vector<std::uint8_t>> short_middle = {encode_jpeg_rows(picture, 0, 16, fine),
+                                                         encode_jpeg_rows(picture, 16, 8, fine),
+                                                         encode_jpeg_rows(picture, 32, 16, fine)};
+  EXPECT_THROW(join_jpeg_strips(short_middle, 16), std::invalid_argument);
+  // Strips that are not a whole number of blocks high, though each a JPEG of its own.
+  const std::vector<std::uint8_t> twelve = encode_jpeg(test_picture(96, 12), fine);
+  EXPECT_THROW(join_jpeg_strips({twelve, twelve}, 12), std::invalid_argument);
+  // More blocks in a strip than a restart interval counts (65535): 1025 × 64 here.
+  const ImageRgba wide = test_picture(8200, 1024);
+  EXPECT_THROW(
+      join_jpeg_strips(
+          {encode_jpeg_rows(wide, 0, 512, fine), encode_jpeg_rows(wide, 512, 512, fine)}, 512),
+      std::invalid_argument);
+  // More rows than a JPEG holds (65500), in strips each a JPEG's worth.
+  const ImageRgba tall = test_picture(8, 8192);
+  const std::vector<std::uint8_t> strip = encode_jpeg_rows(tall, 0, 8192, fine);
+  EXPECT_NO_THROW(join_jpeg_strips(std::vector(7, strip), 8192));  // 57344 rows
+  EXPECT_THROW(join_jpeg_strips(std::vector(8, strip), 8192), std::invalid_argument);
+  // At most the strips asked for: 33 rows in two strips are 32 and 1, not three of 16.
+  EXPECT_EQ(jpeg_strip_rows(33, 2), 32);
+  EXPECT_EQ(jpeg_strip_rows(16, 1), 16);
+}
+
 TEST(JpegEncoderPool, EncodesATallFrameInStripsOnSeveralThreads) {
   JpegEncoderPool pool(3);
   const ImageRgba picture = test_picture(320, 3 * JpegEncoderPool::kLeastStripRows + 5);
