@@ -85,6 +85,31 @@ TEST(Jpeg, BadInputIsRefusedWithAReason) {
   // One bad frame costs only itself: this thread's decoder decodes the next good one.
   EXPECT_EQ(decode_jpeg(encode_jpeg(picture, {})).width, 8);
   EXPECT_THROW(ImageRgba(0, 5), std::invalid_argument);
+  ImageRgba short_of_pixels = picture;
+  short_of_pixels.pixels.pop_back();
+  EXPECT_THROW(encode_jpeg(short_of_pixels, {}), std::invalid_argument);
+  // Rows within the image only, starting on a block row: one row past the end, none, or before
+  // the first are refused (each would read outside the pixels).
+  const ImageRgba tall = test_picture(8, 64);
+  EXPECT_NO_THROW(encode_jpeg_rows(tall, 48, 16, {}));
+  EXPECT_THROW(encode_jpeg_rows(tall, 48, 17, {}), std::invalid_argument);
+  EXPECT_THROW(encode_jpeg_rows(tall, 16, 0, {}), std::invalid_argument);
+  EXPECT_THROW(encode_jpeg_rows(tall, -16, 16, {}), std::invalid_argument);
+}
+
+// The chroma subsampling asked for is the one in the frame header: the luma's sampling factors
+// (horizontal, vertical) against the chroma's one each.
+TEST(Jpeg, EachSubsamplingIsTheOneAskedFor) {
+  const auto luma_factors = [](const std::vector<std::uint8_t>& jpeg) {
+    for (std::size_t at = 2; at + 11 < jpeg.size(); ++at) {
+      if (jpeg[at] == 0xFF && jpeg[at + 1] == 0xC0) return int(jpeg[at + 11]);  // SOF0
+    }
+    return 0;
+  };
+  const ImageRgba picture = test_picture(32, 32);
+  EXPECT_EQ(luma_factors(encode_jpeg(picture, {80, ChromaSubsampling::s444})), 0x11);
+  EXPECT_EQ(luma_factors(encode_jpeg(picture, {80, ChromaSubsampling::s422})), 0x21);
+  EXPECT_EQ(luma_factors(encode_jpeg(picture, {80, ChromaSubsampling::s420})), 0x22);
 }
 
 TEST(Jpeg, PlanesOfTheWrongSizeOrSubsamplingAreRefused) {
