@@ -48,6 +48,9 @@ class FakeFluid final : public FluidStream {
     if (message.has_command() && message.command().kind_case() == v1::Command::kPause) {
       paused_ = message.command().pause();
     }
+    if (message.has_command() && message.command().has_viewport()) {
+      viewport_width_ = message.command().viewport().width();
+    }
     last_event_ = id;
     return id;
   }
@@ -106,6 +109,10 @@ class FakeFluid final : public FluidStream {
     const std::lock_guard lock(mutex_);
     return paused_;
   }
+  std::uint32_t viewport_width() const {
+    const std::lock_guard lock(mutex_);
+    return viewport_width_;
+  }
 
  private:
   bool silent() const {
@@ -124,6 +131,7 @@ class FakeFluid final : public FluidStream {
   mutable std::mutex mutex_;
   double time_ = 0.0;
   bool paused_ = false;
+  std::uint32_t viewport_width_ = 0;  // the last a command asked for
   std::uint64_t last_event_ = 0;
   v1::Frame pending_;
 };
@@ -133,6 +141,9 @@ struct Fixture {
   std::mutex mutex;
   std::vector<std::string> said;
   int locals_started = 0;
+  std::shared_ptr<FakeFluid> local;  // the last fluid started here
+  v1::Hello local_hello;             // and what it was started with
+  int connects = 0;                  // attempts, answered or not
 
   int locals() {
     const std::lock_guard lock(mutex);
@@ -140,7 +151,11 @@ struct Fixture {
   }
   HandoffSides sides() {
     return {"fake:1",
-            [server = server](const v1::Hello& hello) -> std::shared_ptr<FluidStream> {
+            [this, server = server](const v1::Hello& hello) -> std::shared_ptr<FluidStream> {
+              {
+                const std::lock_guard lock(mutex);
+                ++connects;
+              }
               const std::lock_guard lock(server->mutex);
               if (!server->up) throw Unreachable("no server answered");
               if (hello.create().scene() == "refused") throw std::invalid_argument("no such scene");
@@ -150,7 +165,9 @@ struct Fixture {
             [this](const v1::Hello& hello) -> std::shared_ptr<FluidStream> {
               const std::lock_guard lock(mutex);
               ++locals_started;
-              return std::make_shared<FakeFluid>(nullptr, hello);
+              local = std::make_shared<FakeFluid>(nullptr, hello);
+              local_hello = hello;
+              return local;
             }};
   }
   HandoffOptions options() {
@@ -167,6 +184,10 @@ struct Fixture {
   void set(bool FakeServer::*field, bool value) {
     const std::lock_guard lock(server->mutex);
     server.get()->*field = value;
+  }
+  int connects_tried() {
+    const std::lock_guard lock(mutex);
+    return connects;
   }
   int snapshots_taken() {
     const std::lock_guard lock(server->mutex);
@@ -353,6 +374,7 @@ TEST(HandoffStream, WithHandoffAServerThatDoesNotAnswerYetIsAskedAgain) {
 
 TEST(HandoffStream, ANewStreamOpensWithTheNewestViewport) {
   Fixture f;
+  f.server->particles = 1500;  // the server's choice: the Hello names no count
   std::vector<v1::Hello> hellos;
   HandoffSides sides = f.sides();
   sides.connect = [&, connect = sides.connect](const v1::Hello& hello) {
@@ -360,7 +382,7 @@ TEST(HandoffStream, ANewStreamOpensWithTheNewestViewport) {
     hellos.push_back(hello);
     return opened;
   };
-  HandoffStream stream(hello_for(1000), sides, f.options());
+  HandoffStream stream(hello_for(0), sides, f.options());
   v1::Command resize;
   resize.mutable_viewport()->set_width(640);
   stream.command(resize);
@@ -371,7 +393,7 @@ TEST(HandoffStream, ANewStreamOpensWithTheNewestViewport) {
   read_until(stream, [&] { return !stream.simulating_here(); });
   ASSERT_EQ(hellos.size(), 2u);
   EXPECT_EQ(hellos[1].viewport().width(), 640u);
-  EXPECT_EQ(hellos[1].create().particles(), 1000u) << "the fluid's count goes with it";
+  EXPECT_EQ(hellos[1].create().particles(), 1500u) << "the fluid's count goes with it";
 }
 
 TEST(HandoffStream, WithoutRetryTheStreamEndsWithTheServerUnlessItContinuesHere) {
@@ -430,6 +452,7 @@ TEST(HandoffStream, AServerThatRefusesTheFluidLeavesItHere) {
   const std::vector<float> here = read_for(stream, milliseconds(100));
   ASSERT_FALSE(here.empty());
   EXPECT_GT(here.front(), 0.05f) << "the fluid here went on, not from the start";
+  EXPECT_GT(here.back(), here.front()) << "the fluid here was left paused";
   f.set(&FakeServer::refuses_states, false);
   read_until(stream, [&] { return !stream.simulating_here(); });
   const std::vector<float> back = read_for(stream, milliseconds(100));
@@ -448,6 +471,64 @@ TEST(HandoffStream, LocalModeNeedsNoServer) {
   ASSERT_GT(clocks.size(), 10u);
   EXPECT_GT(clocks.back(), clocks.front());
   EXPECT_EQ(f.server->streams, 0);
+  f.set(&FakeServer::up, true);  // nor asks one that is there, however long it runs
+  read_for(stream, 4 * f.options().retry_every);
+  EXPECT_TRUE(stream.simulating_here());
+  EXPECT_EQ(f.connects_tried(), 0);
+}
+
+// The fluid that goes on here is as its viewer left it: paused if they paused it, at the size they
+// last asked for; and the warm one waits at one frame a second.
+TEST(HandoffStream, AFluidContinuedHereIsAsItsViewerLeftIt) {
+  Fixture f;
+  HandoffStream stream(hello_for(1000), f.sides(), f.options());
+  v1::Command pause;
+  pause.set_pause(true);
+  stream.command(pause);
+  v1::Command resize;
+  resize.mutable_viewport()->set_width(640);
+  resize.mutable_viewport()->set_height(480);
+  stream.command(resize);
+  stream_until_kept(stream, f);
+  {
+    const std::lock_guard lock(f.mutex);
+    EXPECT_EQ(f.local_hello.quality().max_fps(), 1u) << "the warm fluid renders at full rate";
+  }
+  f.set(&FakeServer::up, false);
+  read_until(stream, [&] { return stream.simulating_here(); });
+  read_for(stream, milliseconds(50));
+  const std::lock_guard lock(f.mutex);
+  ASSERT_TRUE(f.local);
+  EXPECT_TRUE(f.local->paused());
+  EXPECT_EQ(f.local->viewport_width(), 640u);
+}
+
+// While streaming, snapshots come every snapshot_every, not with every frame; while the server is
+// gone it is asked again every retry_every, not with every frame.
+TEST(HandoffStream, SnapshotsAndRetriesKeepTheirIntervals) {
+  Fixture f;
+  HandoffStream stream(hello_for(1000), f.sides(), f.options());
+  stream_until_kept(stream, f);
+  const int before = f.snapshots_taken();
+  read_for(stream, 10 * f.options().snapshot_every);
+  EXPECT_LE(f.snapshots_taken() - before, 12);
+  f.set(&FakeServer::up, false);
+  read_until(stream, [&] { return stream.simulating_here(); });
+  const int tried = f.connects_tried();
+  read_for(stream, 6 * f.options().retry_every);
+  EXPECT_LE(f.connects_tried() - tried, 8);
+  EXPECT_GE(f.connects_tried() - tried, 3);
+}
+
+// A session of exactly the most particles simulated here still continues here.
+TEST(HandoffStream, ASessionAtTheLocalLimitContinuesHere) {
+  Fixture f;
+  HandoffOptions options = f.options();
+  options.max_local_particles = 1000;
+  HandoffStream stream(hello_for(1000), f.sides(), options);
+  stream_until_kept(stream, f);
+  f.set(&FakeServer::up, false);
+  read_until(stream, [&] { return stream.simulating_here(); });
 }
 
 }  // namespace
