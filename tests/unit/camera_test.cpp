@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace fluidcast::render {
@@ -89,6 +90,35 @@ TEST(OrbitCamera, ValidateRefusesBeyondTheDeclaredRanges) {
   camera.distance = 2.0f;
   camera.pitch_degrees = OrbitCamera::kMaxPitchDegrees + 0.5f;
   EXPECT_THROW(camera.validate(), std::invalid_argument);
+  camera.pitch_degrees = 0.0f;
+  camera.field_of_view_degrees = OrbitCamera::kMinFieldOfView;
+  EXPECT_NO_THROW(camera.validate());
+  camera.field_of_view_degrees = OrbitCamera::kMaxFieldOfView;
+  EXPECT_NO_THROW(camera.validate());
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float infinity = std::numeric_limits<float>::infinity();
+  const auto refused = [](OrbitCamera bad) { EXPECT_THROW(bad.validate(), std::invalid_argument); };
+  for (const float fov :
+       {0.99f * OrbitCamera::kMinFieldOfView, 1.01f * OrbitCamera::kMaxFieldOfView, nan}) {
+    OrbitCamera bad = camera;
+    bad.field_of_view_degrees = fov;
+    refused(bad);
+  }
+  for (const float yaw : {nan, infinity}) {
+    OrbitCamera bad = camera;
+    bad.yaw_degrees = yaw;
+    refused(bad);
+  }
+  for (const float distance : {0.0f, -1.0f, nan}) {
+    OrbitCamera bad = camera;
+    bad.distance = distance;
+    refused(bad);
+  }
+  for (int axis = 0; axis < 3; ++axis) {
+    OrbitCamera bad = camera;
+    bad.target[axis] = nan;
+    refused(bad);
+  }
   // A huge tank's farthest orbit stays within what validate() accepts.
   EXPECT_LE(orbit_limits({{0, 0, 0}, {100, 100, 100}}).max_distance, OrbitCamera::kMaxDistance);
 }
@@ -109,6 +139,14 @@ TEST(OrbitCamera, UnprojectIsTheInverseOfTheProjection) {
   const glm::vec4 clip = projection * in_view;
   EXPECT_NEAR(0.5f * (clip.x / clip.w + 1.0f), screen.x, 1e-4f);
   EXPECT_NEAR(0.5f * (clip.y / clip.w + 1.0f), screen.y, 1e-4f);
+  // Depth is kept from a twentieth of the way to the target (a finger's fluid close to the eye)
+  // to far behind it.
+  for (const float depth : {0.06f * camera.distance, 10.0f * camera.distance}) {
+    const glm::vec4 at =
+        projection * view * glm::vec4(unproject(view, projection, {0.5f, 0.5f}, depth), 1.0f);
+    EXPECT_GE(at.z / at.w, 0.0f) << depth;
+    EXPECT_LE(at.z / at.w, 1.0f) << depth;
+  }
 }
 
 }  // namespace
