@@ -128,5 +128,60 @@ TEST(Scene, GeometryThatDoesNotFitIsRefused) {
   EXPECT_THROW(build_scene(p), ParamError);
 }
 
+// Each scene's own rule of fit, broken alone, is refused naming the flag that breaks it. (A drop's
+// pool is below its ball, which is below the lid: the pool's own rule follows from the ball's.)
+TEST(Scene, EachRuleOfFitNamesItsFlag) {
+  struct Case {
+    SceneKind kind;
+    void (*set)(SceneParams&);
+    const char* flag;
+  };
+  const Case cases[] = {
+      {SceneKind::dam_break, [](SceneParams& p) { p.column_height = 1.01f * p.tank_height; },
+       "column-height"},
+      {SceneKind::double_dam_break, [](SceneParams& p) { p.column_width = 0.5f * p.tank_length; },
+       "column-width"},
+      {SceneKind::double_dam_break, [](SceneParams& p) { p.column_height = 1.01f * p.tank_height; },
+       "column-height"},
+      {SceneKind::drop,
+       [](SceneParams& p) { p.drop_height = p.tank_height - 0.5f * p.drop_radius; }, "drop-height"},
+      {SceneKind::drop, [](SceneParams& p) { p.drop_radius = 0.51f * p.depth; }, "drop-radius"},
+      {SceneKind::pool, [](SceneParams& p) { p.pool_height = p.tank_height; }, "pool-height"},
+  };
+  for (const Case& c : cases) {
+    SceneParams p;
+    p.kind = c.kind;
+    p.particles = 1000;
+    c.set(p);
+    SCOPED_TRACE(to_string(c.kind));
+    SCOPED_TRACE(c.flag);
+    try {
+      build_scene(p);
+      ADD_FAILURE() << "built";
+    } catch (const ParamError& e) {
+      const std::string worded = e.worded([](std::string_view name) { return std::string(name); });
+      EXPECT_EQ(worded.rfind(c.flag, 0), 0u) << worded;
+    }
+  }
+  SceneParams fits;  // a double dam break's columns just fit, at a little under half the tank each
+  fits.kind = SceneKind::double_dam_break;
+  fits.particles = 1000;
+  fits.column_width = 0.49f * fits.tank_length;
+  EXPECT_NO_THROW(build_scene(fits));
+}
+
+// A drop of very few particles keeps one in its pool: the ball never takes them all.
+TEST(Scene, ADropOfAFewParticlesKeepsOneInItsPool) {
+  for (int n : {1, 2, 10, 50}) {
+    SceneParams p;
+    p.kind = SceneKind::drop;
+    p.particles = n;
+    const Scene s = build_scene(p);
+    int in_pool = 0;
+    for (const glm::vec3& x : s.particles.position) in_pool += x.y < p.pool_height ? 1 : 0;
+    EXPECT_GE(in_pool, 1) << n;
+  }
+}
+
 }  // namespace
 }  // namespace fluidcast::sim
