@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "fluidcast/sim/statistics.h"
 #include "martin_moyce.h"
@@ -100,6 +101,41 @@ TEST(SurgeFront, IgnoresADropletAheadAndSprayAbove) {
   EXPECT_NEAR(sim::surge_front(set, kSpacing, kTank), 0.535, 1e-5);
 }
 
+// The band and the bins are two spacings: a particle three spacings up, one below the floor, or a
+// droplet with an empty bin before it (four spacings on) is not the front.
+TEST(SurgeFront, CountsOnlyTheFloorBandsUnbrokenRun) {
+  for (const glm::vec3 ignored : {glm::vec3(0.525f, 0.03f, 0.05f), glm::vec3(0.525f, -0.01f, 0.05f),
+                                  glm::vec3(0.545f, 0.005f, 0.05f)}) {
+    sim::ParticleSet set = floor_layer(0.005f, 0.505f);
+    set.append(ignored, glm::vec3(0.0f), 1000);
+    EXPECT_NEAR(sim::surge_front(set, kSpacing, kTank), 0.51, 1e-5)
+        << ignored.x << ", " << ignored.y;
+  }
+}
+
+// What measure() adds up, on a few particles far apart: ½ m v² and the centre over the finite
+// particles (one outside the tank among them, counted), a NaN one counted apart; no compression
+// where the fluid is thinner than at rest.
+TEST(Measure, SumsTheFiniteParticlesAndCountsTheRest) {
+  const sim::FluidConstants fluid = sim::derive_fluid_constants(kSpacing, sim::SolverParams{});
+  sim::ParticleSet set;
+  set.append({0.5f, 0.5f, 0.05f}, {1.0f, 0.0f, 0.0f}, 0);
+  set.append({0.6f, 0.5f, 0.05f}, {0.0f, 2.0f, 0.0f}, 1);
+  set.append({2.9f, 0.5f, 0.05f}, {0.0f, 0.0f, 0.0f}, 2);  // beyond the tank's 2 m
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  set.append({nan, 0.5f, 0.05f}, {0.0f, 0.0f, 0.0f}, 3);
+  const sim::FluidStatistics s = sim::measure(set, fluid, kTank);
+  EXPECT_EQ(s.particles, 4u);
+  EXPECT_EQ(s.non_finite, 1u);
+  EXPECT_EQ(s.outside_tank, 1u);
+  EXPECT_NEAR(s.kinetic_energy, 0.5 * fluid.particle_mass * (1.0 + 4.0), 1e-12);
+  EXPECT_DOUBLE_EQ(s.max_speed, 2.0);
+  EXPECT_NEAR(s.centre_of_mass.x, (0.5 + 0.6 + 2.9) / 3.0, 1e-6);
+  EXPECT_NEAR(s.centre_of_mass.y, 0.5, 1e-6);
+  EXPECT_EQ(s.max_density_error, 0.0);
+  EXPECT_EQ(s.avg_density_error, 0.0);
+}
+
 TEST(SurgeFront, NothingAtTheWallIsNoFront) {
   EXPECT_EQ(sim::surge_front(floor_layer(0.5f, 0.6f), kSpacing, kTank), 0.0);
 }
@@ -132,8 +168,11 @@ TEST(MartinMoyce, ComparisonIsTheMeanRelativeErrorAtTheExperimentsPoints) {
 }
 
 TEST(SvgPlot, DrawsEverySeriesAndLabel) {
-  Chart chart{"title <1>", "T", "Z", {{"experiment", "black", true, {0, 1, 2}, {1, 2, 3}},
-                                      {"simulated", "red", false, {0, 1, 2}, {1, 2.5, 3.5}}}};
+  Chart chart{"title <1>",
+              "T",
+              "Z",
+              {{"experiment", "black", true, {0, 1, 2}, {1, 2, 3}},
+               {"simulated", "red", false, {0, 1, 2}, {1, 2.5, 3.5}}}};
   const std::string svg = to_svg(chart);
   EXPECT_NE(svg.find("title &lt;1&gt;"), std::string::npos);
   EXPECT_NE(svg.find("<polyline"), std::string::npos);
