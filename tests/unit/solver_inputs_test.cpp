@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "solver_test_support.h"
@@ -111,8 +112,7 @@ TEST_P(SolverInputs, WaterBuiltAgainstAWallStaysThere) {
   std::size_t watched = 0;
   for (std::size_t i = 0; i < after.size(); ++i) {
     const glm::vec3 p = after.position[i];
-    const bool interior =
-        std::min({p.x, p.z, 2.0f - p.x, 2.0f - p.z}) > 5.0f * fluid.kernel_radius;
+    const bool interior = std::min({p.x, p.z, 2.0f - p.x, 2.0f - p.z}) > 5.0f * fluid.kernel_radius;
     if (!interior || p.y > fluid.spacing) continue;
     ++watched;
     fastest_rise = std::max(fastest_rise, after.velocity[i].y);
@@ -406,6 +406,51 @@ TEST_P(SolverInputs, FullTiltsKeepTheFluidSoundAndItsEnergyBounded) {
 
 // CPU only: on the GPU the order within a grid cell follows atomics, so sums differ in their
 // last bits from run to run.
+// Each limit of the solver's inputs (the same code on either backend) passes at its value and
+// refuses the next, in words that name what was wrong; what is refused changes nothing.
+TEST(CpuSolverInputs, EachInputPassesAtItsLimitAndNotPast) {
+  SolverParams params;
+  params.max_substeps = 3;
+  auto s = make_solver(SolverKind::pbf, SceneKind::dam_break, 1000, params);
+  const float dt = params.time_step;
+  EXPECT_NO_THROW(s->step(dt, 3));
+  EXPECT_NE(error_of([&] { s->step(dt, 4); }).find("substeps are not in [1, 3]"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { s->step(1.01f * dt, 1); }).find("the time step"), std::string::npos);
+  EXPECT_NE(error_of([&] {
+              s->set_gravity({0, 0, std::numeric_limits<float>::infinity()});
+            }).find("must be finite"),
+            std::string::npos);
+
+  Collider finger{{0.8f, 0.5f, 0.15f}, kMaxColliderRadius, {0, 0, 0}};
+  EXPECT_NO_THROW(s->set_colliders({&finger, 1}));
+  finger.radius = 1.01f * kMaxColliderRadius;
+  EXPECT_NE(error_of([&] {
+              s->set_colliders({&finger, 1});
+            }).find("collider 0: radius"),
+            std::string::npos);
+
+  const std::vector<glm::vec3> at = {{1.2f, 0.5f, 0.15f}};
+  EXPECT_NE(error_of([&] {
+              s->add_particles(at, std::vector<glm::vec3>{{1.01f * kMaxSpeed, 0, 0}});
+            }).find("velocity 0"),
+            std::string::npos);
+  EXPECT_EQ(s->particle_count(), 1000u);
+  EXPECT_NO_THROW(s->add_particles(at, std::vector<glm::vec3>{{kMaxSpeed, 0, 0}}));
+  s->add_particles(at, std::vector<glm::vec3>{{0, 0, 0}});
+  std::vector<std::uint32_t> ids = s->snapshot().id;  // each added particle a new id
+  std::sort(ids.begin(), ids.end());
+  EXPECT_EQ(std::adjacent_find(ids.begin(), ids.end()), ids.end());
+
+  EXPECT_FALSE(error_of([&] {
+                 s->remove_particles_in_sphere({0, 0, 0}, std::numeric_limits<float>::infinity());
+               }).empty());
+  EXPECT_EQ(s->remove_particles_in_sphere({0.05f, 0.05f, 0.05f}, 0.0f), 0u);
+  EXPECT_EQ(s->particle_count(), 1002u);
+  EXPECT_THROW(s->set_time(std::numeric_limits<double>::infinity()), std::invalid_argument);
+  EXPECT_NO_THROW(s->set_time(0.0));
+}
+
 TEST(CpuSolverInputs, DeterministicForAThreadCount) {
   for (const SolverKind kind : {SolverKind::pbf, SolverKind::sph}) {
     SCOPED_TRACE(to_string(kind));
@@ -449,6 +494,19 @@ TEST(CheckDensity, FluidStatesPassAndClumpsAreRefused) {
   for (std::size_t k = 0; k < 400; ++k) clump[k] = {0.8f, 0.3f, 0.15f};
   const std::string error = error_of([&] { check_density(clump, s->fluid()); });
   EXPECT_NE(error.find("times the fluid's rest density"), std::string::npos) << error;
+}
+
+// The bound is twice the particles a cube of two kernel radii holds at rest: that many at one
+// point pass, one more does not.
+TEST(CheckDensity, TwiceRestDensityPassesAndNotOneParticleMore) {
+  auto s = make_solver(SolverKind::pbf, SceneKind::dam_break, 1000);
+  const float side = 2.0f * s->fluid().kernel_radius;
+  const auto most =
+      static_cast<std::size_t>(kMaxDensityRatio * std::pow(side / s->fluid().spacing, 3.0f));
+  std::vector<glm::vec3> clump(most, glm::vec3(0.8f, 0.3f, 0.15f));
+  EXPECT_NO_THROW(check_density(clump, s->fluid()));
+  clump.push_back(clump.back());
+  EXPECT_THROW(check_density(clump, s->fluid()), std::invalid_argument);
 }
 
 // Positions a caller has not checked against a tank: far apart, or not numbers, are refused in
