@@ -97,27 +97,29 @@ TEST(OrbitCamera, ValidateRefusesBeyondTheDeclaredRanges) {
   EXPECT_NO_THROW(camera.validate());
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const float infinity = std::numeric_limits<float>::infinity();
-  const auto refused = [](OrbitCamera bad) { EXPECT_THROW(bad.validate(), std::invalid_argument); };
+  const auto refused = [](OrbitCamera bad, const char* what, float value) {
+    EXPECT_THROW(bad.validate(), std::invalid_argument) << what << " " << value;
+  };
   for (const float fov :
        {0.99f * OrbitCamera::kMinFieldOfView, 1.01f * OrbitCamera::kMaxFieldOfView, nan}) {
     OrbitCamera bad = camera;
     bad.field_of_view_degrees = fov;
-    refused(bad);
+    refused(bad, "field of view", fov);
   }
   for (const float yaw : {nan, infinity}) {
     OrbitCamera bad = camera;
     bad.yaw_degrees = yaw;
-    refused(bad);
+    refused(bad, "yaw", yaw);
   }
   for (const float distance : {0.0f, -1.0f, nan}) {
     OrbitCamera bad = camera;
     bad.distance = distance;
-    refused(bad);
+    refused(bad, "distance", distance);
   }
   for (int axis = 0; axis < 3; ++axis) {
     OrbitCamera bad = camera;
     bad.target[axis] = nan;
-    refused(bad);
+    refused(bad, "target axis", float(axis));
   }
   // A huge tank's farthest orbit stays within what validate() accepts.
   EXPECT_LE(orbit_limits({{0, 0, 0}, {100, 100, 100}}).max_distance, OrbitCamera::kMaxDistance);

@@ -88,8 +88,8 @@ TEST(Jpeg, BadInputIsRefusedWithAReason) {
   ImageRgba short_of_pixels = picture;
   short_of_pixels.pixels.pop_back();
   EXPECT_THROW(encode_jpeg(short_of_pixels, {}), std::invalid_argument);
-  // Rows within the image only, starting on a block row: one row past the end, none, or before
-  // the first are refused (each would read outside the pixels).
+  // Rows within the image only: one row past the end or before the first (each would read outside
+  // the pixels), or none, are refused.
   const ImageRgba tall = test_picture(8, 64);
   EXPECT_NO_THROW(encode_jpeg_rows(tall, 48, 16, {}));
   EXPECT_THROW(encode_jpeg_rows(tall, 48, 17, {}), std::invalid_argument);
@@ -98,11 +98,16 @@ TEST(Jpeg, BadInputIsRefusedWithAReason) {
 }
 
 // The chroma subsampling asked for is the one in the frame header: the luma's sampling factors
-// (horizontal, vertical) against the chroma's one each.
+// (horizontal, vertical), each chroma component's one by one.
 TEST(Jpeg, EachSubsamplingIsTheOneAskedFor) {
+  // SOF0: marker, length, precision, height, width, 3 components of (id, factors, table).
   const auto luma_factors = [](const std::vector<std::uint8_t>& jpeg) {
-    for (std::size_t at = 2; at + 11 < jpeg.size(); ++at) {
-      if (jpeg[at] == 0xFF && jpeg[at + 1] == 0xC0) return int(jpeg[at + 11]);  // SOF0
+    for (std::size_t at = 2; at + 17 < jpeg.size(); ++at) {
+      if (jpeg[at] == 0xFF && jpeg[at + 1] == 0xC0) {
+        EXPECT_EQ(jpeg[at + 14], 0x11);  // Cb
+        EXPECT_EQ(jpeg[at + 17], 0x11);  // Cr
+        return int(jpeg[at + 11]);
+      }
     }
     return 0;
   };
@@ -188,6 +193,9 @@ TEST(JpegStrips, JoinedStripsDecodeToTheWholeEncodesPixels) {
   }
   EXPECT_EQ(jpeg_strip_rows(1080, 8), 144);  // a multiple of 16: 7 strips of 144, one of 72
   EXPECT_EQ(jpeg_strip_rows(10, 4), 16);
+  // At most the strips asked for: 33 rows in two strips are 32 and 1, not three of 16.
+  EXPECT_EQ(jpeg_strip_rows(33, 2), 32);
+  EXPECT_EQ(jpeg_strip_rows(16, 1), 16);
 }
 
 TEST(JpegStrips, StripsThatDoNotFitTogetherAreRefused) {
@@ -224,19 +232,21 @@ TEST(JpegStrips, StripsThatWouldJoinWrongAreRefused) {
   const std::vector<std::uint8_t> twelve = encode_jpeg(test_picture(96, 12), fine);
   EXPECT_THROW(join_jpeg_strips({twelve, twelve}, 12), std::invalid_argument);
   // More blocks in a strip than a restart interval counts (65535): 1025 × 64 here.
-  const ImageRgba wide = test_picture(8200, 1024);
-  EXPECT_THROW(
-      join_jpeg_strips(
-          {encode_jpeg_rows(wide, 0, 512, fine), encode_jpeg_rows(wide, 512, 512, fine)}, 512),
-      std::invalid_argument);
-  // More rows than a JPEG holds (65500), in strips each a JPEG's worth.
-  const ImageRgba tall = test_picture(8, 8192);
-  const std::vector<std::uint8_t> strip = encode_jpeg_rows(tall, 0, 8192, fine);
-  EXPECT_NO_THROW(join_jpeg_strips(std::vector(7, strip), 8192));  // 57344 rows
-  EXPECT_THROW(join_jpeg_strips(std::vector(8, strip), 8192), std::invalid_argument);
-  // At most the strips asked for: 33 rows in two strips are 32 and 1, not three of 16.
-  EXPECT_EQ(jpeg_strip_rows(33, 2), 32);
-  EXPECT_EQ(jpeg_strip_rows(16, 1), 16);
+  const std::vector<std::uint8_t> wide = encode_jpeg(test_picture(8200, 512), fine);
+  try {
+    join_jpeg_strips({wide, wide}, 512);
+    ADD_FAILURE() << "joined strips of 65600 blocks";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("restart interval"), std::string::npos) << e.what();
+  }
+  // More rows than a JPEG holds (65500): seven strips of 8192 and a last one to 65500 join, one
+  // row more does not.
+  const std::vector<std::uint8_t> strip = encode_jpeg(test_picture(8, 8192), fine);
+  std::vector<std::vector<std::uint8_t>> strips(7, strip);
+  strips.push_back(encode_jpeg(test_picture(8, 65500 - 7 * 8192), fine));
+  EXPECT_NO_THROW(join_jpeg_strips(strips, 8192));
+  strips.back() = encode_jpeg(test_picture(8, 65501 - 7 * 8192), fine);
+  EXPECT_THROW(join_jpeg_strips(strips, 8192), std::invalid_argument);
 }
 
 TEST(JpegEncoderPool, EncodesATallFrameInStripsOnSeveralThreads) {

@@ -137,6 +137,8 @@ TEST(Scene, EachRuleOfFitNamesItsFlag) {
     const char* flag;
   };
   const Case cases[] = {
+      {SceneKind::dam_break, [](SceneParams& p) { p.column_width = p.tank_length; },
+       "column-width"},
       {SceneKind::dam_break, [](SceneParams& p) { p.column_height = 1.01f * p.tank_height; },
        "column-height"},
       {SceneKind::double_dam_break, [](SceneParams& p) { p.column_width = 0.5f * p.tank_length; },
@@ -145,6 +147,7 @@ TEST(Scene, EachRuleOfFitNamesItsFlag) {
        "column-height"},
       {SceneKind::drop,
        [](SceneParams& p) { p.drop_height = p.tank_height - 0.5f * p.drop_radius; }, "drop-height"},
+      {SceneKind::drop, [](SceneParams& p) { p.drop_height = 0.35f; }, "drop-height"},
       {SceneKind::drop, [](SceneParams& p) { p.drop_radius = 0.51f * p.depth; }, "drop-radius"},
       {SceneKind::pool, [](SceneParams& p) { p.pool_height = p.tank_height; }, "pool-height"},
   };
@@ -170,7 +173,8 @@ TEST(Scene, EachRuleOfFitNamesItsFlag) {
   EXPECT_NO_THROW(build_scene(fits));
 }
 
-// A drop of very few particles keeps one in its pool: the ball never takes them all.
+// A drop of very few particles keeps one in its pool: the ball never takes them all (one particle:
+// the pool's; a few: one in the ball, the rest in the pool).
 TEST(Scene, ADropOfAFewParticlesKeepsOneInItsPool) {
   for (int n : {1, 2, 10, 50}) {
     SceneParams p;

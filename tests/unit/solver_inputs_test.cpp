@@ -404,8 +404,6 @@ TEST_P(SolverInputs, FullTiltsKeepTheFluidSoundAndItsEnergyBounded) {
   }
 }
 
-// CPU only: on the GPU the order within a grid cell follows atomics, so sums differ in their
-// last bits from run to run.
 // Each limit of the solver's inputs (the same code on either backend) passes at its value and
 // refuses the next, in words that name what was wrong; what is refused changes nothing.
 TEST(CpuSolverInputs, EachInputPassesAtItsLimitAndNotPast) {
@@ -421,6 +419,7 @@ TEST(CpuSolverInputs, EachInputPassesAtItsLimitAndNotPast) {
               s->set_gravity({0, 0, std::numeric_limits<float>::infinity()});
             }).find("must be finite"),
             std::string::npos);
+  EXPECT_EQ(s->gravity(), kStandardGravity);
 
   Collider finger{{0.8f, 0.5f, 0.15f}, kMaxColliderRadius, {0, 0, 0}};
   EXPECT_NO_THROW(s->set_colliders({&finger, 1}));
@@ -442,15 +441,18 @@ TEST(CpuSolverInputs, EachInputPassesAtItsLimitAndNotPast) {
   std::sort(ids.begin(), ids.end());
   EXPECT_EQ(std::adjacent_find(ids.begin(), ids.end()), ids.end());
 
-  EXPECT_FALSE(error_of([&] {
-                 s->remove_particles_in_sphere({0, 0, 0}, std::numeric_limits<float>::infinity());
-               }).empty());
+  EXPECT_NE(error_of([&] {
+              s->remove_particles_in_sphere({0, 0, 0}, std::numeric_limits<float>::infinity());
+            }).find("radius must be finite"),
+            std::string::npos);
   EXPECT_EQ(s->remove_particles_in_sphere({0.05f, 0.05f, 0.05f}, 0.0f), 0u);
   EXPECT_EQ(s->particle_count(), 1002u);
   EXPECT_THROW(s->set_time(std::numeric_limits<double>::infinity()), std::invalid_argument);
   EXPECT_NO_THROW(s->set_time(0.0));
 }
 
+// CPU only: on the GPU the order within a grid cell follows atomics, so sums differ in their
+// last bits from run to run.
 TEST(CpuSolverInputs, DeterministicForAThreadCount) {
   for (const SolverKind kind : {SolverKind::pbf, SolverKind::sph}) {
     SCOPED_TRACE(to_string(kind));
