@@ -230,6 +230,17 @@ std::vector<float> read_until(HandoffStream& stream, Done done) {
   return clocks;
 }
 
+// Whether a frame later than `after` comes within 5 s: the fluid shown goes on, however slowly
+// frames come on a loaded machine.
+bool goes_on_after(HandoffStream& stream, float after) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  while (std::chrono::steady_clock::now() < end) {
+    const auto frame = stream.next_frame(milliseconds(2));
+    if (frame && frame->sim_time() > after) return true;
+  }
+  return false;
+}
+
 // Streams until the server has given a few snapshots (the newest state is kept) and the warm local
 // fluid has started; returns the clocks read meanwhile.
 std::vector<float> stream_until_kept(HandoffStream& stream, Fixture& f) {
@@ -254,12 +265,11 @@ TEST(HandoffStream, ADroppedServersFluidContinuesHereFromItsNewestState) {
   const std::vector<float> more = read_for(stream, milliseconds(100));
   here.insert(here.end(), more.begin(), more.end());
   ASSERT_FALSE(here.empty()) << "no frame after the handoff";
-  ASSERT_GE(more.size(), 2u);
-  EXPECT_GT(more.back(), more.front()) << "the warm fluid's pause outlived the handoff";
   // The fluid goes on from a snapshot a few frames behind the last one streamed; a fresh fluid,
   // or the warm one's frame from before the state went in, would be at t = 0.
   for (const float t : here) EXPECT_GT(t, last_streamed / 2) << "a frame from before";
   EXPECT_NE(stream.status().find("continuing locally"), std::string::npos) << stream.status();
+  EXPECT_TRUE(goes_on_after(stream, here.back())) << "the warm fluid's pause outlived the handoff";
   ASSERT_TRUE(stream.handoff_gap_ms());
   EXPECT_LT(*stream.handoff_gap_ms(), 1000.0);
   EXPECT_TRUE(f.heard("handoff gap"));
@@ -454,7 +464,7 @@ TEST(HandoffStream, AServerThatRefusesTheFluidLeavesItHere) {
   const std::vector<float> here = read_for(stream, milliseconds(100));
   ASSERT_FALSE(here.empty());
   EXPECT_GT(here.front(), 0.05f) << "the fluid here went on, not from the start";
-  EXPECT_GT(here.back(), here.front()) << "the fluid here was left paused";
+  EXPECT_TRUE(goes_on_after(stream, here.back())) << "the fluid here was left paused";
   f.set(&FakeServer::refuses_states, false);
   read_until(stream, [&] { return !stream.simulating_here(); });
   const std::vector<float> back = read_for(stream, milliseconds(100));
