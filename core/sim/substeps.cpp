@@ -101,15 +101,26 @@ int PbfSubsteps::count(float step, float largest_speed, float largest_collider_s
   const float by_density = step / longest_substep_;
   // std::max passes over a NaN it does not meet first: a speed that is not finite is refused here.
   if (!std::isfinite(by_travel) || !std::isfinite(by_walls)) return max_substeps_;
-  float substeps = std::max({by_travel, by_walls, by_density}) * (1.0f - kRoundingSlack);
-  // NaN, nothing observed yet, is not near: the bound start() set stands alone.
-  const bool near_bound = last_error_ > kNearShare * tolerance_;
-  if (near_bound && steps_unseen > 0) {
-    substeps =
-        std::ceil(substeps) * std::pow(kUnseenGrowth, 0.5f * static_cast<float>(steps_unseen));
-  }
+  const float substeps = allow_for_unseen(
+      std::max({by_travel, by_walls, by_density}) * (1.0f - kRoundingSlack), steps_unseen);
   if (!std::isfinite(substeps)) return max_substeps_;
   return static_cast<int>(std::clamp(std::ceil(substeps), 1.0f, static_cast<float>(max_substeps_)));
+}
+
+float PbfSubsteps::allow_for_unseen(float substeps, int steps_unseen) const {
+  // NaN, nothing observed yet, is not near: the bound start() set stands alone.
+  const bool near_bound = last_error_ > kNearShare * tolerance_;
+  if (!near_bound || steps_unseen <= 0) return substeps;
+  return std::ceil(substeps) * std::pow(kUnseenGrowth, 0.5f * static_cast<float>(steps_unseen));
+}
+
+float PbfSubsteps::stiffness_substep(float step, int substeps, int steps_unseen) const {
+  const float by_density =
+      allow_for_unseen(step / longest_substep_ * (1.0f - kRoundingSlack), steps_unseen);
+  // No bound (infinite: nothing compressed yet) asks for one substep.
+  const float count =
+      by_density > 1.0f ? std::min(std::ceil(by_density), static_cast<float>(substeps)) : 1.0f;
+  return step / count;
 }
 
 void PbfSubsteps::observe(float substep, float error) {

@@ -71,6 +71,9 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Si
   float max_acceleration;  // PBF: most the corrections may accelerate a particle, m/s²
   uint max_neighbours;   // neighbours listed per particle, at most (FluidConstants)
   float wall_reach;      // PBF: how far ahead, s, a particle closing on a wall counts (wall_approach)
+  float stiffness_share;  // PBF: the share of its corrections a step applies (stiffness_share)
+  float pressed_from;     // PBF: from this compression up a particle applies more, all of them
+  float pressed_span;     // this much above it (particle_stiffness_share)
 
   vec4 collider_sphere[MAX_COLLIDERS];    // centre at the step's start, radius in w
   vec4 collider_velocity[MAX_COLLIDERS];

@@ -500,12 +500,15 @@ void push_a_finger_through(const ParticleSet& fluid, Solver& a, Solver& b) {
 }
 
 // `steps` steps of `seconds` each, in `substeps` equal substeps, on both solvers, the count the
-// CPU took checked at every step (CPU SPH sets its substeps from the state), so that the runs
-// part only by the order of their sums. Call it in ASSERT_NO_FATAL_FAILURE.
+// CPU took checked at every step (CPU SPH sets its substeps from the state), and each GPU step
+// finished before the next, so that PBF's density bound has heard of the same steps on both (it
+// sets how stiff the corrections are: PbfSubsteps::stiffness_substep) and the runs part only by
+// the order of their sums. Call it in ASSERT_NO_FATAL_FAILURE.
 void step_in_lockstep(Solver& cpu, Solver& gpu, float seconds, int substeps, int steps) {
   for (int step = 0; step < steps; ++step) {
     ASSERT_EQ(cpu.step(seconds, substeps), substeps) << "step " << step;
     gpu.step(seconds, substeps);
+    gpu.synchronize();
   }
 }
 

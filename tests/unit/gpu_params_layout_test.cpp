@@ -114,6 +114,9 @@ TEST(GpuParamsLayout, SimParamsMatchesTheGlslBlock) {
                                                   FIELD(SimParams, max_acceleration),
                                                   FIELD(SimParams, max_neighbours),
                                                   FIELD(SimParams, wall_reach),
+                                                  FIELD(SimParams, stiffness_share),
+                                                  FIELD(SimParams, pressed_from),
+                                                  FIELD(SimParams, pressed_span),
                                                   FIELD(SimParams, collider_sphere),
                                                   FIELD(SimParams, collider_velocity)};
   const auto glsl = member_offsets(shaders::sim_pbf_lambda_comp, "SimParams");

@@ -70,9 +70,9 @@ TEST(Pbf, JacobiDampingWeighsTheFirstAndLastIterationsAndKeepsTheirSum) {
 
 // XSPH and vorticity confinement run once a step, on its last substep (pbf_step_xsph): from a
 // stirred pool, a step cut into four substeps changes the velocity as four steps of one substep
-// do, each of which applies them. The two cuts' velocities differ by less than half of what the
-// filters change (0.24 of it with XSPH, 0.40 with the confinement, whose direction turns with
-// the curl's field); seen failing with XSPH's c applied once uncompounded (0.71) and with the
+// do, each of which applies them. The two cuts' velocities differ by less than 0.6 of what the
+// filters change (0.28 of it with XSPH, 0.47 with the confinement, whose direction turns with
+// the curl's field); seen failing with XSPH's c applied once uncompounded (0.68) and with the
 // confinement over the last substep alone (0.73). It checks the rule's equivalence, not the work
 // saved: the filters at every substep, as before, pass it too.
 TEST(Pbf, VelocityFiltersOnceAStepActAsAtEverySubstep) {
@@ -83,10 +83,14 @@ TEST(Pbf, VelocityFiltersOnceAStepActAsAtEverySubstep) {
     SolverParams params;
     params.xsph_viscosity = filters.xsph_viscosity;
     params.vorticity = filters.vorticity;
+    // The least tolerance and 3 iterations: the density bound alone cuts the step compared into
+    // 5 substeps, so that both cuts are as stiff (PbfSubsteps::stiffness_substep).
+    params.pbf_density_tolerance = 0.0001f;
+    params.iterations = 3;
     auto settling = make_solver(SolverKind::pbf, SceneKind::pool, 2000, params);
-    // Settled at the substeps compared: a fresh lattice's corrections, or those that longer
-    // substeps left, come back as velocity that would drown the filters'.
-    for (int k = 0; k < 120; ++k) settling->step(params.time_step, 4);
+    // Settled: a fresh lattice's corrections would come back as velocity that drowns the
+    // filters'.
+    for (int k = 0; k < 120; ++k) settling->step();
     Scene stirred = settling->scene();
     stirred.particles = settling->snapshot();
     std::uint32_t seed = 12345u;
@@ -122,7 +126,7 @@ TEST(Pbf, VelocityFiltersOnceAStepActAsAtEverySubstep) {
     std::printf("XSPH %g, vorticity %g: the filters change the velocity by %.3g m/s (rms), the "
                 "cuts differ by %.3g\n",
                 filters.xsph_viscosity, filters.vorticity, filtered, cut_apart);
-    EXPECT_LT(cut_apart, 0.5 * filtered);
+    EXPECT_LT(cut_apart, 0.6 * filtered);
   }
 }
 

@@ -6,11 +6,12 @@
 // from the displacement; the step's last substep then smooths and confines the velocity (XSPH
 // viscosity and vorticity confinement, once a step: pbf_step_xsph) and measures the compression.
 //
-// Four choices beyond the paper: the density constraint is unilateral, C = max(ρ/ρ0 − 1, 0), so
+// Five choices beyond the paper: the density constraint is unilateral, C = max(ρ/ρ0 − 1, 0), so
 // a surface particle with few neighbours is not pulled inwards; ε and s_corr are scaled by the
 // rest-state Σ|∇C|², which makes them dimensionless and independent of the particle size; the
 // velocity the corrections add is capped (pbf_max_acceleration, as NVIDIA FleX's maxAcceleration);
-// and the first and last iterations' corrections are weighted (pbf_correction_weight).
+// the first and last iterations' corrections are weighted (pbf_correction_weight); and a step cut
+// finer than its density bound asks keeps that bound's stiffness (PbfSubsteps::stiffness_substep).
 #pragma once
 
 #include "cpu/cpu_solver.h"
@@ -34,9 +35,10 @@ class PbfSolver final : public CpuSolver {
   void finish_step(int substeps);
   void predict();
   void compute_lambdas();
-  // Moves each particle by `weight` times its Δp (pbf_correction_weight); the last iteration also
-  // sets the velocities from the corrected positions.
-  void apply_position_corrections(float weight, bool set_velocities);
+  // Moves each particle by `weight` times its Δp (pbf_correction_weight), times its share of the
+  // step's stiffness (`step_stiffness`, stiffness_share(): particle_stiffness_share()); the last
+  // iteration also sets the velocities from the corrected positions.
+  void apply_position_corrections(float weight, float step_stiffness, bool set_velocities);
   glm::vec3 velocity_from(std::size_t i, glm::vec3 corrected) const;
   // XSPH's smoothing by `xsph`, the curl where confinement is on, and the compression.
   void sum_over_neighbours(float xsph);
@@ -51,6 +53,7 @@ class PbfSolver final : public CpuSolver {
   float scorr_scale_;         // k / Σ|∇C|²_rest
   float inv_w_dq_;            // 1 / W(Δq)
   float dt_ = 0.0f;           // of the current substep
+  float stiffness_dt_ = 0.0f;  // PbfSubsteps::stiffness_substep() of the current step
   PbfSubsteps substeps_;
   std::vector<float> compression_;  // per particle, at the end of the step
   std::vector<glm::vec3> predicted_, corrected_;

@@ -38,6 +38,7 @@ struct SimParams {
   float max_acceleration;
   std::uint32_t max_neighbours;
   float wall_reach;
+  float stiffness_share, pressed_from, pressed_span;
 
   alignas(16) glm::vec4 collider_sphere[kMaxColliders];
   glm::vec4 collider_velocity[kMaxColliders];
@@ -57,6 +58,7 @@ static_assert(offsetof(SimParams, max_candidates) == 176 + 7 * 16 + 25 * 4);
 static_assert(offsetof(SimParams, max_acceleration) == 176 + 7 * 16 + 26 * 4);
 static_assert(offsetof(SimParams, max_neighbours) == 176 + 7 * 16 + 27 * 4);
 static_assert(offsetof(SimParams, wall_reach) == 176 + 7 * 16 + 28 * 4);
+static_assert(offsetof(SimParams, pressed_span) == 176 + 7 * 16 + 31 * 4);
 static_assert(offsetof(SimParams, collider_sphere) == 176 + 7 * 16 + 32 * 4);
 static_assert(offsetof(SimParams, collider_velocity) ==
               offsetof(SimParams, collider_sphere) + kMaxColliders * 16);

@@ -338,7 +338,7 @@ void GpuSolver::harvest(InFlight& slot) {
           (std::uint64_t{stats[kCompressionSumHigh]} << 32) | stats[kCompressionSum];
       const double mean =
           slot.particles > 0 ? static_cast<double>(sum) * kCompressionUnit / slot.particles : 0.0;
-      pbf_substeps_.observe(slot.substep_seconds, static_cast<float>(mean));
+      pbf_substeps_.observe(slot.stiffness_substep, static_cast<float>(mean));
     }
   }
   // Untimed steps (a device without timestamps) are not counted: a cost of 0 would mean free.
@@ -401,7 +401,7 @@ void GpuSolver::set_addresses(SimParams& p) const {
   p.neighbour_count = buffers_.neighbour_count.address();
 }
 
-SimParams GpuSolver::step_params(int substeps) const {
+SimParams GpuSolver::step_params(int substeps, float stiffness) const {
   const Kernels kernels(fluid().kernel_radius);
   const float radius = fluid().particle_radius();
   const GridGeometry& grid = grid_.geometry();
@@ -448,6 +448,9 @@ SimParams GpuSolver::step_params(int substeps) const {
   p.max_candidates = fluid().max_candidates;
   p.max_neighbours = fluid().max_neighbours;
   p.wall_reach = wall_reach();
+  p.stiffness_share = stiffness;
+  p.pressed_from = PbfSubsteps::kPressedFrom * params().pbf_density_tolerance;
+  p.pressed_span = PbfSubsteps::kPressedSpan * params().pbf_density_tolerance;
   for (std::size_t c = 0; c < colliders().size(); ++c) {
     p.collider_sphere[c] = glm::vec4(colliders()[c].centre, colliders()[c].radius);
     p.collider_velocity[c] = glm::vec4(colliders()[c].velocity, 0.0f);
@@ -463,11 +466,7 @@ int GpuSolver::substeps_for(float seconds) {
   const float h = fluid().kernel_radius;
   // Steps still running make the figures that many steps older: allow for what gravity adds over
   // them too.
-  const std::uint64_t finished = context_->last_finished();
-  int running = 0;
-  for (const InFlight& slot : in_flight_) {
-    running += !slot.harvested && !slot.finished(finished) ? 1 : 0;
-  }
+  const int running = steps_running();
   const float g = glm::length(gravity());
   const float speed = largest_speed_ + float(running) * g * seconds;
   if (kind_ == SolverKind::pbf) {
@@ -484,6 +483,15 @@ int GpuSolver::substeps_for(float seconds) {
       std::clamp(std::ceil(seconds / dt), 1.0f, static_cast<float>(params().max_substeps)));
 }
 
+int GpuSolver::steps_running() const {
+  const std::uint64_t finished = context_->last_finished();
+  int running = 0;
+  for (const InFlight& slot : in_flight_) {
+    running += !slot.harvested && !slot.finished(finished) ? 1 : 0;
+  }
+  return running;
+}
+
 int GpuSolver::advance(float seconds, int substeps) {
   InFlight& slot = in_flight_[next_slot_];
   if (!slot.harvested) {  // the oldest step, still waiting or running
@@ -494,11 +502,14 @@ int GpuSolver::advance(float seconds, int substeps) {
 
   const float dt = seconds / static_cast<float>(substeps);
   const bool pbf = kind_ == SolverKind::pbf;
+  const float stiffness_dt =
+      pbf ? pbf_substeps_.stiffness_substep(seconds, substeps, steps_running()) : dt;
   Passes passes;
   // First the step's parameters, a clean slate for its figures, and the first substep's grid
   // cleared for its count (each substep's last pass clears it for the next).
   passes.push_back({static_cast<int>(pbf ? Stage::predict : Stage::grid), 0,
-                    [this, params_block = step_params(substeps)](VkCommandBuffer c) {
+                    [this, params_block = step_params(substeps, stiffness_share(dt, stiffness_dt))](
+                        VkCommandBuffer c) {
                       vkCmdUpdateBuffer(c, params_buffer_.get(), 0, sizeof(SimParams),
                                         &params_block);
                       vkCmdFillBuffer(c, stats_buffer_.get(), 0, VK_WHOLE_SIZE, 0);
@@ -523,7 +534,7 @@ int GpuSolver::advance(float seconds, int substeps) {
   slot.harvested = false;
   slot.stale_stats = false;
   slot.substeps = substeps;
-  slot.substep_seconds = dt;
+  slot.stiffness_substep = stiffness_dt;
   slot.particles = count_;
   next_slot_ = (next_slot_ + 1) % kStepsInFlight;
   if (own_batch_) own_batch_->submit();

@@ -82,7 +82,7 @@ class GpuSolver final : public Solver {
     gpu::Buffer stats;  // readback: StatsSlot
     GpuStepBatch::Receipt receipt;
     int substeps = 0;
-    float substep_seconds = 0.0f;
+    float stiffness_substep = 0.0f;  // PBF: PbfSubsteps::stiffness_substep(), for observe()
     std::size_t particles = 0;
     bool harvested = true;     // idle, or its figures are counted
     bool stale_stats = false;  // the particles were replaced while it ran
@@ -110,8 +110,9 @@ class GpuSolver final : public Solver {
   // Buffers for `n` particles, with room to grow (so that adding a few at a time does not
   // reallocate every time) where the memory allows.
   Buffers allocate_for(std::size_t n);
-  // The parameter block of a step of `substeps` substeps.
-  SimParams step_params(int substeps) const;
+  // The parameter block of a step of `substeps` substeps whose corrections keep `stiffness` of
+  // themselves (PBF: stiffness_share()).
+  SimParams step_params(int substeps, float stiffness) const;
   void set_addresses(SimParams& p) const;  // every buffer the shaders read or write
   // Submits this solver's steps still waiting in the batch, so that what follows in the queue
   // (uploads, downloads, waits) comes after them.
@@ -120,6 +121,8 @@ class GpuSolver final : public Solver {
   // `last`: the step's last substep, which measures the compression for the substep rule (and
   // leaves the grid uncleared: the next step's first pass clears it).
   void append_pbf_substep(Passes& passes, const SimPass& pass, bool last) const;
+  // Steps submitted whose figures are not in yet.
+  int steps_running() const;
   // `then_clear_grid`: the integration pass also clears the grid for the next substep's build.
   void append_sph_substep(Passes& passes, const SimPass& pass, bool then_clear_grid) const;
   // Reads the stats and timestamps of a finished slot, once.
