@@ -9,7 +9,7 @@ namespace {
 
 // A step's error was well under tolerance: the longest substep grows by at most this factor per
 // step observed (on the GPU, observations arrive a few steps late: growing from the bound, not
-// from the substep taken, keeps a late small error from undoing an earlier large one).
+// from the substep observed, keeps a late small error from undoing an earlier large one).
 constexpr float kLongestGrowth = 1.1f;
 
 // How much more a step left unseen is taken to have compressed the fluid, near the tolerance.
@@ -114,20 +114,18 @@ float PbfSubsteps::allow_for_unseen(float substeps, int steps_unseen) const {
   return std::ceil(substeps) * std::pow(kUnseenGrowth, 0.5f * static_cast<float>(steps_unseen));
 }
 
-float PbfSubsteps::stiffness_substep(float step, int substeps, int steps_unseen) const {
+float PbfSubsteps::stiffness_substep(float step, float substep, int steps_unseen) const {
+  if (!std::isfinite(longest_substep_)) return substep;
   const float by_density =
       allow_for_unseen(step / longest_substep_ * (1.0f - kRoundingSlack), steps_unseen);
-  // No bound (infinite: nothing compressed yet) asks for one substep.
-  const float count =
-      by_density > 1.0f ? std::min(std::ceil(by_density), static_cast<float>(substeps)) : 1.0f;
-  return step / count;
+  return std::max(substep, step / std::max(std::ceil(by_density), 1.0f));
 }
 
 void PbfSubsteps::observe(float substep, float error) {
   if (!std::isfinite(error) || !(substep > 0.0f)) return;
   last_error_ = error;
   // The error shrinks at least as Δt² (measured: faster), so this is the longest substep that
-  // keeps it within tolerance. Within it the bound does not shorten (below the substep taken, or
+  // keeps it within tolerance. Within it the bound does not shorten (below the substep observed, or
   // below itself where it reaches no further than the tolerance: a substep shorter than the bound,
   // set by travel or by steps unseen, says nothing against it), and lengthens with a margin, as
   // far as this step and the recent ones held (kHeldShare) all allow.

@@ -32,13 +32,14 @@ namespace fluidcast::sim {
 //   tolerance: see count()'s steps_unseen.
 //   A fluid just loaded has shown no figures yet, and a column of water at rest compresses at its
 //   foot before its average does: the density bound starts from the column's weight (start()).
-// The iterations stiffen the fluid as 1/Δt², so only compression may stiffen it: a step cut finer
-// than the density bound alone would cut it (for travel, walls or a finger) weights its
-// corrections by (Δt / Δt_s)², Δt_s the density bound's substep (stiffness_substep()), and keeps
-// the stiffness that bound chose, except where a particle is pressed well past the tolerance
-// (particle_stiffness_share()). Stiffened, a fluid at rest releases the compression its longer
-// substeps held as velocity: a 2000-particle pool settled at one substep a step jumped from 0.008
-// to 20 J when a finger flicked past above it at 30 m/s (4 substeps a step).
+// The iterations stiffen the fluid as 1/Δt², so only compression may stiffen it: a substep
+// shorter than those the density bound alone would cut a whole step into (for travel, walls, a
+// finger, or a step of slow motion) takes (Δt / Δt_s)² of its λ and s_corr, Δt_s the density
+// bound's substep (stiffness_substep()), and keeps the stiffness that bound chose, except where a
+// particle is pressed well past the tolerance (particle_stiffness_share()). Stiffened, a fluid at
+// rest releases the compression its longer substeps held as velocity: a 2000-particle pool
+// settled at one substep a step jumped from 0.008 to 20 J when a finger flicked past above it at
+// 30 m/s (4 substeps a step).
 class PbfSubsteps {
  public:
   // The walls' bound: how much of a spacing d a particle may close on a wall in one substep
@@ -58,14 +59,14 @@ class PbfSubsteps {
   // substeps in a dam break (bench/results/substep-window-cpu-2026-11-28.md).
   static constexpr int kRecentSteps = 16;
 
-  // A particle compressed past kPressedFrom tolerances applies more of its corrections than its
-  // step's stiffness share, all of them from kPressedFrom + kPressedSpan up: water a finger
-  // squeezes or a wave drives into a wall resists as stiffly as the short substeps allow, while
-  // the rest keeps its stiffness. A pool at rest is compressed by less: at most 1.6 % (20k
-  // particles), 2.0 % (57 layers deep), 2.7 % (250 particles at one substep a step; from 2
-  // tolerances, flicked over as in the stiffness rule, it still moved at 0.08 m/s rms). A 20k pool
-  // with a finger dragged through it at 5 and 10 m/s: largest density error 7.0 and 9.4 % when
-  // every cut stiffened it, 11.3 and 19.0 % with the step's share alone, 7.7 and 12.9 % with this.
+  // A particle compressed past kPressedFrom tolerances takes more of its λ than its step's
+  // stiffness share, all of it from kPressedFrom + kPressedSpan up: water a finger squeezes or a
+  // wave drives into a wall resists as stiffly as the short substeps allow, while the rest keeps
+  // its stiffness. A pool at rest is compressed by less: at most 1.6 % (20k particles), 1.9 % (57
+  // layers deep), 2.7 % (250 particles at one substep a step; from 2 tolerances, flicked over, it
+  // still moved at 0.06 m/s rms on lavapipe, from 3 at 0.019). A 20k pool with a finger dragged
+  // through it at 5 and 10 m/s: largest density error 7.0 and 9.4 % when every cut stiffened it,
+  // 11.3 and 19.0 % with the step's share alone, 7.0 and 8.1 % with this.
   static constexpr float kPressedFrom = 3.0f;
   static constexpr float kPressedSpan = 3.0f;
 
@@ -92,10 +93,13 @@ class PbfSubsteps {
   // start() set stands alone.
   int count(float step, float largest_speed, float largest_collider_speed,
             float largest_wall_approach, float gravity, int steps_unseen = 0) const;
-  // The substep whose stiffness a step of `step` seconds cut into `substeps` keeps: as the density
-  // bound alone would cut the step (as count() plans it, steps unseen included), and no finer
-  // than `substeps`. observe() is told this substep, not the one taken.
-  float stiffness_substep(float step, int substeps, int steps_unseen = 0) const;
+  // The substep whose stiffness a substep of `substep` seconds keeps, in a fluid stepped `step`
+  // seconds at a time (the solver's time_step, however short a step of slow motion is): as the
+  // density bound alone would cut such a step, steps unseen included (on the GPU, those running
+  // when the step is queued), never shorter than `substep`; `substep` itself while no bound is
+  // set (zero gravity at the load, nothing compressed yet: no compression is held to release).
+  // observe() is told this substep, not the one taken.
+  float stiffness_substep(float step, float substep, int steps_unseen = 0) const;
   // The fastest a particle may move in a substep of `substep` seconds, m/s.
   float speed_limit(float substep) const { return travel_ / substep; }
   // After a step as stiff as substeps `substep` seconds long (stiffness_substep()) left an average
@@ -125,16 +129,18 @@ class PbfSubsteps {
   float allow_for_unseen(float substeps, int steps_unseen) const;
 };
 
-// The share of its corrections a substep of `substep` seconds applies to keep the stiffness of
-// one of `stiffness_substep` seconds (PbfSubsteps::stiffness_substep()).
+// The share of its λ and s_corr a substep of `substep` seconds takes to keep the stiffness of one
+// of `stiffness_substep` seconds (PbfSubsteps::stiffness_substep()).
 inline float stiffness_share(float substep, float stiffness_substep) {
   const float ratio = substep / stiffness_substep;
   return ratio * ratio;
 }
 
-// The share of its corrections a particle compressed by `compression` (ρ/ρ0 − 1 where the
-// iteration finds it) applies, in a step whose share is `step_share`, with `tolerance` the
-// density tolerance (PbfSubsteps::kPressedFrom). The GPU's correction pass computes the same.
+// The share of its λ a particle compressed by `compression` (ρ/ρ0 − 1 where the iteration finds
+// it) takes, in a step whose share is `step_share`, the density tolerance `tolerance`: more from
+// PbfSubsteps::kPressedFrom tolerances up, all of it kPressedSpan above. Scaling λ rather than
+// the particle's move keeps each pair's push equal and opposite. The GPU's λ computes the same
+// (density_sums.glsl).
 inline float particle_stiffness_share(float step_share, float compression, float tolerance) {
   const float pressed = std::clamp((compression - PbfSubsteps::kPressedFrom * tolerance) /
                                        (PbfSubsteps::kPressedSpan * tolerance),

@@ -4,7 +4,8 @@
 // later iterations. Included after sim_kernels.glsl.
 
 // PBF: the density constraint's λ (Macklin & Müller 2013), unilateral (only compression), with
-// the walls as fluid at rest; as PbfSolver::compute_lambdas.
+// the walls as fluid at rest, at the step's stiffness (more where the particle is pressed:
+// particle_stiffness_share in substeps.h); as PbfSolver::compute_lambdas.
 struct LambdaSum {
   float density;  // Σ W, the particle's own included
   vec3 gradient;  // ∇_i C
@@ -27,8 +28,11 @@ void write_lambda(uint k, vec3 p, LambdaSum sum) {
   const float ratio = (P.mass * sum.density + wall.x) * P.inv_rest_density;
   P.density_ratio.v[k] = ratio;  // sorted slot k is state index k once the substep ends
   const float constraint = max(ratio - 1.0, 0.0);
+  const float pressed = clamp((constraint - P.pressed_from) / P.pressed_span, 0.0, 1.0);
+  const float stiffness = P.stiffness_share + (1.0 - P.stiffness_share) * pressed;
   const float lambda = constraint == 0.0 ? 0.0
-      : -constraint / (sum.sum_squares + dot(gradient_i, gradient_i) + P.relaxation_epsilon);
+      : -stiffness * constraint
+          / (sum.sum_squares + dot(gradient_i, gradient_i) + P.relaxation_epsilon);
   P.iterate_scalar.v[k] = vec4(p, lambda);
 }
 

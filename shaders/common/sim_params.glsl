@@ -72,7 +72,7 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Si
   uint max_neighbours;   // neighbours listed per particle, at most (FluidConstants)
   float wall_reach;      // PBF: how far ahead, s, a particle closing on a wall counts (wall_approach)
   float stiffness_share;  // PBF: the share of its corrections a step applies (stiffness_share)
-  float pressed_from;     // PBF: from this compression up a particle applies more, all of them
+  float pressed_from;     // PBF: from this compression up a particle's λ takes more, all of it
   float pressed_span;     // this much above it (particle_stiffness_share)
 
   vec4 collider_sphere[MAX_COLLIDERS];    // centre at the step's start, radius in w

@@ -1,8 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // PBF: the position correction Δp with s_corr (tensile instability), pushed off the walls by
-// the particle's own λ, weighted (pbf_correction_weight: the first and last iterations'; and the
-// step's stiffness share, more where the particle is pressed: particle_stiffness_share), then
+// the particle's own λ, weighted (pbf_correction_weight: the first and last iterations'), then
 // constrained; as PbfSolver::apply_position_corrections. The last iteration also sets the
 // velocity from the corrected position, as PbfSolver::velocity_from; on a substep that is not its
 // step's last, no filter follows, and it ends the substep itself (end_pbf_substep).
@@ -29,10 +28,10 @@ vec3 correct(uint k) {
   const vec4 own = x.v[k];
   const vec3 p = own.xyz;
   const float lambda_i = own.w;
-  const float scorr_scale = P.scorr_scale, inv_w_dq = P.inv_w_dq, exponent = P.scorr_exponent;
+  // s_corr at the step's stiffness, as λ is (write_lambda).
+  const float scorr_scale = P.stiffness_share * P.scorr_scale, inv_w_dq = P.inv_w_dq, exponent = P.scorr_exponent;
   const bool exponent_is_four = exponent == 4.0;
   vec3 delta = vec3(0.0);
-  float density = poly6(0.0);
   const uint count = neighbour_count(k);
   for (uint g = 0u; 4u * g < count; ++g) {
     const vec4 others[4] = gather(x, neighbour_group(k, g));
@@ -41,21 +40,15 @@ vec3 correct(uint k) {
       const vec3 r = p - others[l].xyz;
       const float r2 = dot(r, r);
       if (!(r2 < K_h2)) continue;
-      const float w = poly6(r2);
-      density += w;
-      const float s = w * inv_w_dq;
+      const float s = poly6(r2) * inv_w_dq;
       const float s2 = s * s;
       const float scorr = -scorr_scale * (exponent_is_four ? s2 * s2 : pow(s, exponent));
       delta += (lambda_i + others[l].w + scorr) * spiky_gradient(r, r2);
     }
   }
-  const vec4 wall = walls(p);
-  const vec3 wall_push = lambda_i * P.inv_rest_density * wall.yzw;
-  const float compression = (P.mass * density + wall.x) * P.inv_rest_density - 1.0;
-  const float pressed = clamp((compression - P.pressed_from) / P.pressed_span, 0.0, 1.0);
-  const float share = P.stiffness_share + (1.0 - P.stiffness_share) * pressed;
+  const vec3 wall_push = lambda_i * P.inv_rest_density * walls(p).yzw;
   vec3 unused;
-  const vec3 correction = share * pass.correction_weight * (P.rest_volume * delta + wall_push);
+  const vec3 correction = pass.correction_weight * (P.rest_volume * delta + wall_push);
   return constrain(p + correction, unused, false);
 }
 

@@ -523,7 +523,7 @@ void step_in_lockstep(Solver& cpu, Solver& gpu, float seconds, int substeps, int
 // CPU's. The sums pass runs only on a step's last substep; on the others the last correction pass
 // writes the state back, with no finish pass. Sums in another order leave the last bits apart (the
 // order within a grid cell follows atomics); six steps from rest hardly amplify them. Measured on
-// lavapipe (1000 particles, spacing 4.6 cm, the fastest moved 6–7 cm): PBF 1.4–5.2 µm apart;
+// lavapipe (1000 particles, spacing 4.6 cm, the fastest moved 6–7 cm): PBF 0.7–1.4 µm apart;
 // SPH 1.5 mm, as the GPU's substeps are equal within a step and the CPU's adapt. With one neighbour
 // left out of the listing's sums the run parted by 7.7–22 mm (PBF) and 39 mm (SPH) (at the solvers'
 // own substeps), and with the finish pass taking the sums pass's velocity where that pass had not
@@ -567,7 +567,8 @@ TEST_P(GpuStepsTest, MoveEveryParticleAsTheCpuSolverDoes) {
 // so that the corrections' velocity is capped at pbf_max_acceleration·Δt), every tenth particle
 // thrown at 400 m/s along x (so that the prediction slows it to pbf_travel·h a substep), and a
 // finger pushed through. Two steps, then every particle against the CPU's. Measured on lavapipe
-// (1000 particles, spacing 4.6 cm): 30 µm apart (2.5–2.7 µm without the finger); with the cap
+// (1000 particles, spacing 4.6 cm): 5.4 µm apart (30 µm before PBF kept its density bound's
+// stiffness and step_in_lockstep waited for each GPU step); with the cap
 // doubled 96 mm, without the prediction's speed limit 1.24 m, with the finger where it stands a
 // substep into the step on every substep 46 mm (no test caught these three before). Bound: a
 // hundredth of a spacing, as GpuStepsTest's.

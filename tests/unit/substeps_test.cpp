@@ -213,32 +213,32 @@ TEST(PbfSubsteps, AFluidJustLoadedStartsFromItsWeight) {
   EXPECT_TRUE(std::isinf(substeps.longest_substep()));
 }
 
-// A step keeps the stiffness of the substeps the density bound alone cuts it into (the
-// corrections then weighted by (Δt / Δt_s)²): cut finer for travel it is no stiffer, cut coarser
-// (a frame loop that ran out of time) it is as stiff as its own substeps; steps unseen near the
-// bound stiffen it as they add substeps; with no bound at all, as one substep. A stiffer step
-// would release what the fluid holds at its stiffness now as velocity.
-TEST(PbfSubsteps, OnlyTheDensityBoundStiffensAStep) {
+// A substep keeps the stiffness of the substeps the density bound alone would cut a whole step
+// into (its corrections then weighted by (Δt / Δt_s)²): cut finer for travel, or a step of slow
+// motion in one short substep, it is no stiffer; one longer than the bound asks (a frame loop out
+// of time) is as stiff as itself; steps unseen near the bound stiffen it as they add substeps;
+// with no bound at all (no compression held) it is as stiff as itself. A stiffer substep would
+// release what the fluid holds at its stiffness now as velocity.
+TEST(PbfSubsteps, OnlyTheDensityBoundStiffensASubstep) {
   PbfSubsteps substeps = rule(1.0f, 0.01f);
-  EXPECT_FLOAT_EQ(substeps.stiffness_substep(kStep, 6), kStep);  // nothing bounds it yet
+  EXPECT_FLOAT_EQ(substeps.stiffness_substep(kStep, kStep / 6), kStep / 6);  // no bound yet
   // The bound: half a step.
   substeps.observe(kStep, 0.04f);
   ASSERT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f), 2);
-  EXPECT_FLOAT_EQ(substeps.stiffness_substep(kStep, 6), kStep / 2);
-  EXPECT_FLOAT_EQ(substeps.stiffness_substep(kStep, 2), kStep / 2);
-  EXPECT_FLOAT_EQ(substeps.stiffness_substep(kStep, 1), kStep);
-  // Half a step of the same fluid is within the bound: one substep.
-  EXPECT_FLOAT_EQ(substeps.stiffness_substep(kStep / 2, 3), kStep / 2);
+  EXPECT_FLOAT_EQ(substeps.stiffness_substep(kStep, kStep / 6), kStep / 2);
+  EXPECT_FLOAT_EQ(substeps.stiffness_substep(kStep, kStep / 2), kStep / 2);
+  EXPECT_FLOAT_EQ(substeps.stiffness_substep(kStep, kStep), kStep);
+  EXPECT_FLOAT_EQ(substeps.stiffness_substep(kStep, kStep / 4), kStep / 2);  // slow motion
   EXPECT_FLOAT_EQ(stiffness_share(kStep / 6, kStep / 2), 1.0f / 9.0f);
   // At the tolerance, two steps unseen ask for 2 · 1.3 substeps: 3.
   substeps.observe(kStep / 2, 0.01f);
-  EXPECT_FLOAT_EQ(substeps.stiffness_substep(kStep, 6, 0), kStep / 2);
-  EXPECT_FLOAT_EQ(substeps.stiffness_substep(kStep, 6, 2), kStep / 3);
+  EXPECT_FLOAT_EQ(substeps.stiffness_substep(kStep, kStep / 6, 0), kStep / 2);
+  EXPECT_FLOAT_EQ(substeps.stiffness_substep(kStep, kStep / 6, 2), kStep / 3);
   EXPECT_EQ(substeps.count(kStep, 0.0f, 0.0f, 0.0f, 9.81f, 2), 3);
 }
 
-// A particle pressed past 3 tolerances applies more of its corrections than its step's share, all
-// of them past 6; one less compressed, or in a step that applies all of them anyway, its step's.
+// A particle pressed past 3 tolerances takes more of its λ than its step's share, all of it past
+// 6; one less compressed, or in a step that applies all of its corrections anyway, its step's.
 TEST(PbfSubsteps, APressedParticleStiffensAlone) {
   const float tolerance = 0.01f;
   EXPECT_FLOAT_EQ(particle_stiffness_share(0.25f, 0.0f, tolerance), 0.25f);

@@ -33,7 +33,7 @@ int PbfSolver::substeps_for(float seconds) {
 
 int PbfSolver::advance(float seconds, int substeps) {
   dt_ = seconds / static_cast<float>(substeps);
-  stiffness_dt_ = substeps_.stiffness_substep(seconds, substeps);
+  stiffness_dt_ = substeps_.stiffness_substep(params().time_step, dt_);
   for (int s = 0; s < substeps; ++s) {
     set_time_into_step(static_cast<float>(s + 1) * dt_);  // predicted positions are at its end
     substep();
@@ -59,7 +59,6 @@ void PbfSolver::substep() {
   }
   uncorrected_ = predicted_;
   const int iterations = params().iterations;
-  const float step_stiffness = stiffness_share(dt_, stiffness_dt_);
   stage_times_.iteration_ms.resize(static_cast<std::size_t>(iterations));
   for (int iteration = 0; iteration < iterations; ++iteration) {
     double& iteration_ms = stage_times_.iteration_ms[static_cast<std::size_t>(iteration)];
@@ -67,7 +66,7 @@ void PbfSolver::substep() {
     {
       StageTimer timer(iteration_ms);
       compute_lambdas();
-      apply_position_corrections(pbf_correction_weight(params(), iteration), step_stiffness,
+      apply_position_corrections(pbf_correction_weight(params(), iteration),
                                  iteration + 1 == iterations);
     }
     stage_times_.solve_ms += iteration_ms - before;
@@ -110,6 +109,8 @@ void PbfSolver::compute_lambdas() {
   const float inv_rest_density = 1.0f / fluid().rest_density;
   const float volume = fluid().rest_volume();
   const float self_density = kernels_.poly6(0.0f);
+  const float stiffness = step_stiffness();
+  const float tolerance = params().pbf_density_tolerance;
   pair_blocks_.resize(neighbours_.pair_count() / lanes::kWidth);
   pool_->for_each(n, [&](std::size_t i) {
     const glm::vec3 p = predicted_[i];
@@ -131,8 +132,9 @@ void PbfSolver::compute_lambdas() {
         0.0f);
     lambda_[i] = constraint == 0.0f
                      ? 0.0f
-                     : -constraint / (volume * volume * lanes::sum(sum_squares) +
-                                      glm::dot(gradient_i, gradient_i) + relaxation_epsilon_);
+                     : -particle_stiffness_share(stiffness, constraint, tolerance) * constraint /
+                           (volume * volume * lanes::sum(sum_squares) +
+                            glm::dot(gradient_i, gradient_i) + relaxation_epsilon_);
   });
 }
 
@@ -142,43 +144,34 @@ float PbfSolver::average_compression() const {
   return static_cast<float>(sum / static_cast<double>(compression_.size()));
 }
 
-void PbfSolver::apply_position_corrections(float weight, float step_stiffness,
-                                           bool set_velocities) {
+void PbfSolver::apply_position_corrections(float weight, bool set_velocities) {
   const std::size_t n = particles_.size();
   corrected_.resize(n);
   const float volume = fluid().rest_volume();
-  const float mass = fluid().particle_mass;
   const float inv_rest_density = 1.0f / fluid().rest_density;
-  const float self_density = kernels_.poly6(0.0f);
-  const float tolerance = params().pbf_density_tolerance;
+  // s_corr at the step's stiffness, as λ is (compute_lambdas).
+  const float scorr_scale = step_stiffness() * scorr_scale_;
   const float exponent = params().scorr_exponent;
   const bool exponent_is_four = exponent == 4.0f;
   pool_->for_each(n, [&](std::size_t i) {
     const glm::vec3 p = predicted_[i];
     const float lambda_i = lambda_[i];
     lanes::Vec3 delta{};
-    lanes::Floats density{};
     const PairBlock* block = first_block(i);
     const auto list = neighbours_.blocks_of(i);
     for (std::size_t k = 0; k < list.size(); k += lanes::kWidth, ++block) {
-      density += block->poly6;
       const lanes::Floats s = block->poly6 * inv_w_dq_;
       lanes::Floats s_power = (s * s) * (s * s);
       if (!exponent_is_four)
         for (std::uint32_t lane = 0; lane < lanes::kWidth; ++lane)
           s_power[lane] = std::pow(s[lane], exponent);
       const lanes::Floats factor =
-          lambda_i + lanes::gather(lambda_.data(), list.data() + k) - scorr_scale_ * s_power;
+          lambda_i + lanes::gather(lambda_.data(), list.data() + k) - scorr_scale * s_power;
       delta += factor * block->gradient;
     }
-    const auto wall = walls(p);
     // The walls hold no λ of their own: only this particle's constraint pushes it off them.
-    const glm::vec3 wall_push = lambda_i * inv_rest_density * wall.gradient;
-    const float compression =
-        (mass * (self_density + lanes::sum(density)) + wall.density) * inv_rest_density - 1.0f;
-    const float share = particle_stiffness_share(step_stiffness, compression, tolerance);
-    corrected_[i] =
-        constrain_position(p + share * weight * (volume * lanes::sum(delta) + wall_push));
+    const glm::vec3 wall_push = lambda_i * inv_rest_density * walls(p).gradient;
+    corrected_[i] = constrain_position(p + weight * (volume * lanes::sum(delta) + wall_push));
     if (set_velocities) particles_.velocity[i] = velocity_from(i, corrected_[i]);
   });
   predicted_.swap(corrected_);

@@ -35,10 +35,12 @@ class PbfSolver final : public CpuSolver {
   void finish_step(int substeps);
   void predict();
   void compute_lambdas();
-  // Moves each particle by `weight` times its Δp (pbf_correction_weight), times its share of the
-  // step's stiffness (`step_stiffness`, stiffness_share(): particle_stiffness_share()); the last
-  // iteration also sets the velocities from the corrected positions.
-  void apply_position_corrections(float weight, float step_stiffness, bool set_velocities);
+  // Moves each particle by `weight` times its Δp (pbf_correction_weight); the last iteration also
+  // sets the velocities from the corrected positions.
+  void apply_position_corrections(float weight, bool set_velocities);
+  // The share of the corrections this step applies to keep its density bound's stiffness
+  // (stiffness_share()): λ by particle_stiffness_share(), s_corr as it is.
+  float step_stiffness() const { return stiffness_share(dt_, stiffness_dt_); }
   glm::vec3 velocity_from(std::size_t i, glm::vec3 corrected) const;
   // XSPH's smoothing by `xsph`, the curl where confinement is on, and the compression.
   void sum_over_neighbours(float xsph);
@@ -53,7 +55,7 @@ class PbfSolver final : public CpuSolver {
   float scorr_scale_;         // k / Σ|∇C|²_rest
   float inv_w_dq_;            // 1 / W(Δq)
   float dt_ = 0.0f;           // of the current substep
-  float stiffness_dt_ = 0.0f;  // PbfSubsteps::stiffness_substep() of the current step
+  float stiffness_dt_ = 0.0f;  // PbfSubsteps::stiffness_substep() of the current substep
   PbfSubsteps substeps_;
   std::vector<float> compression_;  // per particle, at the end of the step
   std::vector<glm::vec3> predicted_, corrected_;

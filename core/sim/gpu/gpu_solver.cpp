@@ -503,7 +503,7 @@ int GpuSolver::advance(float seconds, int substeps) {
   const float dt = seconds / static_cast<float>(substeps);
   const bool pbf = kind_ == SolverKind::pbf;
   const float stiffness_dt =
-      pbf ? pbf_substeps_.stiffness_substep(seconds, substeps, steps_running()) : dt;
+      pbf ? pbf_substeps_.stiffness_substep(params().time_step, dt, steps_running()) : dt;
   Passes passes;
   // First the step's parameters, a clean slate for its figures, and the first substep's grid
   // cleared for its count (each substep's last pass clears it for the next).
