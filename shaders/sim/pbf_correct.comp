@@ -29,7 +29,8 @@ vec3 correct(uint k) {
   const vec3 p = own.xyz;
   const float lambda_i = own.w;
   // s_corr at the step's stiffness, as λ is (write_lambda).
-  const float scorr_scale = P.stiffness_share * P.scorr_scale, inv_w_dq = P.inv_w_dq, exponent = P.scorr_exponent;
+  const float scorr_scale = P.stiffness_share * P.scorr_scale;
+  const float inv_w_dq = P.inv_w_dq, exponent = P.scorr_exponent;
   const bool exponent_is_four = exponent == 4.0;
   vec3 delta = vec3(0.0);
   const uint count = neighbour_count(k);
