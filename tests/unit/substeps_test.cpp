@@ -215,8 +215,8 @@ TEST(PbfSubsteps, AFluidJustLoadedStartsFromItsWeight) {
 
 // A substep keeps the stiffness of the substeps the density bound alone would cut a whole step
 // into (its corrections then weighted by (Δt / Δt_s)²): cut finer for travel, or a step of slow
-// motion in one short substep, it is no stiffer; one longer than the bound asks (a frame loop out
-// of time) is as stiff as itself; steps unseen near the bound stiffen it as they add substeps;
+// motion in one short substep, it is no stiffer; one longer than the bound asks (a caller of
+// Solver::step that cuts a step coarser than the rule) is as stiff as itself; steps unseen near the bound stiffen it as they add substeps;
 // with no bound at all (no compression held) it is as stiff as itself. A stiffer substep would
 // release what the fluid holds at its stiffness now as velocity.
 TEST(PbfSubsteps, OnlyTheDensityBoundStiffensASubstep) {
