@@ -214,11 +214,12 @@ TEST(PbfSubsteps, AFluidJustLoadedStartsFromItsWeight) {
 }
 
 // A substep keeps the stiffness of the substeps the density bound alone would cut a whole step
-// into (its corrections then weighted by (Δt / Δt_s)²): cut finer for travel, or a step of slow
+// into (its λ and s_corr then taken at (Δt / Δt_s)²): cut finer for travel, or a step of slow
 // motion in one short substep, it is no stiffer; one longer than the bound asks (a caller of
-// Solver::step that cuts a step coarser than the rule) is as stiff as itself; steps unseen near the bound stiffen it as they add substeps;
-// with no bound at all (no compression held) it is as stiff as itself. A stiffer substep would
-// release what the fluid holds at its stiffness now as velocity.
+// Solver::step that cuts a step coarser than the rule) is as stiff as itself; steps unseen near
+// the bound stiffen it as they add substeps; with no bound at all (no compression held) it is as
+// stiff as itself. A stiffer substep would release what the fluid holds at its stiffness now as
+// velocity.
 TEST(PbfSubsteps, OnlyTheDensityBoundStiffensASubstep) {
   PbfSubsteps substeps = rule(1.0f, 0.01f);
   EXPECT_FLOAT_EQ(substeps.stiffness_substep(kStep, kStep / 6), kStep / 6);  // no bound yet
