@@ -50,9 +50,9 @@ const std::vector<ParamSpec<SolverParams>>& solver_param_specs() {
        "that left more makes the next ones take shorter substeps, and a fluid just loaded (a "
        "scene's start, a reset, a snapshot) starts with substeps short enough that its own "
        "weight would compress it at its foot by no more than this. Only this bound stiffens the "
-       "fluid: substeps cut finer for travel, walls, a finger or slow motion weaken their "
-       "corrections to keep the stiffness of those this bound asks for, except where a particle "
-       "is compressed past 3 times this (in full past 6)",
+       "fluid: substeps cut finer for travel, walls or a finger, in slow motion too, weaken "
+       "their corrections to keep the stiffness of those this bound asks for, except where a "
+       "particle is compressed past 3 times this (in full past 6)",
        &P::pbf_density_tolerance, 1e-4, 0.1},
       {"pbf-max-acceleration", "m/s²",
        "PBF: most the density corrections may accelerate a particle: the velocity a substep's "

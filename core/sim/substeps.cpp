@@ -125,10 +125,10 @@ void PbfSubsteps::observe(float substep, float error) {
   if (!std::isfinite(error) || !(substep > 0.0f)) return;
   last_error_ = error;
   // The error shrinks at least as Δt² (measured: faster), so this is the longest substep that
-  // keeps it within tolerance. Within it the bound does not shorten (below the substep observed, or
-  // below itself where it reaches no further than the tolerance: a substep shorter than the bound,
-  // set by travel or by steps unseen, says nothing against it), and lengthens with a margin, as
-  // far as this step and the recent ones held (kHeldShare) all allow.
+  // keeps it within tolerance. Within it the bound does not shorten (below the substep observed,
+  // or below itself where it reaches no further than the tolerance: a substep shorter than the
+  // bound, rounded to a whole count or set by steps unseen, says nothing against it), and
+  // lengthens with a margin, as far as this step and the recent ones held (kHeldShare) all allow.
   const float at_tolerance = error > 0.0f ? substep * std::sqrt(tolerance_ / error)
                                           : std::numeric_limits<float>::infinity();
   recent_at_tolerance_[static_cast<std::size_t>(next_recent_)] =

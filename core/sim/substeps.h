@@ -62,11 +62,12 @@ class PbfSubsteps {
   // A particle compressed past kPressedFrom tolerances takes more of its λ than its step's
   // stiffness share, all of it from kPressedFrom + kPressedSpan up: water a finger squeezes or a
   // wave drives into a wall resists as stiffly as the short substeps allow, while the rest keeps
-  // its stiffness. A pool at rest is compressed by less: at most 1.6 % (20k particles), 1.9 % (57
-  // layers deep), 2.7 % (250 particles at one substep a step; from 2 tolerances, flicked over, it
-  // still moved at 0.06 m/s rms on lavapipe, from 3 at 0.019). A 20k pool with a finger dragged
-  // through it at 5 and 10 m/s: largest density error 7.0 and 9.4 % when every cut stiffened it,
-  // 11.3 and 19.0 % with the step's share alone, 7.0 and 8.1 % with this.
+  // its stiffness. A pool at rest, at the default Jacobi damping, is compressed by less: at most
+  // 1.6 % (20k particles), 1.9 % (57 layers deep), 2.7 % (250 particles at one substep a step;
+  // from 2 tolerances, flicked over, it still moved at 0.06 m/s rms on lavapipe, from 3 at 0.019);
+  // undamped, a 20k pool holds particles at 3.1 %. A 20k pool with a finger dragged through it at
+  // 5 and 10 m/s: largest density error 7.0 and 9.4 % when every cut stiffened it, 11.3 and 19.0 %
+  // with the step's share on each particle's whole move, 7.0 and 8.1 % with this.
   static constexpr float kPressedFrom = 3.0f;
   static constexpr float kPressedSpan = 3.0f;
 

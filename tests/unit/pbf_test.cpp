@@ -70,7 +70,7 @@ TEST(Pbf, JacobiDampingWeighsTheFirstAndLastIterationsAndKeepsTheirSum) {
 
 // XSPH and vorticity confinement run once a step, on its last substep (pbf_step_xsph): from a
 // stirred pool, a step cut into four substeps changes the velocity as four steps of one substep
-// do, each of which applies them. The two cuts' velocities differ by less than 0.6 of what the
+// do, each of which applies them. The two cuts' velocities differ by less than 0.57 of what the
 // filters change (0.28 of it with XSPH, 0.47 with the confinement, whose direction turns with
 // the curl's field); seen failing with XSPH's c applied once uncompounded (0.68) and with the
 // confinement over the last substep alone (0.73). It checks the rule's equivalence, not the work
@@ -126,7 +126,7 @@ TEST(Pbf, VelocityFiltersOnceAStepActAsAtEverySubstep) {
     std::printf("XSPH %g, vorticity %g: the filters change the velocity by %.3g m/s (rms), the "
                 "cuts differ by %.3g\n",
                 filters.xsph_viscosity, filters.vorticity, filtered, cut_apart);
-    EXPECT_LT(cut_apart, 0.6 * filtered);
+    EXPECT_LT(cut_apart, 0.57 * filtered);
   }
 }
 

@@ -409,7 +409,7 @@ TEST_P(SolverInputs, FullTiltsKeepTheFluidSoundAndItsEnergyBounded) {
 // stepped whole or in slow motion (one substep a call, as a frame loop out of time runs it). The
 // iterations stiffen a fluid as 1/Δt²: made as much stiffer, the pool would release the
 // compression its longer substeps held, as velocity (PbfSubsteps::stiffness_substep). Measured:
-// whole steps 0.0141 and 0.0187 m/s rms (CPU and lavapipe, the pool at 0.014 m/s before), 0.43
+// whole steps 0.0141 and 0.0187 m/s rms (CPU and lavapipe, the pool at 0.014 m/s at rest), 0.43
 // and 0.61 m/s when every cut stiffened the fluid, 0.43 and 0.61 in slow motion when its stiffness
 // followed the short step's own substeps; 0.06 on lavapipe with λ taken in full from 2
 // tolerances rather than 3 (PbfSubsteps::kPressedFrom).

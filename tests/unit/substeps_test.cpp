@@ -229,7 +229,11 @@ TEST(PbfSubsteps, OnlyTheDensityBoundStiffensASubstep) {
   EXPECT_FLOAT_EQ(substeps.stiffness_substep(kStep, kStep / 6), kStep / 2);
   EXPECT_FLOAT_EQ(substeps.stiffness_substep(kStep, kStep / 2), kStep / 2);
   EXPECT_FLOAT_EQ(substeps.stiffness_substep(kStep, kStep), kStep);
-  EXPECT_FLOAT_EQ(substeps.stiffness_substep(kStep, kStep / 4), kStep / 2);  // slow motion
+  // Slow motion: a quarter step in one substep, worked out from the whole step, keeps its
+  // stiffness; from the short step's own length (as a caller passing `seconds` would) it would
+  // be as stiff as the substep itself.
+  EXPECT_FLOAT_EQ(substeps.stiffness_substep(kStep, kStep / 4), kStep / 2);
+  EXPECT_FLOAT_EQ(substeps.stiffness_substep(kStep / 4, kStep / 4), kStep / 4);
   EXPECT_FLOAT_EQ(stiffness_share(kStep / 6, kStep / 2), 1.0f / 9.0f);
   // At the tolerance, two steps unseen ask for 2 · 1.3 substeps: 3.
   substeps.observe(kStep / 2, 0.01f);

@@ -39,7 +39,7 @@ class PbfSolver final : public CpuSolver {
   // sets the velocities from the corrected positions.
   void apply_position_corrections(float weight, bool set_velocities);
   // The share of the corrections this step applies to keep its density bound's stiffness
-  // (stiffness_share()): λ by particle_stiffness_share(), s_corr as it is.
+  // (stiffness_share()): λ by particle_stiffness_share(), s_corr by the step's share alone.
   float step_stiffness() const { return stiffness_share(dt_, stiffness_dt_); }
   glm::vec3 velocity_from(std::size_t i, glm::vec3 corrected) const;
   // XSPH's smoothing by `xsph`, the curl where confinement is on, and the compression.

@@ -493,6 +493,12 @@ int GpuSolver::steps_running() const {
 }
 
 int GpuSolver::advance(float seconds, int substeps) {
+  const float dt = seconds / static_cast<float>(substeps);
+  const bool pbf = kind_ == SolverKind::pbf;
+  // From the figures and the steps running that planned the step (substeps_for), before the wait
+  // below brings newer ones in: those would make it softer than its plan.
+  const float stiffness_dt =
+      pbf ? pbf_substeps_.stiffness_substep(params().time_step, dt, steps_running()) : dt;
   InFlight& slot = in_flight_[next_slot_];
   if (!slot.harvested) {  // the oldest step, still waiting or running
     if (slot.receipt.serial == 0) batch_->submit();
@@ -500,10 +506,6 @@ int GpuSolver::advance(float seconds, int substeps) {
   }
   count_finished_steps();
 
-  const float dt = seconds / static_cast<float>(substeps);
-  const bool pbf = kind_ == SolverKind::pbf;
-  const float stiffness_dt =
-      pbf ? pbf_substeps_.stiffness_substep(params().time_step, dt, steps_running()) : dt;
   Passes passes;
   // First the step's parameters, a clean slate for its figures, and the first substep's grid
   // cleared for its count (each substep's last pass clears it for the next).

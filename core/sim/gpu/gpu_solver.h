@@ -121,7 +121,7 @@ class GpuSolver final : public Solver {
   // `last`: the step's last substep, which measures the compression for the substep rule (and
   // leaves the grid uncleared: the next step's first pass clears it).
   void append_pbf_substep(Passes& passes, const SimPass& pass, bool last) const;
-  // Steps submitted whose figures are not in yet.
+  // Steps queued or submitted whose GPU work has not finished yet.
   int steps_running() const;
   // `then_clear_grid`: the integration pass also clears the grid for the next substep's build.
   void append_sph_substep(Passes& passes, const SimPass& pass, bool then_clear_grid) const;
