@@ -4,6 +4,7 @@
 #define SOLVER_PBF 0u
 #define SOLVER_SPH 1u
 #define MAX_COLLIDERS 16
+#define MAX_SPEED 1000.0  // m/s: kMaxSpeed, to which every particle is held (held_to_max_speed)
 
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer SimParams {
   // Particle state in the order of the latest sort (w unused).

@@ -19,7 +19,8 @@ vec3 velocity_from(uint k, vec3 corrected) {
   const vec3 change = (corrected - uncorrected_position) * inv_dt;
   const float most = P.max_acceleration * pass.dt;
   const float change_length = length(change);
-  return uncorrected + (change_length > most ? change * (most / change_length) : change);
+  return held_to_max_speed(uncorrected +
+                           (change_length > most ? change * (most / change_length) : change));
 }
 
 // Particle k's position after this iteration's correction.

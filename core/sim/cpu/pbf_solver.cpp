@@ -83,6 +83,10 @@ void PbfSolver::finish_step(int substeps) {
     // As the GPU's finish pass: the step's length as its substeps add up.
     if (confines_vorticity()) confine_vorticity(static_cast<float>(substeps) * dt_);
     particles_.velocity.swap(smoothed_velocity_);
+    // The filters may add speed: held as the GPU's finish pass holds it (end_pbf_substep).
+    pool_->for_each(particles_.size(), [&](std::size_t i) {
+      particles_.velocity[i] = held_to_max_speed(particles_.velocity[i]);
+    });
   }
   substeps_.observe(stiffness_dt_, average_compression());
 }
@@ -186,7 +190,7 @@ glm::vec3 PbfSolver::velocity_from(std::size_t i, glm::vec3 corrected) const {
   const glm::vec3 uncorrected = (uncorrected_[i] - particles_.position[i]) * inv_dt;
   const glm::vec3 change = (corrected - uncorrected_[i]) * inv_dt;
   const float length = glm::length(change);
-  return uncorrected + (length > most ? change * (most / length) : change);
+  return held_to_max_speed(uncorrected + (length > most ? change * (most / length) : change));
 }
 
 // At the corrected positions and velocities: with vorticity confinement on, ω_i = Σ_j V (v_j − v_i)

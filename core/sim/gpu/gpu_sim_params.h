@@ -15,6 +15,7 @@ namespace fluidcast::sim::gpu_solver {
 inline constexpr std::uint32_t kSolverPbf = 0;  // SOLVER_PBF
 inline constexpr std::uint32_t kSolverSph = 1;  // SOLVER_SPH
 static_assert(kMaxColliders == 16, "MAX_COLLIDERS in sim_params.glsl");
+static_assert(kMaxSpeed == 1000.0f, "MAX_SPEED in sim_params.glsl");
 
 struct SimParams {
   VkDeviceAddress position, velocity, id;
