@@ -1,9 +1,9 @@
 // Fuzz target: any bytes as a small fluid's tunables and a run of what a user does to it — tilts
-// (gravity), fingers (colliders), steps whole and in slow motion, particles added and removed,
-// resets, reloads — within the inputs' limits and past them. An input past a limit must be
-// refused with std::invalid_argument and change nothing; whatever is taken, the fluid must stay
-// finite and inside the tank and keep its count. Anything else is a defect: the target aborts,
-// naming it.
+// (gravity), fingers (colliders, and drags as the server moves them), steps whole and in slow
+// motion, particles added and removed, resets, reloads — within the inputs' limits and past them.
+// An input past a limit must be refused with std::invalid_argument and change nothing; whatever is
+// taken, the fluid must stay finite and inside the tank and keep its count. Anything else is a
+// defect: the target aborts, naming it.
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -16,6 +16,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "fluidcast/sim/finger_collider.h"
 #include "fluidcast/sim/scene.h"
 #include "fluidcast/sim/solver.h"
 #include "fluidcast/sim/solver_params.h"
@@ -170,7 +171,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const float step = solver->params().time_step;
   for (int action = 0; action < 24 && !in.done(); ++action) {
     bool stepped = false;
-    switch (in.byte() % 9) {
+    switch (in.byte() % 10) {
       case 0:
       case 1:
         solver->step();
@@ -232,6 +233,28 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         const glm::vec3 centre = in.point_around(solver->tank());
         const float radius = in.scaled(1e-3, 1.0);
         count -= solver->remove_particles_in_sphere(centre, radius);
+        break;
+      }
+      case 9: {  // a drag, as the server's fingers follow a hand (FingerCollider): steps of a
+                 // tick's seconds, the hand anywhere, the ticks' wall time even or bunched
+        const float radius = in.scaled(1e-3, 0.3);
+        FingerCollider sphere(in.point_around(solver->tank()));
+        for (int tick = 1 + in.up_to(7); tick > 0; --tick) {
+          const float seconds = in.byte() % 4 == 0 ? 0.0f : step * std::max(in.unit(), 0.01f);
+          const double elapsed = in.byte() % 4 == 0 ? 0.0 : in.scaled(1e-3, 0.5);
+          const auto motion = sphere.follow(in.point_around(solver->tank()), seconds, elapsed);
+          std::vector<Collider> fingers;
+          if (const auto finger = motion.collider(radius)) fingers.push_back(*finger);
+          try {
+            solver->set_colliders(fingers);
+          } catch (const std::invalid_argument& refusal) {
+            std::fprintf(stderr, "%s\n", refusal.what());
+            defect("the solver refused a finger that FingerCollider moved");
+          }
+          squeezed = squeezed || !room_for_the_water(*solver);
+          if (seconds > 0.0f) solver->step(seconds, solver->substeps_for(seconds));
+          expect_sound(*solver, count, seconds > 0.0f);
+        }
         break;
       }
       case 8: {  // the fluid handed back as a snapshot, as a reconnecting client does
