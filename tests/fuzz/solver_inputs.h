@@ -1,0 +1,288 @@
+// A small fluid's tunables and a run of what a user does to it, read from any bytes — tilts
+// (gravity), fingers (colliders, and drags as the server moves them), steps whole and in slow
+// motion, particles added and removed, resets, reloads — within the inputs' limits and past them.
+// An input past a limit must be refused with std::invalid_argument and change nothing; whatever is
+// taken, the fluid must stay finite and inside the tank, keep its count, and be a state the
+// solver and the server take back. solver_inputs_fuzz runs it on the CPU solvers, and
+// gpu_solver_inputs_test its corpus on the GPU's.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <span>
+#include <stdexcept>
+#include <vector>
+
+#include "fluidcast/sim/finger_collider.h"
+#include "fluidcast/sim/scene.h"
+#include "fluidcast/sim/solver.h"
+#include "fluidcast/sim/solver_params.h"
+
+namespace fluidcast::sim::fuzzing {
+
+using SolverMaker = std::function<std::unique_ptr<Solver>(SolverKind, Scene, const SolverParams&)>;
+
+// The input's bytes read front to back; past its end every read gives 0.
+class Bytes {
+ public:
+  Bytes(const std::uint8_t* data, std::size_t size) : data_(data), size_(size) {}
+  bool done() const { return at_ >= size_; }
+  std::uint8_t byte() { return at_ < size_ ? data_[at_++] : 0; }
+  // In [0, 1].
+  float unit() { return static_cast<float>(byte()) / 255.0f; }
+  float between(double low, double high) {
+    return static_cast<float>(low + (high - low) * static_cast<double>(unit()));
+  }
+  // From `low` to `high` on a log scale: small values as often as large ones.
+  float scaled(double low, double high) {
+    return static_cast<float>(low * std::pow(high / low, static_cast<double>(unit())));
+  }
+  int up_to(int most) { return byte() % (most + 1); }
+  // A length within `limit`, at it, an ulp past it or up to a quarter past it, and now and then
+  // not a number at all.
+  float around(float limit) {
+    switch (byte() % 16) {
+      case 0:
+        return std::numeric_limits<float>::quiet_NaN();
+      case 1:
+        return std::numeric_limits<float>::infinity();
+      case 2:
+        return limit;
+      case 3:
+        return std::nextafter(limit, 2.0f * limit);
+      case 4:
+        return 0.0f;
+      default:
+        return static_cast<float>(limit * 1.25 * static_cast<double>(unit()));
+    }
+  }
+  glm::vec3 direction() {
+    const glm::vec3 d(between(-1, 1), between(-1, 1), between(-1, 1));
+    const float length = glm::length(d);
+    return length > 1e-3f ? d / length : glm::vec3(0.0f, -1.0f, 0.0f);
+  }
+  // A point in the box grown by a quarter of its size each way: some outside it.
+  glm::vec3 point_around(const Box& box) {
+    const glm::vec3 size = box.max - box.min;
+    return box.min - 0.25f * size + 1.5f * size * glm::vec3(unit(), unit(), unit());
+  }
+
+ private:
+  const std::uint8_t* data_;
+  std::size_t size_;
+  std::size_t at_ = 0;
+};
+
+// A run that broke a promise of the solvers'.
+struct Defect : std::logic_error {
+  using std::logic_error::logic_error;
+};
+
+[[noreturn]] inline void defect(const char* what) { throw Defect(what); }
+
+// Every particle finite, inside the tank, and as many as expected. After a step, inside the box
+// particle centres keep to (the tank shrunk by a particle radius); a particle added or a scene
+// built may lie nearer a wall until then.
+inline void expect_sound(const Solver& solver, std::size_t count, bool stepped) {
+  const ParticleSet particles = solver.snapshot();
+  if (particles.size() != count) defect("the fluid's particle count changed on its own");
+  const Box inner = stepped ? solver.inner_tank() : solver.tank();
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    const glm::vec3 p = particles.position[i], v = particles.velocity[i];
+    for (int axis = 0; axis < 3; ++axis) {
+      if (!std::isfinite(p[axis]) || !std::isfinite(v[axis])) defect("a particle is not finite");
+      if (p[axis] < inner.min[axis] || p[axis] > inner.max[axis]) {
+        std::fprintf(stderr, "particle %zu of %zu: %g along axis %d, the tank's inside [%g, %g]\n",
+                     i, particles.size(), p[axis], axis, inner.min[axis], inner.max[axis]);
+        defect("a particle left the tank");
+      }
+    }
+  }
+}
+
+// Whether the tank, less the fingers' spheres, holds the water at rest, twice over.
+inline bool room_for_the_water(const Solver& solver) {
+  const glm::vec3 tank = solver.tank().max - solver.tank().min;
+  float room = tank.x * tank.y * tank.z;
+  for (const Collider& finger : solver.colliders())
+    room -= 4.0f / 3.0f * 3.14159265f * finger.radius * finger.radius * finger.radius;
+  const float spacing = solver.fluid().spacing;
+  return room >= 2.0f * static_cast<float>(solver.particle_count()) * spacing * spacing * spacing;
+}
+
+inline bool same(const ParticleSet& a, const ParticleSet& b) {
+  return a.position == b.position && a.velocity == b.velocity && a.id == b.id;
+}
+
+// Runs `input` (an input to the solver that throws std::invalid_argument to refuse); a refused
+// one must leave the fluid, its gravity and its colliders as they were.
+template <class Input>
+void refused_changes_nothing(Solver& solver, Input input) {
+  const ParticleSet before = solver.snapshot();
+  const glm::vec3 gravity = solver.gravity();
+  const std::size_t colliders = solver.colliders().size();
+  const double time = solver.time();
+  try {
+    input();
+  } catch (const std::invalid_argument&) {
+    if (!same(before, solver.snapshot()) || gravity != solver.gravity() ||
+        colliders != solver.colliders().size() || time != solver.time())
+      defect("a refused input changed the fluid");
+  }
+}
+
+// The solver the input's first bytes describe, from `make`; none where they describe a scene
+// that does not fit its tank.
+inline std::unique_ptr<Solver> build(Bytes& in, const SolverMaker& make) {
+  SolverParams params;
+  params.threads = 1;  // one thread: the same input runs the same way every time
+  params.iterations = 1 + in.up_to(7);
+  params.pbf_jacobi_damping = in.between(0.0, 0.5);
+  params.pbf_travel = in.scaled(0.05, 2.0);
+  params.pbf_density_tolerance = in.scaled(1e-4, 0.1);
+  params.pbf_max_acceleration = in.scaled(10.0, 1e5);
+  params.time_step = in.scaled(1e-4, 0.05);
+  params.max_substeps = 1 + in.up_to(63);
+  params.vorticity = in.between(0.0, 1.0);
+  params.xsph_viscosity = in.between(0.0, 1.0);
+  params.max_particles = 64 + in.up_to(255) * 2;
+  SceneParams scene;
+  scene.kind = static_cast<SceneKind>(in.up_to(3));
+  scene.particles = 30 + in.up_to(255);
+  scene.tank_length = in.between(0.5, 1.6);
+  scene.column_width = in.between(0.05, 0.4);
+  const SolverKind kind = in.byte() % 4 == 0 ? SolverKind::sph : SolverKind::pbf;
+  try {
+    validate(scene);  // a geometry that does not fit its tank is the CLI's to refuse
+    return make(kind, build_scene(scene), params);
+  } catch (const ParamError&) {
+    return nullptr;
+  }
+}
+
+// Runs the input on the solver it describes; throws Defect where a promise was broken.
+inline void run_solver_inputs(const std::uint8_t* data, std::size_t size, const SolverMaker& make) {
+  Bytes in(data, size);
+  const std::unique_ptr<Solver> solver = build(in, make);
+  if (!solver) return;
+  std::size_t count = solver->particle_count();
+  bool squeezed = false;  // fingers took the water's room at some time
+  expect_sound(*solver, count, false);
+  const float step = solver->params().time_step;
+  for (int action = 0; action < 24 && !in.done(); ++action) {
+    bool stepped = false;
+    switch (in.byte() % 10) {
+      case 0:
+      case 1:
+        solver->step();
+        stepped = true;
+        break;
+      case 2: {  // a shorter step, down to slivers, its substeps by the solver's own rule
+        const float seconds = step * std::max(in.unit(), 1e-3f);
+        solver->step(seconds, solver->substeps_for(seconds));
+        stepped = true;
+        break;
+      }
+      case 3: {  // a step of any length and substeps: most are refused
+        const float seconds = in.around(step);
+        const int substeps = in.up_to(solver->params().max_substeps + 1);
+        refused_changes_nothing(*solver, [&] {
+          solver->step(seconds, substeps);
+          stepped = true;
+        });
+        break;
+      }
+      case 4: {  // a tilt, a shake
+        const glm::vec3 gravity = in.direction() * in.around(kMaxGravity);
+        refused_changes_nothing(*solver, [&] { solver->set_gravity(gravity); });
+        break;
+      }
+      case 5: {  // fingers
+        std::vector<Collider> fingers(static_cast<std::size_t>(in.up_to(3)));
+        if (in.byte() % 8 == 0) fingers.resize(kMaxColliders + 1);
+        for (Collider& finger : fingers) {
+          finger.centre = in.point_around(solver->tank());
+          finger.radius = in.byte() % 8 == 0 ? in.around(kMaxColliderRadius) : in.scaled(1e-3, 0.3);
+          finger.velocity = in.direction() * in.around(kMaxSpeed);
+        }
+        refused_changes_nothing(*solver, [&] {
+          solver->set_colliders(fingers);
+          squeezed = squeezed || !room_for_the_water(*solver);
+        });
+        break;
+      }
+      case 6: {  // particles poured in, some outside the tank or too fast
+        std::vector<glm::vec3> positions(static_cast<std::size_t>(1 + in.up_to(40)));
+        std::vector<glm::vec3> velocities(positions.size());
+        for (std::size_t i = 0; i < positions.size(); ++i) {
+          positions[i] = in.point_around(solver->inner_tank());
+          velocities[i] = in.direction() * in.around(kMaxSpeed);
+        }
+        refused_changes_nothing(*solver, [&] {
+          solver->add_particles(positions, velocities);
+          count += positions.size();
+        });
+        break;
+      }
+      case 7: {  // a finger's removal, or the fluid reset
+        if (in.byte() % 4 == 0) {
+          solver->reset();
+          count = solver->particle_count();
+          break;
+        }
+        const glm::vec3 centre = in.point_around(solver->tank());
+        const float radius = in.scaled(1e-3, 1.0);
+        count -= solver->remove_particles_in_sphere(centre, radius);
+        break;
+      }
+      case 9: {  // a drag, as the server's fingers follow a hand (FingerCollider): steps of a
+                 // tick's seconds, the hand anywhere, the ticks' wall time even or bunched
+        const float radius = in.scaled(1e-3, 0.3);
+        FingerCollider sphere(in.point_around(solver->tank()));
+        for (int tick = 1 + in.up_to(7); tick > 0; --tick) {
+          const float seconds = in.byte() % 4 == 0 ? 0.0f : step * std::max(in.unit(), 0.01f);
+          const double elapsed = in.byte() % 4 == 0 ? 0.0 : in.scaled(1e-3, 0.5);
+          const auto motion = sphere.follow(in.point_around(solver->tank()), seconds, elapsed);
+          std::vector<Collider> fingers;
+          if (const auto finger = motion.collider(radius)) fingers.push_back(*finger);
+          try {
+            solver->set_colliders(fingers);
+          } catch (const std::invalid_argument& refusal) {
+            std::fprintf(stderr, "%s\n", refusal.what());
+            defect("the solver refused a finger that FingerCollider moved");
+          }
+          squeezed = squeezed || !room_for_the_water(*solver);
+          if (seconds > 0.0f) solver->step(seconds, solver->substeps_for(seconds));
+          expect_sound(*solver, count, seconds > 0.0f);
+        }
+        break;
+      }
+      case 8: {  // the fluid handed back as a snapshot, as a reconnecting client does
+        const ParticleSet state = solver->snapshot();
+        try {
+          // The server's check of a snapshot, too, for PBF: its corrections hold the density
+          // whatever its substeps. Not for SPH, which may clump when max_substeps holds it to
+          // fewer substeps than its stability asks (the CFL bound exceeded, as documented), nor
+          // once fingers have taken so much of the tank that the water has less room than it
+          // fills (a finger may be 10 m across).
+          if (solver->kind() == SolverKind::pbf && !squeezed)
+            check_density(state.position, solver->fluid());
+          solver->replace_particles(state.position, state.velocity);
+        } catch (const std::invalid_argument& refusal) {
+          std::fprintf(stderr, "%s\n", refusal.what());
+          defect("the fluid's own state was refused as a snapshot");
+        }
+        break;
+      }
+    }
+    expect_sound(*solver, count, stepped);
+  }
+}
+
+}  // namespace fluidcast::sim::fuzzing
