@@ -17,6 +17,8 @@
 #include <memory>
 #include <span>
 #include <stdexcept>
+#include <type_traits>
+#include <variant>
 #include <vector>
 
 #include "fluidcast/sim/finger_collider.h"
@@ -137,26 +139,38 @@ void refused_changes_nothing(Solver& solver, Input input) {
   }
 }
 
+// Sets about half of `owner`'s tunables anywhere in their declared ranges (a log scale where a
+// range spans more than two decades), the others left at their defaults.
+template <class Owner>
+void set_some(Bytes& in, Owner& owner, const std::vector<ParamSpec<Owner>>& specs) {
+  for (const ParamSpec<Owner>& spec : specs) {
+    if (in.byte() % 2 == 0) continue;
+    const double value = spec.min > 0.0 && spec.max > 100.0 * spec.min
+                             ? in.scaled(spec.min, spec.max)
+                             : in.between(spec.min, spec.max);
+    std::visit(
+        [&](auto field) {
+          owner.*field = static_cast<std::remove_reference_t<decltype(owner.*field)>>(value);
+        },
+        spec.member);
+  }
+}
+
 // The solver the input's first bytes describe, from `make`; none where they describe a scene
 // that does not fit its tank.
 inline std::unique_ptr<Solver> build(Bytes& in, const SolverMaker& make) {
   SolverParams params;
-  params.threads = 1;  // one thread: the same input runs the same way every time
-  params.iterations = 1 + in.up_to(7);
-  params.pbf_jacobi_damping = in.between(0.0, 0.5);
-  params.pbf_travel = in.scaled(0.05, 2.0);
-  params.pbf_density_tolerance = in.scaled(1e-4, 0.1);
-  params.pbf_max_acceleration = in.scaled(10.0, 1e5);
-  params.time_step = in.scaled(1e-4, 0.05);
-  params.max_substeps = 1 + in.up_to(63);
-  params.vorticity = in.between(0.0, 1.0);
-  params.xsph_viscosity = in.between(0.0, 1.0);
+  set_some(in, params, solver_param_specs());
+  // What a run can afford: a few hundred particles, a few iterations and substeps, one thread (the
+  // same input then runs the same way every time).
+  params.threads = 1;
+  params.iterations = std::min(params.iterations, 8);
+  params.max_substeps = std::min(params.max_substeps, 64);
   params.max_particles = 64 + in.up_to(255) * 2;
   SceneParams scene;
+  set_some(in, scene, scene_param_specs());
   scene.kind = static_cast<SceneKind>(in.up_to(3));
   scene.particles = 30 + in.up_to(255);
-  scene.tank_length = in.between(0.5, 1.6);
-  scene.column_width = in.between(0.05, 0.4);
   const SolverKind kind = in.byte() % 4 == 0 ? SolverKind::sph : SolverKind::pbf;
   try {
     validate(scene);  // a geometry that does not fit its tank is the CLI's to refuse
