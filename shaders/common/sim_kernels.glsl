@@ -84,7 +84,7 @@ vec4 walls(vec3 p) {
 // As the CPU's held_to_max_speed (solver.h).
 vec3 held_to_max_speed(vec3 v) {
   const float speed2 = dot(v, v);
-  return speed2 > MAX_SPEED * MAX_SPEED ? v * (MAX_SPEED / sqrt(speed2)) : v;
+  return speed2 > P.max_speed * P.max_speed ? v * (P.max_speed / sqrt(speed2)) : v;
 }
 
 // How fast p, moving at v, closes on a wall it would reach within P.wall_reach seconds at that
@@ -191,7 +191,6 @@ void record_largest(uint slot, float value) {
 void end_pbf_substep(uint k, bool in_range, vec3 p, vec3 v) {
   float speed2 = 0.0, approach = 0.0;
   if (in_range) {
-    v = held_to_max_speed(v);
     P.position.v[k] = vec4(p, 0.0);
     P.velocity.v[k] = vec4(v, 0.0);
     P.id.v[k] = P.sorted_id.v[k];

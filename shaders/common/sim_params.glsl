@@ -4,7 +4,6 @@
 #define SOLVER_PBF 0u
 #define SOLVER_SPH 1u
 #define MAX_COLLIDERS 16
-#define MAX_SPEED 1000.0  // m/s: kMaxSpeed, to which every particle is held (held_to_max_speed)
 
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer SimParams {
   // Particle state in the order of the latest sort (w unused).
@@ -75,6 +74,7 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Si
   float stiffness_share;  // PBF: the share of its corrections a step applies (stiffness_share)
   float pressed_from;     // PBF: from this compression up a particle's λ takes more, all of it
   float pressed_span;     // this much above it (particle_stiffness_share)
+  float max_speed;        // m/s: kMaxSpeed, to which every particle is held (held_to_max_speed)
 
   vec4 collider_sphere[MAX_COLLIDERS];    // centre at the step's start, radius in w
   vec4 collider_velocity[MAX_COLLIDERS];

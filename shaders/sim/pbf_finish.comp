@@ -39,5 +39,6 @@ void main() {
       }
     }
   }
-  end_pbf_substep(k, in_range, p, velocity);
+  // The filters may add speed: held as PbfSolver::finish_step holds it.
+  end_pbf_substep(k, in_range, p, held_to_max_speed(velocity));
 }

@@ -1,10 +1,11 @@
 // A small fluid's tunables and a run of what a user does to it, read from any bytes — tilts
 // (gravity), fingers (colliders, and drags as the server moves them), steps whole and in slow
 // motion, particles added and removed, resets, reloads — within the inputs' limits and past them.
-// An input past a limit must be refused with std::invalid_argument and change nothing; whatever is
-// taken, the fluid must stay finite and inside the tank, keep its count, and be a state the
-// solver and the server take back. solver_inputs_fuzz runs it on the CPU solvers, and
-// gpu_solver_inputs_test its corpus on the GPU's.
+// An input past a limit must be refused with std::invalid_argument and leave the fluid, gravity,
+// fingers and clock as they were; whatever is taken, the fluid must stay finite and inside the
+// tank, keep its count, and be a state the solver takes back, and for PBF, unless the inputs
+// crowded it (crowded below), one the server's density check takes too. solver_inputs_fuzz runs it
+// on the CPU solvers, and gpu_solver_inputs_test its corpus on the GPU's.
 #pragma once
 
 #include <algorithm>
@@ -122,19 +123,39 @@ inline bool same(const ParticleSet& a, const ParticleSet& b) {
   return a.position == b.position && a.velocity == b.velocity && a.id == b.id;
 }
 
+inline bool same(std::span<const Collider> a, std::span<const Collider> b) {
+  return std::equal(
+      a.begin(), a.end(), b.begin(), b.end(), [](const Collider& x, const Collider& y) {
+        return x.centre == y.centre && x.radius == y.radius && x.velocity == y.velocity;
+      });
+}
+
+// Whether the inputs left the water denser than a fluid gets without them: fingers that took its
+// room (a finger may be 10 m across), or particles poured in on top of each other (the same bytes
+// give the same point, and PBF has no gradient to part two particles at one point).
+inline bool crowded(const Solver& solver) {
+  if (!room_for_the_water(solver)) return true;
+  try {
+    check_density(solver.snapshot().position, solver.fluid());
+  } catch (const std::invalid_argument&) {
+    return true;
+  }
+  return false;
+}
+
 // Runs `input` (an input to the solver that throws std::invalid_argument to refuse); a refused
 // one must leave the fluid, its gravity and its colliders as they were.
 template <class Input>
 void refused_changes_nothing(Solver& solver, Input input) {
   const ParticleSet before = solver.snapshot();
   const glm::vec3 gravity = solver.gravity();
-  const std::size_t colliders = solver.colliders().size();
+  const std::vector<Collider> colliders = solver.colliders();
   const double time = solver.time();
   try {
     input();
   } catch (const std::invalid_argument&) {
     if (!same(before, solver.snapshot()) || gravity != solver.gravity() ||
-        colliders != solver.colliders().size() || time != solver.time())
+        !same(colliders, solver.colliders()) || time != solver.time())
       defect("a refused input changed the fluid");
   }
 }
@@ -171,6 +192,12 @@ inline std::unique_ptr<Solver> build(Bytes& in, const SolverMaker& make) {
   set_some(in, scene, scene_param_specs());
   scene.kind = static_cast<SceneKind>(in.up_to(3));
   scene.particles = 30 + in.up_to(255);
+  // The grid covers the tank, its cells half a kernel radius: a wide tank with few particles pays
+  // for millions of cells a substep (9 × 9 × 0.01 m, 30 particles: 7 M), a cost the user chose but
+  // one that leaves a run no time for anything else.
+  scene.tank_length = std::min(scene.tank_length, 2.0f);
+  scene.tank_height = std::min(scene.tank_height, 2.0f);
+  scene.depth = std::min(scene.depth, 2.0f);
   const SolverKind kind = in.byte() % 4 == 0 ? SolverKind::sph : SolverKind::pbf;
   try {
     validate(scene);  // a geometry that does not fit its tank is the CLI's to refuse
@@ -186,7 +213,7 @@ inline void run_solver_inputs(const std::uint8_t* data, std::size_t size, const 
   const std::unique_ptr<Solver> solver = build(in, make);
   if (!solver) return;
   std::size_t count = solver->particle_count();
-  bool squeezed = false;  // fingers took the water's room at some time
+  bool was_crowded = false;  // crowded() after some input
   expect_sound(*solver, count, false);
   const float step = solver->params().time_step;
   for (int action = 0; action < 24 && !in.done(); ++action) {
@@ -225,10 +252,7 @@ inline void run_solver_inputs(const std::uint8_t* data, std::size_t size, const 
           finger.radius = in.byte() % 8 == 0 ? in.around(kMaxColliderRadius) : in.scaled(1e-3, 0.3);
           finger.velocity = in.direction() * in.around(kMaxSpeed);
         }
-        refused_changes_nothing(*solver, [&] {
-          solver->set_colliders(fingers);
-          squeezed = squeezed || !room_for_the_water(*solver);
-        });
+        refused_changes_nothing(*solver, [&] { solver->set_colliders(fingers); });
         break;
       }
       case 6: {  // particles poured in, some outside the tank or too fast
@@ -241,18 +265,27 @@ inline void run_solver_inputs(const std::uint8_t* data, std::size_t size, const 
         refused_changes_nothing(*solver, [&] {
           solver->add_particles(positions, velocities);
           count += positions.size();
+          was_crowded = was_crowded || crowded(*solver);
         });
         break;
       }
       case 7: {  // a finger's removal, or the fluid reset
         if (in.byte() % 4 == 0) {
           solver->reset();
-          count = solver->particle_count();
+          count = solver->scene().particles.size();
           break;
         }
         const glm::vec3 centre = in.point_around(solver->tank());
         const float radius = in.scaled(1e-3, 1.0);
-        count -= solver->remove_particles_in_sphere(centre, radius);
+        const ParticleSet before = solver->snapshot();
+        const auto inside =
+            std::count_if(before.position.begin(), before.position.end(), [&](glm::vec3 p) {
+              const glm::vec3 d = p - centre;  // the solvers' own test, rounding and all
+              return glm::dot(d, d) <= radius * radius;
+            });
+        if (solver->remove_particles_in_sphere(centre, radius) != static_cast<std::size_t>(inside))
+          defect("a removal took other particles than those in its sphere");
+        count -= static_cast<std::size_t>(inside);
         break;
       }
       case 9: {  // a drag, as the server's fingers follow a hand (FingerCollider): steps of a
@@ -271,7 +304,7 @@ inline void run_solver_inputs(const std::uint8_t* data, std::size_t size, const 
             std::fprintf(stderr, "%s\n", refusal.what());
             defect("the solver refused a finger that FingerCollider moved");
           }
-          squeezed = squeezed || !room_for_the_water(*solver);
+          was_crowded = was_crowded || !room_for_the_water(*solver);
           if (seconds > 0.0f) solver->step(seconds, solver->substeps_for(seconds));
           expect_sound(*solver, count, seconds > 0.0f);
         }
@@ -283,9 +316,8 @@ inline void run_solver_inputs(const std::uint8_t* data, std::size_t size, const 
           // The server's check of a snapshot, too, for PBF: its corrections hold the density
           // whatever its substeps. Not for SPH, which may clump when max_substeps holds it to
           // fewer substeps than its stability asks (the CFL bound exceeded, as documented), nor
-          // once fingers have taken so much of the tank that the water has less room than it
-          // fills (a finger may be 10 m across).
-          if (solver->kind() == SolverKind::pbf && !squeezed)
+          // after inputs that crowded the water.
+          if (solver->kind() == SolverKind::pbf && !was_crowded)
             check_density(state.position, solver->fluid());
           solver->replace_particles(state.position, state.velocity);
         } catch (const std::invalid_argument& refusal) {
@@ -296,6 +328,7 @@ inline void run_solver_inputs(const std::uint8_t* data, std::size_t size, const 
       }
     }
     expect_sound(*solver, count, stepped);
+    was_crowded = was_crowded || !room_for_the_water(*solver);
   }
 }
 

@@ -31,7 +31,7 @@ TEST_F(GpuSolverInputs, EveryInputOfTheCpuFuzzingCorpusKeepsTheSolversPromises) 
         }));
     ++inputs;
   }
-  EXPECT_GE(inputs, 8);
+  EXPECT_GT(inputs, 0);
 }
 
 }  // namespace

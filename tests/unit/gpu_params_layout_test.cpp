@@ -117,6 +117,7 @@ TEST(GpuParamsLayout, SimParamsMatchesTheGlslBlock) {
                                                   FIELD(SimParams, stiffness_share),
                                                   FIELD(SimParams, pressed_from),
                                                   FIELD(SimParams, pressed_span),
+                                                  FIELD(SimParams, max_speed),
                                                   FIELD(SimParams, collider_sphere),
                                                   FIELD(SimParams, collider_velocity)};
   const auto glsl = member_offsets(shaders::sim_pbf_lambda_comp, "SimParams");

@@ -15,7 +15,6 @@ namespace fluidcast::sim::gpu_solver {
 inline constexpr std::uint32_t kSolverPbf = 0;  // SOLVER_PBF
 inline constexpr std::uint32_t kSolverSph = 1;  // SOLVER_SPH
 static_assert(kMaxColliders == 16, "MAX_COLLIDERS in sim_params.glsl");
-static_assert(kMaxSpeed == 1000.0f, "MAX_SPEED in sim_params.glsl");
 
 struct SimParams {
   VkDeviceAddress position, velocity, id;
@@ -40,6 +39,7 @@ struct SimParams {
   std::uint32_t max_neighbours;
   float wall_reach;
   float stiffness_share, pressed_from, pressed_span;
+  float max_speed;
 
   alignas(16) glm::vec4 collider_sphere[kMaxColliders];
   glm::vec4 collider_velocity[kMaxColliders];
@@ -60,7 +60,8 @@ static_assert(offsetof(SimParams, max_acceleration) == 176 + 7 * 16 + 26 * 4);
 static_assert(offsetof(SimParams, max_neighbours) == 176 + 7 * 16 + 27 * 4);
 static_assert(offsetof(SimParams, wall_reach) == 176 + 7 * 16 + 28 * 4);
 static_assert(offsetof(SimParams, pressed_span) == 176 + 7 * 16 + 31 * 4);
-static_assert(offsetof(SimParams, collider_sphere) == 176 + 7 * 16 + 32 * 4);
+static_assert(offsetof(SimParams, max_speed) == 176 + 7 * 16 + 32 * 4);
+static_assert(offsetof(SimParams, collider_sphere) == 176 + 7 * 16 + 36 * 4);
 static_assert(offsetof(SimParams, collider_velocity) ==
               offsetof(SimParams, collider_sphere) + kMaxColliders * 16);
 static_assert(sizeof(SimParams) % 4 == 0, "vkCmdUpdateBuffer takes whole words");

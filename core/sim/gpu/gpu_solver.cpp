@@ -451,6 +451,7 @@ SimParams GpuSolver::step_params(int substeps, float stiffness) const {
   p.stiffness_share = stiffness;
   p.pressed_from = PbfSubsteps::kPressedFrom * params().pbf_density_tolerance;
   p.pressed_span = PbfSubsteps::kPressedSpan * params().pbf_density_tolerance;
+  p.max_speed = kMaxSpeed;
   for (std::size_t c = 0; c < colliders().size(); ++c) {
     p.collider_sphere[c] = glm::vec4(colliders()[c].centre, colliders()[c].radius);
     p.collider_velocity[c] = glm::vec4(colliders()[c].velocity, 0.0f);

@@ -37,7 +37,7 @@ struct Collider {
 
 // Input limits: beyond them an input is refused, never clamped.
 inline constexpr float kMaxGravity = 2000.0f;       // m/s², about 200 g
-inline constexpr float kMaxSpeed = 1000.0f;         // m/s, colliders and added particles
+inline constexpr float kMaxSpeed = 1000.0f;  // m/s, colliders and added particles; see held_to_max_speed
 inline constexpr float kMaxColliderRadius = 10.0f;  // m
 inline constexpr std::size_t kMaxColliders = 16;
 // A vector's length against one of those limits, allowing for the rounding of a vector scaled to
@@ -46,10 +46,11 @@ inline bool within_limit(glm::vec3 v, float limit) {
   return glm::length(v) <= limit * (1.0f + 1e-6f);
 }
 // The solvers hold every particle to kMaxSpeed too, so that a state a solver hands out is one it
-// takes back (replace_particles). Only slivers of substeps reach it: a particle given inside a
-// wall's particle radius, or inside a collider set down over it, is put out within a substep, and
-// v = Δx / Δt (a step of 5 µs threw a 230-particle dam break's wall layer at 2056 m/s). The GPU's
-// passes hold it the same way (held_to_max_speed in sim_kernels.glsl).
+// takes back (replace_particles). Slivers of substeps reached past it: PBF puts a particle given
+// inside a wall's particle radius, or inside a collider set down over it, out within a substep,
+// and v = Δx / Δt (in 1 µs, at 1.6–1.9 × 10⁵ m/s). So did fingers at the limit: SPH leaves a
+// particle that one hits with the finger's speed into it and its own across it (1372 m/s). The
+// GPU's passes hold it the same way (held_to_max_speed in sim_kernels.glsl).
 inline glm::vec3 held_to_max_speed(glm::vec3 v) {
   const float speed2 = glm::dot(v, v);
   return speed2 > kMaxSpeed * kMaxSpeed ? v * (kMaxSpeed / std::sqrt(speed2)) : v;
