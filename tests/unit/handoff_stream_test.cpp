@@ -141,13 +141,17 @@ struct Fixture {
   std::mutex mutex;
   std::vector<std::string> said;
   int locals_started = 0;
-  std::shared_ptr<FakeFluid> local;  // the last fluid started here
+  std::weak_ptr<FakeFluid> local;    // the last fluid started here, while anyone holds it
   v1::Hello local_hello;             // and what it was started with
   int connects = 0;                  // attempts, answered or not
 
   int locals() {
     const std::lock_guard lock(mutex);
     return locals_started;
+  }
+  std::shared_ptr<FakeFluid> local_fluid() {
+    const std::lock_guard lock(mutex);
+    return local.lock();
   }
   HandoffSides sides() {
     return {"fake:1",
@@ -165,9 +169,10 @@ struct Fixture {
             [this](const v1::Hello& hello) -> std::shared_ptr<FluidStream> {
               const std::lock_guard lock(mutex);
               ++locals_started;
-              local = std::make_shared<FakeFluid>(nullptr, hello);
+              auto fluid = std::make_shared<FakeFluid>(nullptr, hello);
+              local = fluid;
               local_hello = hello;
-              return local;
+              return fluid;
             }};
   }
   HandoffOptions options() {
@@ -438,8 +443,12 @@ TEST(HandoffStream, AStreamTheServerEndsOnPurposeEndsThisOne) {
   Fixture f;
   HandoffStream stream(hello_for(1000), f.sides(), f.options());
   stream_until_kept(stream, f);
+  ASSERT_TRUE(f.local_fluid()) << "a warm local fluid waits while streaming";
   f.set(&FakeServer::ends_streams, true);
   read_until(stream, [&] { return stream.ended(); });
+  // Nothing will carry the fluid on: the warm one is let go of (a snapshot request on its way
+  // may hold it until it returns).
+  read_until(stream, [&] { return !f.local_fluid(); });
   read_for(stream, milliseconds(200));
   EXPECT_FALSE(stream.simulating_here());
   EXPECT_EQ(stream.status(), "the server ended the stream: nobody touched the fluid");
@@ -510,10 +519,10 @@ TEST(HandoffStream, AFluidContinuedHereIsAsItsViewerLeftIt) {
   stream.command(resize);
   f.set(&FakeServer::up, false);
   read_until(stream, [&] { return stream.simulating_here(); });
-  const std::lock_guard lock(f.mutex);
-  ASSERT_TRUE(f.local);
-  EXPECT_TRUE(f.local->paused());
-  EXPECT_EQ(f.local->viewport_width(), 640u);
+  const std::shared_ptr<FakeFluid> local = f.local_fluid();
+  ASSERT_TRUE(local);
+  EXPECT_TRUE(local->paused());
+  EXPECT_EQ(local->viewport_width(), 640u);
 }
 
 // While streaming, snapshots come every snapshot_every, not with every frame; while the server is
