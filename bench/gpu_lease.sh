@@ -8,7 +8,11 @@
 # (e.g. /tmp/w/PART) and pack it after each part, `tar czf $OUT/all.tgz -C /tmp/w .`, so that a
 # part cut off by its timeout still leaves the earlier ones (bench/results/h200-2026-11-28.md).
 # PART: programs  the programs the parts run (for the bundle), on standard output
-#       tests   every GPU test with the validation layer on (a message fails its test)
+#       tests   every GPU test with the validation layer on (a message fails its test). The
+#               golden images and the fuzzing corpus are read where the source tree was at the
+#               build (here /work/main): link them there first, `mkdir -p /work/main/tests &&
+#               ln -sfn $PWD/tests/golden /work/main/tests/golden &&
+#               ln -sfn $PWD/tests/fuzz /work/main/tests/fuzz`
 #       solver  fluidcast-bench-gpu: what the driver says of each pass's code (pipelines.txt:
 #               registers and the like, added 2026-11-29), the solver table (dt = 1 ms, and a
 #               session's 1/120 s at 216k and 1M: GPU s a simulated s, added 2026-11-29, a few s
@@ -51,7 +55,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 gpu_tests=(gpu_context_test gpu_neighbour_grid_test gpu_solver_test gpu_step_batch_test
-  solver_inputs_test render_test render_golden_test render_surface_test ssfr_splat_test
+  solver_inputs_test gpu_solver_inputs_test render_test render_golden_test render_surface_test ssfr_splat_test
   anisotropy_test default_size_test timestamps_test)
 programs=(fluidcast-server fluidcast-sim fluidcast-validate fluidcast-bench-gpu
   fluidcast-bench-render fluidcast-bench-load fluidcast-bench-soak "${gpu_tests[@]}")
