@@ -195,12 +195,15 @@ void HandoffStream::keep_snapshot() {
   const auto now = Clock::now();
   if (snapshot_request_.valid() || now - last_snapshot_ < options_.snapshot_every) return;
   last_snapshot_ = now;
-  // The request holds the stream and the standby: either may be let go of here before it ends.
-  snapshot_request_ = std::async(std::launch::async, [remote = stream_, standby = standby_] {
-    v1::Snapshot snapshot = remote->snapshot();
-    if (standby) standby->put(snapshot);
-    return snapshot;
-  });
+  // The request holds the stream, which may be let go of here before it ends. The standby it
+  // holds weakly: a request's task lives as long as its future, which a stream the server ended
+  // keeps, and the warm fluid would live on with it.
+  snapshot_request_ =
+      std::async(std::launch::async, [remote = stream_, standby = std::weak_ptr(standby_)] {
+        v1::Snapshot snapshot = remote->snapshot();
+        if (const std::shared_ptr<Standby> held = standby.lock()) held->put(snapshot);
+        return snapshot;
+      });
 }
 
 void HandoffStream::keep_standby() {

@@ -11,7 +11,7 @@ void main() {
   const uint k = invocation();
   float speed2 = 0.0;
   if (k < P.particle_count) {
-    vec3 v = P.sorted_velocity.v[k].xyz + pass.dt * P.acceleration.v[k].xyz;
+    vec3 v = held_to_max_speed(P.sorted_velocity.v[k].xyz + pass.dt * P.acceleration.v[k].xyz);
     vec3 x = P.sorted_position.v[k].xyz + pass.dt * v;
     x = constrain(x, v, true);
     // After the colliders, which may add speed: a finger's into a particle's own across it.

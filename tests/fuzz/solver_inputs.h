@@ -4,8 +4,8 @@
 // An input past a limit must be refused with std::invalid_argument and leave the fluid, gravity,
 // fingers and clock as they were; whatever is taken, the fluid must stay finite and inside the
 // tank, keep its count, and be a state the solver takes back, and for PBF, unless the inputs
-// crowded it (crowded below), one the server's density check takes too. solver_inputs_fuzz runs it
-// on the CPU solvers, and gpu_solver_inputs_test its corpus on the GPU's.
+// crowded it (crowded_by below), one the server's density check takes too. solver_inputs_fuzz runs
+// it on the CPU solvers, and gpu_solver_inputs_test its corpus on the GPU's.
 #pragma once
 
 #include <algorithm>
@@ -130,11 +130,14 @@ inline bool same(std::span<const Collider> a, std::span<const Collider> b) {
       });
 }
 
-// Whether the inputs left the water denser than a fluid gets without them: fingers that took its
-// room (a finger may be 10 m across), or particles poured in on top of each other (the same bytes
-// give the same point, and PBF has no gradient to part two particles at one point).
-inline bool crowded(const Solver& solver) {
-  if (!room_for_the_water(solver)) return true;
+// Whether a pour left the water denser than a fluid gets without it: past the density check, or
+// two particles poured onto one point (the same bytes give the same point, and PBF has no
+// gradient to part them: the check may fail later, as the cubes it counts in shift).
+inline bool crowded_by(std::span<const glm::vec3> poured, const Solver& solver) {
+  const float apart = 0.01f * solver.fluid().spacing;
+  for (std::size_t i = 0; i < poured.size(); ++i)
+    for (std::size_t j = i + 1; j < poured.size(); ++j)
+      if (glm::distance(poured[i], poured[j]) < apart) return true;
   try {
     check_density(solver.snapshot().position, solver.fluid());
   } catch (const std::invalid_argument&) {
@@ -166,9 +169,15 @@ template <class Owner>
 void set_some(Bytes& in, Owner& owner, const std::vector<ParamSpec<Owner>>& specs) {
   for (const ParamSpec<Owner>& spec : specs) {
     if (in.byte() % 2 == 0) continue;
-    const double value = spec.min > 0.0 && spec.max > 100.0 * spec.min
-                             ? in.scaled(spec.min, spec.max)
-                             : in.between(spec.min, spec.max);
+    // From 0: a log scale from a ten-thousandth of the range, and now and then 0 itself (a
+    // viscosity of [0, 100] Pa·s defaults to 0.05).
+    double value;
+    if (spec.min > 0.0 && spec.max > 100.0 * spec.min)
+      value = in.scaled(spec.min, spec.max);
+    else if (spec.min == 0.0)
+      value = in.byte() % 8 == 0 ? 0.0 : in.scaled(1e-4 * spec.max, spec.max);
+    else
+      value = in.between(spec.min, spec.max);
     std::visit(
         [&](auto field) {
           owner.*field = static_cast<std::remove_reference_t<decltype(owner.*field)>>(value);
@@ -265,7 +274,7 @@ inline void run_solver_inputs(const std::uint8_t* data, std::size_t size, const 
         refused_changes_nothing(*solver, [&] {
           solver->add_particles(positions, velocities);
           count += positions.size();
-          was_crowded = was_crowded || crowded(*solver);
+          was_crowded = was_crowded || crowded_by(positions, *solver);
         });
         break;
       }
@@ -273,19 +282,27 @@ inline void run_solver_inputs(const std::uint8_t* data, std::size_t size, const 
         if (in.byte() % 4 == 0) {
           solver->reset();
           count = solver->scene().particles.size();
+          was_crowded = false;  // the scene's particles again; fingers are counted below
           break;
         }
         const glm::vec3 centre = in.point_around(solver->tank());
         const float radius = in.scaled(1e-3, 1.0);
+        // Those well inside the sphere go, those well outside stay; within rounding of its
+        // surface (the solvers' sums may be fused differently), either.
         const ParticleSet before = solver->snapshot();
-        const auto inside =
-            std::count_if(before.position.begin(), before.position.end(), [&](glm::vec3 p) {
-              const glm::vec3 d = p - centre;  // the solvers' own test, rounding and all
-              return glm::dot(d, d) <= radius * radius;
-            });
-        if (solver->remove_particles_in_sphere(centre, radius) != static_cast<std::size_t>(inside))
-          defect("a removal took other particles than those in its sphere");
-        count -= static_cast<std::size_t>(inside);
+        const std::size_t removed = solver->remove_particles_in_sphere(centre, radius);
+        const ParticleSet after = solver->snapshot();
+        std::vector<std::uint32_t> kept(after.id.begin(), after.id.end());
+        std::sort(kept.begin(), kept.end());
+        for (std::size_t i = 0; i < before.size(); ++i) {
+          const float reach = glm::distance(before.position[i], centre) / radius;
+          const bool stayed = std::binary_search(kept.begin(), kept.end(), before.id[i]);
+          if ((reach < 1.0f - 1e-4f && stayed) || (reach > 1.0f + 1e-4f && !stayed))
+            defect("a removal took other particles than those in its sphere");
+        }
+        if (before.size() - after.size() != removed)
+          defect("a removal took other than as many particles as it said");
+        count -= removed;
         break;
       }
       case 9: {  // a drag, as the server's fingers follow a hand (FingerCollider): steps of a

@@ -446,8 +446,8 @@ TEST(HandoffStream, AStreamTheServerEndsOnPurposeEndsThisOne) {
   ASSERT_TRUE(f.local_fluid()) << "a warm local fluid waits while streaming";
   f.set(&FakeServer::ends_streams, true);
   read_until(stream, [&] { return stream.ended(); });
-  // Nothing will carry the fluid on: the warm one is let go of (a snapshot request on its way
-  // may hold it until it returns).
+  // Nothing will carry the fluid on: the warm one is let go of, though a snapshot request may
+  // still be on its way.
   read_until(stream, [&] { return !f.local_fluid(); });
   read_for(stream, milliseconds(200));
   EXPECT_FALSE(stream.simulating_here());
@@ -523,6 +523,7 @@ TEST(HandoffStream, AFluidContinuedHereIsAsItsViewerLeftIt) {
   ASSERT_TRUE(local);
   EXPECT_TRUE(local->paused());
   EXPECT_EQ(local->viewport_width(), 640u);
+  EXPECT_EQ(f.locals(), 1) << "the warm fluid is the one that goes on";
 }
 
 // While streaming, snapshots come every snapshot_every, not with every frame; while the server is

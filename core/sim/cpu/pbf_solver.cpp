@@ -83,7 +83,7 @@ void PbfSolver::finish_step(int substeps) {
     // As the GPU's finish pass: the step's length as its substeps add up.
     if (confines_vorticity()) confine_vorticity(static_cast<float>(substeps) * dt_);
     particles_.velocity.swap(smoothed_velocity_);
-    // The filters may add speed: held as the GPU's finish pass holds it (end_pbf_substep).
+    // The filters may add speed: held as the GPU's finish pass holds it (pbf_finish.comp).
     pool_->for_each(particles_.size(), [&](std::size_t i) {
       particles_.velocity[i] = held_to_max_speed(particles_.velocity[i]);
     });

@@ -136,7 +136,7 @@ void SphSolver::integrate(float dt) {
   pool_->for_each(particles_.size(), [&](std::size_t i) {
     glm::vec3& v = particles_.velocity[i];
     glm::vec3& x = particles_.position[i];
-    v += dt * acceleration_[i];
+    v = held_to_max_speed(v + dt * acceleration_[i]);
     x += dt * v;
     constrain_position_and_velocity(x, v);
     // After the colliders, which may add speed: a finger's into a particle's own across it.
