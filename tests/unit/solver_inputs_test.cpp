@@ -308,6 +308,16 @@ TEST_P(SolverInputs, ParticlesUpToTheCapAndNotOneMore) {
   testing::expect_sound(*s, cap);
 }
 
+// The solver's state, every particle within kMaxSpeed, handed back to it; returns that state.
+ParticleSet expect_taken_back(Solver& solver) {
+  const ParticleSet state = solver.snapshot();
+  float fastest = 0.0f;
+  for (const glm::vec3& v : state.velocity) fastest = std::max(fastest, glm::length(v));
+  EXPECT_TRUE(within_limit(glm::vec3(fastest, 0.0f, 0.0f), kMaxSpeed)) << fastest << " m/s";
+  EXPECT_NO_THROW(solver.replace_particles(state.position, state.velocity));
+  return state;
+}
+
 // A state a solver hands out is one it takes back, whatever the steps were: the reconnecting
 // client's and the snapshot's path. Particles given inside a wall's particle radius and a finger
 // set down over the water are put out within one sliver of a substep, and v = Δx / Δt threw them
@@ -326,11 +336,7 @@ TEST_P(SolverInputs, AStateHandedOutAfterASliverOfAStepIsTakenBack) {
   const Collider finger{{0.2f, 0.3f, 0.15f}, 0.2f, {0.0f, 0.0f, 0.0f}};
   s->set_colliders(std::span(&finger, 1));
   s->step(1e-6f, 1);
-  const ParticleSet state = s->snapshot();
-  float fastest = 0.0f;
-  for (const glm::vec3& v : state.velocity) fastest = std::max(fastest, glm::length(v));
-  EXPECT_TRUE(within_limit(glm::vec3(fastest, 0.0f, 0.0f), kMaxSpeed)) << fastest << " m/s";
-  EXPECT_NO_THROW(s->replace_particles(state.position, state.velocity));
+  const ParticleSet state = expect_taken_back(*s);
   run_for(*s, 0.1);
   testing::expect_sound(*s, state.size());
 }
@@ -349,11 +355,7 @@ TEST_P(SolverInputs, AFingerAtTheSpeedLimitKeepsWhatItHitsWithinIt) {
   const Collider finger{{0.75f, 0.35f, 0.15f}, 0.2f, {kMaxSpeed, 0.0f, 0.0f}};
   s->set_colliders(std::span(&finger, 1));
   s->step(1e-5f, 1);
-  const ParticleSet state = s->snapshot();
-  float fastest = 0.0f;
-  for (const glm::vec3& v : state.velocity) fastest = std::max(fastest, glm::length(v));
-  EXPECT_TRUE(within_limit(glm::vec3(fastest, 0.0f, 0.0f), kMaxSpeed)) << fastest << " m/s";
-  EXPECT_NO_THROW(s->replace_particles(state.position, state.velocity));
+  expect_taken_back(*s);
 }
 
 TEST_P(SolverInputs, ColliderAtOneHundredMetresPerSecond) {
