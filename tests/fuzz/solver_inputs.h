@@ -222,7 +222,7 @@ inline void run_solver_inputs(const std::uint8_t* data, std::size_t size, const 
   const std::unique_ptr<Solver> solver = build(in, make);
   if (!solver) return;
   std::size_t count = solver->particle_count();
-  bool was_crowded = false;  // crowded() after some input
+  bool was_crowded = false;  // fingers took the water's room, or a pour crowded it (crowded_by)
   expect_sound(*solver, count, false);
   const float step = solver->params().time_step;
   for (int action = 0; action < 24 && !in.done(); ++action) {
