@@ -37,7 +37,7 @@ struct Collider {
 
 // Input limits: beyond them an input is refused, never clamped.
 inline constexpr float kMaxGravity = 2000.0f;       // m/s², about 200 g
-inline constexpr float kMaxSpeed = 1000.0f;  // m/s, colliders and added particles; see held_to_max_speed
+inline constexpr float kMaxSpeed = 1000.0f;         // m/s, colliders and added particles
 inline constexpr float kMaxColliderRadius = 10.0f;  // m
 inline constexpr std::size_t kMaxColliders = 16;
 // A vector's length against one of those limits, allowing for the rounding of a vector scaled to
