@@ -3,9 +3,11 @@
 // motion, particles added and removed, resets, reloads — within the inputs' limits and past them.
 // An input past a limit must be refused with std::invalid_argument and leave the fluid, gravity,
 // fingers and clock as they were; whatever is taken, the fluid must stay finite and inside the
-// tank, keep its count, and be a state the solver takes back, and for PBF, unless the inputs
-// crowded it (crowded_by below), one the server's density check takes too. solver_inputs_fuzz runs
-// it on the CPU solvers, and gpu_solver_inputs_test its corpus on the GPU's.
+// tank, keep its count, and be a state the solver takes back. Not checked: the server's density
+// check of a snapshot, which a fluid may fail at tunables and inputs that are the user's to choose
+// (one iteration under 122 g on capped substeps, a 10 m finger, a pour onto one point).
+// solver_inputs_fuzz runs it on the CPU solvers, and gpu_solver_inputs_test its corpus on the
+// GPU's.
 #pragma once
 
 #include <algorithm>
@@ -109,16 +111,6 @@ inline void expect_sound(const Solver& solver, std::size_t count, bool stepped) 
   }
 }
 
-// Whether the tank, less the fingers' spheres, holds the water at rest, twice over.
-inline bool room_for_the_water(const Solver& solver) {
-  const glm::vec3 tank = solver.tank().max - solver.tank().min;
-  float room = tank.x * tank.y * tank.z;
-  for (const Collider& finger : solver.colliders())
-    room -= 4.0f / 3.0f * 3.14159265f * finger.radius * finger.radius * finger.radius;
-  const float spacing = solver.fluid().spacing;
-  return room >= 2.0f * static_cast<float>(solver.particle_count()) * spacing * spacing * spacing;
-}
-
 inline bool same(const ParticleSet& a, const ParticleSet& b) {
   return a.position == b.position && a.velocity == b.velocity && a.id == b.id;
 }
@@ -128,22 +120,6 @@ inline bool same(std::span<const Collider> a, std::span<const Collider> b) {
       a.begin(), a.end(), b.begin(), b.end(), [](const Collider& x, const Collider& y) {
         return x.centre == y.centre && x.radius == y.radius && x.velocity == y.velocity;
       });
-}
-
-// Whether a pour left the water denser than a fluid gets without it: past the density check, or
-// two particles poured onto one point (the same bytes give the same point, and PBF has no
-// gradient to part them: the check may fail later, as the cubes it counts in shift).
-inline bool crowded_by(std::span<const glm::vec3> poured, const Solver& solver) {
-  const float apart = 0.01f * solver.fluid().spacing;
-  for (std::size_t i = 0; i < poured.size(); ++i)
-    for (std::size_t j = i + 1; j < poured.size(); ++j)
-      if (glm::distance(poured[i], poured[j]) < apart) return true;
-  try {
-    check_density(solver.snapshot().position, solver.fluid());
-  } catch (const std::invalid_argument&) {
-    return true;
-  }
-  return false;
 }
 
 // Runs `input` (an input to the solver that throws std::invalid_argument to refuse); a refused
@@ -222,17 +198,6 @@ inline void run_solver_inputs(const std::uint8_t* data, std::size_t size, const 
   const std::unique_ptr<Solver> solver = build(in, make);
   if (!solver) return;
   std::size_t count = solver->particle_count();
-  bool was_crowded = false;  // fingers took the water's room, or a pour crowded it (crowded_by)
-  // A step ran on fewer substeps than the solver's rule asks, or on max_substeps, where the rule
-  // may have asked for more ("the CFL bound exceeded", as --max-substeps says): PBF with one
-  // iteration on 17 substeps of a 50 ms step under 122 g pressed 230 particles into a corner.
-  bool short_of_substeps = false;
-  const auto step_on = [&](float seconds, int substeps) {
-    const int asked = solver->substeps_for(seconds);
-    short_of_substeps =
-        short_of_substeps || substeps < asked || asked >= solver->params().max_substeps;
-    solver->step(seconds, substeps);
-  };
   expect_sound(*solver, count, false);
   const float step = solver->params().time_step;
   for (int action = 0; action < 24 && !in.done(); ++action) {
@@ -240,12 +205,12 @@ inline void run_solver_inputs(const std::uint8_t* data, std::size_t size, const 
     switch (in.byte() % 10) {
       case 0:
       case 1:
-        step_on(step, solver->substeps_for(step));
+        solver->step();
         stepped = true;
         break;
       case 2: {  // a shorter step, down to slivers, its substeps by the solver's own rule
         const float seconds = step * std::max(in.unit(), 1e-3f);
-        step_on(seconds, solver->substeps_for(seconds));
+        solver->step(seconds, solver->substeps_for(seconds));
         stepped = true;
         break;
       }
@@ -255,7 +220,6 @@ inline void run_solver_inputs(const std::uint8_t* data, std::size_t size, const 
         refused_changes_nothing(*solver, [&] {
           solver->step(seconds, substeps);
           stepped = true;
-          short_of_substeps = true;  // a count of the input's, not the rule's
         });
         break;
       }
@@ -285,7 +249,6 @@ inline void run_solver_inputs(const std::uint8_t* data, std::size_t size, const 
         refused_changes_nothing(*solver, [&] {
           solver->add_particles(positions, velocities);
           count += positions.size();
-          was_crowded = was_crowded || crowded_by(positions, *solver);
         });
         break;
       }
@@ -293,8 +256,6 @@ inline void run_solver_inputs(const std::uint8_t* data, std::size_t size, const 
         if (in.byte() % 4 == 0) {
           solver->reset();
           count = solver->scene().particles.size();
-          was_crowded = false;  // the scene's particles again; fingers are counted below
-          short_of_substeps = false;
           break;
         }
         const glm::vec3 centre = in.point_around(solver->tank());
@@ -333,8 +294,7 @@ inline void run_solver_inputs(const std::uint8_t* data, std::size_t size, const 
             std::fprintf(stderr, "%s\n", refusal.what());
             defect("the solver refused a finger that FingerCollider moved");
           }
-          was_crowded = was_crowded || !room_for_the_water(*solver);
-          if (seconds > 0.0f) step_on(seconds, solver->substeps_for(seconds));
+          if (seconds > 0.0f) solver->step(seconds, solver->substeps_for(seconds));
           expect_sound(*solver, count, seconds > 0.0f);
         }
         break;
@@ -342,11 +302,6 @@ inline void run_solver_inputs(const std::uint8_t* data, std::size_t size, const 
       case 8: {  // the fluid handed back as a snapshot, as a reconnecting client does
         const ParticleSet state = solver->snapshot();
         try {
-          // The server's check of a snapshot, too, for PBF on the substeps its rule asks: its
-          // corrections then hold the density. Not for SPH, whose stiffness is a tunable (a
-          // speed of sound from 1 m/s), nor after inputs that crowded the water.
-          if (solver->kind() == SolverKind::pbf && !was_crowded && !short_of_substeps)
-            check_density(state.position, solver->fluid());
           solver->replace_particles(state.position, state.velocity);
         } catch (const std::invalid_argument& refusal) {
           std::fprintf(stderr, "%s\n", refusal.what());
@@ -356,7 +311,6 @@ inline void run_solver_inputs(const std::uint8_t* data, std::size_t size, const 
       }
     }
     expect_sound(*solver, count, stepped);
-    was_crowded = was_crowded || !room_for_the_water(*solver);
   }
 }
 
