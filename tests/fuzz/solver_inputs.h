@@ -28,68 +28,15 @@
 #include "fluidcast/sim/scene.h"
 #include "fluidcast/sim/solver.h"
 #include "fluidcast/sim/solver_params.h"
+#include "fuzz_bytes.h"
 
 namespace fluidcast::sim::fuzzing {
 
+using fluidcast::fuzzing::Bytes;
+using fluidcast::fuzzing::defect;
+using fluidcast::fuzzing::Defect;
+
 using SolverMaker = std::function<std::unique_ptr<Solver>(SolverKind, Scene, const SolverParams&)>;
-
-// The input's bytes read front to back; past its end every read gives 0.
-class Bytes {
- public:
-  Bytes(const std::uint8_t* data, std::size_t size) : data_(data), size_(size) {}
-  bool done() const { return at_ >= size_; }
-  std::uint8_t byte() { return at_ < size_ ? data_[at_++] : 0; }
-  // In [0, 1].
-  float unit() { return static_cast<float>(byte()) / 255.0f; }
-  float between(double low, double high) {
-    return static_cast<float>(low + (high - low) * static_cast<double>(unit()));
-  }
-  // From `low` to `high` on a log scale: small values as often as large ones.
-  float scaled(double low, double high) {
-    return static_cast<float>(low * std::pow(high / low, static_cast<double>(unit())));
-  }
-  int up_to(int most) { return byte() % (most + 1); }
-  // A length within `limit`, at it, an ulp past it or up to a quarter past it, and now and then
-  // not a number at all.
-  float around(float limit) {
-    switch (byte() % 16) {
-      case 0:
-        return std::numeric_limits<float>::quiet_NaN();
-      case 1:
-        return std::numeric_limits<float>::infinity();
-      case 2:
-        return limit;
-      case 3:
-        return std::nextafter(limit, 2.0f * limit);
-      case 4:
-        return 0.0f;
-      default:
-        return static_cast<float>(limit * 1.25 * static_cast<double>(unit()));
-    }
-  }
-  glm::vec3 direction() {
-    const glm::vec3 d(between(-1, 1), between(-1, 1), between(-1, 1));
-    const float length = glm::length(d);
-    return length > 1e-3f ? d / length : glm::vec3(0.0f, -1.0f, 0.0f);
-  }
-  // A point in the box grown by a quarter of its size each way: some outside it.
-  glm::vec3 point_around(const Box& box) {
-    const glm::vec3 size = box.max - box.min;
-    return box.min - 0.25f * size + 1.5f * size * glm::vec3(unit(), unit(), unit());
-  }
-
- private:
-  const std::uint8_t* data_;
-  std::size_t size_;
-  std::size_t at_ = 0;
-};
-
-// A run that broke a promise of the solvers'.
-struct Defect : std::logic_error {
-  using std::logic_error::logic_error;
-};
-
-[[noreturn]] inline void defect(const char* what) { throw Defect(what); }
 
 // Every particle finite, inside the tank, and as many as expected. After a step, inside the box
 // particle centres keep to (the tank shrunk by a particle radius); a particle added or a scene
@@ -224,7 +171,8 @@ inline void run_solver_inputs(const std::uint8_t* data, std::size_t size, const 
         break;
       }
       case 4: {  // a tilt, a shake
-        const glm::vec3 gravity = in.direction() * in.around(kMaxGravity);
+        const glm::vec3 direction = in.direction();
+        const glm::vec3 gravity = direction * in.around(kMaxGravity);
         refused_changes_nothing(*solver, [&] { solver->set_gravity(gravity); });
         break;
       }
@@ -234,7 +182,8 @@ inline void run_solver_inputs(const std::uint8_t* data, std::size_t size, const 
         for (Collider& finger : fingers) {
           finger.centre = in.point_around(solver->tank());
           finger.radius = in.byte() % 8 == 0 ? in.around(kMaxColliderRadius) : in.scaled(1e-3, 0.3);
-          finger.velocity = in.direction() * in.around(kMaxSpeed);
+          const glm::vec3 direction = in.direction();
+          finger.velocity = direction * in.around(kMaxSpeed);
         }
         refused_changes_nothing(*solver, [&] { solver->set_colliders(fingers); });
         break;
@@ -244,7 +193,8 @@ inline void run_solver_inputs(const std::uint8_t* data, std::size_t size, const 
         std::vector<glm::vec3> velocities(positions.size());
         for (std::size_t i = 0; i < positions.size(); ++i) {
           positions[i] = in.point_around(solver->inner_tank());
-          velocities[i] = in.direction() * in.around(kMaxSpeed);
+          const glm::vec3 direction = in.direction();
+          velocities[i] = direction * in.around(kMaxSpeed);
         }
         refused_changes_nothing(*solver, [&] {
           solver->add_particles(positions, velocities);
