@@ -8,7 +8,8 @@
 # (e.g. /tmp/w/PART) and pack it after each part, `tar czf $OUT/all.tgz -C /tmp/w .`, so that a
 # part cut off by its timeout still leaves the earlier ones (bench/results/h200-2026-11-28.md).
 # PART: programs  the programs the parts run (for the bundle), on standard output
-#       tests   every GPU test with the validation layer on (a message fails its test). The
+#       tests   every GPU test with the validation layer on (a message fails its test), and
+#               session_fuzz (clients' streams into a hub on the device, added 2026-11-30). The
 #               golden images and the fuzzing corpus are read where the source tree was at the
 #               build (here /work/main): link them there first, `mkdir -p /work/main/tests &&
 #               ln -sfn $PWD/tests/golden /work/main/tests/golden &&
@@ -58,7 +59,7 @@ gpu_tests=(gpu_context_test gpu_neighbour_grid_test gpu_solver_test gpu_step_bat
   solver_inputs_test gpu_solver_inputs_test render_test render_golden_test render_surface_test ssfr_splat_test
   anisotropy_test default_size_test timestamps_test)
 programs=(fluidcast-server fluidcast-sim fluidcast-validate fluidcast-bench-gpu
-  fluidcast-bench-render fluidcast-bench-load fluidcast-bench-soak "${gpu_tests[@]}")
+  fluidcast-bench-render fluidcast-bench-load fluidcast-bench-soak "${gpu_tests[@]}" session_fuzz)
 usage="usage: bench/gpu_lease.sh programs|tests|solver|tiles|render|loop|validate|burst|lease OUT [--smoke]"
 part=${1:?$usage}
 if [[ "$part" == programs ]]; then
@@ -87,7 +88,14 @@ case "$part" in
       echo "== $test" >>"$out/tests.log"
       FLUIDCAST_VALIDATION=1 "$bin/$test" >>"$out/tests.log" 2>&1 || status=1
     done
-    grep -E "^\[  (PASSED|FAILED)|validation" "$out/tests.log" || true
+    # Clients' streams into a hub on this device, its corpus then 10 s of mutations.
+    echo "== session_fuzz" >>"$out/tests.log"
+    if ! "$bin/session_fuzz" tests/fuzz/corpus/session_fuzz --seconds 10 >>"$out/tests.log" 2>&1
+    then
+      status=1
+      cp fuzz-failure-session_fuzz "$out/" || true  # the input that failed, to replay here
+    fi
+    grep -E "^\[  (PASSED|FAILED)|validation|^session_fuzz" "$out/tests.log" || true
     exit $status
     ;;
   solver)
