@@ -8,10 +8,12 @@
 # (e.g. /tmp/w/PART) and pack it after each part, `tar czf $OUT/all.tgz -C /tmp/w .`, so that a
 # part cut off by its timeout still leaves the earlier ones (bench/results/h200-2026-11-28.md).
 # PART: programs  the programs the parts run (for the bundle), on standard output
-#       tests   every GPU test with the validation layer on (a message fails its test), and
-#               session_fuzz (clients' streams into a hub on the device, added 2026-11-30). The
-#               golden images and the fuzzing corpus are read where the source tree was at the
-#               build (here /work/main): link them there first, `mkdir -p /work/main/tests &&
+#       tests   every GPU test with the validation layer on (a message fails its test), then
+#               session_fuzz (clients' streams into a hub on the device, added 2026-11-30: its
+#               corpus from this tree, and 3 s of mutations; last, so that a part cut off at its
+#               timeout loses only it). The golden images and gpu_solver_inputs_test's corpus
+#               are read where the source tree was at the build (here /work/main): link them
+#               there first, `mkdir -p /work/main/tests &&
 #               ln -sfn $PWD/tests/golden /work/main/tests/golden &&
 #               ln -sfn $PWD/tests/fuzz /work/main/tests/fuzz`
 #       solver  fluidcast-bench-gpu: what the driver says of each pass's code (pipelines.txt:
@@ -88,9 +90,9 @@ case "$part" in
       echo "== $test" >>"$out/tests.log"
       FLUIDCAST_VALIDATION=1 "$bin/$test" >>"$out/tests.log" 2>&1 || status=1
     done
-    # Clients' streams into a hub on this device, its corpus then 10 s of mutations.
+    # Clients' streams into a hub on this device, its corpus then 3 s of mutations.
     echo "== session_fuzz" >>"$out/tests.log"
-    if ! "$bin/session_fuzz" tests/fuzz/corpus/session_fuzz --seconds 10 >>"$out/tests.log" 2>&1
+    if ! "$bin/session_fuzz" tests/fuzz/corpus/session_fuzz --seconds 3 >>"$out/tests.log" 2>&1
     then
       status=1
       cp fuzz-failure-session_fuzz "$out/" || true  # the input that failed, to replay here

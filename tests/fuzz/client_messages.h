@@ -107,7 +107,8 @@ struct Known {
 };
 
 // A snapshot as a client might hand it back: as the server gave it, or with a particle moved,
-// sped up or made not a number, or the gravity changed.
+// sped up or made not a number, the gravity changed, or its time anywhere up to the limit and
+// past it.
 inline v1::Snapshot handed_back(Bytes& in, v1::Snapshot snapshot) {
   const int values = snapshot.positions_size();
   switch (in.byte() % 6) {

@@ -132,9 +132,9 @@ void expect_not_internal(const std::optional<Refusal>& refusal, const char* wher
 }
 
 // One Vulkan context with the validation layer for every input. The layer keeps some memory of
-// every device and GPU solver's hub that ends: a context made anew for each input left 10 MB
-// each time, and a hub whose sessions simulate on the GPU leaves 4 MB (release build; none
-// without the layer, and nothing reported left at the device's end).
+// every hub whose sessions simulated on the GPU: 4 MB each on a context kept, 10 MB with a
+// context made anew each time (release build; none without the layer, and nothing reported left
+// at the device's end).
 gpu::Context& fuzz_context() {
   static gpu::Context context([] {
     gpu::ContextOptions options = gpu::options_from_environment();
