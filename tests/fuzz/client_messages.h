@@ -48,15 +48,16 @@ inline float value_around(Bytes& in, float low, float high) {
   }
 }
 
-// A count for a field whose most is `most`: mostly within, now and then 0 (the default), at and
-// past it.
+// A count or size for a field whose most is `most`: mostly within 1 to `most` (a zero byte, past
+// the input's end, gives 1), now and then 0 (a count's default, a size refused), `most` or one
+// past.
 inline std::uint32_t count_around(Bytes& in, std::uint32_t most) {
   switch (in.byte() % 16) {
-    case 0:
-      return 0;
-    case 1:
+    case 13:
       return most;
-    case 2:
+    case 14:
+      return 0;
+    case 15:
       return most + 1;
     default:
       return 1 + static_cast<std::uint32_t>(in.unit() * static_cast<float>(most - 1));
@@ -70,21 +71,9 @@ inline std::string name_from(Bytes& in, const std::vector<std::string_view>& nam
   return pick == 4 * names.size() ? std::string() : std::string("puddle");
 }
 
-// A frame's side whose most is `most`: mostly within, now and then 0 or one past.
-inline std::uint32_t side_around(Bytes& in, std::uint32_t most) {
-  switch (in.byte() % 16) {
-    case 14:
-      return 0;
-    case 15:
-      return most + 1;
-    default:
-      return 1 + static_cast<std::uint32_t>(in.unit() * static_cast<float>(most - 1));
-  }
-}
-
 inline void fill_viewport(Bytes& in, const ServerLimits& limits, v1::Viewport& viewport) {
-  viewport.set_width(side_around(in, limits.max_width));
-  viewport.set_height(side_around(in, limits.max_height));
+  viewport.set_width(count_around(in, limits.max_width));
+  viewport.set_height(count_around(in, limits.max_height));
 }
 
 inline void fill_quality(Bytes& in, const ServerLimits& limits, v1::Quality& quality) {
