@@ -16,8 +16,8 @@ namespace {
 
 // Viewers kept for a resume.
 constexpr std::size_t kMaxDepartedViewers = 64;
-// Scene, solver and count changes rebuild the simulation: at most one per this interval, the
-// newest wish winning, so no client can keep the worker busy rebuilding.
+// Resets and scene, solver and count changes rebuild the simulation: at most one per this
+// interval, the newest wish winning, so no client can keep the worker busy rebuilding.
 constexpr auto kRebuildInterval = std::chrono::milliseconds(500);
 // Time steps of real time the simulation may owe; past it the fluid runs slow instead.
 constexpr double kMaxOwedSteps = 4.0;
