@@ -3,12 +3,17 @@
 #pragma once
 
 #include <chrono>
+#include <cstddef>
 #include <cstdint>
 
 namespace fluidcast::server {
 
 // Turning a device by more than this counts as a viewer's input (ServerLimits::idle_timeout).
 inline constexpr float kIdleTiltDegrees = 10.0f;
+
+// Viewers of one session kept for a resume (within ServerLimits::resume_grace); beyond it, those
+// who left earliest are forgotten.
+inline constexpr std::size_t kMaxDepartedViewers = 64;
 
 struct ServerLimits {
   std::uint32_t max_sessions = 8;

@@ -14,8 +14,6 @@
 namespace fluidcast::server {
 namespace {
 
-// Viewers kept for a resume.
-constexpr std::size_t kMaxDepartedViewers = 64;
 // Resets and scene, solver and count changes rebuild the simulation: at most one per this
 // interval, the newest wish winning, so no client can keep the worker busy rebuilding.
 constexpr auto kRebuildInterval = std::chrono::milliseconds(500);
@@ -208,9 +206,20 @@ void Session::remove_viewer(std::uint32_t id, Departure departure) {
   const auto found = viewers_.find(id);
   if (found == viewers_.end()) return;
   if (departure == Departure::dropped) {
-    departed_[id] = {found->second->camera(), found->second->seat(), Clock::now()};
-    // Only the most recent leavers can still resume; older ones are forgotten.
-    while (departed_.size() > kMaxDepartedViewers) departed_.erase(departed_.begin());
+    const auto now = Clock::now();
+    departed_[id] = {found->second->camera(), found->second->seat(), now};
+    // Past the grace a viewer can no longer resume; beyond the limit, those who left earliest are
+    // forgotten first (not those who joined earliest: the creator, connected for hours, may be
+    // the one whose network just changed).
+    std::erase_if(departed_, [&](const auto& departed) {
+      return now - departed.second.left > services_.limits->resume_grace;
+    });
+    while (departed_.size() > kMaxDepartedViewers) {
+      departed_.erase(std::min_element(departed_.begin(), departed_.end(),
+                                       [](const auto& a, const auto& b) {
+                                         return a.second.left < b.second.left;
+                                       }));
+    }
   }
   viewers_.erase(found);
   services_.metrics->viewers--;

@@ -15,6 +15,7 @@
 #include <thread>
 
 #include "server_test_support.h"
+#include "session/server_limits.h"
 
 namespace fluidcast {
 namespace {
@@ -90,6 +91,44 @@ TEST(ServerTest, TwoViewersShareASessionAndResumeFindsTheFluidAsItWas) {
   EXPECT_NE(back.welcome().access().resume_key(), access.resume_key());
   // Not a new fluid: time went on from where it was.
   EXPECT_GE(frame_from(back).sim_time(), time_before);
+}
+
+// The session forgets departed viewers by when they left, not when they joined: the creator,
+// connected while many others came and went, still resumes after its own network drops.
+TEST(ServerTest, TheFirstViewerResumesAfterMoreThanTheKeptOthersDropped) {
+  testing::ServerProcess server;
+  const std::string& address = server.grpc_address();
+  auto first = std::make_unique<StreamClient>(client::connect(address), small_hello());
+  const std::string session = first->welcome().session_id();
+  v1::Hello join = small_hello();
+  join.set_join(first->welcome().access().view_key());
+  const auto join_session = [&] {
+    for (int attempt = 0;; ++attempt) {
+      try {
+        return std::make_unique<StreamClient>(client::connect(address), join);
+      } catch (const StreamError& refused) {
+        // The seats of those who just dropped are free from the server's next tick.
+        if (refused.code() != grpc::StatusCode::RESOURCE_EXHAUSTED || attempt == 50) throw;
+        std::this_thread::sleep_for(milliseconds(100));
+      }
+    }
+  };
+  for (std::size_t k = 0; k < server::kMaxDepartedViewers; ++k) {
+    const auto passing = join_session();
+    ASSERT_EQ(passing->welcome().session_id(), session);
+    frame_from(*passing);
+    passing->drop();
+  }
+  frame_from(*first);
+  const v1::Access access = first->welcome().access();
+  first->drop();
+  first.reset();
+
+  v1::Hello resume = small_hello();
+  resume.mutable_resume()->set_key(access.resume_key());
+  StreamClient back(client::connect(address), resume);
+  EXPECT_EQ(back.welcome().session_id(), session);
+  EXPECT_TRUE(back.welcome().access().control());
 }
 
 TEST(ServerTest, TiltTurnsGravity) {
