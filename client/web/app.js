@@ -172,6 +172,9 @@ function connect() {
       hello.create = { state: await handoff.mode.exportState() };
     } else if (state.access) {
       hello.resume = { key: state.access.resumeKey };
+    } else if (handoff) {
+      // The session is gone and the fluid here has not started yet: the newest state streamed.
+      hello.create = { state: handoff.snapshot };
     } else if (joinKey) {
       hello.join = joinKey;  // a shared link
     } else {
@@ -390,7 +393,7 @@ const kHandoffParticles =
 const kStateEveryMs = 250;
 let newestState = null;  // the session's, while streaming
 let stateTimer = 0;
-let handoff = null;      // { mode, since } while the page simulates after a drop
+let handoff = null;      // { mode, snapshot, since, cancelled } while the page simulates after a drop
 let statsTimer = 0;
 
 function askForStates() {
@@ -407,28 +410,40 @@ function askForStates() {
 
 async function startHandoff(snapshot) {
   const lastFrameAt = frameTimes.length ? frameTimes[frameTimes.length - 1] : performance.now();
-  handoff = { mode: null, since: performance.now() };
+  // The stream may come back (a resume) before the fluid here has started: endHandoff() then
+  // cancels it, and it is stopped as soon as it exists.
+  const starting = { mode: null, snapshot, since: performance.now(), cancelled: false };
+  handoff = starting;
   const canvas = document.getElementById('local-view');
   canvas.hidden = false;
   fitLocalCanvas();
+  let mode;
   try {
-    handoff.mode = await LocalMode.startFrom(canvas, snapshot);
+    mode = await LocalMode.startFrom(canvas, snapshot);
   } catch (error) {
+    if (starting.cancelled) return;
     canvas.hidden = true;
     handoff = null;
     console.log('cannot continue here: ' + error.message);
     return;
   }
+  if (starting.cancelled) {
+    mode.stop();
+    return;
+  }
+  starting.mode = mode;
+  if (paused) mode.paused = true;  // as the session was when the stream dropped
   page.canvas.hidden = true;
   state.mode = 'local';
-  state.local = handoff.mode.stats;
+  state.local = mode.stats;
   state.handoffs++;
   state.handoffGapMs = performance.now() - lastFrameAt;
   statsTimer = setInterval(showLocalStats, 500);
 }
 
 function endHandoff() {
-  handoff.mode.stop();
+  if (handoff.mode) handoff.mode.stop();
+  else handoff.cancelled = true;
   document.getElementById('local-view').hidden = true;
   page.canvas.hidden = false;
   clearInterval(statsTimer);

@@ -252,9 +252,12 @@ class LocalMode {
     return { ...await this.fluid.call('export'), scene: this.stats.scene, solver: this.stats.solver };
   }
 
-  // Stops simulating and drawing (the stream is back); touches on its canvas are ignored.
+  // Stops simulating and drawing (the stream is back): its canvas's listeners and its drawing's
+  // WebGL objects go with it, as the canvas serves the next local fluid.
   stop() {
     this.stopped = true;
+    this.listening.abort();
+    this.view.release();
     this.fluid.close();
   }
 
@@ -288,6 +291,8 @@ class LocalMode {
   }
 
   listen() {
+    this.listening = new AbortController();
+    const options = { signal: this.listening.signal };
     const where = (event) => {
       const bounds = this.canvas.getBoundingClientRect();
       return { x: (event.clientX - bounds.left) / bounds.width,
@@ -302,7 +307,7 @@ class LocalMode {
       const at = where(event);
       this.pointers.set(event.pointerId, { id, ...at });
       this.liftFingersIfTwo();
-    });
+    }, options);
     this.canvas.addEventListener('pointermove', (event) => {
       const pointer = this.pointers.get(event.pointerId);
       if (!pointer) return;
@@ -313,7 +318,7 @@ class LocalMode {
         this.drag(pointer, at);
       }
       Object.assign(pointer, at);
-    });
+    }, options);
     const up = (event) => {
       const pointer = this.pointers.get(event.pointerId);
       if (!pointer) return;
@@ -322,9 +327,9 @@ class LocalMode {
       this.fluid.tell('lift', { finger: pointer.id });
       this.pointers.delete(event.pointerId);
     };
-    this.canvas.addEventListener('pointerup', up);
-    this.canvas.addEventListener('pointercancel', up);
-    this.canvas.addEventListener('contextmenu', (event) => event.preventDefault());
+    this.canvas.addEventListener('pointerup', up, options);
+    this.canvas.addEventListener('pointercancel', up, options);
+    this.canvas.addEventListener('contextmenu', (event) => event.preventDefault(), options);
   }
 
   liftFingersIfTwo() {

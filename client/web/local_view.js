@@ -273,9 +273,11 @@ class LocalView {
       return s;
     };
     const p = gl.createProgram();
-    gl.attachShader(p, shader(gl.VERTEX_SHADER, vertexSource));
-    gl.attachShader(p, shader(gl.FRAGMENT_SHADER, fragmentSource));
+    const stages = [shader(gl.VERTEX_SHADER, vertexSource), shader(gl.FRAGMENT_SHADER, fragmentSource)];
+    for (const stage of stages) gl.attachShader(p, stage);
     gl.linkProgram(p);
+    // Attached, they go when the program goes.
+    for (const stage of stages) gl.deleteShader(stage);
     if (!gl.getProgramParameter(p, gl.LINK_STATUS)) throw new Error(gl.getProgramInfoLog(p));
     const uniforms = {};
     for (let k = 0; k < gl.getProgramParameter(p, gl.ACTIVE_UNIFORMS); k++) {
@@ -307,9 +309,7 @@ class LocalView {
       }
       return f;
     };
-    for (const t of this.textures || []) gl.deleteTexture(t);
-    for (const f of this.framebuffers || []) gl.deleteFramebuffer(f);
-    if (this.depthBuffer) gl.deleteRenderbuffer(this.depthBuffer);
+    this.releaseTargets();
     this.depthBuffer = gl.createRenderbuffer();
     gl.bindRenderbuffer(gl.RENDERBUFFER, this.depthBuffer);
     gl.renderbufferStorage(gl.RENDERBUFFER, gl.DEPTH_COMPONENT24, width, height);
@@ -319,6 +319,29 @@ class LocalView {
                          framebuffer(this.textures[1]), framebuffer(this.textures[2]),
                          framebuffer(this.textures[3])];
     this.size = [width, height];
+  }
+
+  releaseTargets() {
+    const gl = this.gl;
+    for (const t of this.textures || []) gl.deleteTexture(t);
+    for (const f of this.framebuffers || []) gl.deleteFramebuffer(f);
+    if (this.depthBuffer) gl.deleteRenderbuffer(this.depthBuffer);
+    this.textures = this.framebuffers = this.depthBuffer = null;
+    this.size = [0, 0];
+  }
+
+  // Gives back every WebGL object it made: a canvas keeps one context for good, and each local
+  // fluid (a handoff after each drop) draws on the same canvas with a view of its own.
+  release() {
+    const gl = this.gl;
+    this.releaseTargets();
+    for (const program of [this.depthProgram, this.thicknessProgram, this.blurProgram,
+                           this.shadeProgram, this.lineProgram]) {
+      gl.deleteProgram(program.program);
+    }
+    gl.deleteBuffer(this.centres);
+    gl.deleteBuffer(this.edges);
+    gl.deleteVertexArray(this.empty);
   }
 
   // Draws `count` particles (positions: x, y, z each, metres) of radius `radius` in `tank`

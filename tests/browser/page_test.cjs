@@ -119,6 +119,16 @@ async function touchDrag(page, cdp, from, to, steps) {
   await cdp.send('Input.dispatchTouchEvent', { type: 'touchEnd', touchPoints: [] });
 }
 
+// How many event listeners the page's local-fluid canvas has (each local fluid adds its own and
+// must take them away when it stops: the canvas serves every handoff).
+async function localCanvasListeners(cdp) {
+  const { result } = await cdp.send('Runtime.evaluate',
+                                    { expression: "document.getElementById('local-view')" });
+  const { listeners } = await cdp.send('DOMDebugger.getEventListeners', { objectId: result.objectId });
+  await cdp.send('Runtime.releaseObject', { objectId: result.objectId });
+  return listeners.length;
+}
+
 async function main() {
   fs.mkdirSync(out, { recursive: true });
   const { child, port } = await startServer();
@@ -429,6 +439,10 @@ async function main() {
     await waitFor(handing, () => window.fluidcast.mode === 'local' && window.fluidcast.local &&
                                 window.fluidcast.local.fps > 0, 'the fluid going on here', 15000);
     await sleep(1000);
+    // Kept to see, once the fluid is handed back, that it gave back what it held.
+    await handing.evaluate(() => { window.handedBack = handoff.mode; });
+    const handingCdp = await context.newCDPSession(handing);
+    const listenersWhileLocal = await localCanvasListeners(handingCdp);
     const during = await handing.evaluate(() => ({
       gap: window.fluidcast.handoffGapMs, particles: window.fluidcast.local.particles,
       stats: document.getElementById('stats').textContent,
@@ -466,12 +480,72 @@ async function main() {
     check(back.id !== streamed.id && back.particles === 1000 && back.time >= localAtRestart,
           `the server back, the fluid goes back to it (new session, ${back.particles} particles, ` +
           `t = ${localAtRestart.toFixed(2)} s here → ${back.time.toFixed(2)} s there)`);
-    await handing.close();
+    const listenersAfter = await localCanvasListeners(handingCdp);
+    const released = await handing.evaluate(() => {
+      const view = window.handedBack.view;
+      return !view.gl.isProgram(view.depthProgram.program) && !view.gl.isBuffer(view.centres);
+    });
+    check(listenersWhileLocal > 0 && listenersAfter === 0 && released,
+          `the fluid handed back leaves its canvas as it found it (listeners ${listenersWhileLocal} ` +
+          `→ ${listenersAfter}, its WebGL objects ${released ? '' : 'not '}deleted)`);
 
+    // Meanwhile the page that may not continue the fluid has said why it stopped.
     await waitFor(page, () => document.getElementById('status').textContent.length > 0,
                   'a message when the server is gone', 15000);
     const message = await page.evaluate(() => document.getElementById('status').textContent);
     check(/server|connection|reconnect/i.test(message), `it says why: "${message}"`);
+
+    // A fluid paused on the server stays paused when it goes on here.
+    await sleep(1500);  // states again
+    await handing.click('#menu');
+    await handing.click('#pause');
+    await handing.click('#menu');
+    await sleep(1500);  // states of the paused fluid
+    const handoffsBeforePause = await handing.evaluate(() => window.fluidcast.handoffs);
+    await stopServer(restarted.child);
+    await waitFor(handing, `window.fluidcast.handoffs > ${handoffsBeforePause} && ` +
+                           `window.fluidcast.mode === 'local'`, 'the paused fluid here', 15000);
+    await sleep(500);
+    const pausedAt = await handing.evaluate(() => window.fluidcast.local.time);
+    await sleep(1500);
+    const pausedLater = await handing.evaluate(() => window.fluidcast.local.time);
+    check(pausedLater === pausedAt,
+          `a paused fluid stays paused here (t = ${pausedAt.toFixed(3)} → ${pausedLater.toFixed(3)} s)`);
+    restarted = await startServer(port);
+    await waitFor(handing, () => window.fluidcast.mode === 'stream' && window.fluidcast.connected,
+                  'streaming the paused fluid again', 30000);
+
+    // The server back before the fluid here has started (a slow phone): the stream wins, and the
+    // fluid here, once started, stops at once rather than covering the stream.
+    await sleep(1500);  // states again
+    const timeBeforeRace = await handing.evaluate(() => window.fluidcast.lastFrame.simTime);
+    await handing.evaluate(() => {
+      const start = LocalMode.startFrom;
+      LocalMode.startFrom = async (...args) => {
+        await new Promise((resolve) => setTimeout(resolve, 4000));
+        return start(...args);
+      };
+    });
+    await stopServer(restarted.child);
+    restarted = await startServer(port);
+    await waitFor(handing, () => window.fluidcast.connected, 'streaming again, the fluid here not started', 30000);
+    await sleep(5000);  // past the slowed start
+    const raced = await handing.evaluate(() => ({
+      mode: window.fluidcast.mode, connected: window.fluidcast.connected,
+      localHidden: document.getElementById('local-view').hidden,
+      time: window.fluidcast.lastFrame.simTime }));
+    const framesRaced = await handing.evaluate(() => window.fluidcast.frames);
+    await sleep(1000);
+    const framesLater = await handing.evaluate(() => window.fluidcast.frames);
+    check(raced.mode === 'stream' && raced.connected && raced.localHidden &&
+          framesLater > framesRaced && await localCanvasListeners(handingCdp) === 0,
+          `a stream back before the fluid here started keeps the screen (${JSON.stringify(raced)}, ` +
+          `frames ${framesRaced} → ${framesLater})`);
+    check(raced.time >= timeBeforeRace,
+          `and the server, restarted, goes on from the newest state streamed (t = ` +
+          `${timeBeforeRace.toFixed(2)} s before → ${raced.time.toFixed(2)} s)`);
+    await handing.close();
+
   } finally {
     const stopped = Promise.all([stopServer(child), restarted && stopServer(restarted.child)]);
     await browser.close().finally(() => stopped);
