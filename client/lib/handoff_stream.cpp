@@ -227,6 +227,7 @@ void HandoffStream::lost(const std::string& why) {
   if (snapshot_request_.valid()) abandoned_.push_back(std::move(snapshot_request_));
   const std::uint32_t particles = welcome().state().particles();
   const bool may_continue = continues_here();
+  resume_key_ = welcome().access().resume_key();
   stream_.reset();
   remote_ = false;
   const std::shared_ptr<Standby> standby = std::exchange(standby_, nullptr);
@@ -283,8 +284,16 @@ void HandoffStream::reconnect() {
       came_back(reconnect_.get());
     } catch (const Unreachable&) {  // still gone
     } catch (const std::exception& e) {
-      set_status(std::string("the server is back but refused a session: ") + e.what() +
-                 (stream_ ? "; continuing locally, retrying" : "; retrying"));
+      if (!stream_ && !resume_key_.empty()) {
+        // The server no longer has the session (it restarted, or the grace ran out): the next
+        // attempt asks for a new one.
+        resume_key_.clear();
+        set_status(std::string("the server is back but no longer has the session (") + e.what() +
+                   "); asking for a new one");
+      } else {
+        set_status(std::string("the server is back but refused a session: ") + e.what() +
+                   (stream_ ? "; continuing locally, retrying" : "; retrying"));
+      }
     }
     return;
   }
@@ -292,8 +301,13 @@ void HandoffStream::reconnect() {
   if (now - last_retry_ < options_.retry_every) return;
   last_retry_ = now;
   v1::Hello hello = hello_;
-  if (stream_) continue_session(hello, welcome().state());
-  reconnect_ = std::async(std::launch::async, [connect = sides_.connect, hello, local = stream_] {
+  if (stream_) {
+    continue_session(hello, welcome().state());
+  } else if (!resume_key_.empty()) {
+    hello.mutable_resume()->set_key(resume_key_);
+  }
+  reconnect_ = std::async(std::launch::async, [connect = sides_.connect, hello, local = stream_,
+                                               paused = paused_] {
     Reconnected back{connect(hello), {}};
     if (!local) return back;
     // The fluid here stops while its state goes over, so that nothing done meanwhile is lost.
@@ -305,7 +319,7 @@ void HandoffStream::reconnect() {
       back.stream->load(state);
       back.state_put = std::move(state);
     } catch (const std::exception& e) {  // the fluid stays here: the new session goes unused
-      pause.set_pause(false);
+      pause.set_pause(paused);
       local->command(pause);
       throw std::runtime_error(std::string("it did not take the fluid here (") + e.what() + ")");
     }
@@ -322,6 +336,11 @@ void HandoffStream::came_back(Reconnected back) {
                   state->positions_size() / 3, state->time());
     say(line);
     try {
+      if (paused_) {  // a new session runs; the fluid here was paused
+        v1::Command pause;
+        pause.set_pause(true);
+        back.stream->command(pause);
+      }
       v1::Command marker;  // frames from before the state went in reflect no later event
       *marker.mutable_quality() = hello_.quality();
       show_from_event_ = back.stream->command(marker);
@@ -333,6 +352,7 @@ void HandoffStream::came_back(Reconnected back) {
   stream_ = std::move(back.stream);
   latency_.forget_unanswered();
   remote_ = true;
+  resume_key_.clear();
   last_remote_frame_ = Clock::now();
   snapshot_.reset();
   set_status("streaming from " + sides_.server + (streamed_before_ ? " again" : ""));

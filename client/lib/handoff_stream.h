@@ -8,7 +8,8 @@
 // for stall_after, the local fluid resumes from that state within a frame or two. Meanwhile it
 // asks the server again every retry_every; once one answers and takes the local fluid's state
 // into a new session, it streams from there (a server that refuses is asked again, the fluid
-// going on here). A stream the server ended on purpose (bad input, an idle session) ends this
+// going on here). A session that does not continue here is resumed (the same fluid, gone on at the
+// server), or, once the server no longer has it, asked for anew. A stream the server ended on purpose (bad input, an idle session) ends this
 // one: its reason stands. Frames that reflect no event since a side changed show a state from
 // before the change: they are not returned.
 //
@@ -124,6 +125,9 @@ class HandoffStream final : public FluidStream {
   bool remote_ = false;
   bool server_ended_ = false;  // on purpose (a refusal, an idle session): final
   bool paused_ = false;        // as this viewer last asked
+  // The lost session's, while nothing continues it here: the server keeps it for a while, so a
+  // blip of the network brings back the same fluid. Forgotten once a resume is refused.
+  std::string resume_key_;
   bool streamed_before_ = false;
   std::string status_;
 

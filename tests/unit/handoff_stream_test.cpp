@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <mutex>
+#include <string>
 #include <thread>
 
 namespace fluidcast::client {
@@ -20,8 +22,10 @@ struct FakeServer {
   bool ends_streams = false;       // it ends every stream on purpose (an idle session, say)
   bool refuses_states = false;     // a state put into a session is refused
   bool viewers_control = true;     // false: every stream only watches
+  bool forgets_sessions = false;    // a resume finds nothing (it restarted, the grace ran out)
   std::uint32_t particles = 1000;  // of a session whose Hello names no count
   std::vector<v1::Snapshot> put;   // states put into its sessions
+  std::vector<v1::Hello> hellos;   // of the streams it answered
   int streams = 0;
   int snapshots = 0;  // taken from its sessions
 };
@@ -37,6 +41,9 @@ class FakeFluid final : public FluidStream {
     welcome_.mutable_state()->set_scene(hello.create().scene());
     welcome_.set_session_id(server ? "remote" : "local");
     welcome_.mutable_access()->set_control(!server || server->viewers_control);
+    // A resume key of its own for each stream, as the server gives.
+    static std::atomic<int> keys = 0;
+    welcome_.mutable_access()->set_resume_key("resume-" + std::to_string(++keys));
     pending_ = make_frame();
   }
 
@@ -142,6 +149,7 @@ struct Fixture {
   std::vector<std::string> said;
   int locals_started = 0;
   std::weak_ptr<FakeFluid> local;    // the last fluid started here, while anyone holds it
+  std::weak_ptr<FakeFluid> remote;   // the server's last stream, while anyone holds it
   v1::Hello local_hello;             // and what it was started with
   int connects = 0;                  // attempts, answered or not
 
@@ -153,6 +161,14 @@ struct Fixture {
     const std::lock_guard lock(mutex);
     return local.lock();
   }
+  std::shared_ptr<FakeFluid> remote_fluid() {
+    const std::lock_guard lock(mutex);
+    return remote.lock();
+  }
+  std::vector<v1::Hello> hellos_answered() {
+    const std::lock_guard lock(server->mutex);
+    return server->hellos;
+  }
   HandoffSides sides() {
     return {"fake:1",
             [this, server = server](const v1::Hello& hello) -> std::shared_ptr<FluidStream> {
@@ -163,8 +179,15 @@ struct Fixture {
               const std::lock_guard lock(server->mutex);
               if (!server->up) throw Unreachable("no server answered");
               if (hello.create().scene() == "refused") throw std::invalid_argument("no such scene");
+              if (hello.has_resume() && server->forgets_sessions) {
+                throw std::invalid_argument("Hello.resume.key: that viewer has been forgotten");
+              }
               ++server->streams;
-              return std::make_shared<FakeFluid>(server, hello);
+              server->hellos.push_back(hello);
+              auto fluid = std::make_shared<FakeFluid>(server, hello);
+              const std::lock_guard held(mutex);
+              remote = fluid;
+              return fluid;
             },
             [this](const v1::Hello& hello) -> std::shared_ptr<FluidStream> {
               const std::lock_guard lock(mutex);
@@ -351,6 +374,44 @@ TEST(HandoffStream, ASessionTooBigToSimulateHereIsOnlyRetried) {
   EXPECT_TRUE(f.server->put.empty()) << "nothing continued, nothing to put back";
 }
 
+// A session that does not continue here is the server's to keep for a while: a blip of the
+// network brings back the same fluid, gone on there, rather than a new one from the start.
+TEST(HandoffStream, ASessionNotContinuedHereIsResumed) {
+  Fixture f;
+  HandoffOptions options = f.options();
+  options.max_local_particles = 500;
+  HandoffStream stream(hello_for(1000), f.sides(), options);
+  read_for(stream, milliseconds(100));
+  const std::string key = stream.welcome().access().resume_key();
+  ASSERT_FALSE(key.empty());
+  f.set(&FakeServer::up, false);
+  read_until(stream, [&] { return stream.status().find("gone") != std::string::npos; });
+  f.set(&FakeServer::up, true);
+  read_until(stream, [&] { return f.hellos_answered().size() == 2; });
+  const v1::Hello back = f.hellos_answered().back();
+  EXPECT_TRUE(back.has_resume()) << "a new session was asked for";
+  EXPECT_EQ(back.resume().key(), key);
+}
+
+// A server that no longer has the session (it restarted) is asked for a new one, as first.
+TEST(HandoffStream, AResumeTheServerRefusesAsksForANewSession) {
+  Fixture f;
+  HandoffOptions options = f.options();
+  options.max_local_particles = 500;
+  HandoffStream stream(hello_for(1000), f.sides(), options);
+  read_for(stream, milliseconds(100));
+  f.set(&FakeServer::up, false);
+  read_until(stream, [&] { return stream.status().find("gone") != std::string::npos; });
+  f.set(&FakeServer::forgets_sessions, true);
+  f.set(&FakeServer::up, true);
+  read_until(stream, [&] { return f.hellos_answered().size() == 2; });
+  EXPECT_TRUE(f.heard("no longer has the session"));
+  const v1::Hello back = f.hellos_answered().back();
+  EXPECT_FALSE(back.has_resume());
+  EXPECT_EQ(back.create().particles(), 1000u);
+  EXPECT_NE(stream.status().find("streaming"), std::string::npos) << stream.status();
+}
+
 TEST(HandoffStream, AWatcherDoesNotContinueSomeoneElsesFluid) {
   Fixture f;
   f.set(&FakeServer::viewers_control, false);
@@ -479,6 +540,30 @@ TEST(HandoffStream, AServerThatRefusesTheFluidLeavesItHere) {
   const std::vector<float> back = read_for(stream, milliseconds(100));
   ASSERT_FALSE(back.empty());
   EXPECT_GE(back.front(), here.back());
+}
+
+// A fluid its viewer paused stays paused through the handback: here while a server refuses it,
+// and in the new session once one takes it.
+TEST(HandoffStream, APausedFluidStaysPausedAcrossTheHandback) {
+  Fixture f;
+  HandoffStream stream(hello_for(1000), f.sides(), f.options());
+  v1::Command pause;
+  pause.set_pause(true);
+  stream.command(pause);
+  stream_until_kept(stream, f);
+  f.set(&FakeServer::up, false);
+  read_until(stream, [&] { return stream.simulating_here(); });
+  f.set(&FakeServer::refuses_states, true);
+  f.set(&FakeServer::up, true);
+  read_until(stream, [&] { return stream.status().find("refused") != std::string::npos; });
+  const std::shared_ptr<FakeFluid> local = f.local_fluid();
+  ASSERT_TRUE(local);
+  EXPECT_TRUE(local->paused()) << "a refused handback set the fluid here going";
+  f.set(&FakeServer::refuses_states, false);
+  read_until(stream, [&] { return !stream.simulating_here(); });
+  const std::shared_ptr<FakeFluid> remote = f.remote_fluid();
+  ASSERT_TRUE(remote);
+  EXPECT_TRUE(remote->paused()) << "the new session runs what its viewer paused";
 }
 
 TEST(HandoffStream, LocalModeNeedsNoServer) {
