@@ -10,6 +10,7 @@
 // frame or a substep dearer than one tick's share runs once enough ticks have paid for it.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <map>
 #include <span>
@@ -93,6 +94,9 @@ class GpuAccount {
   void deposit(double grant_ms, double dearest_item_ms);
   bool can_spend() const { return balance_ms_ > 0.0; }
   void spend(double ms) { balance_ms_ -= ms; }
+  // A new fluid (a rebuild, a state put in) costs afresh: credit saved against the old one goes,
+  // what the session owes stays (else putting states in would wipe a debt).
+  void forget_credit() { balance_ms_ = std::min(balance_ms_, 0.0); }
   double balance_ms() const { return balance_ms_; }
   // How many items of `item_ms` to start now: those the balance covers, and at least one while
   // it is positive.

@@ -85,7 +85,11 @@ void Session::send_frames(FrameWait wait) {
 void Session::forget_costs() {
   lag_seconds_ = 0.0;
   substep_cost_ = {};
-  sim_account_ = {};
+  sim_account_.forget_credit();
+}
+
+void Session::charge_worker_time(Clock::time_point started) {
+  if (contended_) sim_account_.spend(milliseconds_between(started, Clock::now()));
 }
 
 SessionFigures Session::figures() const {
@@ -285,7 +289,7 @@ void Session::apply_rebuilds(Clock::time_point now) {
   last_rebuild_ = now;
   const auto started = Clock::now();
   rebuild_or_reset();
-  if (contended_) sim_account_.spend(milliseconds_between(started, Clock::now()));
+  charge_worker_time(started);
 }
 
 void Session::rebuild_or_reset() {

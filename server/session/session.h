@@ -132,8 +132,13 @@ class Session {
   // watched; the floors aside), each charged its price now and settled against its timestamps
   // when it finishes (send_frames).
   void render(const GpuGrant& grant, Clock::time_point now);
-  // A new fluid (rebuild, loaded snapshot): its costs are measured afresh, it owes no time.
+  // A new fluid (rebuild, loaded snapshot): its costs are measured afresh; what the session owes
+  // stays owed.
   void forget_costs();
+  // Work done on the worker outside any grant (a rebuild, a state put in), begun at `started`:
+  // while other sessions are watched, charged to this session's simulation, so that a client
+  // that keeps asking slows its own fluid, not the others'.
+  void charge_worker_time(Clock::time_point started);
   // Counts the cost of finished steps into substep_cost_ and measured_sim_ms_.
   void measure_steps(double ms, std::uint64_t substeps);
   void encode(Viewer& viewer, Viewer::Finished frame);

@@ -92,6 +92,7 @@ v1::Snapshot Session::snapshot() const {
 }
 
 std::uint32_t Session::load(const v1::Snapshot& snapshot) {
+  const auto started = Clock::now();
   // Checked before the fluid is touched: a refused snapshot leaves the session as it was.
   const Particles particles =
       checked_particles(snapshot, services_.limits->max_particles, solver_->tank());
@@ -131,6 +132,7 @@ std::uint32_t Session::load(const v1::Snapshot& snapshot) {
   fingers_.clear();
   solver_->set_time(snapshot.time());
   speed_.restart();  // the clock jumped: no speed is measured across it
+  charge_worker_time(started);
   return static_cast<std::uint32_t>(particles.position.size());
 }
 

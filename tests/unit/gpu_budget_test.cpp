@@ -225,6 +225,18 @@ TEST(GpuAccountTest, CreditCannotBeHoarded) {
   EXPECT_EQ(account.affordable(1.0), 0);
 }
 
+// A new fluid drops saved credit but keeps a debt: putting a state in must not wipe what a
+// session owes (nor what a client carried over from its last one).
+TEST(GpuAccountTest, ANewFluidKeepsTheDebtAndDropsTheCredit) {
+  GpuAccount account;
+  account.deposit(2.0, 3.0);
+  account.forget_credit();
+  EXPECT_DOUBLE_EQ(account.balance_ms(), 0.0);
+  account.spend(7.5);
+  account.forget_credit();
+  EXPECT_DOUBLE_EQ(account.balance_ms(), -7.5);
+}
+
 TEST(CostEstimateTest, FollowsAChangeWithinAFewSamples) {
   CostEstimate cost;
   EXPECT_FALSE(cost.known());
