@@ -168,7 +168,9 @@ function connect() {
   socket.onopen = async () => {
     const hello = { token, viewport: viewport(), quality: quality() };
     if (handoff && handoff.mode) {
-      // The fluid went on here: the server gets it back in a new session.
+      // The fluid went on here: the server gets it back in a new session. It stops here while its
+      // state goes over, so that the server goes on from where it was last shown.
+      handoff.mode.paused = true;
       hello.create = { state: await handoff.mode.exportState() };
     } else if (state.access) {
       hello.resume = { key: state.access.resumeKey };
@@ -186,6 +188,7 @@ function connect() {
   socket.onclose = () => {
     state.connected = false;
     socket = null;
+    if (handoff && handoff.mode) handoff.mode.paused = paused;  // not handed back: it goes on here
     clearInterval(stateTimer);
     clearStats();
     if (hiddenPause) return;

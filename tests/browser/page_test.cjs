@@ -470,6 +470,20 @@ async function main() {
     // the page is when it comes back.
     await waitFor(handing, () => window.fluidcast.local.time > 2, 'the fluid here after Reset');
     const localAtRestart = await handing.evaluate(() => window.fluidcast.local.time);
+    // What the fluid here last showed, and the first frame streamed after it.
+    await handing.evaluate(() => {
+      const end = endHandoff, show = showFrame;
+      endHandoff = () => {
+        if (handoff.mode) window.lastLocalTime = handoff.mode.stats.time;
+        end();
+      };
+      showFrame = (frame) => {
+        if (window.lastLocalTime !== undefined && window.firstBackTime === undefined) {
+          window.firstBackTime = frame.simTime;
+        }
+        show(frame);
+      };
+    });
     restarted = await startServer(port);
     await waitFor(handing, () => window.fluidcast.mode === 'stream' && window.fluidcast.connected,
                   'streaming again', 30000);
@@ -480,6 +494,10 @@ async function main() {
     check(back.id !== streamed.id && back.particles === 1000 && back.time >= localAtRestart,
           `the server back, the fluid goes back to it (new session, ${back.particles} particles, ` +
           `t = ${localAtRestart.toFixed(2)} s here → ${back.time.toFixed(2)} s there)`);
+    const seam = await handing.evaluate(() => ({ here: window.lastLocalTime, there: window.firstBackTime }));
+    check(seam.there >= seam.here - 1e-3,
+          `the server goes on from what was last shown here, not from before it (t = ` +
+          `${seam.here.toFixed(3)} s here → ${seam.there.toFixed(3)} s in its first frame)`);
     const listenersAfter = await localCanvasListeners(handingCdp);
     const released = await handing.evaluate(() => {
       const view = window.handedBack.view;
