@@ -20,6 +20,14 @@ bool descriptor_free() {
   return true;
 }
 
+// An accept that failed for want of descriptors or memory: accepting again at once would fail the
+// same way, in a loop. ENFILE (the system's file table full) has no Asio name.
+bool out_of_resources(const boost::system::error_code& error) {
+  return error == boost::asio::error::no_descriptors ||
+         error == boost::system::error_code(ENFILE, boost::system::system_category()) ||
+         error == boost::asio::error::no_buffer_space || error == boost::asio::error::no_memory;
+}
+
 }  // namespace
 
 Listener::Listener(boost::asio::io_context& io, const std::string& address, unsigned short port,
@@ -54,8 +62,7 @@ void Listener::accept() {
   acceptor_.async_accept(boost::asio::make_strand(*io_), [this](boost::system::error_code error,
                                                                 tcp::socket socket) {
     if (!acceptor_.is_open()) return;
-    if (error == boost::asio::error::no_descriptors ||
-        error == boost::asio::error::no_buffer_space || error == boost::asio::error::no_memory) {
+    if (out_of_resources(error)) {
       if (accepting_.exchange(false)) {
         spdlog::warn("{}: cannot accept connections: {}; trying again every {} ms", what_,
                      error.message(), kRetry.count());

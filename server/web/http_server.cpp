@@ -20,6 +20,10 @@ namespace beast = boost::beast;
 namespace http = beast::http;
 using tcp = boost::asio::ip::tcp;
 
+// Each exchange on a connection — the TLS detection and handshake, a request's read, a response's
+// write — has this long; a client slower than that loses its connection, and its slot.
+constexpr auto kExchangeTimeout = std::chrono::seconds(30);
+
 std::string content_type(const std::filesystem::path& path) {
   const std::string extension = path.extension().string();
   if (extension == ".html") return "text/html; charset=utf-8";
@@ -68,7 +72,7 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
 
   void read() {
     request_ = {};
-    beast::get_lowest_layer(stream_).expires_after(std::chrono::seconds(30));
+    beast::get_lowest_layer(stream_).expires_after(kExchangeTimeout);
     http::async_read(
         stream_, buffer_, request_,
         [self = shared_from_this()](beast::error_code error, std::size_t) {
@@ -145,6 +149,8 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
   }
 
   void send(std::shared_ptr<http::response<http::string_body>> response) {
+    // Its own time, not what the request's read left of it.
+    beast::get_lowest_layer(stream_).expires_after(kExchangeTimeout);
     http::async_write(stream_, *response,
                       [self = shared_from_this(), response](beast::error_code error, std::size_t) {
                         if (error) return;
@@ -179,7 +185,7 @@ class Detector : public std::enable_shared_from_this<Detector> {
         slot_(std::move(slot)) {}
 
   void run() {
-    stream_.expires_after(std::chrono::seconds(30));
+    stream_.expires_after(kExchangeTimeout);
     beast::async_detect_ssl(
         stream_, buffer_, [self = shared_from_this()](beast::error_code error, bool tls) {
           if (error) return;
