@@ -66,6 +66,13 @@ TEST(ServerTest, AStreamCarriesTheStateBothWays) {
   EXPECT_TRUE(second.finish().ok());
 }
 
+// The viewer given `access` comes back after its network dropped.
+std::unique_ptr<StreamClient> resume(const std::string& address, const v1::Access& access) {
+  v1::Hello hello = small_hello();
+  hello.mutable_resume()->set_key(access.resume_key());
+  return std::make_unique<StreamClient>(client::connect(address), hello);
+}
+
 TEST(ServerTest, TwoViewersShareASessionAndResumeFindsTheFluidAsItWas) {
   testing::ServerProcess server;
   const std::string& address = server.grpc_address();
@@ -83,14 +90,12 @@ TEST(ServerTest, TwoViewersShareASessionAndResumeFindsTheFluidAsItWas) {
   first->drop();  // the network goes away
   first.reset();
 
-  v1::Hello resume = small_hello();
-  resume.mutable_resume()->set_key(access.resume_key());
-  StreamClient back(client::connect(address), resume);
-  EXPECT_EQ(back.welcome().session_id(), session);
-  EXPECT_TRUE(back.welcome().access().control()) << "the creator came back as a viewer";
-  EXPECT_NE(back.welcome().access().resume_key(), access.resume_key());
+  const auto back = resume(address, access);
+  EXPECT_EQ(back->welcome().session_id(), session);
+  EXPECT_TRUE(back->welcome().access().control()) << "the creator came back as a viewer";
+  EXPECT_NE(back->welcome().access().resume_key(), access.resume_key());
   // Not a new fluid: time went on from where it was.
-  EXPECT_GE(frame_from(back).sim_time(), time_before);
+  EXPECT_GE(frame_from(*back).sim_time(), time_before);
 }
 
 // The session forgets departed viewers by when they left, not when they joined: the creator,
@@ -124,11 +129,9 @@ TEST(ServerTest, TheFirstViewerResumesAfterMoreThanTheKeptOthersDropped) {
   first->drop();
   first.reset();
 
-  v1::Hello resume = small_hello();
-  resume.mutable_resume()->set_key(access.resume_key());
-  StreamClient back(client::connect(address), resume);
-  EXPECT_EQ(back.welcome().session_id(), session);
-  EXPECT_TRUE(back.welcome().access().control());
+  const auto back = resume(address, access);
+  EXPECT_EQ(back->welcome().session_id(), session);
+  EXPECT_TRUE(back->welcome().access().control());
 }
 
 TEST(ServerTest, TiltTurnsGravity) {
