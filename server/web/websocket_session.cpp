@@ -51,7 +51,11 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
     socket_.read_message_max(kMaxClientMessageBytes + 2 * kReadPiece);
     socket_.binary(true);
     socket_.async_accept(request, [self = shared_from_this()](beast::error_code error) {
-      if (!error) self->read();
+      if (!error) {
+        self->read();
+      } else {  // no WebSocket came of it: its descriptor and slot go now, not at the Hello timeout
+        self->hello_deadline_.cancel();
+      }
     });
   }
 

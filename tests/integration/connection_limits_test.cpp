@@ -1,5 +1,6 @@
 // What an idle or greedy client can hold of the real server on loopback: streams that send no
-// Hello end at their deadline on both transports, HTTP, WebSocket and gRPC connections over the
+// Hello end at their deadline on both transports (a failed WebSocket handshake at once), HTTP,
+// WebSocket and gRPC connections over the
 // limits are closed while the others are served, and when the process runs out of descriptors
 // neither port spins nor stays deaf once they come back, in plaintext or TLS.
 #include <arpa/inet.h>
@@ -153,6 +154,24 @@ TEST(ConnectionLimitsTest, OnlyTheServersOwnPagesAndAllowedOnesOpenTheWebSocket)
   EXPECT_EQ(
       RawConnection(server.http_port()).get("/ws", upgrade + "Origin: http://evil.example\r\n"),
       "HTTP/1.1 403 Forbidden");
+}
+
+// An upgrade to /ws that is no WebSocket handshake (no key) is answered 400, and its connection
+// goes at once: it does not hold its slot until the Hello timeout.
+TEST(ConnectionLimitsTest, AFailedWebSocketHandshakeGivesItsSlotBack) {
+  testing::ServerProcess server(
+      {"--max-connections-per-address", "2", "--hello-timeout", "120"});
+  const std::string keyless =
+      "Upgrade: websocket\r\nConnection: Upgrade\r\nSec-WebSocket-Version: 13\r\n";
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_EQ(RawConnection(server.http_port()).get("/ws", keyless), "HTTP/1.1 400 Bad Request");
+  }
+  std::string answer;
+  for (const auto give_up = Clock::now() + seconds(10); answer.empty() && Clock::now() < give_up;) {
+    answer = RawConnection(server.http_port()).get("/healthz");
+    if (answer.empty()) std::this_thread::sleep_for(milliseconds(100));
+  }
+  EXPECT_EQ(answer, "HTTP/1.1 200 OK");
 }
 
 TEST(ConnectionLimitsTest, ConnectionsOverTheLimitFromOneAddressAreClosedOthersServed) {
