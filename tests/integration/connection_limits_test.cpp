@@ -1,8 +1,8 @@
 // What an idle or greedy client can hold of the real server on loopback: streams that send no
 // Hello end at their deadline on both transports (a failed WebSocket handshake at once), HTTP,
-// WebSocket and gRPC connections over the
-// limits are closed while the others are served, and when the process runs out of descriptors
-// neither port spins nor stays deaf once they come back, in plaintext or TLS.
+// WebSocket and gRPC connections over the limits are closed while the others are served, and when
+// the process runs out of descriptors neither port spins nor stays deaf once they come back, in
+// plaintext or TLS.
 #include <arpa/inet.h>
 #include <grpcpp/create_channel.h>
 #include <grpcpp/security/credentials.h>
