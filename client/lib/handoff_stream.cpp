@@ -283,17 +283,18 @@ void HandoffStream::reconnect() {
     try {
       came_back(reconnect_.get());
     } catch (const Unreachable&) {  // still gone
+    } catch (const Forgotten& e) {  // the next attempt asks for a new session
+      resume_key_.clear();
+      set_status(std::string("the server is back but no longer has the session (") + e.what() +
+                 "); asking for a new one");
     } catch (const std::exception& e) {
-      if (!stream_ && !resume_key_.empty()) {
-        // The server no longer has the session (it restarted, or the grace ran out): the next
-        // attempt asks for a new one.
-        resume_key_.clear();
-        set_status(std::string("the server is back but no longer has the session (") + e.what() +
-                   "); asking for a new one");
-      } else {
-        set_status(std::string("the server is back but refused a session: ") + e.what() +
-                   (stream_ ? "; continuing locally, retrying" : "; retrying"));
+      if (stream_) {  // as the user last asked, not as when the attempt began
+        v1::Command pause;
+        pause.set_pause(paused_);
+        stream_->command(pause);
       }
+      set_status(std::string("the server is back but refused a session: ") + e.what() +
+                 (stream_ ? "; continuing locally, retrying" : "; retrying"));
     }
     return;
   }

@@ -39,11 +39,19 @@ class Unreachable : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// What HandoffSides::connect throws when the server no longer has the session a Hello resumes
+// (it restarted, or the grace ran out): a new one is asked for.
+class Forgotten : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 // The two sides a fluid moves between.
 struct HandoffSides {
   std::string server;  // where connect goes, as the status line names it
   // A new stream of the server's session that this Hello asks for. Throws Unreachable when no
-  // server answered, anything else for what the server refused.
+  // server answered, Forgotten when it no longer has the session resumed, anything else for what
+  // the server refused.
   std::function<std::shared_ptr<FluidStream>(const v1::Hello&)> connect;
   // A fluid simulated here; throws when it cannot start.
   std::function<std::shared_ptr<FluidStream>(const v1::Hello&)> start_local;

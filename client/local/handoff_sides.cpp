@@ -12,6 +12,9 @@ HandoffSides handoff_sides(const std::string& server, std::uint32_t max_local_pa
               return std::make_shared<StreamClient>(connect(server), hello);
             } catch (const StreamError& e) {
               if (e.code() == grpc::StatusCode::UNAVAILABLE) throw Unreachable(e.what());
+              if (e.code() == grpc::StatusCode::NOT_FOUND && hello.has_resume()) {
+                throw Forgotten(e.what());
+              }
               throw;
             }
           },

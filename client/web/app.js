@@ -171,7 +171,9 @@ function connect() {
       // The fluid went on here: the server gets it back in a new session. It stops here while its
       // state goes over, so that the server goes on from where it was last shown.
       handoff.mode.paused = true;
+      const opened = socket;
       hello.create = { state: await handoff.mode.exportState() };
+      if (socket !== opened) return;  // closed meanwhile; a new connection says its own Hello
     } else if (state.access) {
       hello.resume = { key: state.access.resumeKey };
     } else if (handoff) {
@@ -235,8 +237,15 @@ function receive(bytes) {
     } else {
       say('');
     }
+    // A fluid paused here stays paused in the session it goes back to (a state carries no pause).
+    const pausedHere = handoff !== null && handoff.mode !== null && paused;
     showSession(message.welcome.state);
     if (handoff) endHandoff();
+    if (pausedHere && !message.welcome.state.paused) {
+      command({ pause: true });
+      paused = true;
+      page.panel.querySelector('#pause').textContent = 'Go on';
+    }
     askForStates();
   } else if (message.state) {
     newestState = message.state;

@@ -141,17 +141,32 @@ class LocalMode {
   // Starts a fluid drawn on `canvas`; throws an Error saying what this browser lacks or what the
   // solver refused.
   static async start(canvas, { scene, solver, particles, iterations }) {
-    const mode = new LocalMode(canvas, new LocalView(canvas), await LocalFluid.take());
-    if (iterations) await mode.fluid.call('iterations', { iterations });
-    await mode.create(scene || 'dam_break', solver || 'pbf', particles || kDefaultLocalParticles);
-    return mode.begin();
+    return LocalMode.started(canvas, async (mode) => {
+      if (iterations) await mode.fluid.call('iterations', { iterations });
+      await mode.create(scene || 'dam_break', solver || 'pbf', particles || kDefaultLocalParticles);
+    });
   }
 
   // Continues a fluid from a state (a Snapshot as the server sent it, decoded by protobufjs).
   static async startFrom(canvas, snapshot) {
-    const mode = new LocalMode(canvas, new LocalView(canvas), await LocalFluid.take());
-    await mode.load(snapshot);
-    return mode.begin();
+    return LocalMode.started(canvas, (mode) => mode.load(snapshot));
+  }
+
+  // A mode made ready by `prepare`; one that fails gives back its drawing's WebGL objects and its
+  // solver's thread before the error goes on.
+  static async started(canvas, prepare) {
+    const view = new LocalView(canvas);
+    let fluid = null;
+    try {
+      fluid = await LocalFluid.take();
+      const mode = new LocalMode(canvas, view, fluid);
+      await prepare(mode);
+      return await mode.begin();
+    } catch (error) {
+      view.release();
+      if (fluid) fluid.close();
+      throw error;
+    }
   }
 
   constructor(canvas, view, fluid) {

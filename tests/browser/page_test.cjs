@@ -532,22 +532,37 @@ async function main() {
     restarted = await startServer(port);
     await waitFor(handing, () => window.fluidcast.mode === 'stream' && window.fluidcast.connected,
                   'streaming the paused fluid again', 30000);
+    await sleep(1000);
+    const backPausedAt = await handing.evaluate(() => window.fluidcast.lastFrame.simTime);
+    await sleep(1000);
+    const backPausedLater = await handing.evaluate(() => window.fluidcast.lastFrame.simTime);
+    check(backPausedLater === backPausedAt,
+          `and paused in the session it goes back to (t = ${backPausedAt.toFixed(3)} → ` +
+          `${backPausedLater.toFixed(3)} s)`);
+    // Going on again, for what follows.
+    await handing.click('#menu');
+    await handing.click('#pause');
+    await handing.click('#menu');
 
     // The server back before the fluid here has started (a slow phone): the stream wins, and the
     // fluid here, once started, stops at once rather than covering the stream.
     await sleep(1500);  // states again
     const timeBeforeRace = await handing.evaluate(() => window.fluidcast.lastFrame.simTime);
+    const handoffsBeforeRace = await handing.evaluate(() => window.fluidcast.handoffs);
     await handing.evaluate(() => {
       const start = LocalMode.startFrom;
-      LocalMode.startFrom = async (...args) => {
-        await new Promise((resolve) => setTimeout(resolve, 4000));
+      window.releaseStart = null;
+      LocalMode.startFrom = async (...args) => {  // held until the stream is back
+        await new Promise((resolve) => { window.releaseStart = resolve; });
         return start(...args);
       };
     });
     await stopServer(restarted.child);
     restarted = await startServer(port);
     await waitFor(handing, () => window.fluidcast.connected, 'streaming again, the fluid here not started', 30000);
-    await sleep(5000);  // past the slowed start
+    const startHeld = await handing.evaluate(() => window.releaseStart !== null);
+    await handing.evaluate(() => window.releaseStart && window.releaseStart());
+    await sleep(3000);  // the fluid here starts, late
     const raced = await handing.evaluate(() => ({
       mode: window.fluidcast.mode, connected: window.fluidcast.connected,
       localHidden: document.getElementById('local-view').hidden,
@@ -555,7 +570,9 @@ async function main() {
     const framesRaced = await handing.evaluate(() => window.fluidcast.frames);
     await sleep(1000);
     const framesLater = await handing.evaluate(() => window.fluidcast.frames);
-    check(raced.mode === 'stream' && raced.connected && raced.localHidden &&
+    const handoffsAfterRace = await handing.evaluate(() => window.fluidcast.handoffs);
+    check(startHeld && handoffsAfterRace === handoffsBeforeRace &&
+          raced.mode === 'stream' && raced.connected && raced.localHidden &&
           framesLater > framesRaced && await localCanvasListeners(handingCdp) === 0,
           `a stream back before the fluid here started keeps the screen (${JSON.stringify(raced)}, ` +
           `frames ${framesRaced} → ${framesLater})`);

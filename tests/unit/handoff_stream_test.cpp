@@ -23,6 +23,7 @@ struct FakeServer {
   bool refuses_states = false;     // a state put into a session is refused
   bool viewers_control = true;     // false: every stream only watches
   bool forgets_sessions = false;    // a resume finds nothing (it restarted, the grace ran out)
+  int full_for = 0;                 // resumes refused for now (the session's seats are taken)
   std::uint32_t particles = 1000;  // of a session whose Hello names no count
   std::vector<v1::Snapshot> put;   // states put into its sessions
   std::vector<v1::Hello> hellos;   // of the streams it answered
@@ -180,7 +181,11 @@ struct Fixture {
               if (!server->up) throw Unreachable("no server answered");
               if (hello.create().scene() == "refused") throw std::invalid_argument("no such scene");
               if (hello.has_resume() && server->forgets_sessions) {
-                throw std::invalid_argument("Hello.resume.key: that viewer has been forgotten");
+                throw Forgotten("Hello.resume.key: that viewer has been forgotten");
+              }
+              if (hello.has_resume() && server->full_for > 0) {
+                --server->full_for;
+                throw std::runtime_error("the session has its limit of viewers");
               }
               ++server->streams;
               server->hellos.push_back(hello);
@@ -372,8 +377,13 @@ TEST(HandoffStream, ASessionTooBigToSimulateHereIsResumed) {
   EXPECT_FALSE(stream.simulating_here());
   EXPECT_NE(stream.status().find("too big to continue here (1000 particles)"), std::string::npos)
       << stream.status();
+  {  // refused twice for a reason that passes: the resume is asked again, not a new session
+    const std::lock_guard lock(f.server->mutex);
+    f.server->full_for = 2;
+  }
   f.set(&FakeServer::up, true);
   read_until(stream, [&] { return f.hellos_answered().size() == 2; });
+  EXPECT_TRUE(f.heard("refused a session"));
   const v1::Hello back = f.hellos_answered().back();
   EXPECT_TRUE(back.has_resume()) << "a new session was asked for";
   EXPECT_EQ(back.resume().key(), key);
