@@ -20,6 +20,13 @@ void continue_session(v1::Hello& hello, const v1::SessionState& state) {
   hello.mutable_create()->set_particles(state.particles());
 }
 
+// Pauses `fluid`, or sets it going.
+void set_paused(FluidStream& fluid, bool paused) {
+  v1::Command pause;
+  pause.set_pause(paused);
+  fluid.command(pause);
+}
+
 }  // namespace
 
 // A local fluid kept warm while streaming (paused, one frame a second), so that a handoff needs no
@@ -31,9 +38,7 @@ class HandoffStream::Standby {
           v1::Hello hello)
       : start_(std::async(std::launch::async, [this, start_local, hello = std::move(hello)] {
           std::shared_ptr<FluidStream> local = start_local(hello);
-          v1::Command pause;
-          pause.set_pause(true);
-          local->command(pause);
+          set_paused(*local, true);
           const std::lock_guard lock(mutex_);
           local_ = std::move(local);
         })) {}
@@ -288,11 +293,8 @@ void HandoffStream::reconnect() {
       set_status(std::string("the server is back but no longer has the session (") + e.what() +
                  "); asking for a new one");
     } catch (const std::exception& e) {
-      if (stream_) {  // as the user last asked, not as when the attempt began
-        v1::Command pause;
-        pause.set_pause(paused_);
-        stream_->command(pause);
-      }
+      // The fluid here, paused while its state went over, goes on as the user last asked.
+      if (stream_) set_paused(*stream_, paused_);
       set_status(std::string("the server is back but refused a session: ") + e.what() +
                  (stream_ ? "; continuing locally, retrying" : "; retrying"));
     }
@@ -307,21 +309,17 @@ void HandoffStream::reconnect() {
   } else if (!resume_key_.empty()) {
     hello.mutable_resume()->set_key(resume_key_);
   }
-  reconnect_ = std::async(std::launch::async, [connect = sides_.connect, hello, local = stream_,
-                                               paused = paused_] {
+  reconnect_ = std::async(std::launch::async, [connect = sides_.connect, hello, local = stream_] {
     Reconnected back{connect(hello), {}};
     if (!local) return back;
-    // The fluid here stops while its state goes over, so that nothing done meanwhile is lost.
-    v1::Command pause;
-    pause.set_pause(true);
+    // The fluid here stops while its state goes over, so that nothing done meanwhile is lost
+    // (refused, it goes on: reconnect() unpauses it as its user last asked).
     try {
-      local->command(pause);
+      set_paused(*local, true);
       v1::Snapshot state = local->snapshot();
       back.stream->load(state);
       back.state_put = std::move(state);
     } catch (const std::exception& e) {  // the fluid stays here: the new session goes unused
-      pause.set_pause(paused);
-      local->command(pause);
       throw std::runtime_error(std::string("it did not take the fluid here (") + e.what() + ")");
     }
     return back;
@@ -337,11 +335,8 @@ void HandoffStream::came_back(Reconnected back) {
                   state->positions_size() / 3, state->time());
     say(line);
     try {
-      if (paused_) {  // a new session runs; the fluid here was paused
-        v1::Command pause;
-        pause.set_pause(true);
-        back.stream->command(pause);
-      }
+      // A new session runs: the fluid here was paused.
+      if (paused_) set_paused(*back.stream, true);
       v1::Command marker;  // frames from before the state went in reflect no later event
       *marker.mutable_quality() = hello_.quality();
       show_from_event_ = back.stream->command(marker);

@@ -8,10 +8,10 @@
 // for stall_after, the local fluid resumes from that state within a frame or two. Meanwhile it
 // asks the server again every retry_every; once one answers and takes the local fluid's state
 // into a new session, it streams from there (a server that refuses is asked again, the fluid
-// going on here). A session that does not continue here is resumed (the same fluid, gone on at the
-// server), or, once the server no longer has it, asked for anew. A stream the server ended on purpose (bad input, an idle session) ends this
-// one: its reason stands. Frames that reflect no event since a side changed show a state from
-// before the change: they are not returned.
+// going on here). A session that does not continue here is resumed (the same fluid, gone on at
+// the server), or, once the server no longer has it, asked for anew. A stream the server ended on
+// purpose (bad input, an idle session) ends this one: its reason stands. Frames that reflect no
+// event since a side changed show a state from before the change: they are not returned.
 //
 // Touch-to-photon latency counts the events sent through it, not what the handoff sends itself
 // (pauses, the wake, markers): those are no one's wait.

@@ -243,8 +243,7 @@ function receive(bytes) {
     if (handoff) endHandoff();
     if (pausedHere && !message.welcome.state.paused) {
       command({ pause: true });
-      paused = true;
-      page.panel.querySelector('#pause').textContent = 'Go on';
+      showPaused(true);
     }
     askForStates();
   } else if (message.state) {
@@ -391,8 +390,13 @@ function showSession(session) {
   state.particles = session.particles;
   state.scene = session.scene;
   page.panel.querySelector('#scene').value = session.scene;
-  page.panel.querySelector('#pause').textContent = session.paused ? 'Go on' : 'Pause';
-  paused = session.paused;
+  showPaused(session.paused);
+}
+
+// The fluid paused or going, as the Pause button says.
+function showPaused(value) {
+  paused = value;
+  page.panel.querySelector('#pause').textContent = paused ? 'Go on' : 'Pause';
 }
 
 // ---- handoff -------------------------------------------------------------------------------
@@ -405,7 +409,8 @@ const kHandoffParticles =
 const kStateEveryMs = 250;
 let newestState = null;  // the session's, while streaming
 let stateTimer = 0;
-let handoff = null;      // { mode, snapshot, since, cancelled } while the page simulates after a drop
+// { mode, snapshot, since, cancelled } while the page simulates after a drop
+let handoff = null;
 let statsTimer = 0;
 
 function askForStates() {

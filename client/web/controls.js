@@ -187,10 +187,9 @@ function setupControls() {
     act((fluid) => fluid.reset(), () => command({ reset: true }));
   page.panel.querySelector('#reset-view').onclick =
     act((fluid) => fluid.resetView(), () => command({ resetView: true }));
-  page.panel.querySelector('#pause').onclick = (e) => {
-    paused = !paused;
+  page.panel.querySelector('#pause').onclick = () => {
+    showPaused(!paused);
     act((fluid) => { fluid.paused = paused; }, () => command({ pause: paused }))();
-    e.target.textContent = paused ? 'Go on' : 'Pause';
   };
   // Switching reloads the page in the other mode (?local), keeping the other parameters.
   const mode = page.panel.querySelector('#mode');
