@@ -33,9 +33,11 @@ double milliseconds_between(Clock::time_point from, Clock::time_point to) {
 // A simulation parameter as a client reads it: the field of its message where a client chose it,
 // else the server's own setting (the tank's size follows the count, the rest the operator's).
 std::string setup_field_or_setting(std::string_view name) {
-  if (name == "particles") return "the particle count (NewSession.particles, Command.particles)";
-  if (name == "scene") return "the scene (NewSession.scene, Command.scene)";
-  if (name == "solver") return "the solver (NewSession.solver, Command.solver)";
+  if (name == "particles") {
+    return "the particle count (NewSession.particles, Command.particles, a Snapshot's particles)";
+  }
+  if (name == "scene") return "the scene (NewSession.scene, Command.scene, Snapshot.scene)";
+  if (name == "solver") return "the solver (NewSession.solver, Command.solver, Snapshot.solver)";
   return "the server's " + std::string(name);
 }
 
@@ -102,21 +104,25 @@ SessionFigures Session::figures() const {
 }
 
 void Session::rebuild(SessionSetup setup) {
+  adopt(build_solver(setup), setup);
+  for (auto& [id, viewer] : viewers_) viewer->look_at(solver_->tank());
+}
+
+std::unique_ptr<sim::Solver> Session::build_solver(SessionSetup& setup) const {
   if (setup.particles == 0) setup.particles = services_.limits->default_particles;
   sim::SceneParams scene;
   scene.kind = setup.scene;
   scene.particles = static_cast<int>(setup.particles);
   sim::SolverParams params;
   params.max_particles = static_cast<int>(services_.limits->max_particles);
-  std::unique_ptr<sim::Solver> solver;
   try {
     auto built = sim::build_scene(scene);
     // A fluid rebuilt while a viewer holds the tank tilted falls as the old one did.
     if (solver_) built.gravity = solver_->gravity();
-    solver = services_.gpu_solver ? sim::make_gpu_solver(setup.solver, *services_.context,
-                                                         std::move(built), params, services_.steps)
-                                  : sim::make_cpu_solver(setup.solver, std::move(built), params,
-                                                         services_.cpu_threads);
+    return services_.gpu_solver ? sim::make_gpu_solver(setup.solver, *services_.context,
+                                                       std::move(built), params, services_.steps)
+                                : sim::make_cpu_solver(setup.solver, std::move(built), params,
+                                                       services_.cpu_threads);
   } catch (const sim::ParamError& e) {
     throw Refusal(RefusalCode::resource_exhausted, e.worded(setup_field_or_setting));
   } catch (const gpu::VulkanError& e) {  // within the budget, but other sessions hold the memory
@@ -125,6 +131,9 @@ void Session::rebuild(SessionSetup setup) {
                         std::to_string(setup.particles) + " particles", e,
                         "ask for fewer, or later");
   }
+}
+
+void Session::adopt(std::unique_ptr<sim::Solver> solver, const SessionSetup& setup) {
   if (solver_) {
     retire_solver(std::exchange(solver_, std::move(solver)));
   } else {
@@ -133,7 +142,6 @@ void Session::rebuild(SessionSetup setup) {
   setup_ = setup;
   forget_costs();    // another count or solver: another cost
   fingers_.clear();  // the fingers' spheres grow into the new fluid afresh
-  for (auto& [id, viewer] : viewers_) viewer->look_at(solver_->tank());
 }
 
 std::uint32_t Session::add_viewer(const v1::Hello& hello, std::shared_ptr<ViewerSink> sink,

@@ -30,6 +30,8 @@ struct SessionSetup {
   sim::SceneKind scene = sim::SceneKind::dam_break;
   sim::SolverKind solver = sim::SolverKind::pbf;
   std::uint32_t particles = 0;  // 0: the server's default
+
+  bool operator==(const SessionSetup&) const = default;
 };
 
 // What a session needs from the server around it.
@@ -110,7 +112,9 @@ class Session {
   SessionFigures figures() const;
   v1::SessionState state() const;
   v1::Snapshot snapshot() const;
-  // Replaces the fluid; throws Refusal for a snapshot that does not fit.
+  // Replaces the fluid, as the snapshot's scene, solver and count (a fluid of another is spaced
+  // otherwise: it is rebuilt for them); throws Refusal for a snapshot that does not fit, and the
+  // session keeps its fluid.
   std::uint32_t load(const v1::Snapshot& snapshot);
   // Ends every viewer's stream (shutdown, idle timeout); each may resume while the session lives.
   void end_all(const Refusal& why);
@@ -118,6 +122,12 @@ class Session {
  private:
   std::uint32_t admit(const v1::Hello& hello, std::shared_ptr<ViewerSink> sink, Seat seat);
   void rebuild(SessionSetup setup);
+  // A solver for `setup` (its count filled in with the server's default where it names none),
+  // under the session's gravity; throws a Refusal naming what cannot be had. The session's own
+  // fluid is untouched.
+  std::unique_ptr<sim::Solver> build_solver(SessionSetup& setup) const;
+  // Makes `solver`, built for `setup`, the session's fluid.
+  void adopt(std::unique_ptr<sim::Solver> solver, const SessionSetup& setup);
   // Hands `solver` to the context, to be destroyed after the frames that read its particles.
   void retire_solver(std::unique_ptr<sim::Solver> solver);
   // Applies the newest scene, solver or count wish, or a reset, at most once per interval and

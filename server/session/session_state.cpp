@@ -1,5 +1,7 @@
 // Session: its state as clients see it, and snapshots out and in.
 #include <cmath>
+#include <optional>
+#include <span>
 
 #include "fluidcast/gpu/vk_check.h"
 #include "fluidcast/sim/param_spec.h"
@@ -59,6 +61,35 @@ Particles checked_particles(const v1::Snapshot& snapshot, std::uint32_t max_part
   return particles;
 }
 
+// Puts the particles into `solver`, under `gravity` where the snapshot has one; throws a Refusal
+// naming what does not fit, and the solver keeps its gravity.
+void put_particles(sim::Solver& solver, std::span<const glm::vec3> positions,
+                   std::span<const glm::vec3> velocities, std::optional<glm::vec3> gravity) {
+  try {
+    sim::check_density(positions, solver.fluid());
+  } catch (const std::invalid_argument& e) {
+    throw Refusal(RefusalCode::invalid_argument, std::string("Snapshot: ") + e.what());
+  }
+  const glm::vec3 gravity_before = solver.gravity();
+  try {
+    // Gravity first: the substep rule starts from the new fluid's weight along it.
+    if (gravity) solver.set_gravity(*gravity);
+    solver.replace_particles(positions, velocities);
+  } catch (const sim::ParamError& e) {  // the checks passed: more than the GPU solver holds
+    solver.set_gravity(gravity_before);
+    throw Refusal(RefusalCode::resource_exhausted,
+                  e.worded([](std::string_view) { return std::string("Snapshot"); }));
+  } catch (const std::invalid_argument& e) {
+    solver.set_gravity(gravity_before);
+    throw Refusal(RefusalCode::invalid_argument, std::string("Snapshot: ") + e.what());
+  } catch (const gpu::VulkanError& e) {  // within the budget, but other sessions hold the memory
+    solver.set_gravity(gravity_before);
+    if (!e.out_of_memory()) throw;
+    throw no_gpu_memory("Snapshot", std::to_string(positions.size()) + " particles", e,
+                        "send fewer, or later");
+  }
+}
+
 }  // namespace
 
 v1::SessionState Session::state() const {
@@ -93,14 +124,20 @@ v1::Snapshot Session::snapshot() const {
 
 std::uint32_t Session::load(const v1::Snapshot& snapshot) {
   const auto started = Clock::now();
-  // Checked before the fluid is touched: a refused snapshot leaves the session as it was.
+  // Checked before the fluid is touched: a refused snapshot leaves the session as it was. Every
+  // scene has the same tank.
   const Particles particles =
       checked_particles(snapshot, services_.limits->max_particles, solver_->tank());
-  try {
-    sim::check_density(particles.position, solver_->fluid());
-  } catch (const std::invalid_argument& e) {
-    throw Refusal(RefusalCode::invalid_argument, std::string("Snapshot: ") + e.what());
+  SessionSetup setup = setup_;
+  if (!snapshot.scene().empty()) {
+    validate_scene(snapshot.scene(), "Snapshot.scene");
+    setup.scene = sim::parse_scene(snapshot.scene());
   }
+  if (!snapshot.solver().empty()) {
+    validate_solver(snapshot.solver(), "Snapshot.solver");
+    setup.solver = sim::parse_solver(snapshot.solver());
+  }
+  setup.particles = static_cast<std::uint32_t>(particles.position.size());
   std::optional<glm::vec3> gravity;
   if (snapshot.has_gravity()) {
     gravity = glm::vec3(snapshot.gravity().x(), snapshot.gravity().y(), snapshot.gravity().z());
@@ -110,26 +147,23 @@ std::uint32_t Session::load(const v1::Snapshot& snapshot) {
     }
   }
   validate_snapshot_time(snapshot.time(), "Snapshot.time");
-  const glm::vec3 gravity_before = solver_->gravity();
+  // A scene's particles are spaced for its water's volume and their count: a fluid of another
+  // scene or count, loaded into this one's solver, would be squeezed or stretched to its rest
+  // density. It goes into a solver built for it, as NewSession.state's does.
+  std::unique_ptr<sim::Solver> built = setup == setup_ ? nullptr : build_solver(setup);
+  sim::Solver& target = built ? *built : *solver_;
   try {
-    // Gravity first: the substep rule starts from the new fluid's weight along it.
-    if (gravity) solver_->set_gravity(*gravity);
-    solver_->replace_particles(particles.position, particles.velocity);
-  } catch (const sim::ParamError& e) {  // the checks above passed: more than the GPU solver holds
-    solver_->set_gravity(gravity_before);
-    throw Refusal(RefusalCode::resource_exhausted,
-                  e.worded([](std::string_view) { return std::string("Snapshot"); }));
-  } catch (const std::invalid_argument& e) {
-    solver_->set_gravity(gravity_before);
-    throw Refusal(RefusalCode::invalid_argument, std::string("Snapshot: ") + e.what());
-  } catch (const gpu::VulkanError& e) {  // within the budget, but other sessions hold the memory
-    solver_->set_gravity(gravity_before);
-    if (!e.out_of_memory()) throw;
-    throw no_gpu_memory("Snapshot", std::to_string(particles.position.size()) + " particles", e,
-                        "send fewer, or later");
+    put_particles(target, particles.position, particles.velocity, gravity);
+  } catch (...) {
+    if (built) retire_solver(std::move(built));
+    throw;
   }
-  forget_costs();  // another count: another cost
-  fingers_.clear();
+  if (built) {
+    adopt(std::move(built), setup);
+  } else {
+    forget_costs();  // another fluid: another cost
+    fingers_.clear();
+  }
   solver_->set_time(snapshot.time());
   speed_.restart();  // the clock jumped: no speed is measured across it
   charge_worker_time(started);

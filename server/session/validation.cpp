@@ -72,14 +72,6 @@ void validate_name(const std::string& name, const char* field, Parse parse) {
   }
 }
 
-void validate_scene(const std::string& scene, const char* field) {
-  validate_name(scene, field, sim::parse_scene);
-}
-
-void validate_solver(const std::string& solver, const char* field) {
-  validate_name(solver, field, sim::parse_solver);
-}
-
 void validate_particles(std::uint32_t particles, const ServerLimits& limits, const char* field) {
   if (particles > limits.max_particles) {
     refuse(RefusalCode::resource_exhausted, std::string(field) + ": " + text(particles) +
@@ -190,6 +182,14 @@ void validate_command(const v1::Command& command, const ServerLimits& limits) {
 }
 
 }  // namespace
+
+void validate_scene(const std::string& scene, const char* field) {
+  validate_name(scene, field, sim::parse_scene);
+}
+
+void validate_solver(const std::string& solver, const char* field) {
+  validate_name(solver, field, sim::parse_solver);
+}
 
 void validate_key(const std::string& key, const char* field) {
   check_length(key, field);

@@ -30,6 +30,9 @@ void validate_key(const std::string& key, const char* field);
 // The token a request gives in `field`, when the server has one.
 void validate_token(const std::string& given, const std::optional<std::string>& token,
                     const char* field);
+// A scene's or solver's name in `field`: empty (the default) or one of InputRules' names.
+void validate_scene(const std::string& scene, const char* field);
+void validate_solver(const std::string& solver, const char* field);
 // A snapshot's simulated time (InputRules.snapshot_seconds), in `field`.
 void validate_snapshot_time(double seconds, const char* field);
 

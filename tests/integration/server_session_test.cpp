@@ -66,6 +66,74 @@ TEST(ServerTest, AStreamCarriesTheStateBothWays) {
   EXPECT_TRUE(second.finish().ok());
 }
 
+// A state is spaced for its scene's water and its count: put into a session of another scene or
+// count, the session takes its scene, solver and count (its particles keep their rest density),
+// as a new session given it does (NewSession.state). A name no scene has is refused, and the
+// fluid stays.
+TEST(ServerTest, ASnapshotOfAnotherSceneOrCountRebuildsTheSessionForIt) {
+  testing::ServerProcess server;
+  const std::string& address = server.grpc_address();
+  v1::Hello pool = small_hello(800);
+  pool.mutable_create()->set_scene("pool");
+  StreamClient from(client::connect(address), pool);
+  StreamClient into(client::connect(address), small_hello(1000));
+  frame_from(from);
+  frame_from(into);
+  const float pool_spacing = from.welcome().state().particle_spacing();
+  const float dam_break_spacing = into.welcome().state().particle_spacing();
+  ASSERT_GT(std::abs(pool_spacing - dam_break_spacing), 1e-4f);
+  const v1::Snapshot own = into.snapshot();
+
+  auto stub = v1::Fluidcast::NewStub(client::connect(address));
+  const auto put = [&](const v1::Snapshot& snapshot) {
+    v1::PutSnapshotRequest request;
+    request.set_key(into.welcome().access().control_key());
+    *request.mutable_snapshot() = snapshot;
+    v1::PutSnapshotReply reply;
+    grpc::ClientContext context;
+    return stub->PutSnapshot(&context, request, &reply);
+  };
+  // What a viewer joining now is told of the session.
+  const auto joined = [&] {
+    v1::Hello join = small_hello();
+    join.set_join(into.welcome().access().view_key());
+    StreamClient watcher(client::connect(address), join);
+    return watcher.welcome().state();
+  };
+
+  v1::Snapshot poured = from.snapshot();
+  ASSERT_TRUE(put(poured).ok());
+  v1::SessionState state = joined();
+  EXPECT_EQ(state.scene(), "pool");
+  EXPECT_EQ(state.particles(), 800u);
+  EXPECT_FLOAT_EQ(state.particle_spacing(), pool_spacing);
+  EXPECT_EQ(into.snapshot().scene(), "pool");
+
+  // Half the pool: half the water, each particle as large as a pool of 400 has them.
+  v1::Snapshot half = poured;
+  half.mutable_positions()->Truncate(3 * 400);
+  half.mutable_velocities()->Truncate(3 * 400);
+  ASSERT_TRUE(put(half).ok());
+  state = joined();
+  EXPECT_EQ(state.particles(), 400u);
+  EXPECT_NEAR(state.particle_spacing(), pool_spacing * std::cbrt(2.0f), 1e-5f);
+
+  v1::Snapshot unknown = own;
+  unknown.set_scene("lava_lamp");
+  const grpc::Status refused = put(unknown);
+  EXPECT_EQ(refused.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(refused.error_message().find("Snapshot.scene"), std::string::npos)
+      << refused.error_message();
+  EXPECT_EQ(joined().particles(), 400u);
+
+  ASSERT_TRUE(put(own).ok());
+  state = joined();
+  EXPECT_EQ(state.scene(), "dam_break");
+  EXPECT_EQ(state.particles(), 1000u);
+  EXPECT_FLOAT_EQ(state.particle_spacing(), dam_break_spacing);
+  frame_from(into);
+}
+
 // The viewer given `access` comes back after its network dropped.
 std::unique_ptr<StreamClient> resume(const std::string& address, const v1::Access& access) {
   v1::Hello hello = small_hello();
