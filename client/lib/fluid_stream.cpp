@@ -1,6 +1,7 @@
 #include "fluid_stream.h"
 
 #include <algorithm>
+#include <utility>
 
 namespace fluidcast::client {
 namespace {
@@ -10,6 +11,16 @@ constexpr std::size_t kKeptInputs = 1024;
 constexpr std::size_t kKeptLatencies = 100000;
 
 }  // namespace
+
+void SessionChanges::arrived(v1::SessionState state) {
+  std::lock_guard lock(mutex_);
+  newest_ = std::move(state);
+}
+
+void SessionChanges::apply_to(v1::Welcome& welcome) {
+  std::lock_guard lock(mutex_);
+  if (newest_) *welcome.mutable_state() = *std::exchange(newest_, std::nullopt);
+}
 
 double percentile(std::vector<double> values, double p) {
   if (values.empty()) return 0.0;

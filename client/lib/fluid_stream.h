@@ -55,9 +55,24 @@ class FrameQueue {
   bool closed_ = false;
 };
 
+// The session's newest state as its other side tells it (ServerMessage.session): set on the
+// thread that receives it, taken into the Welcome by the thread that uses the stream. Thread-safe.
+class SessionChanges {
+ public:
+  void arrived(v1::SessionState state);
+  // Puts the newest state that arrived since the last call, if any, into `welcome`.
+  void apply_to(v1::Welcome& welcome);
+
+ private:
+  std::mutex mutex_;
+  std::optional<v1::SessionState> newest_;
+};
+
 class FluidStream {
  public:
   virtual ~FluidStream() = default;
+  // Its state renewed as the session changes (another scene or count, a pause, by any viewer), on
+  // the thread that calls next_frame, as that returns.
   virtual const v1::Welcome& welcome() const = 0;
   // Input; each returns the event id it was sent with (0 when the stream has ended).
   virtual std::uint64_t send(v1::ClientMessage message) = 0;

@@ -132,6 +132,9 @@ std::optional<v1::Frame> HandoffStream::next_frame(std::chrono::milliseconds tim
       latency_.frame_reflects(frame->input_event_id());
       shown(*frame);
     }
+    // While streaming, the session's pause, whichever viewer set it, is this viewer's: a fluid
+    // continued here goes on as the session last showed it.
+    if (remote_) paused_ = welcome().state().paused();
     keep_snapshot();
     keep_standby();
     if (remote_ && stream_->ended()) {

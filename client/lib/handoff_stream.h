@@ -132,7 +132,8 @@ class HandoffStream final : public FluidStream {
   std::shared_ptr<FluidStream> stream_;  // null while the server is gone and nothing continues
   bool remote_ = false;
   bool server_ended_ = false;  // on purpose (a refusal, an idle session): final
-  bool paused_ = false;        // as this viewer last asked
+  // As the streamed session last told (Welcome.state), or as this viewer last asked.
+  bool paused_ = false;
   // The lost session's, while nothing continues it here: the server keeps it for a while, so a
   // blip of the network brings back the same fluid. Forgotten once a resume is refused.
   std::string resume_key_;

@@ -127,6 +127,10 @@ void StreamClient::read_loop() {
       state_arrived_.notify_all();
       continue;
     }
+    if (message.has_session()) {
+      changes_.arrived(std::move(*message.mutable_session()));
+      continue;
+    }
     if (!message.has_frame()) continue;
     v1::ClientMessage ack;
     ack.mutable_ack()->set_sequence(message.frame().sequence());
@@ -218,7 +222,9 @@ bool StreamClient::send_raw(const v1::ClientMessage& message) {
 }
 
 std::optional<v1::Frame> StreamClient::next_frame(std::chrono::milliseconds timeout) {
-  return frames_.pop(timeout);
+  std::optional<v1::Frame> frame = frames_.pop(timeout);
+  changes_.apply_to(welcome_);
+  return frame;
 }
 
 bool StreamClient::ended() const { return frames_.closed(); }

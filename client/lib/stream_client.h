@@ -96,6 +96,7 @@ class StreamClient final : public FluidStream {
   const std::string token_;  // the Hello's, for the snapshot calls
   std::unique_ptr<grpc::ClientReaderWriter<v1::ClientMessage, v1::ServerMessage>> stream_;
   v1::Welcome welcome_;
+  SessionChanges changes_;  // from the reader, into welcome_ in next_frame
 
   // Frames kept for a caller that reads slower than they come; older ones are dropped.
   FrameQueue frames_{4};

@@ -11,10 +11,15 @@ namespace fluidcast::client {
 class LocalStream::Sink final : public server::ViewerSink {
  public:
   FrameQueue frames{2};
+  SessionChanges changes;  // into the Welcome in next_frame
 
   bool deliver(std::shared_ptr<const v1::ServerMessage> message) override {
     if (message->has_frame()) {
       frames.push(message->frame());
+      return true;
+    }
+    if (message->has_session()) {
+      changes.arrived(message->session());
       return true;
     }
     std::lock_guard lock(mutex_);
@@ -113,6 +118,7 @@ std::uint64_t LocalStream::send(v1::ClientMessage message) {
 
 std::optional<v1::Frame> LocalStream::next_frame(std::chrono::milliseconds timeout) {
   auto frame = sink_->frames.pop(timeout);
+  sink_->changes.apply_to(welcome_);
   if (frame) {
     latency_.frame_reflects(frame->input_event_id());
     v1::ClientMessage ack;

@@ -246,6 +246,12 @@ function receive(bytes) {
       showPaused(true);
     }
     askForStates();
+  } else if (message.session) {
+    // Another scene or count, or a pause, from this page or another viewer: the menu and the Pause
+    // button show it, and whether the page keeps states is decided again for the new count.
+    const before = state.particles;
+    showSession(message.session);
+    if (message.session.particles !== before) askForStates();
   } else if (message.state) {
     newestState = message.state;
     state.streamed = { centre: centreOfMass(newestState.positions), time: newestState.time };

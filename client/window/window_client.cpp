@@ -102,7 +102,6 @@ class Client {
   std::vector<std::pair<Clock::time_point, std::size_t>> recent_frames_;  // arrival, JPEG bytes
   bool quit_ = false;
   int renderer_choice_ = 0;
-  bool paused_ = false;
 };
 
 v1::Hello Client::hello_for_window() const {
@@ -238,8 +237,7 @@ void Client::handle_key(SDL_Keycode key) {
     *command.mutable_quality() = options_.hello.quality();
     command.mutable_quality()->set_renderer(rules.renderers(renderer_choice_));
   } else if (key == SDLK_p && controls()) {
-    paused_ = !paused_;
-    command.set_pause(paused_);
+    command.set_pause(!stream_->welcome().state().paused());
   } else if (key == SDLK_F12) {
     screenshot();
   } else if (key == SDLK_h) {

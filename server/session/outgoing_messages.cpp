@@ -3,9 +3,9 @@
 namespace fluidcast::server {
 
 bool OutgoingMessages::push(std::shared_ptr<const v1::ServerMessage> message) {
-  if (message->has_state()) {
+  if (message->has_state() || message->has_session()) {
     if (frames_stopped_) return true;
-    state_ = std::move(message);
+    (message->has_state() ? state_ : session_) = std::move(message);
     return true;
   }
   if (!message->has_frame()) {
@@ -27,6 +27,7 @@ std::shared_ptr<const v1::ServerMessage> OutgoingMessages::next() {
     control_.pop_front();
     return message;
   }
+  if (session_) return std::move(session_);
   if (state_) return std::move(state_);
   if (frame_) writing_frame_pushed_ = frame_pushed_;
   return std::move(frame_);
@@ -43,6 +44,7 @@ std::optional<double> OutgoingMessages::written() {
 void OutgoingMessages::stop_frames() {
   frames_stopped_ = true;
   frame_.reset();
+  session_.reset();
   state_.reset();
 }
 

@@ -1,6 +1,6 @@
 // What a transport has yet to write to one viewer, behind its one write in flight: control
-// messages (Welcome, StreamEnd) in order and never dropped, at most one state (a newer one
-// replaces the waiting one), and at most one frame — a newer frame replaces the waiting one, and
+// messages (Welcome, StreamEnd) in order and never dropped, at most one session state and one
+// state (a newer one of each replaces the waiting one), and at most one frame — a newer frame replaces the waiting one, and
 // a frame no newer than one already queued (encoders finish in any order) is dropped. Memory per
 // viewer stays bounded however slowly the client reads. Not thread-safe: each transport calls it
 // under its own lock or strand.
@@ -23,7 +23,7 @@ class OutgoingMessages {
   bool push(std::shared_ptr<const v1::ServerMessage> message);
   // The next message to write, control messages first; null when there is none.
   std::shared_ptr<const v1::ServerMessage> next();
-  // The stream is ending: the waiting frame and state and later ones are dropped; control
+  // The stream is ending: the waiting frame, states and later ones are dropped; control
   // messages still go.
   void stop_frames();
   // The message next() gave has been written: when it was a frame, the milliseconds from its
@@ -33,6 +33,7 @@ class OutgoingMessages {
  private:
   using Clock = std::chrono::steady_clock;
   std::deque<std::shared_ptr<const v1::ServerMessage>> control_;
+  std::shared_ptr<const v1::ServerMessage> session_;  // ServerMessage.session
   std::shared_ptr<const v1::ServerMessage> state_;
   std::shared_ptr<const v1::ServerMessage> frame_;
   Clock::time_point frame_pushed_{};

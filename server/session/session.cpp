@@ -142,6 +142,13 @@ void Session::adopt(std::unique_ptr<sim::Solver> solver, const SessionSetup& set
   setup_ = setup;
   forget_costs();    // another count or solver: another cost
   fingers_.clear();  // the fingers' spheres grow into the new fluid afresh
+  tell_state();
+}
+
+void Session::tell_state() {
+  auto message = std::make_shared<v1::ServerMessage>();
+  *message->mutable_session() = state();
+  for (auto& [id, viewer] : viewers_) viewer->sink().deliver(message);
 }
 
 std::uint32_t Session::add_viewer(const v1::Hello& hello, std::shared_ptr<ViewerSink> sink,

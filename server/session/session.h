@@ -126,8 +126,10 @@ class Session {
   // under the session's gravity; throws a Refusal naming what cannot be had. The session's own
   // fluid is untouched.
   std::unique_ptr<sim::Solver> build_solver(SessionSetup& setup) const;
-  // Makes `solver`, built for `setup`, the session's fluid.
+  // Makes `solver`, built for `setup`, the session's fluid, and tells the viewers.
   void adopt(std::unique_ptr<sim::Solver> solver, const SessionSetup& setup);
+  // Tells every viewer the session's state (ServerMessage.session): it changed.
+  void tell_state();
   // Hands `solver` to the context, to be destroyed after the frames that read its particles.
   void retire_solver(std::unique_ptr<sim::Solver> solver);
   // Applies the newest scene, solver or count wish, or a reset, at most once per interval and

@@ -78,7 +78,10 @@ void Session::apply_command(Viewer& viewer, const v1::Command& command) {
       if (command.reset()) reset_wanted_ = true;
       break;
     case v1::Command::kPause:
-      paused_ = command.pause();
+      if (paused_ != command.pause()) {
+        paused_ = command.pause();
+        tell_state();
+      }
       break;
     case v1::Command::kScene:
       rebuild([&](SessionSetup& setup) { setup.scene = sim::parse_scene(command.scene()); });

@@ -264,6 +264,34 @@ async function main() {
           "a watcher's drag turns its view, and its stream goes on");
     await watcher.close();
 
+    // "Share to play": a second player's scene and pause show in the first page's menu, and the
+    // first page's in the second's (ServerMessage.session), so that neither's Pause button lies.
+    const controlKey = await page.evaluate(() => window.fluidcast.access.controlKey);
+    const player = await context.newPage();
+    player.on('pageerror', (e) => { console.log('player error: ' + e.message); failures++; });
+    await player.goto(creator.link.replace('#view=' + creator.viewKey, '#control=' + controlKey));
+    await waitFor(player, () => window.fluidcast.frames >= 3, 'frames for the second player');
+    const sceneBefore = await page.evaluate(() => document.getElementById('scene').value);
+    const otherScene = await player.evaluate(
+      (current) => window.fluidcast.rules.scenes.find((name) => name !== current), sceneBefore);
+    await player.click('#menu');
+    await player.selectOption('#scene', otherScene);
+    await player.click('#pause');
+    await player.click('#menu');
+    await waitFor(page, `document.getElementById('scene').value === '${otherScene}' && ` +
+                  `document.getElementById('pause').textContent === 'Go on'`,
+                  "the second player's scene and pause in the first page's menu", 20000);
+    check(true, `the second player's scene (${otherScene}) and pause show in the first page`);
+    await page.click('#menu');
+    await page.selectOption('#scene', sceneBefore);
+    await page.click('#pause');
+    await page.click('#menu');
+    await waitFor(player, `document.getElementById('scene').value === '${sceneBefore}' && ` +
+                  `document.getElementById('pause').textContent === 'Pause'`,
+                  "the first page's scene and its going on in the second player's menu", 20000);
+    check(true, 'and the first page\'s in the second player\'s');
+    await player.close();
+
     // The same page at a phone's size over HTTPS on an address that is not this machine's own
     // (phone.test, mapped to loopback: an origin that only https makes secure), with the server's
     // self-signed certificate accepted as a person would, and the phone's motion sensors emulated

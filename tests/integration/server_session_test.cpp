@@ -134,6 +134,45 @@ TEST(ServerTest, ASnapshotOfAnotherSceneOrCountRebuildsTheSessionForIt) {
   frame_from(into);
 }
 
+// A change of the session by one viewer (a scene, a count, a pause) is told to every viewer: each
+// stream's Welcome.state follows it.
+TEST(ServerTest, EveryViewerIsToldOfAChangeOfTheSession) {
+  testing::ServerProcess server;
+  const std::string& address = server.grpc_address();
+  StreamClient creator(client::connect(address), small_hello(800));
+  v1::Hello join = small_hello();
+  join.set_join(creator.welcome().access().control_key());
+  StreamClient friend_(client::connect(address), join);
+  frame_from(creator);
+  // Reads `viewer`'s stream until its state holds `done` (at most 30 s).
+  const auto told = [](StreamClient& viewer, auto done) {
+    for (int k = 0; k < 300 && !done(viewer.welcome().state()); ++k) {
+      viewer.next_frame(milliseconds(100));
+    }
+    return done(viewer.welcome().state());
+  };
+
+  v1::Command command;
+  command.set_scene("pool");
+  friend_.command(command);
+  command.set_particles(600);
+  friend_.command(command);
+  EXPECT_TRUE(told(creator, [](const v1::SessionState& state) {
+    return state.scene() == "pool" && state.particles() == 600;
+  })) << creator.welcome().state().ShortDebugString();
+  EXPECT_TRUE(told(friend_, [](const v1::SessionState& state) {
+    return state.scene() == "pool" && state.particles() == 600;
+  })) << friend_.welcome().state().ShortDebugString();
+  EXPECT_GT(creator.welcome().state().particle_spacing(), 0.0f);
+
+  command.set_pause(true);
+  creator.command(command);
+  EXPECT_TRUE(told(friend_, [](const v1::SessionState& state) { return state.paused(); }));
+  command.set_pause(false);
+  friend_.command(command);
+  EXPECT_TRUE(told(creator, [](const v1::SessionState& state) { return !state.paused(); }));
+}
+
 // The viewer given `access` comes back after its network dropped.
 std::unique_ptr<StreamClient> resume(const std::string& address, const v1::Access& access) {
   v1::Hello hello = small_hello();

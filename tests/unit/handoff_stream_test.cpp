@@ -6,8 +6,10 @@
 
 #include <atomic>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
+#include <utility>
 
 namespace fluidcast::client {
 namespace {
@@ -55,6 +57,7 @@ class FakeFluid final : public FluidStream {
     const std::uint64_t id = latency_.sent();
     if (message.has_command() && message.command().kind_case() == v1::Command::kPause) {
       paused_ = message.command().pause();
+      told_paused_ = paused_;  // a session tells every viewer, the one that asked too
     }
     if (message.has_command() && message.command().has_viewport()) {
       viewport_width_ = message.command().viewport().width();
@@ -69,6 +72,7 @@ class FakeFluid final : public FluidStream {
     }
     std::this_thread::sleep_for(milliseconds(1));
     const std::lock_guard lock(mutex_);
+    if (told_paused_) welcome_.mutable_state()->set_paused(*std::exchange(told_paused_, {}));
     if (!paused_) time_ += 0.001;
     return std::exchange(pending_, make_frame());
   }
@@ -117,6 +121,13 @@ class FakeFluid final : public FluidStream {
     const std::lock_guard lock(mutex_);
     return paused_;
   }
+  // Another viewer paused the session, or set it going: the Welcome says so from the next frame
+  // read, as a stream's does (ServerMessage.session).
+  void paused_by_another(bool paused) {
+    const std::lock_guard lock(mutex_);
+    paused_ = paused;
+    told_paused_ = paused;
+  }
   std::uint32_t viewport_width() const {
     const std::lock_guard lock(mutex_);
     return viewport_width_;
@@ -139,6 +150,7 @@ class FakeFluid final : public FluidStream {
   mutable std::mutex mutex_;
   double time_ = 0.0;
   bool paused_ = false;
+  std::optional<bool> told_paused_;  // for the Welcome, at the next frame read
   std::uint32_t viewport_width_ = 0;  // the last a command asked for
   std::uint64_t last_event_ = 0;
   v1::Frame pending_;
@@ -562,6 +574,36 @@ TEST(HandoffStream, APausedFluidStaysPausedAcrossTheHandback) {
   const std::shared_ptr<FakeFluid> remote = f.remote_fluid();
   ASSERT_TRUE(remote);
   EXPECT_TRUE(remote->paused()) << "the new session runs what its viewer paused";
+}
+
+// A pause another viewer asked of the session holds for this viewer too: the fluid continued here
+// stays as the session last showed it, and once that viewer set it going again, goes on.
+TEST(HandoffStream, APauseAnotherViewerAskedHoldsForTheFluidContinuedHere) {
+  Fixture f;
+  HandoffStream stream(hello_for(1000), f.sides(), f.options());
+  stream_until_kept(stream, f);
+  std::shared_ptr<FakeFluid> remote = f.remote_fluid();
+  ASSERT_TRUE(remote);
+  remote->paused_by_another(true);
+  read_for(stream, milliseconds(50));
+  f.set(&FakeServer::up, false);
+  read_until(stream, [&] { return stream.simulating_here(); });
+  std::shared_ptr<FakeFluid> local = f.local_fluid();
+  ASSERT_TRUE(local);
+  EXPECT_TRUE(local->paused()) << "the fluid here ran what the session showed paused";
+
+  f.set(&FakeServer::up, true);
+  read_until(stream, [&] { return !stream.simulating_here(); });
+  remote = f.remote_fluid();
+  ASSERT_TRUE(remote);
+  EXPECT_TRUE(remote->paused());
+  remote->paused_by_another(false);
+  stream_until_kept(stream, f);
+  f.set(&FakeServer::up, false);
+  read_until(stream, [&] { return stream.simulating_here(); });
+  local = f.local_fluid();
+  ASSERT_TRUE(local);
+  EXPECT_FALSE(local->paused()) << "a pause another viewer ended held here";
 }
 
 TEST(HandoffStream, LocalModeNeedsNoServer) {

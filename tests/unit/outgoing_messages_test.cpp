@@ -44,6 +44,31 @@ TEST(OutgoingMessagesTest, OnlyTheNewestStateWaits) {
   EXPECT_FALSE(queue.next());
 }
 
+// Changes of the session's state wait the same way: only the newest (a viewer that reads slowly
+// while others keep pausing holds one), before a state and the frame drawn after the change.
+TEST(OutgoingMessagesTest, OnlyTheNewestSessionStateWaits) {
+  OutgoingMessages queue;
+  const auto session = [](bool paused) {
+    auto message = std::make_shared<v1::ServerMessage>();
+    message->mutable_session()->set_paused(paused);
+    return std::shared_ptr<const v1::ServerMessage>(message);
+  };
+  auto state = std::make_shared<v1::ServerMessage>();
+  state->mutable_state()->set_time(1.0);
+  queue.push(frame(1));
+  queue.push(state);
+  for (int k = 0; k <= 1000; ++k) queue.push(session(k % 2 == 1));
+  const auto newest = queue.next();
+  ASSERT_TRUE(newest->has_session());
+  EXPECT_FALSE(newest->session().paused());
+  EXPECT_TRUE(queue.next()->has_state());
+  EXPECT_TRUE(queue.next()->has_frame());
+  EXPECT_FALSE(queue.next());
+  queue.push(session(true));
+  queue.stop_frames();
+  EXPECT_FALSE(queue.next());
+}
+
 TEST(OutgoingMessagesTest, ControlFirstThenOnlyTheNewestFrame) {
   OutgoingMessages queue;
   EXPECT_FALSE(queue.next());
