@@ -20,11 +20,11 @@ void continue_session(v1::Hello& hello, const v1::SessionState& state) {
   hello.mutable_create()->set_particles(state.particles());
 }
 
-// Pauses `fluid`, or sets it going.
-void set_paused(FluidStream& fluid, bool paused) {
+// Pauses `fluid`, or sets it going; returns the event's id.
+std::uint64_t set_paused(FluidStream& fluid, bool paused) {
   v1::Command pause;
   pause.set_pause(paused);
-  fluid.command(pause);
+  return fluid.command(pause);
 }
 
 }  // namespace
@@ -115,11 +115,11 @@ std::uint64_t HandoffStream::send(v1::ClientMessage message) {
   if (message.has_command() && message.command().has_quality()) {
     *hello_.mutable_quality() = message.command().quality();
   }
-  if (message.has_command() && message.command().kind_case() == v1::Command::kPause) {
-    paused_ = message.command().pause();
-  }
+  const bool pause = message.has_command() && message.command().kind_case() == v1::Command::kPause;
+  if (pause) paused_ = message.command().pause();
   const std::uint64_t id = stream_ ? stream_->send(std::move(message)) : 0;
   if (id) latency_.sent(id);
+  if (pause && remote_ && id) pause_asked_ = id;
   return id;
 }
 
@@ -127,14 +127,16 @@ std::optional<v1::Frame> HandoffStream::next_frame(std::chrono::milliseconds tim
   std::optional<v1::Frame> frame;
   if (stream_ && !server_ended_) {
     frame = stream_->next_frame(timeout);
+    if (frame && remote_ && frame->input_event_id() >= pause_asked_) pause_asked_ = 0;
     if (frame && frame->input_event_id() < show_from_event_) frame.reset();
     if (frame) {
       latency_.frame_reflects(frame->input_event_id());
       shown(*frame);
     }
-    // While streaming, the session's pause, whichever viewer set it, is this viewer's: a fluid
-    // continued here goes on as the session last showed it.
-    if (remote_) paused_ = welcome().state().paused();
+    // While streaming, the session's pause, whichever viewer set it, is this viewer's (once the
+    // session showed this viewer's own last ask): a fluid continued here goes on as the session
+    // last showed it.
+    if (remote_ && pause_asked_ == 0) paused_ = welcome().state().paused();
     keep_snapshot();
     keep_standby();
     if (remote_ && stream_->ended()) {
@@ -331,6 +333,7 @@ void HandoffStream::reconnect() {
 
 void HandoffStream::came_back(Reconnected back) {
   show_from_event_ = 0;
+  pause_asked_ = 0;  // another stream's event ids
   if (const auto& state = back.state_put) {
     char line[128];
     std::snprintf(line, sizeof line,
@@ -339,7 +342,7 @@ void HandoffStream::came_back(Reconnected back) {
     say(line);
     try {
       // A new session runs: the fluid here was paused.
-      if (paused_) set_paused(*back.stream, true);
+      if (paused_) pause_asked_ = set_paused(*back.stream, true);
       v1::Command marker;  // frames from before the state went in reflect no later event
       *marker.mutable_quality() = hello_.quality();
       show_from_event_ = back.stream->command(marker);

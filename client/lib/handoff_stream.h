@@ -134,6 +134,8 @@ class HandoffStream final : public FluidStream {
   bool server_ended_ = false;  // on purpose (a refusal, an idle session): final
   // As the streamed session last told (Welcome.state), or as this viewer last asked.
   bool paused_ = false;
+  // This viewer's last pause or going on, while no frame of the streamed session reflects it yet.
+  std::uint64_t pause_asked_ = 0;
   // The lost session's, while nothing continues it here: the server keeps it for a while, so a
   // blip of the network brings back the same fluid. Forgotten once a resume is refused.
   std::string resume_key_;

@@ -248,10 +248,12 @@ function receive(bytes) {
     askForStates();
   } else if (message.session) {
     // Another scene or count, or a pause, from this page or another viewer: the menu and the Pause
-    // button show it, and whether the page keeps states is decided again for the new count.
-    const before = state.particles;
+    // button show it. A new fluid's states are asked for afresh (none kept from the old one), if
+    // the page keeps states for its count.
+    const another = message.session.particles !== state.particles ||
+      message.session.scene !== state.scene;
     showSession(message.session);
-    if (message.session.particles !== before) askForStates();
+    if (another) askForStates();
   } else if (message.state) {
     newestState = message.state;
     state.streamed = { centre: centreOfMass(newestState.positions), time: newestState.time };

@@ -3,9 +3,14 @@
 namespace fluidcast::server {
 
 bool OutgoingMessages::push(std::shared_ptr<const v1::ServerMessage> message) {
-  if (message->has_state() || message->has_session()) {
+  if (message->has_state()) {
+    if (!frames_stopped_) state_ = std::move(message);
+    return true;
+  }
+  if (message->has_session()) {
     if (frames_stopped_) return true;
-    (message->has_state() ? state_ : session_) = std::move(message);
+    session_ = std::move(message);
+    state_.reset();  // of the session before the change: a client would keep it as the newest
     return true;
   }
   if (!message->has_frame()) {

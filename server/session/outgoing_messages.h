@@ -1,6 +1,7 @@
 // What a transport has yet to write to one viewer, behind its one write in flight: control
 // messages (Welcome, StreamEnd) in order and never dropped, at most one session state and one
-// state (a newer one of each replaces the waiting one), and at most one frame — a newer frame replaces the waiting one, and
+// state (a newer one of each replaces the waiting one; a session state, telling of a change, drops
+// the state from before it), and at most one frame — a newer frame replaces the waiting one, and
 // a frame no newer than one already queued (encoders finish in any order) is dropped. Memory per
 // viewer stays bounded however slowly the client reads. Not thread-safe: each transport calls it
 // under its own lock or strand.

@@ -104,25 +104,40 @@ SessionFigures Session::figures() const {
 }
 
 void Session::rebuild(SessionSetup setup) {
-  adopt(build_solver(setup), setup);
+  sim::Scene scene = scene_for(setup);
+  adopt(build_solver(setup, std::move(scene)), setup);
   for (auto& [id, viewer] : viewers_) viewer->look_at(solver_->tank());
 }
 
-std::unique_ptr<sim::Solver> Session::build_solver(SessionSetup& setup) const {
+sim::Scene Session::scene_for(SessionSetup& setup) const {
   if (setup.particles == 0) setup.particles = services_.limits->default_particles;
-  sim::SceneParams scene;
-  scene.kind = setup.scene;
-  scene.particles = static_cast<int>(setup.particles);
+  sim::SceneParams params;
+  params.kind = setup.scene;
+  params.particles = static_cast<int>(setup.particles);
+  try {
+    sim::Scene scene = sim::build_scene(params);
+    // A fluid rebuilt while a viewer holds the tank tilted falls as the old one did.
+    if (solver_) scene.gravity = solver_->gravity();
+    return scene;
+  } catch (const sim::ParamError& e) {
+    throw Refusal(RefusalCode::resource_exhausted, e.worded(setup_field_or_setting));
+  }
+}
+
+sim::SolverParams Session::solver_params() const {
   sim::SolverParams params;
   params.max_particles = static_cast<int>(services_.limits->max_particles);
+  return params;
+}
+
+std::unique_ptr<sim::Solver> Session::build_solver(const SessionSetup& setup,
+                                                   sim::Scene scene) const {
   try {
-    auto built = sim::build_scene(scene);
-    // A fluid rebuilt while a viewer holds the tank tilted falls as the old one did.
-    if (solver_) built.gravity = solver_->gravity();
-    return services_.gpu_solver ? sim::make_gpu_solver(setup.solver, *services_.context,
-                                                       std::move(built), params, services_.steps)
-                                : sim::make_cpu_solver(setup.solver, std::move(built), params,
-                                                       services_.cpu_threads);
+    return services_.gpu_solver
+               ? sim::make_gpu_solver(setup.solver, *services_.context, std::move(scene),
+                                      solver_params(), services_.steps)
+               : sim::make_cpu_solver(setup.solver, std::move(scene), solver_params(),
+                                      services_.cpu_threads);
   } catch (const sim::ParamError& e) {
     throw Refusal(RefusalCode::resource_exhausted, e.worded(setup_field_or_setting));
   } catch (const gpu::VulkanError& e) {  // within the budget, but other sessions hold the memory
@@ -148,6 +163,9 @@ void Session::adopt(std::unique_ptr<sim::Solver> solver, const SessionSetup& set
 void Session::tell_state() {
   auto message = std::make_shared<v1::ServerMessage>();
   *message->mutable_session() = state();
+  std::string told = message->session().SerializeAsString();
+  if (told == last_told_state_) return;
+  last_told_state_ = std::move(told);
   for (auto& [id, viewer] : viewers_) viewer->sink().deliver(message);
 }
 

@@ -120,15 +120,21 @@ class Session {
   void end_all(const Refusal& why);
 
  private:
+  // load()'s work, charged by it.
+  std::uint32_t replace_fluid(const v1::Snapshot& snapshot);
   std::uint32_t admit(const v1::Hello& hello, std::shared_ptr<ViewerSink> sink, Seat seat);
   void rebuild(SessionSetup setup);
-  // A solver for `setup` (its count filled in with the server's default where it names none),
-  // under the session's gravity; throws a Refusal naming what cannot be had. The session's own
-  // fluid is untouched.
-  std::unique_ptr<sim::Solver> build_solver(SessionSetup& setup) const;
+  // The scene `setup` starts from (its count filled in with the server's default where it names
+  // none), under the session's gravity; throws a Refusal naming what cannot be had.
+  sim::Scene scene_for(SessionSetup& setup) const;
+  sim::SolverParams solver_params() const;
+  // A solver of `setup`'s kind for `scene`; throws a Refusal naming what cannot be had. The
+  // session's own fluid is untouched.
+  std::unique_ptr<sim::Solver> build_solver(const SessionSetup& setup, sim::Scene scene) const;
   // Makes `solver`, built for `setup`, the session's fluid, and tells the viewers.
   void adopt(std::unique_ptr<sim::Solver> solver, const SessionSetup& setup);
-  // Tells every viewer the session's state (ServerMessage.session): it changed.
+  // Tells every viewer the session's state (ServerMessage.session) where it is not the one last
+  // told.
   void tell_state();
   // Hands `solver` to the context, to be destroyed after the frames that read its particles.
   void retire_solver(std::unique_ptr<sim::Solver> solver);
@@ -195,6 +201,7 @@ class Session {
   FingerStrokes fingers_;  // the dragging viewers' spheres, and the strokes still finishing
   Clock::time_point last_input_ = Clock::now();
   glm::vec3 last_active_tilt_{0.0f, -1.0f, 0.0f};  // the last tilt that counted as input
+  std::string last_told_state_;  // serialized: a rebuild to the same scene and count is no news
 
   struct Posted {
     std::uint32_t viewer;

@@ -54,12 +54,10 @@ void Session::apply_tilt(Viewer& viewer, const v1::Tilt& tilt, Clock::time_point
 }
 
 void Session::answer_state_request(Viewer& viewer) {
-  if (solver_->particle_count() > kMaxStateParticles) {
-    throw Refusal(RefusalCode::failed_precondition,
-                  "StateRequest: this session's " + std::to_string(solver_->particle_count()) +
-                      " particles are more than the " + std::to_string(kMaxStateParticles) +
-                      " a stream carries; use GetSnapshot");
-  }
+  // A session past what a stream carries has no answer, and the stream goes on: its count
+  // (Welcome.state, ServerMessage.session) says so, and a request sent before its client heard
+  // that another viewer made the session larger is no fault of that client's.
+  if (solver_->particle_count() > kMaxStateParticles) return;
   auto answer = std::make_shared<v1::ServerMessage>();
   *answer->mutable_state() = snapshot();
   viewer.sink().deliver(answer);

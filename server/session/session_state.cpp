@@ -4,6 +4,7 @@
 #include <span>
 
 #include "fluidcast/gpu/vk_check.h"
+#include "fluidcast/sim/fluid_constants.h"
 #include "fluidcast/sim/param_spec.h"
 #include "input_rules.h"
 #include "session.h"
@@ -61,15 +62,10 @@ Particles checked_particles(const v1::Snapshot& snapshot, std::uint32_t max_part
   return particles;
 }
 
-// Puts the particles into `solver`, under `gravity` where the snapshot has one; throws a Refusal
-// naming what does not fit, and the solver keeps its gravity.
+// Puts the particles (their density checked) into `solver`, under `gravity` where the snapshot
+// has one; throws a Refusal naming what does not fit, and the solver keeps its gravity.
 void put_particles(sim::Solver& solver, std::span<const glm::vec3> positions,
                    std::span<const glm::vec3> velocities, std::optional<glm::vec3> gravity) {
-  try {
-    sim::check_density(positions, solver.fluid());
-  } catch (const std::invalid_argument& e) {
-    throw Refusal(RefusalCode::invalid_argument, std::string("Snapshot: ") + e.what());
-  }
   const glm::vec3 gravity_before = solver.gravity();
   try {
     // Gravity first: the substep rule starts from the new fluid's weight along it.
@@ -124,6 +120,17 @@ v1::Snapshot Session::snapshot() const {
 
 std::uint32_t Session::load(const v1::Snapshot& snapshot) {
   const auto started = Clock::now();
+  try {
+    const std::uint32_t particles = replace_fluid(snapshot);
+    charge_worker_time(started);
+    return particles;
+  } catch (...) {
+    charge_worker_time(started);  // a refused state cost the worker too
+    throw;
+  }
+}
+
+std::uint32_t Session::replace_fluid(const v1::Snapshot& snapshot) {
   // Checked before the fluid is touched: a refused snapshot leaves the session as it was. Every
   // scene has the same tank.
   const Particles particles =
@@ -149,8 +156,18 @@ std::uint32_t Session::load(const v1::Snapshot& snapshot) {
   validate_snapshot_time(snapshot.time(), "Snapshot.time");
   // A scene's particles are spaced for its water's volume and their count: a fluid of another
   // scene or count, loaded into this one's solver, would be squeezed or stretched to its rest
-  // density. It goes into a solver built for it, as NewSession.state's does.
-  std::unique_ptr<sim::Solver> built = setup == setup_ ? nullptr : build_solver(setup);
+  // density. It goes into a solver built for it, as NewSession.state's does, once it passed the
+  // checks that need no solver.
+  std::optional<sim::Scene> scene;
+  if (!(setup == setup_)) scene = scene_for(setup);
+  try {
+    sim::check_density(particles.position,
+                       scene ? sim::derive_fluid_constants(scene->spacing, solver_params())
+                             : solver_->fluid());
+  } catch (const std::invalid_argument& e) {
+    throw Refusal(RefusalCode::invalid_argument, std::string("Snapshot: ") + e.what());
+  }
+  std::unique_ptr<sim::Solver> built = scene ? build_solver(setup, *std::move(scene)) : nullptr;
   sim::Solver& target = built ? *built : *solver_;
   try {
     put_particles(target, particles.position, particles.velocity, gravity);
@@ -160,13 +177,16 @@ std::uint32_t Session::load(const v1::Snapshot& snapshot) {
   }
   if (built) {
     adopt(std::move(built), setup);
+    last_rebuild_ = Clock::now();
   } else {
     forget_costs();  // another fluid: another cost
     fingers_.clear();
   }
+  // The newest state wins over wishes and a reset that were waiting for their turn.
+  setup_wanted_.reset();
+  reset_wanted_ = false;
   solver_->set_time(snapshot.time());
   speed_.restart();  // the clock jumped: no speed is measured across it
-  charge_worker_time(started);
   return static_cast<std::uint32_t>(particles.position.size());
 }
 

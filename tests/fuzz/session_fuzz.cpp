@@ -264,11 +264,9 @@ std::optional<Refusal> own_snapshot_refused(SessionHub& hub, const std::string& 
 // tank, within the speed limit, nowhere pressed past twice the rest density (Session::load).
 void expect_sessions_sound(SessionHub& hub, const Known& known) {
   for (const std::string& key : known.keys) {
-    std::optional<Refusal> refusal = own_snapshot_refused(hub, key);
-    // A rebuild the input asked for (a scene, a solver, a count) may come between the snapshot
-    // and its load: the next pair has no wish left waiting.
-    if (refusal && refusal->code() == RefusalCode::invalid_argument)
-      refusal = own_snapshot_refused(hub, key);
+    // A rebuild the input asked for may come between the snapshot and its load: the load then
+    // rebuilds the session for the snapshot's scene, solver and count.
+    const std::optional<Refusal> refusal = own_snapshot_refused(hub, key);
     expect_not_internal(refusal, "putting a session's own snapshot back");
     // A view key may not put it, and a resume key opens nothing; a session whose viewers all left
     // may have ended meanwhile.

@@ -103,6 +103,10 @@ TEST(ServerTest, ASnapshotOfAnotherSceneOrCountRebuildsTheSessionForIt) {
 
   v1::Snapshot poured = from.snapshot();
   ASSERT_TRUE(put(poured).ok());
+  for (int k = 0; k < 300 && into.welcome().state().scene() != "pool"; ++k) {
+    into.next_frame(milliseconds(100));
+  }
+  EXPECT_EQ(into.welcome().state().scene(), "pool") << "the session's viewer was not told";
   v1::SessionState state = joined();
   EXPECT_EQ(state.scene(), "pool");
   EXPECT_EQ(state.particles(), 800u);
@@ -117,6 +121,12 @@ TEST(ServerTest, ASnapshotOfAnotherSceneOrCountRebuildsTheSessionForIt) {
   state = joined();
   EXPECT_EQ(state.particles(), 400u);
   EXPECT_NEAR(state.particle_spacing(), pool_spacing * std::cbrt(2.0f), 1e-5f);
+
+  // Refused before any solver is built for it: particles clumped at a point, of another count.
+  v1::Snapshot clumped = own;
+  for (int k = 0; k < clumped.positions_size(); ++k) clumped.set_positions(k, 0.3f);
+  EXPECT_EQ(put(clumped).error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_EQ(joined().particles(), 400u);
 
   v1::Snapshot unknown = own;
   unknown.set_scene("lava_lamp");
@@ -171,6 +181,22 @@ TEST(ServerTest, EveryViewerIsToldOfAChangeOfTheSession) {
   command.set_pause(false);
   friend_.command(command);
   EXPECT_TRUE(told(creator, [](const v1::SessionState& state) { return !state.paused(); }));
+}
+
+// A state is carried only for sessions of at most InputRules.max_state_particles; a larger one's
+// request has no answer, and the stream goes on (another viewer may have made it larger while the
+// request was on its way).
+TEST(ServerTest, AStateRequestOfASessionTooLargeForAStreamIsNotAnsweredAndTheStreamGoesOn) {
+  testing::ServerProcess server;
+  StreamClient viewer(client::connect(server.grpc_address()), small_hello(16385));
+  ASSERT_EQ(viewer.welcome().rules().max_state_particles(), 16384u);
+  frame_from(viewer);
+  v1::ClientMessage request;
+  request.mutable_state_request();
+  ASSERT_TRUE(viewer.send_raw(request));
+  EXPECT_FALSE(viewer.take_state(seconds(2)));
+  frame_from(viewer);
+  EXPECT_FALSE(viewer.ended()) << viewer.status().error_message();
 }
 
 // The viewer given `access` comes back after its network dropped.

@@ -57,7 +57,9 @@ class FakeFluid final : public FluidStream {
     const std::uint64_t id = latency_.sent();
     if (message.has_command() && message.command().kind_case() == v1::Command::kPause) {
       paused_ = message.command().pause();
-      told_paused_ = paused_;  // a session tells every viewer, the one that asked too
+      // A session tells every viewer, the one that asked too, with the frame that shows it.
+      told_paused_ = paused_;
+      told_with_event_ = id;
     }
     if (message.has_command() && message.command().has_viewport()) {
       viewport_width_ = message.command().viewport().width();
@@ -72,7 +74,9 @@ class FakeFluid final : public FluidStream {
     }
     std::this_thread::sleep_for(milliseconds(1));
     const std::lock_guard lock(mutex_);
-    if (told_paused_) welcome_.mutable_state()->set_paused(*std::exchange(told_paused_, {}));
+    if (told_paused_ && pending_.input_event_id() >= told_with_event_) {
+      welcome_.mutable_state()->set_paused(*std::exchange(told_paused_, {}));
+    }
     if (!paused_) time_ += 0.001;
     return std::exchange(pending_, make_frame());
   }
@@ -127,6 +131,7 @@ class FakeFluid final : public FluidStream {
     const std::lock_guard lock(mutex_);
     paused_ = paused;
     told_paused_ = paused;
+    told_with_event_ = 0;
   }
   std::uint32_t viewport_width() const {
     const std::lock_guard lock(mutex_);
@@ -150,7 +155,8 @@ class FakeFluid final : public FluidStream {
   mutable std::mutex mutex_;
   double time_ = 0.0;
   bool paused_ = false;
-  std::optional<bool> told_paused_;  // for the Welcome, at the next frame read
+  std::optional<bool> told_paused_;  // for the Welcome, with the frame reflecting...
+  std::uint64_t told_with_event_ = 0;  // ...this event
   std::uint32_t viewport_width_ = 0;  // the last a command asked for
   std::uint64_t last_event_ = 0;
   v1::Frame pending_;
@@ -604,6 +610,23 @@ TEST(HandoffStream, APauseAnotherViewerAskedHoldsForTheFluidContinuedHere) {
   local = f.local_fluid();
   ASSERT_TRUE(local);
   EXPECT_FALSE(local->paused()) << "a pause another viewer ended held here";
+}
+
+// A pause this viewer sent holds for the fluid continued here even when the server went before
+// its session showed it.
+TEST(HandoffStream, APauseNotYetShownHoldsForTheFluidContinuedHere) {
+  Fixture f;
+  HandoffStream stream(hello_for(1000), f.sides(), f.options());
+  stream_until_kept(stream, f);
+  v1::Command pause;
+  pause.set_pause(true);
+  stream.command(pause);
+  stream.next_frame(milliseconds(2));  // a frame from before the pause
+  f.set(&FakeServer::up, false);
+  read_until(stream, [&] { return stream.simulating_here(); });
+  const std::shared_ptr<FakeFluid> local = f.local_fluid();
+  ASSERT_TRUE(local);
+  EXPECT_TRUE(local->paused()) << "a pause the session had not shown yet was lost";
 }
 
 TEST(HandoffStream, LocalModeNeedsNoServer) {

@@ -45,26 +45,36 @@ TEST(OutgoingMessagesTest, OnlyTheNewestStateWaits) {
 }
 
 // Changes of the session's state wait the same way: only the newest (a viewer that reads slowly
-// while others keep pausing holds one), before a state and the frame drawn after the change.
-TEST(OutgoingMessagesTest, OnlyTheNewestSessionStateWaits) {
+// while others keep pausing holds one), before the frame drawn after the change. A state (the
+// answer to a StateRequest) from before the change is dropped: kept as the newest, it would be
+// handed back as the session's fluid.
+TEST(OutgoingMessagesTest, OnlyTheNewestSessionStateWaitsAndDropsTheStateBeforeIt) {
   OutgoingMessages queue;
   const auto session = [](bool paused) {
     auto message = std::make_shared<v1::ServerMessage>();
     message->mutable_session()->set_paused(paused);
     return std::shared_ptr<const v1::ServerMessage>(message);
   };
-  auto state = std::make_shared<v1::ServerMessage>();
-  state->mutable_state()->set_time(1.0);
+  const auto state = [](double time) {
+    auto message = std::make_shared<v1::ServerMessage>();
+    message->mutable_state()->set_time(time);
+    return std::shared_ptr<const v1::ServerMessage>(message);
+  };
   queue.push(frame(1));
-  queue.push(state);
+  queue.push(state(1.0));
   for (int k = 0; k <= 1000; ++k) queue.push(session(k % 2 == 1));
+  queue.push(state(2.0));
   const auto newest = queue.next();
   ASSERT_TRUE(newest->has_session());
   EXPECT_FALSE(newest->session().paused());
-  EXPECT_TRUE(queue.next()->has_state());
+  EXPECT_EQ(queue.next()->state().time(), 2.0);
   EXPECT_TRUE(queue.next()->has_frame());
   EXPECT_FALSE(queue.next());
+  queue.push(state(3.0));
   queue.push(session(true));
+  EXPECT_TRUE(queue.next()->has_session());
+  EXPECT_FALSE(queue.next()) << "the state from before the change was kept";
+  queue.push(session(false));
   queue.stop_frames();
   EXPECT_FALSE(queue.next());
 }
