@@ -341,7 +341,9 @@ int serve(const ServerOptions& options) {
                           std::shared_ptr<ConnectionLimits::Slot> slot) {
                      serve_websocket(std::move(stream), std::move(request), std::move(slot), hub);
                    },
-                   page_routes(options.web_root), options.allowed_origins},
+                   page_routes(options.web_root),
+                   WebSocketOrigins(options.allowed_origins, options.server_names,
+                                    this_machine_name())},
                   ConnectionLimits(limits.max_connections, limits.max_connections_per_address),
                   tls.context);
   const GrpcServer grpc = start_grpc(options, limits, service, *grpc_listener);

@@ -1,6 +1,7 @@
 #include "options.h"
 
 #include <algorithm>
+#include <cctype>
 #include <string>
 
 #include "fluidcast/command_line.h"
@@ -164,6 +165,22 @@ ServerOptions read_server_options(CLI::App& app, int argc, const char* const* ar
                        : "an origin is scheme://host[:port], as http://example.org:8080";
           },
           "ORIGIN"));
+  app.add_option("--server-name", o.server_names,
+                 "A name browsers reach the server by (a DNS name, a reverse proxy's), besides its "
+                 "IP addresses, localhost, .local names and this machine's name, which its "
+                 "page may open the WebSocket from (repeat it, or separate by commas)")
+      ->envname("FLUIDCAST_SERVER_NAME")
+      ->delimiter(',')
+      ->check(CLI::Validator(
+          [](std::string& name) -> std::string {
+            const bool host_name =
+                !name.empty() && name.size() <= 253 &&
+                std::all_of(name.begin(), name.end(), [](unsigned char c) {
+                  return std::isalnum(c) || c == '-' || c == '.';
+                });
+            return host_name ? "" : "a server name is a host name, as fluid.example.org";
+          },
+          "NAME"));
   app.add_option("--token-file", o.token_file,
                  "File whose first line is the token every client must send in Hello.token")
       ->envname("FLUIDCAST_TOKEN_FILE")

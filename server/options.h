@@ -29,6 +29,7 @@ struct ServerOptions {
   std::string token_file;                // a file whose first line is the token clients must send
   // Other sites' pages that may open /ws (scheme://host[:port]); the server's own always may.
   std::vector<std::string> allowed_origins;
+  std::vector<std::string> server_names;  // --server-name: what browsers reach it by
   LogFormat log_format = LogFormat::text;
   // After SIGTERM, how long /healthz says 503 and the gRPC health service NOT_SERVING while
   // streams go on, before they end: time for a load balancer to send new clients elsewhere.

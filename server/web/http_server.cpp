@@ -10,6 +10,8 @@
 #include <chrono>
 #include <fstream>
 #include <memory>
+#include <optional>
+#include <spdlog/spdlog.h>
 #include <sstream>
 #include <stdexcept>
 
@@ -32,28 +34,6 @@ std::string content_type(const std::filesystem::path& path) {
   if (extension == ".png") return "image/png";
   if (extension == ".webmanifest") return "application/manifest+json";
   return "text/plain; charset=utf-8";
-}
-
-bool same_text(std::string_view a, std::string_view b) {
-  return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
-           return std::tolower(static_cast<unsigned char>(x)) ==
-                  std::tolower(static_cast<unsigned char>(y));
-         });
-}
-
-bool origin_allowed(const http::request<http::string_body>& request,
-                    const std::vector<std::string>& allowed) {
-  const auto origin = request.find(http::field::origin);
-  if (origin == request.end()) return true;  // not a browser
-  const beast::string_view given = origin->value();
-  const std::string_view value(given.data(), given.size());
-  const auto scheme_end = value.find("://");
-  const std::string_view authority =
-      scheme_end == std::string_view::npos ? value : value.substr(scheme_end + 3);
-  const beast::string_view host = request[http::field::host];
-  if (same_text(authority, std::string_view(host.data(), host.size()))) return true;
-  return std::any_of(allowed.begin(), allowed.end(),
-                     [&](const std::string& other) { return same_text(other, value); });
 }
 
 // One connection's requests over Stream (beast::tcp_stream or TlsStream); `buffer` holds what
@@ -79,9 +59,20 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
           if (error) return;
           const bool websocket = beast::websocket::is_upgrade(self->request_) &&
                                  self->request_.target() == "/ws" && self->routes_->websocket;
-          if (websocket && !origin_allowed(self->request_, self->routes_->allowed_origins)) {
-            self->refuse_origin();
-            return;
+          if (websocket) {
+            const auto origin = self->request_.find(http::field::origin);
+            const beast::string_view host = self->request_[http::field::host];
+            const std::optional<std::string> refused = self->routes_->websocket_origins.refusal(
+                origin == self->request_.end()
+                    ? std::nullopt
+                    : std::optional<std::string_view>(
+                          std::string_view(origin->value().data(), origin->value().size())),
+                std::string_view(host.data(), host.size()));
+            if (refused) {
+              spdlog::warn("refused a WebSocket: {}", *refused);
+              self->refuse_origin(*refused);
+              return;
+            }
           }
           if (websocket) {
             beast::get_lowest_layer(self->stream_).expires_never();
@@ -94,13 +85,12 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
   }
 
  private:
-  void refuse_origin() {
+  void refuse_origin(const std::string& why) {
     auto response = std::make_shared<http::response<http::string_body>>(http::status::forbidden,
                                                                         request_.version());
     response->set(http::field::server, "fluidcast");
     response->set(http::field::content_type, "text/plain; charset=utf-8");
-    response->body() = "a page from " + std::string(request_[http::field::origin]) +
-                       " may not open this server's WebSocket (--allow-origin)\n";
+    response->body() = why + "\n";
     response->keep_alive(false);
     response->prepare_payload();
     send(std::move(response));

@@ -24,6 +24,7 @@
 
 #include "net/connection_limits.h"
 #include "net/listener.h"
+#include "websocket_origins.h"
 
 namespace fluidcast::server {
 
@@ -43,11 +44,10 @@ class HttpServer {
         websocket;
     // GET paths served from files ("/" is index.html).
     std::map<std::string, std::filesystem::path> files;
-    // Origins (scheme://host[:port]) of other sites' pages that may open /ws, besides the
-    // server's own pages (an Origin whose host and port are the request's Host) and clients that
-    // send no Origin (not browsers). Any other is refused with 403: a page on another site that a
-    // person on the LAN opens must not drive this server through their browser.
-    std::vector<std::string> allowed_origins;
+    // Which browsers' pages may open /ws; any other is refused with 403 (and logged): a page on
+    // another site that a person on the LAN opens must not drive this server through their
+    // browser.
+    WebSocketOrigins websocket_origins;
   };
   // Listens on address:port (port 0: any free one); throws std::runtime_error naming the address
   // when it cannot. With `tls`, connections that open with a TLS handshake get HTTPS.

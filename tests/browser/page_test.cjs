@@ -27,9 +27,11 @@ function check(ok, what) {
 function startServer(httpPort = 0) {
   return new Promise((resolve, reject) => {
     const state = fs.mkdtempSync(path.join(require('os').tmpdir(), 'fluidcast-page-'));
-    // Every page here comes from one address (loopback): its sessions may take every slot.
+    // Every page here comes from one address (loopback): its sessions may take every slot. The
+    // phone's pages reach it as phone.test, a name it is known by only when told.
     const child = spawn(server, ['--listen', '127.0.0.1', '--grpc-port', '0', '--http-port', String(httpPort),
-                                 '--state-dir', state, '--max-sessions-per-address', '8'],
+                                 '--state-dir', state, '--max-sessions-per-address', '8',
+                                 '--server-name', 'phone.test'],
                         { stdio: ['ignore', 'pipe', 'inherit'] });
     child.on('exit', () => fs.rmSync(state, { recursive: true, force: true }));
     let text = '';

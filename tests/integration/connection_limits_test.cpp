@@ -156,6 +156,23 @@ TEST(ConnectionLimitsTest, OnlyTheServersOwnPagesAndAllowedOnesOpenTheWebSocket)
       "HTTP/1.1 403 Forbidden");
 }
 
+// A site whose name its owner pointed at the server after its page loaded (DNS rebinding) sends
+// that name as Origin and Host alike: only names the server is known by pass as its own page.
+TEST(ConnectionLimitsTest, APageOfASiteRepointedAtTheServerCannotOpenTheWebSocket) {
+  testing::ServerProcess server({"--server-name", "fluid.example.org"});
+  const std::string upgrade =
+      "Upgrade: websocket\r\nConnection: Upgrade\r\nSec-WebSocket-Version: 13\r\n"
+      "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n";
+  const std::string port = ":" + std::to_string(server.http_port());
+  const auto open = [&](const std::string& name) {
+    return RawConnection(server.http_port())
+        .get("/ws", upgrade + "Origin: http://" + name + port + "\r\n", name + port);
+  };
+  EXPECT_EQ(open("evil.example"), "HTTP/1.1 403 Forbidden");
+  EXPECT_EQ(open("fluid.example.org"), "HTTP/1.1 101 Switching Protocols");
+  EXPECT_EQ(open("localhost"), "HTTP/1.1 101 Switching Protocols");
+}
+
 // An upgrade to /ws that is no WebSocket handshake (no key) is answered 400, and its connection
 // goes at once: it does not hold its slot until the Hello timeout.
 TEST(ConnectionLimitsTest, AFailedWebSocketHandshakeGivesItsSlotBack) {

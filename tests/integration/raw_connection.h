@@ -43,10 +43,13 @@ class RawConnection {
   }
   // The status line of GET `path` (with `headers`, each ending in \r\n), or "" when no answer
   // came within the timeout; the connection stays open.
-  std::string get(const std::string& path, const std::string& headers = "") {
-    const std::string request = "GET " + path +
-                                " HTTP/1.1\r\nHost: 127.0.0.1:" + std::to_string(port_) + "\r\n" +
-                                headers + "\r\n";
+  // `host`: the name the request says it reached the server by (Host); this one's address when
+  // empty.
+  std::string get(const std::string& path, const std::string& headers = "",
+                  const std::string& host = "") {
+    const std::string request =
+        "GET " + path + " HTTP/1.1\r\nHost: " +
+        (host.empty() ? "127.0.0.1:" + std::to_string(port_) : host) + "\r\n" + headers + "\r\n";
     if (send(fd_, request.data(), request.size(), MSG_NOSIGNAL) < 0) return "";
     char reply[256];
     const ssize_t got = recv(fd_, reply, sizeof reply - 1, 0);
