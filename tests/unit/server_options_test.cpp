@@ -83,6 +83,11 @@ TEST(ServerOptions, OriginsAndBackendsAreReadAsWritten) {
   for (const char* bad : {"example.org", "ftp://example.org", "https://example.org/page"}) {
     EXPECT_THROW(read({"--allow-origin", bad}), CLI::ValidationError) << bad;
   }
+  EXPECT_EQ(read({"--server-name", "fluid.example.org,mybox.lan"}).server_names,
+            (std::vector<std::string>{"fluid.example.org", "mybox.lan"}));
+  for (const char* bad : {"https://fluid.example.org", "fluid.example.org:8080", "a/b", ""}) {
+    EXPECT_THROW(read({"--server-name", bad}), CLI::ValidationError) << bad;
+  }
   EXPECT_EQ(read({"--backend", "cpu"}).backend, SolverBackend::cpu);
   EXPECT_EQ(read({"--backend", "gpu"}).backend, SolverBackend::gpu);
   EXPECT_EQ(read({"--backend", "auto"}).backend, SolverBackend::automatic);
