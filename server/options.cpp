@@ -174,7 +174,8 @@ ServerOptions read_server_options(CLI::App& app, int argc, const char* const* ar
       ->check(CLI::Validator(
           [](std::string& name) -> std::string {
             const bool host_name =
-                !name.empty() && name.size() <= 253 &&
+                !name.empty() && name.size() <= 253 && name.front() != '.' &&
+                name.find("..") == std::string::npos &&
                 std::all_of(name.begin(), name.end(), [](unsigned char c) {
                   return std::isalnum(c) || c == '-' || c == '.';
                 });

@@ -251,7 +251,7 @@ function receive(bytes) {
     // button show it. A new fluid's states are asked for afresh (none kept from the old one), if
     // the page keeps states for its count.
     const another = message.session.particles !== state.particles ||
-      message.session.scene !== state.scene;
+      message.session.scene !== state.scene || message.session.solver !== state.solver;
     showSession(message.session);
     if (another) askForStates();
   } else if (message.state) {
@@ -397,6 +397,7 @@ function updateStats() {
 function showSession(session) {
   state.particles = session.particles;
   state.scene = session.scene;
+  state.solver = session.solver;
   page.panel.querySelector('#scene').value = session.scene;
   showPaused(session.paused);
 }

@@ -163,9 +163,6 @@ void Session::adopt(std::unique_ptr<sim::Solver> solver, const SessionSetup& set
 void Session::tell_state() {
   auto message = std::make_shared<v1::ServerMessage>();
   *message->mutable_session() = state();
-  std::string told = message->session().SerializeAsString();
-  if (told == last_told_state_) return;
-  last_told_state_ = std::move(told);
   for (auto& [id, viewer] : viewers_) viewer->sink().deliver(message);
 }
 

@@ -133,8 +133,8 @@ class Session {
   std::unique_ptr<sim::Solver> build_solver(const SessionSetup& setup, sim::Scene scene) const;
   // Makes `solver`, built for `setup`, the session's fluid, and tells the viewers.
   void adopt(std::unique_ptr<sim::Solver> solver, const SessionSetup& setup);
-  // Tells every viewer the session's state (ServerMessage.session) where it is not the one last
-  // told.
+  // Tells every viewer the session's state (ServerMessage.session): it may have changed, or a
+  // viewer may show a change it asked for that did not come (a client's menu does at once).
   void tell_state();
   // Hands `solver` to the context, to be destroyed after the frames that read its particles.
   void retire_solver(std::unique_ptr<sim::Solver> solver);
@@ -201,7 +201,6 @@ class Session {
   FingerStrokes fingers_;  // the dragging viewers' spheres, and the strokes still finishing
   Clock::time_point last_input_ = Clock::now();
   glm::vec3 last_active_tilt_{0.0f, -1.0f, 0.0f};  // the last tilt that counted as input
-  std::string last_told_state_;  // serialized: a rebuild to the same scene and count is no news
 
   struct Posted {
     std::uint32_t viewer;

@@ -175,16 +175,19 @@ std::uint32_t Session::replace_fluid(const v1::Snapshot& snapshot) {
     if (built) retire_solver(std::move(built));
     throw;
   }
+  // The newest state wins over wishes and a reset that were waiting for their turn; a viewer
+  // whose menu shows its wish is told what came instead.
+  const bool wish_dropped = setup_wanted_.has_value();
+  setup_wanted_.reset();
+  reset_wanted_ = false;
   if (built) {
     adopt(std::move(built), setup);
     last_rebuild_ = Clock::now();
   } else {
     forget_costs();  // another fluid: another cost
     fingers_.clear();
+    if (wish_dropped) tell_state();
   }
-  // The newest state wins over wishes and a reset that were waiting for their turn.
-  setup_wanted_.reset();
-  reset_wanted_ = false;
   solver_->set_time(snapshot.time());
   speed_.restart();  // the clock jumped: no speed is measured across it
   return static_cast<std::uint32_t>(particles.position.size());

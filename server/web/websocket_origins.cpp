@@ -37,6 +37,11 @@ std::string name_of(std::string_view host) {
   return lowercase(host);
 }
 
+// Domains home routers give their network's machines (mybox.lan, mybox.fritz.box), which no one
+// can register.
+constexpr const char* kHomeDomains[] = {".lan", ".home", ".home.arpa", ".internal", ".localdomain",
+                                        ".fritz.box"};
+
 bool ip_address(const std::string& name) {
   std::array<unsigned char, 16> address{};
   return inet_pton(AF_INET, name.c_str(), address.data()) == 1 ||
@@ -57,11 +62,19 @@ bool WebSocketOrigins::known_name(std::string_view name) const {
       ends_with(given, ".local")) {
     return true;
   }
-  if (!machine_name_.empty() &&
-      (given == machine_name_ || given.starts_with(machine_name_ + "."))) {
+  if (std::find(server_names_.begin(), server_names_.end(), given) != server_names_.end()) {
     return true;
   }
-  return std::find(server_names_.begin(), server_names_.end(), given) != server_names_.end();
+  // The machine's name as it has it (a full one, gpu01.corp.example, too), its first label, and
+  // that label under a home network's own domains; not under any domain, which anyone can buy
+  // (mybox.attacker.example).
+  if (machine_name_.empty()) return false;
+  const std::string label = machine_name_.substr(0, machine_name_.find('.'));
+  if (given == machine_name_ || given == label) return true;
+  for (const char* domain : kHomeDomains) {
+    if (given == label + domain) return true;
+  }
+  return false;
 }
 
 std::optional<std::string> WebSocketOrigins::refusal(std::optional<std::string_view> origin,
@@ -74,10 +87,9 @@ std::optional<std::string> WebSocketOrigins::refusal(std::optional<std::string_v
     const std::string name = name_of(host);
     if (known_name(name)) return std::nullopt;
     return "a page reached as " + name + " may not open the WebSocket: the server's own page is "
-           "one reached by an IP address, localhost, a .local name or this machine's name (" +
-           (machine_name_.empty() ? std::string("it has none") : machine_name_) +
-           "), and another site whose name was pointed at this machine would look the same; "
-           "if the server is " + name + ", start it with --server-name " + name;
+           "one reached by an IP address, localhost, a .local name or this machine's name, and "
+           "another site whose name was pointed at this machine would look the same; if the "
+           "server is " + name + ", start it with --server-name " + name;
   }
   const bool allowed =
       std::any_of(allowed_origins_.begin(), allowed_origins_.end(),

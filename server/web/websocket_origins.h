@@ -18,7 +18,8 @@ class WebSocketOrigins {
   // `allowed_origins`: other sites' pages that may open it (--allow-origin, scheme://host[:port]).
   // `server_names`: names it is known by besides those every server is (--server-name): an IP
   // address, localhost and names under .localhost, names under .local (mDNS), and
-  // `machine_name` and names under it (as a home router's DNS gives: mybox.lan, mybox.fritz.box).
+  // `machine_name` (and its first label, alone or under a home router's domain: mybox.lan,
+  // mybox.fritz.box, mybox.home.arpa).
   WebSocketOrigins(std::vector<std::string> allowed_origins, std::vector<std::string> server_names,
                    std::string machine_name);
 

@@ -85,7 +85,8 @@ TEST(ServerOptions, OriginsAndBackendsAreReadAsWritten) {
   }
   EXPECT_EQ(read({"--server-name", "fluid.example.org,mybox.lan"}).server_names,
             (std::vector<std::string>{"fluid.example.org", "mybox.lan"}));
-  for (const char* bad : {"https://fluid.example.org", "fluid.example.org:8080", "a/b", ""}) {
+  for (const char* bad :
+       {"https://fluid.example.org", "fluid.example.org:8080", "a/b", "", ".", "..", "a..b"}) {
     EXPECT_THROW(read({"--server-name", bad}), CLI::ValidationError) << bad;
   }
   EXPECT_EQ(read({"--backend", "cpu"}).backend, SolverBackend::cpu);

@@ -23,6 +23,11 @@ TEST(WebSocketOrigins, TheServersOwnPageByAnyNameItIsKnownBy) {
   EXPECT_TRUE(opens("https://mybox.local:8080", "mybox.local:8080"));
   EXPECT_TRUE(opens("http://mybox:8080", "mybox:8080"));
   EXPECT_TRUE(opens("http://MyBox.lan:8080", "mybox.lan:8080"));
+  EXPECT_TRUE(opens("http://mybox.fritz.box:8080", "mybox.fritz.box:8080"));
+  const WebSocketOrigins full({}, {}, "gpu01.corp.example");
+  EXPECT_FALSE(full.refusal("http://gpu01.corp.example:8080", "gpu01.corp.example:8080"));
+  EXPECT_FALSE(full.refusal("http://gpu01:8080", "gpu01:8080"));
+  EXPECT_FALSE(full.refusal("http://gpu01.home.arpa:8080", "gpu01.home.arpa:8080"));
   EXPECT_TRUE(opens("https://fluid.example.org", "fluid.example.org"));
   EXPECT_TRUE(opens("https://fluid.example.org.", "fluid.example.org."));
 }
@@ -38,6 +43,7 @@ TEST(WebSocketOrigins, ClientsThatAreNotBrowsersAndAllowedSites) {
 // A rebinding site's page sends its own name as both Origin and Host.
 TEST(WebSocketOrigins, ASiteWhoseNameWasPointedHereIsRefused) {
   for (const char* host : {"evil.example:8080", "evil.example", "notmybox.lan:8080",
+                           "mybox.evil.example:8080", "mybox.lan.evil.example:8080",
                            "192.168.1.5.evil.example:8080", "local:8080"}) {
     const auto refused = origins.refusal("http://" + std::string(host), host);
     ASSERT_TRUE(refused) << host;
