@@ -43,6 +43,10 @@
 namespace fluidcast::server {
 namespace {
 
+// At shutdown, after gRPC's streams had theirs: how long WebSockets have to write the StreamEnd
+// that says the server is going, and close.
+constexpr std::chrono::seconds kWebSocketGoodbye{1};
+
 std::string read_file(const std::string& path) {
   std::ifstream in(path);
   std::stringstream text;
@@ -373,7 +377,7 @@ int serve(const ServerOptions& options) {
   hub.stop();  // every stream ends with UNAVAILABLE; new ones are refused
   grpc_listener->stop();
   grpc.server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(3));
-  http.stop();
+  http.stop(kWebSocketGoodbye);
   spdlog::info("stopped");
   return 0;
 }

@@ -14,6 +14,7 @@
 #include <spdlog/spdlog.h>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
 
 namespace fluidcast::server {
 namespace {
@@ -233,7 +234,13 @@ HttpServer::HttpServer(const std::string& address, unsigned short port, Routes r
 
 HttpServer::~HttpServer() { stop(); }
 
-void HttpServer::stop() {
+void HttpServer::stop(std::chrono::milliseconds grace) {
+  // WebSockets whose sessions were ended write their StreamEnd and close; idle connections (a
+  // page's keep-alive) are cut when the grace runs out.
+  const auto until = std::chrono::steady_clock::now() + grace;
+  while (limits_.open() > 0 && std::chrono::steady_clock::now() < until) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
   io_.stop();
   for (auto& thread : threads_) {
     if (thread.joinable()) thread.join();

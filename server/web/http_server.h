@@ -13,6 +13,7 @@
 #include <boost/beast/http/message.hpp>
 #include <boost/beast/http/string_body.hpp>
 #include <boost/beast/ssl/ssl_stream.hpp>
+#include <chrono>
 #include <filesystem>
 #include <functional>
 #include <map>
@@ -59,7 +60,9 @@ class HttpServer {
   HttpServer& operator=(const HttpServer&) = delete;
 
   unsigned short port() const { return listener_.port(); }
-  void stop();
+  // Stops serving once no connection is open, or `grace` is over: time for the WebSockets that
+  // are ending to say why (a StreamEnd) and close.
+  void stop(std::chrono::milliseconds grace = {});
 
  private:
   Routes routes_;

@@ -21,6 +21,7 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <optional>
 #include <thread>
 #include <vector>
 
@@ -109,6 +110,45 @@ TEST(ConnectionLimitsTest, AWebSocketThatSendsNoHelloEndsAtItsDeadline) {
   EXPECT_GE(std::chrono::duration<double>(Clock::now() - opened).count(), 0.9);
   buffer.clear();
   socket.read(buffer, error);  // then the server closes it
+  EXPECT_EQ(error, websocket::error::closed) << error.message();
+}
+
+// A server that stops tells its WebSocket viewers why, as gRPC's get a status: a StreamEnd
+// (UNAVAILABLE), then the close.
+TEST(ConnectionLimitsTest, AStoppingServerTellsItsWebSocketViewersWhy) {
+  testing::ServerProcess server;
+  namespace websocket = boost::beast::websocket;
+  boost::asio::io_context io;
+  const auto connection = open_websocket(io, server.http_port());
+  WebSocket& socket = *connection;
+  socket.binary(true);
+  v1::ClientMessage hello;
+  *hello.mutable_hello() = small_session();
+  socket.write(boost::asio::buffer(hello.SerializeAsString()));
+  boost::beast::flat_buffer buffer;
+  boost::beast::error_code error;
+  v1::ServerMessage message;
+  socket.read(buffer, error);
+  ASSERT_FALSE(error) << error.message();
+  ASSERT_TRUE(message.ParseFromArray(buffer.data().data(), static_cast<int>(buffer.size())));
+  ASSERT_TRUE(message.has_welcome());
+  std::thread stopping([&server] { server.stop(); });
+  std::optional<v1::StreamEnd> end;
+  while (!error && !end) {
+    buffer.clear();
+    socket.read(buffer, error);
+    if (!error && message.ParseFromArray(buffer.data().data(), static_cast<int>(buffer.size())) &&
+        message.has_end()) {
+      end = message.end();
+    }
+  }
+  if (end) {  // then the server closes it, waiting for the close handshake
+    buffer.clear();
+    socket.read(buffer, error);
+  }
+  stopping.join();
+  ASSERT_TRUE(end) << "the socket ended without a StreamEnd: " << error.message();
+  EXPECT_EQ(end->code(), "UNAVAILABLE") << end->message();
   EXPECT_EQ(error, websocket::error::closed) << error.message();
 }
 
