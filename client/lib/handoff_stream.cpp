@@ -115,12 +115,56 @@ std::uint64_t HandoffStream::send(v1::ClientMessage message) {
   if (message.has_command() && message.command().has_quality()) {
     *hello_.mutable_quality() = message.command().quality();
   }
-  const bool pause = message.has_command() && message.command().kind_case() == v1::Command::kPause;
-  if (pause) paused_ = message.command().pause();
-  const std::uint64_t id = stream_ ? stream_->send(std::move(message)) : 0;
+  if (message.has_command() && message.command().kind_case() == v1::Command::kPause) {
+    paused_ = message.command().pause();
+  }
+  {
+    const std::lock_guard lock(handback_->mutex);
+    if (handback_->local_paused) {  // for the session the fluid is going to, or back to it here
+      if (held_back_.size() < kMaxHeldBack) held_back_.push_back(std::move(message));
+      return 0;
+    }
+  }
+  const std::uint64_t id = deliver(std::move(message));
   if (id) latency_.sent(id);
+  return id;
+}
+
+std::uint64_t HandoffStream::deliver(v1::ClientMessage message) {
+  const bool pause = message.has_command() && message.command().kind_case() == v1::Command::kPause;
+  if (message.has_pointer()) {
+    const v1::PointerEvent& event = message.pointer();
+    if (event.phase() == v1::PointerEvent::UP || event.phase() == v1::PointerEvent::CANCEL) {
+      held_pointers_.erase(event.pointer_id());
+    } else {
+      held_pointers_[event.pointer_id()] = {event.x(), event.y()};
+    }
+  }
+  if (!stream_) return 0;
+  const std::uint64_t id = stream_->send(std::move(message));
   if (pause && remote_ && id) pause_asked_ = id;
   return id;
+}
+
+void HandoffStream::press_held_pointers() {
+  for (const auto& [id, at] : held_pointers_) {
+    v1::ClientMessage down;
+    down.mutable_pointer()->set_pointer_id(id);
+    down.mutable_pointer()->set_phase(v1::PointerEvent::DOWN);
+    down.mutable_pointer()->set_x(at.x);
+    down.mutable_pointer()->set_y(at.y);
+    stream_->send(std::move(down));
+  }
+}
+
+void HandoffStream::release_held_back() {
+  std::vector<v1::ClientMessage> held;
+  {
+    const std::lock_guard lock(handback_->mutex);
+    handback_->local_paused = false;
+    held.swap(held_back_);
+  }
+  for (v1::ClientMessage& message : held) deliver(std::move(message));
 }
 
 std::optional<v1::Frame> HandoffStream::next_frame(std::chrono::milliseconds timeout) {
@@ -281,6 +325,7 @@ void HandoffStream::continue_here(Standby& standby, const std::string& why) {
     return;
   }
   stream_ = std::move(local.fluid);
+  press_held_pointers();  // a finger held down as the server went stirs the fluid here
   latency_.forget_unanswered();
   awaiting_first_local_frame_ = true;
   set_status("the server is gone (" + why + "): continuing locally" +
@@ -298,11 +343,13 @@ void HandoffStream::reconnect() {
       set_status(std::string("the server is back but no longer has the session (") + e.what() +
                  "); asking for a new one");
     } catch (const std::exception& e) {
-      // The fluid here, paused while its state went over, goes on as the user last asked.
+      // The fluid here, paused while its state went over, goes on as the user last asked, with
+      // what they did meanwhile.
       if (stream_) set_paused(*stream_, paused_);
       set_status(std::string("the server is back but refused a session: ") + e.what() +
                  (stream_ ? "; continuing locally, retrying" : "; retrying"));
     }
+    release_held_back();
     return;
   }
   const auto now = Clock::now();
@@ -314,13 +361,18 @@ void HandoffStream::reconnect() {
   } else if (!resume_key_.empty()) {
     hello.mutable_resume()->set_key(resume_key_);
   }
-  reconnect_ = std::async(std::launch::async, [connect = sides_.connect, hello, local = stream_] {
+  reconnect_ = std::async(std::launch::async, [connect = sides_.connect, hello, local = stream_,
+                                                handback = handback_] {
     Reconnected back{connect(hello), {}};
     if (!local) return back;
-    // The fluid here stops while its state goes over, so that nothing done meanwhile is lost
-    // (refused, it goes on: reconnect() unpauses it as its user last asked).
+    // The fluid here stops while its state goes over, and what its user does meanwhile is held
+    // back for where it goes on (refused, here: reconnect() unpauses it as its user last asked).
     try {
-      set_paused(*local, true);
+      {
+        const std::lock_guard lock(handback->mutex);
+        handback->local_paused = true;
+        set_paused(*local, true);
+      }
       v1::Snapshot state = local->snapshot();
       back.stream->load(state);
       back.state_put = std::move(state);
@@ -354,6 +406,8 @@ void HandoffStream::came_back(Reconnected back) {
   stream_ = std::move(back.stream);
   latency_.forget_unanswered();
   remote_ = true;
+  press_held_pointers();  // the new or resumed session has not seen them go down
+  release_held_back();
   resume_key_.clear();
   last_remote_frame_ = Clock::now();
   snapshot_.reset();

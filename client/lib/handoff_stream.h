@@ -13,8 +13,12 @@
 // purpose (bad input, an idle session) ends this one: its reason stands. Frames that reflect no
 // event since a side changed show a state from before the change: they are not returned.
 //
+// What the user does while a handback has the fluid here paused (its state going over) is held
+// back and sent to whichever side the fluid goes on from; a finger held down as the fluid changes
+// sides goes down on the new one too, so a drag goes on across a handoff.
+//
 // Touch-to-photon latency counts the events sent through it, not what the handoff sends itself
-// (pauses, the wake, markers): those are no one's wait.
+// (pauses, the wake, markers, a held finger): those are no one's wait; nor events held back.
 //
 // One thread uses it; next_frame also takes the handoff's steps. The slow work (connecting,
 // snapshots, starting the local fluid) runs on threads of its own, so no call waits on a server.
@@ -23,7 +27,9 @@
 #include <chrono>
 #include <functional>
 #include <future>
+#include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -112,6 +118,12 @@ class HandoffStream final : public FluidStream {
   };
   using Clock = std::chrono::steady_clock;
 
+  // To the side streaming now (none: dropped), keeping track of the pointers held down there.
+  std::uint64_t deliver(v1::ClientMessage message);
+  // A side just taken up has not seen the pointers held down go down: it is told.
+  void press_held_pointers();
+  // What the user did while a handback held the fluid here paused, to the side streaming now.
+  void release_held_back();
   void open_first();
   FluidStream& current() const;  // the side streaming now; throws when there is none
   bool continues_here() const;
@@ -148,6 +160,21 @@ class HandoffStream final : public FluidStream {
   std::shared_ptr<Standby> standby_;
   std::future<Reconnected> reconnect_;
   Clock::time_point last_snapshot_{}, last_retry_{}, last_remote_frame_{};
+
+  // Set by a handback's thread as it pauses the fluid here to put its state in the server's
+  // session, until the handback ends: what the user sends meanwhile waits in held_back_ (at most
+  // kMaxHeldBack, untimed) for the side the fluid goes on from.
+  struct Handback {
+    std::mutex mutex;
+    bool local_paused = false;
+  };
+  const std::shared_ptr<Handback> handback_ = std::make_shared<Handback>();
+  std::vector<v1::ClientMessage> held_back_;  // under handback_->mutex
+  static constexpr std::size_t kMaxHeldBack = 1024;
+  struct Point {
+    float x, y;
+  };
+  std::map<std::uint32_t, Point> held_pointers_;  // down, as the user last sent them
 
   std::uint64_t show_from_event_ = 0;  // frames reflecting older events are from before a change
   bool awaiting_first_local_frame_ = false;

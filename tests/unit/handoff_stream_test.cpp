@@ -5,11 +5,13 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <condition_variable>
 #include <mutex>
 #include <optional>
 #include <string>
 #include <thread>
 #include <utility>
+#include <vector>
 
 namespace fluidcast::client {
 namespace {
@@ -26,6 +28,9 @@ struct FakeServer {
   bool viewers_control = true;     // false: every stream only watches
   bool forgets_sessions = false;    // a resume finds nothing (it restarted, the grace ran out)
   int full_for = 0;                 // resumes refused for now (the session's seats are taken)
+  bool holds_loads = false;         // a state put in waits until this is false again...
+  bool load_waiting = false;        // ...as one does now
+  std::condition_variable loads_released;
   std::uint32_t particles = 1000;  // of a session whose Hello names no count
   std::vector<v1::Snapshot> put;   // states put into its sessions
   std::vector<v1::Hello> hellos;   // of the streams it answered
@@ -64,6 +69,7 @@ class FakeFluid final : public FluidStream {
     if (message.has_command() && message.command().has_viewport()) {
       viewport_width_ = message.command().viewport().width();
     }
+    if (message.has_pointer()) pointers_.push_back(message.pointer());
     last_event_ = id;
     return id;
   }
@@ -109,8 +115,11 @@ class FakeFluid final : public FluidStream {
   void load(const v1::Snapshot& snapshot) override {
     if (ended()) throw std::runtime_error("no server");
     if (server_) {
-      const std::lock_guard lock(server_->mutex);
+      std::unique_lock lock(server_->mutex);
       if (server_->refuses_states) throw std::invalid_argument("Snapshot: particle 7 is outside");
+      server_->load_waiting = server_->holds_loads;
+      server_->loads_released.wait(lock, [this] { return !server_->holds_loads; });
+      server_->load_waiting = false;
     }
     {
       const std::lock_guard lock(mutex_);
@@ -137,6 +146,10 @@ class FakeFluid final : public FluidStream {
     const std::lock_guard lock(mutex_);
     return viewport_width_;
   }
+  std::vector<v1::PointerEvent> pointers() const {
+    const std::lock_guard lock(mutex_);
+    return pointers_;
+  }
 
  private:
   bool silent() const {
@@ -158,6 +171,7 @@ class FakeFluid final : public FluidStream {
   std::optional<bool> told_paused_;  // for the Welcome, with the frame reflecting...
   std::uint64_t told_with_event_ = 0;  // ...this event
   std::uint32_t viewport_width_ = 0;  // the last a command asked for
+  std::vector<v1::PointerEvent> pointers_;  // as they came
   std::uint64_t last_event_ = 0;
   v1::Frame pending_;
 };
@@ -233,8 +247,15 @@ struct Fixture {
     return options;
   }
   void set(bool FakeServer::*field, bool value) {
+    {
+      const std::lock_guard lock(server->mutex);
+      server.get()->*field = value;
+    }
+    server->loads_released.notify_all();
+  }
+  bool is(bool FakeServer::*field) {
     const std::lock_guard lock(server->mutex);
-    server.get()->*field = value;
+    return server.get()->*field;
   }
   int connects_tried() {
     const std::lock_guard lock(mutex);
@@ -627,6 +648,57 @@ TEST(HandoffStream, APauseNotYetShownHoldsForTheFluidContinuedHere) {
   const std::shared_ptr<FakeFluid> local = f.local_fluid();
   ASSERT_TRUE(local);
   EXPECT_TRUE(local->paused()) << "a pause the session had not shown yet was lost";
+}
+
+// A finger held down as the server goes stirs the fluid here: the local fluid is told it went
+// down, where it was last.
+TEST(HandoffStream, AFingerHeldDownGoesOnStirringAcrossAHandoff) {
+  Fixture f;
+  HandoffStream stream(hello_for(1000), f.sides(), f.options());
+  stream_until_kept(stream, f);
+  stream.pointer(1, v1::PointerEvent::DOWN, 0.5f, 0.5f);
+  stream.pointer(1, v1::PointerEvent::MOVE, 0.6f, 0.4f);
+  stream.pointer(2, v1::PointerEvent::DOWN, 0.1f, 0.1f);
+  stream.pointer(2, v1::PointerEvent::UP, 0.1f, 0.1f);
+  f.set(&FakeServer::up, false);
+  read_until(stream, [&] { return stream.simulating_here(); });
+  const std::shared_ptr<FakeFluid> local = f.local_fluid();
+  ASSERT_TRUE(local);
+  const std::vector<v1::PointerEvent> pressed = local->pointers();
+  ASSERT_EQ(pressed.size(), 1u) << "a lifted finger went down here, or the held one did not";
+  EXPECT_EQ(pressed[0].pointer_id(), 1u);
+  EXPECT_EQ(pressed[0].phase(), v1::PointerEvent::DOWN);
+  EXPECT_FLOAT_EQ(pressed[0].x(), 0.6f);
+  EXPECT_FLOAT_EQ(pressed[0].y(), 0.4f);
+}
+
+// What the user does while the fluid's state goes back to the server (the fluid here paused)
+// reaches the session it goes on in, after the finger held down goes down there; the paused
+// fluid here gets none of it.
+TEST(HandoffStream, WhatTheUserDoesDuringAHandbackReachesTheSessionItGoesTo) {
+  Fixture f;
+  HandoffStream stream(hello_for(1000), f.sides(), f.options());
+  stream_until_kept(stream, f);
+  f.set(&FakeServer::up, false);
+  read_until(stream, [&] { return stream.simulating_here(); });
+  const std::shared_ptr<FakeFluid> local = f.local_fluid();
+  ASSERT_TRUE(local);
+  stream.pointer(1, v1::PointerEvent::DOWN, 0.5f, 0.5f);
+  f.set(&FakeServer::holds_loads, true);
+  f.set(&FakeServer::up, true);
+  read_until(stream, [&] { return f.is(&FakeServer::load_waiting); });
+  stream.pointer(1, v1::PointerEvent::MOVE, 0.7f, 0.2f);
+  f.set(&FakeServer::holds_loads, false);
+  read_until(stream, [&] { return !stream.simulating_here(); });
+  const std::shared_ptr<FakeFluid> remote = f.remote_fluid();
+  ASSERT_TRUE(remote);
+  EXPECT_EQ(local->pointers().size(), 1u) << "the paused fluid here took what was held back";
+  const std::vector<v1::PointerEvent> there = remote->pointers();
+  ASSERT_EQ(there.size(), 2u);
+  EXPECT_EQ(there[0].phase(), v1::PointerEvent::DOWN);
+  EXPECT_FLOAT_EQ(there[0].x(), 0.5f);
+  EXPECT_EQ(there[1].phase(), v1::PointerEvent::MOVE);
+  EXPECT_FLOAT_EQ(there[1].x(), 0.7f);
 }
 
 TEST(HandoffStream, LocalModeNeedsNoServer) {
