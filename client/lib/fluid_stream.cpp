@@ -38,9 +38,9 @@ std::uint64_t LatencyTracker::sent() {
   return id;
 }
 
-void LatencyTracker::sent(std::uint64_t id) {
+void LatencyTracker::sent(std::uint64_t id, std::chrono::steady_clock::time_point at) {
   std::lock_guard lock(mutex_);
-  unanswered_[id] = std::chrono::steady_clock::now();
+  unanswered_[id] = at;
   if (unanswered_.size() > kKeptInputs) unanswered_.erase(unanswered_.begin());
 }
 

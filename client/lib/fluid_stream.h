@@ -21,7 +21,9 @@ namespace fluidcast::client {
 class LatencyTracker {
  public:
   std::uint64_t sent();         // a new event id, timed from now
-  void sent(std::uint64_t id);  // an event whose id another stream gave it, timed from now
+  // An event whose id another stream gave it, timed from now, or from when it was held back.
+  void sent(std::uint64_t id,
+            std::chrono::steady_clock::time_point at = std::chrono::steady_clock::now());
   void frame_reflects(std::uint64_t newest_event);
   // Events not answered yet are forgotten: their ids belonged to a stream that is gone.
   void forget_unanswered();
@@ -74,7 +76,8 @@ class FluidStream {
   // Its state renewed as the session changes (another scene or count, a pause, by any viewer), on
   // the thread that calls next_frame, as that returns.
   virtual const v1::Welcome& welcome() const = 0;
-  // Input; each returns the event id it was sent with (0 when the stream has ended).
+  // Input; each returns the event id it was sent with (0 when the stream has ended, or for an
+  // event a HandoffStream holds back to send later).
   virtual std::uint64_t send(v1::ClientMessage message) = 0;
   std::uint64_t pointer(std::uint32_t id, v1::PointerEvent::Phase phase, float x, float y);
   std::uint64_t tilt(float x, float y, float z);

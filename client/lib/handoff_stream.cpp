@@ -118,32 +118,71 @@ std::uint64_t HandoffStream::send(v1::ClientMessage message) {
   if (message.has_command() && message.command().kind_case() == v1::Command::kPause) {
     paused_ = message.command().pause();
   }
-  {
-    const std::lock_guard lock(handback_->mutex);
-    if (handback_->local_paused) {  // for the session the fluid is going to, or back to it here
-      if (held_back_.size() < kMaxHeldBack) held_back_.push_back(std::move(message));
-      return 0;
-    }
+  // Held while it goes out, so that a handback cannot pause the fluid here in between.
+  const std::lock_guard lock(handback_->mutex);
+  if (handback_->local_paused) {  // for the session the fluid is going to, or back to it here
+    hold_back(std::move(message));
+    return 0;
   }
   const std::uint64_t id = deliver(std::move(message));
   if (id) latency_.sent(id);
   return id;
 }
 
+namespace {
+
+// The latest event of a pointer or the latest tilt waiting in `held`, which a newer one of the
+// same kind replaces: a drag or a turning phone held back for seconds takes one entry, not one a
+// frame.
+bool replaces(const v1::ClientMessage& waiting, const v1::ClientMessage& newer) {
+  if (newer.has_tilt()) return waiting.has_tilt();
+  return newer.has_pointer() && newer.pointer().phase() == v1::PointerEvent::MOVE &&
+         waiting.has_pointer() && waiting.pointer().phase() == v1::PointerEvent::MOVE &&
+         waiting.pointer().pointer_id() == newer.pointer().pointer_id();
+}
+
+}  // namespace
+
+void HandoffStream::hold_back(v1::ClientMessage message) {
+  for (auto it = held_back_.rbegin(); it != held_back_.rend(); ++it) {
+    const bool same_pointer = message.has_pointer() && it->message.has_pointer() &&
+                              it->message.pointer().pointer_id() == message.pointer().pointer_id();
+    if (replaces(it->message, message)) {
+      it->message = std::move(message);
+      return;
+    }
+    if (same_pointer || (message.has_tilt() && it->message.has_tilt())) break;
+  }
+  // Past the bound (a handback that hangs, taps that go on) the newest are dropped, but for a
+  // finger's lifting: a finger left down would stir on.
+  const bool lifts = message.has_pointer() && (message.pointer().phase() == v1::PointerEvent::UP ||
+                                               message.pointer().phase() == v1::PointerEvent::CANCEL);
+  if (held_back_.size() >= (lifts ? 2 : 1) * kMaxHeldBack) return;
+  held_back_.push_back({std::move(message), Clock::now()});
+}
+
 std::uint64_t HandoffStream::deliver(v1::ClientMessage message) {
   const bool pause = message.has_command() && message.command().kind_case() == v1::Command::kPause;
-  if (message.has_pointer()) {
-    const v1::PointerEvent& event = message.pointer();
-    if (event.phase() == v1::PointerEvent::UP || event.phase() == v1::PointerEvent::CANCEL) {
-      held_pointers_.erase(event.pointer_id());
-    } else {
-      held_pointers_[event.pointer_id()] = {event.x(), event.y()};
-    }
-  }
-  if (!stream_) return 0;
-  const std::uint64_t id = stream_->send(std::move(message));
+  std::optional<v1::PointerEvent> pointer;
+  if (message.has_pointer()) pointer = message.pointer();
+  const std::uint64_t id = stream_ ? stream_->send(std::move(message)) : 0;
+  if (pointer) track(*pointer, id != 0);
   if (pause && remote_ && id) pause_asked_ = id;
   return id;
+}
+
+void HandoffStream::track(const v1::PointerEvent& event, bool sent) {
+  const auto phase = event.phase();
+  if (phase == v1::PointerEvent::UP || phase == v1::PointerEvent::CANCEL) {
+    held_pointers_.erase(event.pointer_id());
+    return;
+  }
+  // Only what a side took: a DOWN pressed again must be one it takes again.
+  const std::uint32_t ids = welcome().rules().pointer_ids();
+  const bool valid = (phase == v1::PointerEvent::DOWN || phase == v1::PointerEvent::MOVE) &&
+                     (ids == 0 || event.pointer_id() < ids) && event.x() >= 0.0f &&
+                     event.x() <= 1.0f && event.y() >= 0.0f && event.y() <= 1.0f;
+  if (sent && valid) held_pointers_[event.pointer_id()] = {event.x(), event.y()};
 }
 
 void HandoffStream::press_held_pointers() {
@@ -153,18 +192,30 @@ void HandoffStream::press_held_pointers() {
     down.mutable_pointer()->set_phase(v1::PointerEvent::DOWN);
     down.mutable_pointer()->set_x(at.x);
     down.mutable_pointer()->set_y(at.y);
-    stream_->send(std::move(down));
+    try {
+      stream_->send(std::move(down));
+    } catch (const std::exception& e) {  // a side that refuses it: the finger is not held there
+      say(std::string("a finger held down did not go down here: ") + e.what());
+    }
   }
 }
 
 void HandoffStream::release_held_back() {
-  std::vector<v1::ClientMessage> held;
+  std::vector<HeldBack> held;
   {
     const std::lock_guard lock(handback_->mutex);
     handback_->local_paused = false;
     held.swap(held_back_);
   }
-  for (v1::ClientMessage& message : held) deliver(std::move(message));
+  for (HeldBack& waiting : held) {
+    try {
+      if (const std::uint64_t id = deliver(std::move(waiting.message))) {
+        latency_.sent(id, waiting.held);
+      }
+    } catch (const std::exception& e) {  // refused by the side it went to, as if sent there
+      say(std::string("held back and then refused: ") + e.what());
+    }
+  }
 }
 
 std::optional<v1::Frame> HandoffStream::next_frame(std::chrono::milliseconds timeout) {

@@ -17,8 +17,9 @@
 // back and sent to whichever side the fluid goes on from; a finger held down as the fluid changes
 // sides goes down on the new one too, so a drag goes on across a handoff.
 //
-// Touch-to-photon latency counts the events sent through it, not what the handoff sends itself
-// (pauses, the wake, markers, a held finger): those are no one's wait; nor events held back.
+// Touch-to-photon latency counts the events sent through it (one held back from when it was
+// held), not what the handoff sends itself (pauses, the wake, markers, a held finger): those are
+// no one's wait.
 //
 // One thread uses it; next_frame also takes the handoff's steps. The slow work (connecting,
 // snapshots, starting the local fluid) runs on threads of its own, so no call waits on a server.
@@ -120,6 +121,9 @@ class HandoffStream final : public FluidStream {
 
   // To the side streaming now (none: dropped), keeping track of the pointers held down there.
   std::uint64_t deliver(v1::ClientMessage message);
+  void track(const v1::PointerEvent& event, bool sent);
+  // Into held_back_ (under handback_->mutex).
+  void hold_back(v1::ClientMessage message);
   // A side just taken up has not seen the pointers held down go down: it is told.
   void press_held_pointers();
   // What the user did while a handback held the fluid here paused, to the side streaming now.
@@ -162,14 +166,19 @@ class HandoffStream final : public FluidStream {
   Clock::time_point last_snapshot_{}, last_retry_{}, last_remote_frame_{};
 
   // Set by a handback's thread as it pauses the fluid here to put its state in the server's
-  // session, until the handback ends: what the user sends meanwhile waits in held_back_ (at most
-  // kMaxHeldBack, untimed) for the side the fluid goes on from.
+  // session, until the handback ends: what the user sends meanwhile waits in held_back_ for the
+  // side the fluid goes on from, a pointer's moves and the tilts each as the newest, at most
+  // kMaxHeldBack (twice that for fingers lifted); timed from when they were held.
   struct Handback {
-    std::mutex mutex;
+    std::mutex mutex;  // also held while a message goes out
     bool local_paused = false;
   };
   const std::shared_ptr<Handback> handback_ = std::make_shared<Handback>();
-  std::vector<v1::ClientMessage> held_back_;  // under handback_->mutex
+  struct HeldBack {
+    v1::ClientMessage message;
+    Clock::time_point held;
+  };
+  std::vector<HeldBack> held_back_;  // under handback_->mutex
   static constexpr std::size_t kMaxHeldBack = 1024;
   struct Point {
     float x, y;

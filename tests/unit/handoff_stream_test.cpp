@@ -116,10 +116,10 @@ class FakeFluid final : public FluidStream {
     if (ended()) throw std::runtime_error("no server");
     if (server_) {
       std::unique_lock lock(server_->mutex);
-      if (server_->refuses_states) throw std::invalid_argument("Snapshot: particle 7 is outside");
       server_->load_waiting = server_->holds_loads;
       server_->loads_released.wait(lock, [this] { return !server_->holds_loads; });
       server_->load_waiting = false;
+      if (server_->refuses_states) throw std::invalid_argument("Snapshot: particle 7 is outside");
     }
     {
       const std::lock_guard lock(mutex_);
@@ -687,18 +687,43 @@ TEST(HandoffStream, WhatTheUserDoesDuringAHandbackReachesTheSessionItGoesTo) {
   f.set(&FakeServer::holds_loads, true);
   f.set(&FakeServer::up, true);
   read_until(stream, [&] { return f.is(&FakeServer::load_waiting); });
-  stream.pointer(1, v1::PointerEvent::MOVE, 0.7f, 0.2f);
+  for (int k = 0; k <= 10; ++k) stream.pointer(1, v1::PointerEvent::MOVE, 0.6f + 0.01f * k, 0.2f);
   f.set(&FakeServer::holds_loads, false);
   read_until(stream, [&] { return !stream.simulating_here(); });
   const std::shared_ptr<FakeFluid> remote = f.remote_fluid();
   ASSERT_TRUE(remote);
   EXPECT_EQ(local->pointers().size(), 1u) << "the paused fluid here took what was held back";
   const std::vector<v1::PointerEvent> there = remote->pointers();
-  ASSERT_EQ(there.size(), 2u);
+  ASSERT_EQ(there.size(), 2u) << "a finger's moves held back go as its newest";
   EXPECT_EQ(there[0].phase(), v1::PointerEvent::DOWN);
   EXPECT_FLOAT_EQ(there[0].x(), 0.5f);
   EXPECT_EQ(there[1].phase(), v1::PointerEvent::MOVE);
   EXPECT_FLOAT_EQ(there[1].x(), 0.7f);
+}
+
+// Refused, the handback leaves the fluid here, and what the user did meanwhile goes to it.
+TEST(HandoffStream, WhatTheUserDoesDuringARefusedHandbackGoesOnHere) {
+  Fixture f;
+  HandoffStream stream(hello_for(1000), f.sides(), f.options());
+  stream_until_kept(stream, f);
+  f.set(&FakeServer::up, false);
+  read_until(stream, [&] { return stream.simulating_here(); });
+  const std::shared_ptr<FakeFluid> local = f.local_fluid();
+  ASSERT_TRUE(local);
+  stream.pointer(1, v1::PointerEvent::DOWN, 0.5f, 0.5f);
+  f.set(&FakeServer::holds_loads, true);
+  f.set(&FakeServer::refuses_states, true);
+  f.set(&FakeServer::up, true);
+  read_until(stream, [&] { return f.is(&FakeServer::load_waiting); });
+  stream.pointer(1, v1::PointerEvent::MOVE, 0.7f, 0.2f);
+  EXPECT_EQ(local->pointers().size(), 1u) << "the paused fluid here took it at once";
+  f.set(&FakeServer::holds_loads, false);
+  read_until(stream, [&] { return stream.status().find("refused") != std::string::npos; });
+  const std::vector<v1::PointerEvent> here = local->pointers();
+  ASSERT_EQ(here.size(), 2u);
+  EXPECT_EQ(here[1].phase(), v1::PointerEvent::MOVE);
+  EXPECT_FLOAT_EQ(here[1].x(), 0.7f);
+  EXPECT_TRUE(stream.simulating_here());
 }
 
 TEST(HandoffStream, LocalModeNeedsNoServer) {
