@@ -672,21 +672,30 @@ TEST(HandoffStream, AFingerHeldDownGoesOnStirringAcrossAHandoff) {
   EXPECT_FLOAT_EQ(pressed[0].y(), 0.4f);
 }
 
+// Streams, loses the server, goes on here with a finger down at (0.5, 0.5), and lets the server
+// back with its loads held (refusing them, if `refused`): the handback waits with the fluid here
+// paused. Returns the fluid here.
+std::shared_ptr<FakeFluid> handback_under_way(HandoffStream& stream, Fixture& f, bool refused) {
+  stream_until_kept(stream, f);
+  f.set(&FakeServer::up, false);
+  read_until(stream, [&] { return stream.simulating_here(); });
+  std::shared_ptr<FakeFluid> local = f.local_fluid();
+  stream.pointer(1, v1::PointerEvent::DOWN, 0.5f, 0.5f);
+  f.set(&FakeServer::holds_loads, true);
+  f.set(&FakeServer::refuses_states, refused);
+  f.set(&FakeServer::up, true);
+  read_until(stream, [&] { return f.is(&FakeServer::load_waiting); });
+  return local;
+}
+
 // What the user does while the fluid's state goes back to the server (the fluid here paused)
 // reaches the session it goes on in, after the finger held down goes down there; the paused
 // fluid here gets none of it.
 TEST(HandoffStream, WhatTheUserDoesDuringAHandbackReachesTheSessionItGoesTo) {
   Fixture f;
   HandoffStream stream(hello_for(1000), f.sides(), f.options());
-  stream_until_kept(stream, f);
-  f.set(&FakeServer::up, false);
-  read_until(stream, [&] { return stream.simulating_here(); });
-  const std::shared_ptr<FakeFluid> local = f.local_fluid();
+  const std::shared_ptr<FakeFluid> local = handback_under_way(stream, f, false);
   ASSERT_TRUE(local);
-  stream.pointer(1, v1::PointerEvent::DOWN, 0.5f, 0.5f);
-  f.set(&FakeServer::holds_loads, true);
-  f.set(&FakeServer::up, true);
-  read_until(stream, [&] { return f.is(&FakeServer::load_waiting); });
   for (int k = 0; k <= 10; ++k) stream.pointer(1, v1::PointerEvent::MOVE, 0.6f + 0.01f * k, 0.2f);
   f.set(&FakeServer::holds_loads, false);
   read_until(stream, [&] { return !stream.simulating_here(); });
@@ -705,16 +714,8 @@ TEST(HandoffStream, WhatTheUserDoesDuringAHandbackReachesTheSessionItGoesTo) {
 TEST(HandoffStream, WhatTheUserDoesDuringARefusedHandbackGoesOnHere) {
   Fixture f;
   HandoffStream stream(hello_for(1000), f.sides(), f.options());
-  stream_until_kept(stream, f);
-  f.set(&FakeServer::up, false);
-  read_until(stream, [&] { return stream.simulating_here(); });
-  const std::shared_ptr<FakeFluid> local = f.local_fluid();
+  const std::shared_ptr<FakeFluid> local = handback_under_way(stream, f, true);
   ASSERT_TRUE(local);
-  stream.pointer(1, v1::PointerEvent::DOWN, 0.5f, 0.5f);
-  f.set(&FakeServer::holds_loads, true);
-  f.set(&FakeServer::refuses_states, true);
-  f.set(&FakeServer::up, true);
-  read_until(stream, [&] { return f.is(&FakeServer::load_waiting); });
   stream.pointer(1, v1::PointerEvent::MOVE, 0.7f, 0.2f);
   EXPECT_EQ(local->pointers().size(), 1u) << "the paused fluid here took it at once";
   f.set(&FakeServer::holds_loads, false);

@@ -20,15 +20,16 @@ std::shared_ptr<const v1::ServerMessage> welcome() {
   return message;
 }
 
+std::shared_ptr<const v1::ServerMessage> state(double time) {
+  auto message = std::make_shared<v1::ServerMessage>();
+  message->mutable_state()->set_time(time);
+  return message;
+}
+
 // States (answers to StateRequest) wait like frames: only the newest, after control messages and
 // before the frame, and none once the stream ends.
 TEST(OutgoingMessagesTest, OnlyTheNewestStateWaits) {
   OutgoingMessages queue;
-  const auto state = [](double time) {
-    auto message = std::make_shared<v1::ServerMessage>();
-    message->mutable_state()->set_time(time);
-    return std::shared_ptr<const v1::ServerMessage>(message);
-  };
   queue.push(frame(1));
   queue.push(state(1.0));
   queue.push(state(2.0));
@@ -53,11 +54,6 @@ TEST(OutgoingMessagesTest, OnlyTheNewestSessionStateWaitsAndDropsTheStateBeforeI
   const auto session = [](bool paused) {
     auto message = std::make_shared<v1::ServerMessage>();
     message->mutable_session()->set_paused(paused);
-    return std::shared_ptr<const v1::ServerMessage>(message);
-  };
-  const auto state = [](double time) {
-    auto message = std::make_shared<v1::ServerMessage>();
-    message->mutable_state()->set_time(time);
     return std::shared_ptr<const v1::ServerMessage>(message);
   };
   queue.push(frame(1));
