@@ -324,16 +324,35 @@ void Session::apply_rebuilds(Clock::time_point now) {
 
 void Session::rebuild_or_reset() {
   if (setup_wanted_) {
-    const SessionSetup setup = *setup_wanted_;
-    setup_wanted_.reset();
+    SessionSetup wanted = *std::exchange(setup_wanted_, std::nullopt);
+    const WishAskers askers = std::exchange(wish_askers_, {});
     reset_wanted_ = false;
-    try {
-      rebuild(setup);
-    } catch (const Refusal& refusal) {  // the count does not fit the GPU: the old fluid stays
-      const auto asked = viewers_.find(setup_requester_);
-      if (asked != viewers_.end()) {
-        asked->second->sink().end(refusal);
-        remove_viewer(setup_requester_);
+    // What does not fit the GPU (the count, else the solver, else the scene) is refused to the
+    // viewer that asked for it, and the rest of the wish, other viewers' perhaps, is tried again;
+    // with nothing left, the old fluid stays.
+    for (;;) {
+      try {
+        rebuild(wanted);
+        return;
+      } catch (const Refusal& refusal) {
+        // A rebuild to the fluid it has (a wish for what it is) blames whoever asked.
+        std::uint32_t asker = askers.scene      ? askers.scene
+                              : askers.solver   ? askers.solver
+                                                : askers.particles;
+        if (wanted.particles != setup_.particles) {
+          asker = askers.particles;
+          wanted.particles = setup_.particles;
+        } else if (wanted.solver != setup_.solver) {
+          asker = askers.solver;
+          wanted.solver = setup_.solver;
+        } else {
+          wanted.scene = setup_.scene;
+        }
+        if (const auto asked = viewers_.find(asker); asked != viewers_.end()) {
+          asked->second->sink().end(refusal);
+          remove_viewer(asker);
+        }
+        if (wanted == setup_) return;
       }
     }
   } else {

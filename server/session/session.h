@@ -186,7 +186,11 @@ class Session {
   std::uint32_t next_viewer_ = 1;
   bool paused_ = false;
   std::optional<SessionSetup> setup_wanted_;
-  std::uint32_t setup_requester_ = 0;  // told when the wish cannot be met
+  // The viewer that asked for each part of the wish (0: none), told when its part cannot be met.
+  struct WishAskers {
+    std::uint32_t scene = 0, solver = 0, particles = 0;
+  };
+  WishAskers wish_askers_;
   bool reset_wanted_ = false;
   Clock::time_point last_rebuild_{};
   Clock::time_point last_tick_{};

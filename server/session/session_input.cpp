@@ -64,12 +64,13 @@ void Session::answer_state_request(Viewer& viewer) {
 }
 
 void Session::apply_command(Viewer& viewer, const v1::Command& command) {
-  // A new scene, solver or count waits for the next rebuild; the newest of each wins.
-  const auto rebuild = [&](auto change) {
+  // A new scene, solver or count waits for the next rebuild; the newest of each wins, and its
+  // asker is told if it cannot be met.
+  const auto rebuild = [&](auto change, std::uint32_t WishAskers::*asker) {
     SessionSetup setup = setup_wanted_.value_or(setup_);
     change(setup);
     setup_wanted_ = setup;
-    setup_requester_ = viewer.id();
+    wish_askers_.*asker = viewer.id();
   };
   switch (command.kind_case()) {
     case v1::Command::kReset:
@@ -82,13 +83,16 @@ void Session::apply_command(Viewer& viewer, const v1::Command& command) {
       }
       break;
     case v1::Command::kScene:
-      rebuild([&](SessionSetup& setup) { setup.scene = sim::parse_scene(command.scene()); });
+      rebuild([&](SessionSetup& setup) { setup.scene = sim::parse_scene(command.scene()); },
+              &WishAskers::scene);
       break;
     case v1::Command::kSolver:
-      rebuild([&](SessionSetup& setup) { setup.solver = sim::parse_solver(command.solver()); });
+      rebuild([&](SessionSetup& setup) { setup.solver = sim::parse_solver(command.solver()); },
+              &WishAskers::solver);
       break;
     case v1::Command::kParticles:
-      rebuild([&](SessionSetup& setup) { setup.particles = command.particles(); });
+      rebuild([&](SessionSetup& setup) { setup.particles = command.particles(); },
+              &WishAskers::particles);
       break;
     case v1::Command::kQuality:
       viewer.apply_quality(command.quality());

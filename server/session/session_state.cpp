@@ -179,6 +179,7 @@ std::uint32_t Session::replace_fluid(const v1::Snapshot& snapshot) {
   // whose menu shows its wish is told what came instead.
   const bool wish_dropped = setup_wanted_.has_value();
   setup_wanted_.reset();
+  wish_askers_ = {};
   reset_wanted_ = false;
   if (built) {
     adopt(std::move(built), setup);

@@ -144,6 +144,15 @@ TEST(ServerTest, ASnapshotOfAnotherSceneOrCountRebuildsTheSessionForIt) {
   frame_from(into);
 }
 
+// Reads `viewer`'s stream until its state holds `done` (at most 30 s); whether it came to.
+template <typename Done>
+bool told(StreamClient& viewer, Done done) {
+  for (int k = 0; k < 300 && !done(viewer.welcome().state()) && !viewer.ended(); ++k) {
+    viewer.next_frame(milliseconds(100));
+  }
+  return done(viewer.welcome().state());
+}
+
 // A change of the session by one viewer (a scene, a count, a pause) is told to every viewer: each
 // stream's Welcome.state follows it.
 TEST(ServerTest, EveryViewerIsToldOfAChangeOfTheSession) {
@@ -154,13 +163,6 @@ TEST(ServerTest, EveryViewerIsToldOfAChangeOfTheSession) {
   join.set_join(creator.welcome().access().control_key());
   StreamClient friend_(client::connect(address), join);
   frame_from(creator);
-  // Reads `viewer`'s stream until its state holds `done` (at most 30 s).
-  const auto told = [](StreamClient& viewer, auto done) {
-    for (int k = 0; k < 300 && !done(viewer.welcome().state()); ++k) {
-      viewer.next_frame(milliseconds(100));
-    }
-    return done(viewer.welcome().state());
-  };
 
   v1::Command command;
   command.set_scene("pool");
@@ -197,6 +199,36 @@ TEST(ServerTest, AStateRequestOfASessionTooLargeForAStreamIsNotAnsweredAndTheStr
   EXPECT_FALSE(viewer.take_state(seconds(2)));
   frame_from(viewer);
   EXPECT_FALSE(viewer.ended()) << viewer.status().error_message();
+}
+
+// Two viewers' wishes met in one rebuild, and one of them does not fit the GPU (a count past its
+// memory): that viewer's stream ends, not the other's, whose wish stands.
+TEST(ServerTest, AWishThatDoesNotFitTheGpuEndsItsAskersStreamAndTheOthersStand) {
+  testing::ServerProcess server({"--backend", "gpu", "--gpu-memory", "64"});
+  const std::string& address = server.grpc_address();
+  StreamClient greedy(client::connect(address), small_hello(1000));
+  v1::Hello join = small_hello();
+  join.set_join(greedy.welcome().access().control_key());
+  StreamClient other(client::connect(address), join);
+  frame_from(greedy);
+  frame_from(other);
+  v1::Command command;
+  command.set_scene("double_dam_break");  // rebuilt now: the next rebuild waits half a second
+  other.command(command);
+  ASSERT_TRUE(told(other, [](const v1::SessionState& state) {
+    return state.scene() == "double_dam_break";
+  })) << other.status().error_message();
+  command.set_particles(1000000);
+  greedy.command(command);
+  command.set_scene("pool");
+  other.command(command);
+  EXPECT_TRUE(told(other, [](const v1::SessionState& state) {
+    return state.scene() == "pool" && state.particles() == 1000u;
+  })) << other.welcome().state().ShortDebugString() << " " << other.status().error_message();
+  for (int k = 0; k < 300 && !greedy.ended(); ++k) greedy.next_frame(milliseconds(100));
+  EXPECT_EQ(greedy.status().error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED)
+      << greedy.status().error_message();
+  EXPECT_FALSE(other.ended()) << other.status().error_message();
 }
 
 // The viewer given `access` comes back after its network dropped.
