@@ -296,10 +296,16 @@ void Client::update_title(Clock::time_point now) {
                 percentile(latencies, 0.5), percentile(latencies, 0.95));
   lines.emplace_back(line);
   const v1::StageTimings& t = last_frame_.timings();
+  // The session as it is now, whoever changed it (ServerMessage.session).
+  const v1::SessionState& session = stream_ ? stream_->welcome().state() : v1::SessionState();
+  std::snprintf(line, sizeof line, "%s, %s, %u particles%s", session.scene().c_str(),
+                session.solver().c_str(), session.particles(),
+                session.paused() ? ", paused (p goes on)" : "");
+  lines.emplace_back(line);
   std::snprintf(line, sizeof line, "%u×%u %s q%u  t=%.2f s  %.2f× real time%s", last_frame_.width(),
                 last_frame_.height(), last_frame_.renderer().c_str(), last_frame_.jpeg_quality(),
                 last_frame_.sim_time(), last_frame_.sim_speed(),
-                last_frame_.sim_speed() < 0.95f ? " (slow motion)" : "");
+                !session.paused() && last_frame_.sim_speed() < 0.95f ? " (slow motion)" : "");
   lines.emplace_back(line);
   std::snprintf(line, sizeof line,
                 "%s: sim %.1f queue %.1f render %.1f read-back %.2f encode %.1f ms",
