@@ -80,6 +80,11 @@ bool WebSocketOrigins::known_name(std::string_view name) const {
 std::optional<std::string> WebSocketOrigins::refusal(std::optional<std::string_view> origin,
                                                      std::string_view host) const {
   if (!origin) return std::nullopt;
+  // A site the operator allowed may, under whatever name (a proxy may pass its Host on).
+  const bool allowed =
+      std::any_of(allowed_origins_.begin(), allowed_origins_.end(),
+                  [&](const std::string& other) { return same_text(other, *origin); });
+  if (allowed) return std::nullopt;
   const auto scheme_end = origin->find("://");
   const std::string_view authority =
       scheme_end == std::string_view::npos ? *origin : origin->substr(scheme_end + 3);
@@ -91,10 +96,6 @@ std::optional<std::string> WebSocketOrigins::refusal(std::optional<std::string_v
            "another site whose name was pointed at this machine would look the same; if the "
            "server is " + name + ", start it with --server-name " + name;
   }
-  const bool allowed =
-      std::any_of(allowed_origins_.begin(), allowed_origins_.end(),
-                  [&](const std::string& other) { return same_text(other, *origin); });
-  if (allowed) return std::nullopt;
   return "a page from " + std::string(*origin) +
          " may not open the WebSocket; to let that site's pages drive this server, start it with "
          "--allow-origin " + std::string(*origin);

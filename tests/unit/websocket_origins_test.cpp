@@ -35,6 +35,7 @@ TEST(WebSocketOrigins, TheServersOwnPageByAnyNameItIsKnownBy) {
 TEST(WebSocketOrigins, ClientsThatAreNotBrowsersAndAllowedSites) {
   EXPECT_FALSE(origins.refusal(std::nullopt, "evil.example:8080"));
   EXPECT_TRUE(opens("https://friend.example", "192.168.1.5:8080"));
+  EXPECT_TRUE(opens("https://friend.example", "friend.example"));  // its Host passed on by a proxy
   const auto refused = origins.refusal("http://evil.example", "192.168.1.5:8080");
   ASSERT_TRUE(refused);
   EXPECT_NE(refused->find("--allow-origin http://evil.example"), std::string::npos) << *refused;
