@@ -145,13 +145,15 @@ bool replaces(const v1::ClientMessage& waiting, const v1::ClientMessage& newer) 
 
 void HandoffStream::hold_back(v1::ClientMessage message) {
   for (auto it = held_back_.rbegin(); it != held_back_.rend(); ++it) {
-    const bool same_pointer = message.has_pointer() && it->message.has_pointer() &&
-                              it->message.pointer().pointer_id() == message.pointer().pointer_id();
     if (replaces(it->message, message)) {
       it->message = std::move(message);
       return;
     }
-    if (same_pointer || (message.has_tilt() && it->message.has_tilt())) break;
+    // A finger's DOWN or UP since: its moves before it stay where they are.
+    if (message.has_pointer() && it->message.has_pointer() &&
+        it->message.pointer().pointer_id() == message.pointer().pointer_id()) {
+      break;
+    }
   }
   // Past the bound (a handback that hangs, taps that go on) the newest are dropped, but for a
   // finger's lifting: a finger left down would stir on.
