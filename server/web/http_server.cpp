@@ -1,6 +1,7 @@
 #include "http_server.h"
 
 #include <algorithm>
+#include <atomic>
 #include <boost/asio/strand.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
@@ -15,6 +16,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <thread>
+#include <utility>
 
 namespace fluidcast::server {
 namespace {
@@ -37,6 +39,21 @@ std::string content_type(const std::filesystem::path& path) {
   return "text/plain; charset=utf-8";
 }
 
+// Counts a connection among those waiting for their client's next bytes (a request, or the first
+// ones) for as long as it lives: those a server that stops may cut without losing anything.
+class AwaitingClient {
+ public:
+  explicit AwaitingClient(std::atomic<unsigned>& count) : count_(&count) { ++*count_; }
+  AwaitingClient(AwaitingClient&& other) noexcept : count_(std::exchange(other.count_, nullptr)) {}
+  AwaitingClient& operator=(AwaitingClient&&) = delete;
+  ~AwaitingClient() {
+    if (count_) --*count_;
+  }
+
+ private:
+  std::atomic<unsigned>* count_;
+};
+
 // One connection's requests over Stream (beast::tcp_stream or TlsStream); `buffer` holds what
 // was read while telling TLS from plain HTTP.
 template <class Stream>
@@ -45,10 +62,11 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
 
  public:
   Connection(Stream stream, beast::flat_buffer buffer, const HttpServer::Routes& routes,
-             std::shared_ptr<ConnectionLimits::Slot> slot)
+             std::shared_ptr<ConnectionLimits::Slot> slot, std::atomic<unsigned>& awaiting)
       : stream_(std::move(stream)),
         routes_(&routes),
         slot_(std::move(slot)),
+        awaiting_(&awaiting),
         buffer_(std::move(buffer)) {}
 
   void read() {
@@ -56,7 +74,8 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
     beast::get_lowest_layer(stream_).expires_after(kExchangeTimeout);
     http::async_read(
         stream_, buffer_, request_,
-        [self = shared_from_this()](beast::error_code error, std::size_t) {
+        [self = shared_from_this(), idle = AwaitingClient(*awaiting_)](beast::error_code error,
+                                                                       std::size_t) {
           if (error) return;
           const bool websocket = beast::websocket::is_upgrade(self->request_) &&
                                  self->request_.target() == "/ws" && self->routes_->websocket;
@@ -159,6 +178,7 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
   Stream stream_;
   const HttpServer::Routes* routes_;
   std::shared_ptr<ConnectionLimits::Slot> slot_;
+  std::atomic<unsigned>* awaiting_;
   beast::flat_buffer buffer_;
   http::request<http::string_body> request_;
 };
@@ -169,23 +189,26 @@ class Detector : public std::enable_shared_from_this<Detector> {
  public:
   Detector(tcp::socket socket, const HttpServer::Routes& routes,
            std::shared_ptr<boost::asio::ssl::context> tls,
-           std::shared_ptr<ConnectionLimits::Slot> slot)
+           std::shared_ptr<ConnectionLimits::Slot> slot, std::atomic<unsigned>& awaiting)
       : stream_(std::move(socket)),
         routes_(&routes),
         tls_(std::move(tls)),
-        slot_(std::move(slot)) {}
+        slot_(std::move(slot)),
+        awaiting_(&awaiting) {}
 
   void run() {
     stream_.expires_after(kExchangeTimeout);
     beast::async_detect_ssl(
-        stream_, buffer_, [self = shared_from_this()](beast::error_code error, bool tls) {
+        stream_, buffer_,
+        [self = shared_from_this(), idle = AwaitingClient(*awaiting_)](beast::error_code error,
+                                                                       bool tls) {
           if (error) return;
           if (tls && self->tls_) {
             self->handshake();
           } else {
-            std::make_shared<Connection<beast::tcp_stream>>(std::move(self->stream_),
-                                                            std::move(self->buffer_),
-                                                            *self->routes_, std::move(self->slot_))
+            std::make_shared<Connection<beast::tcp_stream>>(
+                std::move(self->stream_), std::move(self->buffer_), *self->routes_,
+                std::move(self->slot_), *self->awaiting_)
                 ->read();
           }
         });
@@ -200,7 +223,8 @@ class Detector : public std::enable_shared_from_this<Detector> {
           if (error) return;  // a browser that does not trust the certificate yet, say
           self->buffer_.consume(used);
           std::make_shared<Connection<TlsStream>>(std::move(*secure), std::move(self->buffer_),
-                                                  *self->routes_, std::move(self->slot_))
+                                                  *self->routes_, std::move(self->slot_),
+                                                  *self->awaiting_)
               ->read();
         });
   }
@@ -209,6 +233,7 @@ class Detector : public std::enable_shared_from_this<Detector> {
   const HttpServer::Routes* routes_;
   std::shared_ptr<boost::asio::ssl::context> tls_;
   std::shared_ptr<ConnectionLimits::Slot> slot_;
+  std::atomic<unsigned>* awaiting_;
   beast::flat_buffer buffer_;
 };
 
@@ -226,7 +251,9 @@ HttpServer::HttpServer(const std::string& address, unsigned short port, Routes r
   };
   listener_.start([this](tcp::socket socket, boost::asio::ip::address client) {
     if (auto slot = limits_.admit(client)) {
-      std::make_shared<Detector>(std::move(socket), routes_, tls_, std::move(slot))->run();
+      std::make_shared<Detector>(std::move(socket), routes_, tls_, std::move(slot),
+                                 awaiting_client_)
+          ->run();
     }  // else the socket closes here: over a limit
   });
   for (unsigned k = 0; k < threads; ++k) threads_.emplace_back([this] { io_.run(); });
@@ -235,10 +262,10 @@ HttpServer::HttpServer(const std::string& address, unsigned short port, Routes r
 HttpServer::~HttpServer() { stop(); }
 
 void HttpServer::stop(std::chrono::milliseconds grace) {
-  // WebSockets whose sessions were ended write their StreamEnd and close; idle connections (a
-  // page's keep-alive) are cut when the grace runs out.
+  // WebSockets whose sessions were ended write their StreamEnd and close, and requests under way
+  // are answered; connections waiting for their client (a page's keep-alive) are cut at once.
   const auto until = std::chrono::steady_clock::now() + grace;
-  while (limits_.open() > 0 && std::chrono::steady_clock::now() < until) {
+  while (limits_.open() > awaiting_client_ && std::chrono::steady_clock::now() < until) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   io_.stop();

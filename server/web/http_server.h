@@ -13,6 +13,7 @@
 #include <boost/beast/http/message.hpp>
 #include <boost/beast/http/string_body.hpp>
 #include <boost/beast/ssl/ssl_stream.hpp>
+#include <atomic>
 #include <chrono>
 #include <filesystem>
 #include <functional>
@@ -60,14 +61,16 @@ class HttpServer {
   HttpServer& operator=(const HttpServer&) = delete;
 
   unsigned short port() const { return listener_.port(); }
-  // Stops serving once no connection is open, or `grace` is over: time for the WebSockets that
-  // are ending to say why (a StreamEnd) and close.
+  // Stops serving once no connection but those waiting for their client is open, or `grace` is
+  // over: time for the WebSockets that are ending to say why (a StreamEnd) and close.
   void stop(std::chrono::milliseconds grace = {});
 
  private:
   Routes routes_;
   ConnectionLimits limits_;
   std::shared_ptr<boost::asio::ssl::context> tls_;
+  // Connections waiting for their client's next bytes; outlives io_, whose handlers hold them.
+  std::atomic<unsigned> awaiting_client_{0};
   boost::asio::io_context io_;
   Listener listener_;
   std::vector<std::thread> threads_;

@@ -152,6 +152,25 @@ TEST(ConnectionLimitsTest, AStoppingServerTellsItsWebSocketViewersWhy) {
   EXPECT_EQ(error, websocket::error::closed) << error.message();
 }
 
+// The second a stopping server gives its WebSockets to say goodbye is not spent on a page's idle
+// keep-alive connection: a server with one stops about as fast as one without.
+TEST(ConnectionLimitsTest, AnIdlePageConnectionDoesNotHoldUpTheShutdown) {
+  const auto stop_seconds = [](testing::ServerProcess& server) {
+    const auto asked = Clock::now();
+    EXPECT_EQ(server.stop(), 0);
+    return std::chrono::duration<double>(Clock::now() - asked).count();
+  };
+  testing::ServerProcess alone;
+  const double alone_stops = stop_seconds(alone);
+  testing::ServerProcess server;
+  RawConnection page(server.http_port());
+  ASSERT_EQ(page.get("/healthz"), "HTTP/1.1 200 OK");
+  const double with_page_stops = stop_seconds(server);
+  // Waiting for the page would take the whole second of goodbye.
+  EXPECT_LT(with_page_stops, alone_stops + 0.6)
+      << "alone " << alone_stops << " s, with an idle page " << with_page_stops << " s";
+}
+
 // A WebSocket message larger than any ClientMessage ends its stream with a StreamEnd saying so,
 // before the server buffers the rest of it; another stream goes on.
 TEST(ConnectionLimitsTest, AnOversizedWebSocketMessageEndsWithAStreamEnd) {
