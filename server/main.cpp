@@ -22,6 +22,7 @@
 #include <map>
 #include <optional>
 #include <sstream>
+#include <string>
 
 #include "fluidcast/command_line.h"
 #include "fluidcast/gpu/context.h"
@@ -303,6 +304,18 @@ void drain(const sigset_t& signals, int signal, const ServerOptions& options) {
   sigtimedwait(&signals, nullptr, &period);
 }
 
+// --list-devices: what an operator with several GPUs needs to give each server its own
+// (docs/operations.md, Many GPUs).
+int print_devices() {
+  const std::vector<gpu::DeviceInfo> devices = gpu::list_devices();
+  const std::optional<std::uint32_t> best = gpu::best_device(devices);
+  std::printf("Vulkan devices (--device N or FLUIDCAST_DEVICE=N picks one):\n");
+  for (const gpu::DeviceInfo& device : devices) {
+    std::printf("%s%s\n", device.describe().c_str(), device.index == best ? " [the default]" : "");
+  }
+  return 0;
+}
+
 int serve(const ServerOptions& options) {
   const sigset_t signals = block_stop_signals();
   configure_log(options.log_format);
@@ -316,7 +329,7 @@ int serve(const ServerOptions& options) {
   }
 
   Metrics metrics;
-  metrics.describe_device(context.info().name, context.info().hardware());
+  metrics.describe_device(context.info());
   const ServerLimits limits = limits_for_device(options, context, gpu_solver);
   SessionHub hub(context, gpu_solver, limits, read_token(options.token_file), metrics);
   // gRPC's connections are accepted by a listener of ours (grpc_listener.h). Their total is
@@ -393,6 +406,7 @@ int main(int argc, char** argv) {
   mallopt(M_ARENA_MAX, 4);
   const auto options = fluidcast::server::parse_server_options(argc, argv);
   try {
+    if (options.list_devices) return fluidcast::server::print_devices();
     return fluidcast::server::serve(options);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "fluidcast-server: %s\n", e.what());

@@ -35,8 +35,12 @@ ServerOptions read_server_options(CLI::App& app, int argc, const char* const* ar
   app.add_option("--http-port", o.http_port,
                  "HTTP port: /metrics, /healthz (0: any free port, printed at start)")
       ->envname("FLUIDCAST_HTTP_PORT");
-  app.add_option("--device", o.device, "Vulkan device index (default: the best device present)")
+  app.add_option("--device", o.device,
+                 "Vulkan device index (default: the best device present; --list-devices)")
       ->envname("FLUIDCAST_DEVICE");
+  app.add_flag("--list-devices", o.list_devices,
+               "Print the Vulkan devices, their indices for --device and which is the default, "
+               "and exit");
   constexpr auto kBlockMib = static_cast<std::uint32_t>(gpu::MemoryAllocator::kBlockSize >> 20);
   const std::string least_gpu_memory = "0 (no cap) or at least " + std::to_string(kBlockMib) +
                                        " MiB: GPU memory is taken in blocks "

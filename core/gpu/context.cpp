@@ -38,19 +38,27 @@ const char* type_name(VkPhysicalDeviceType type) {
   }
 }
 
-int type_rank(VkPhysicalDeviceType type) {
-  switch (type) {
-    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
-      return 4;
-    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
-      return 3;
-    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
-      return 2;
-    case VK_PHYSICAL_DEVICE_TYPE_CPU:
-      return 1;
-    default:
-      return 0;
+// How a device of each type ranks for the default choice: a discrete GPU before an integrated one,
+// a virtual one, then a CPU.
+int type_rank(const std::string& type) {
+  for (int rank = 0; const char* name : {"other", "cpu", "virtual", "integrated", "discrete"}) {
+    if (type == name) return rank;
+    ++rank;
   }
+  return 0;
+}
+
+// As the driver gives it, in the usual 8-4-4-4-12 hex groups (NVIDIA's is the UUID nvidia-smi
+// shows, after "GPU-").
+std::string uuid_string(const std::uint8_t (&uuid)[VK_UUID_SIZE]) {
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string text;
+  for (std::size_t i = 0; i < VK_UUID_SIZE; ++i) {
+    if (i == 4 || i == 6 || i == 8 || i == 10) text += '-';
+    text += kHex[uuid[i] >> 4];
+    text += kHex[uuid[i] & 15];
+  }
+  return text;
 }
 
 // The family the context uses: graphics and compute together when there is one (the renderer
@@ -79,7 +87,8 @@ std::uint32_t timestamp_bits(VkPhysicalDevice device, std::uint32_t family) {
 }
 
 DeviceInfo describe_device(VkPhysicalDevice device, std::uint32_t index) {
-  VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+  VkPhysicalDeviceIDProperties id{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ID_PROPERTIES};
+  VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES, &id};
   VkPhysicalDeviceMaintenance3Properties maintenance{
       VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES, &driver};
   VkPhysicalDeviceProperties2 properties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
@@ -98,6 +107,7 @@ DeviceInfo describe_device(VkPhysicalDevice device, std::uint32_t index) {
   info.largest_allocation_bytes = maintenance.maxMemoryAllocationSize;
   info.driver = has_driver_properties ? std::string(driver.driverName) + " " + driver.driverInfo
                                       : "driver version " + std::to_string(p.driverVersion);
+  if (has_driver_properties) info.uuid = uuid_string(id.deviceUUID);
 
   VkPhysicalDeviceMemoryProperties memory;
   vkGetPhysicalDeviceMemoryProperties(device, &memory);
@@ -204,10 +214,9 @@ std::string list_for_error(const std::vector<DeviceInfo>& devices) {
   return text;
 }
 
-// The device asked for, or else the best usable one: a discrete GPU before an integrated one
-// before a CPU, then the most device-local memory. Throws GpuUnavailable naming the devices.
-std::uint32_t choose_device(const std::vector<VkPhysicalDevice>& physical,
-                            const std::vector<DeviceInfo>& infos,
+// The device asked for, or else the best usable one (best_device). Throws GpuUnavailable naming
+// the devices.
+std::uint32_t choose_device(const std::vector<DeviceInfo>& infos,
                             std::optional<std::uint32_t> wanted) {
   if (wanted) {
     if (*wanted >= infos.size()) {
@@ -219,17 +228,9 @@ std::uint32_t choose_device(const std::vector<VkPhysicalDevice>& physical,
     }
     return *wanted;
   }
-  const auto rank = [&](std::uint32_t index) {
-    VkPhysicalDeviceProperties properties;
-    vkGetPhysicalDeviceProperties(physical[index], &properties);
-    return std::pair(type_rank(properties.deviceType), infos[index].device_local_bytes);
-  };
-  std::optional<std::uint32_t> chosen;
-  for (const auto& d : infos) {
-    if (d.rejected_because.empty() && (!chosen || rank(d.index) > rank(*chosen))) chosen = d.index;
-  }
-  if (!chosen) throw GpuUnavailable("no usable Vulkan device:" + list_for_error(infos));
-  return *chosen;
+  const std::optional<std::uint32_t> best = best_device(infos);
+  if (!best) throw GpuUnavailable("no usable Vulkan device:" + list_for_error(infos));
+  return *best;
 }
 
 }  // namespace
@@ -237,7 +238,7 @@ std::uint32_t choose_device(const std::vector<VkPhysicalDevice>& physical,
 std::string DeviceInfo::describe() const {
   std::string line = std::to_string(index) + ": " + name + " (" + type + ", Vulkan " + api_version +
                      ", " + driver + ", " + std::to_string(device_local_bytes >> 20) +
-                     " MiB device-local)";
+                     " MiB device-local" + (uuid.empty() ? "" : ", uuid " + uuid) + ")";
   for (const auto& reason : rejected_because) line += "; unusable: " + reason;
   return line;
 }
@@ -277,6 +278,17 @@ std::vector<DeviceInfo> list_devices() {
   return devices;
 }
 
+std::optional<std::uint32_t> best_device(const std::vector<DeviceInfo>& devices) {
+  const auto rank = [](const DeviceInfo& d) {
+    return std::pair(type_rank(d.type), d.device_local_bytes);
+  };
+  const DeviceInfo* best = nullptr;
+  for (const auto& d : devices) {
+    if (d.rejected_because.empty() && (!best || rank(d) > rank(*best))) best = &d;
+  }
+  return best ? std::optional(best->index) : std::nullopt;
+}
+
 Context::Context(ContextOptions options) {
   const auto log =
       options.log ? options.log : [](const std::string& line) { std::cerr << line << '\n'; };
@@ -293,7 +305,7 @@ Context::Context(ContextOptions options) {
     for (std::uint32_t i = 0; i < physical.size(); ++i) {
       infos.push_back(describe_device(physical[i], i));
     }
-    const std::uint32_t chosen = choose_device(physical, infos, options.device_index);
+    const std::uint32_t chosen = choose_device(infos, options.device_index);
     physical_device_ = physical[chosen];
     info_ = infos[chosen];
     if (options.memory_limit_bytes > 0)

@@ -92,10 +92,9 @@ void Histogram::write_series(std::string& out, const std::string& name,
   out += name + "_count" + braced + " " + std::to_string(cumulative) + "\n";
 }
 
-void Metrics::describe_device(const std::string& name, bool hardware) {
+void Metrics::describe_device(const gpu::DeviceInfo& device) {
   std::lock_guard lock(mutex_);
-  device_name_ = name;
-  device_hardware_ = hardware;
+  device_ = device;
 }
 
 void Metrics::refused(Transport transport, RefusalCode reason) {
@@ -181,10 +180,13 @@ void Metrics::write_histograms(std::string& out) const {
 void Metrics::write_labelled(std::string& out) const {
   std::lock_guard lock(mutex_);
   write_header(out, "fluidcast_device_info", "gauge",
-               "The Vulkan device the server runs on (type: gpu, or cpu for a software device); "
+               "The Vulkan device the server runs on (type: gpu, or cpu for a software device; "
+               "index: what --device takes; uuid: the driver's, empty where it gives none); "
                "always 1.");
-  out += "fluidcast_device_info{device=" + quoted(device_name_) +
-         ",type=" + quoted(device_hardware_ ? "gpu" : "cpu") + "} 1\n";
+  out += "fluidcast_device_info{device=" + quoted(device_.name) +
+         ",type=" + quoted(device_.hardware() ? "gpu" : "cpu") +
+         ",index=" + quoted(std::to_string(device_.index)) + ",uuid=" + quoted(device_.uuid) +
+         "} 1\n";
   write_header(out, "fluidcast_streams_refused_total", "counter",
                "Streams ended with an error status for bad input or a limit, by transport and "
                "status code.");

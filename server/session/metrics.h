@@ -9,6 +9,7 @@
 #include <mutex>
 #include <string>
 
+#include "fluidcast/gpu/context.h"
 #include "refusal.h"
 
 namespace fluidcast::server {
@@ -58,7 +59,7 @@ struct Metrics {
   Histogram input_wait_time, queue_time, encode_wait_time, server_time;
 
   // What the server runs on, for fluidcast_device_info.
-  void describe_device(const std::string& name, bool hardware);
+  void describe_device(const gpu::DeviceInfo& device);
   // A stream ended with an error status for bad input or a limit.
   void refused(Transport transport, RefusalCode reason);
   // From a frame's hand-over to the transport until it was written.
@@ -73,8 +74,7 @@ struct Metrics {
   void write_labelled(std::string& out) const;
 
   mutable std::mutex mutex_;  // guards what follows
-  std::string device_name_;
-  bool device_hardware_ = false;
+  gpu::DeviceInfo device_;
   std::map<std::pair<Transport, RefusalCode>, std::uint64_t> refusals_;
   std::map<std::string, SessionFigures> session_figures_;
   std::array<Histogram, kTransports.size()> send_time_;

@@ -26,6 +26,16 @@ err=$("$server" --gpu-memory 10 2>&1 >/dev/null)
 status=$?
 [[ $status -eq 2 && "$err" == *--gpu-memory* && "$err" == *"at least 64 MiB"* ]] ||
   fail "--gpu-memory 10: exit $status, '$err'"
+# --list-devices: every Vulkan device by the index --device takes, the default marked; a device
+# that is not there is refused, naming the ones that are.
+out=$("$server" --list-devices 2>&1)
+status=$?
+[[ $status -eq 0 && "$out" == *$'\n0: '* && "$out" == *"[the default]"* ]] ||
+  fail "--list-devices: exit $status, '$out'"
+err=$("$server" --device 99 --listen 127.0.0.1 --grpc-port 0 --http-port 0 2>&1 >/dev/null)
+status=$?
+[[ $status -eq 2 && "$err" == *"no Vulkan device 99"* && "$err" == *"0: "* ]] ||
+  fail "--device 99: exit $status, '$err'"
 # A share that is not a number (CLI11's range check alone lets "nan" through).
 for flag in --sim-share --busy-share; do
   err=$("$server" $flag nan 2>&1 >/dev/null)

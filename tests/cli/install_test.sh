@@ -15,7 +15,8 @@ for file in bin/fluidcast-server bin/fluidcast-client bin/fluidcast-sim \
             share/fluidcast/web/fluidcast.proto share/fluidcast/web/vendor/protobuf.min.js \
             share/fluidcast/web/wasm/local_fluid.js share/fluidcast/web/wasm/local_fluid_mt.js \
             share/fluidcast/web/wasm/local_fluid_mt.worker.js \
-            lib/systemd/system/fluidcast-server.service; do
+            lib/systemd/system/fluidcast-server.service \
+            lib/systemd/system/fluidcast-server@.service; do
   [[ -f "$prefix/$file" ]] || fail "no $file installed"
 done
 "$prefix/bin/fluidcast-server" --listen 127.0.0.1 --grpc-port 0 --http-port 0 \
@@ -33,12 +34,16 @@ for path in / /app.js /fluidcast.proto /vendor/protobuf.min.js /manifest.webmani
   [[ $status == 200 ]] || fail "GET $path from the installed server: $status"
 done
 if command -v systemd-analyze >/dev/null; then
-  # As installed for this prefix: the unit names the binary by the configured prefix.
-  sed "s|^ExecStart=.*|ExecStart=$prefix/bin/fluidcast-server|" \
-    "$prefix/lib/systemd/system/fluidcast-server.service" > "$work/fluidcast-server.service"
-  # verify warns of a key it cannot parse and still exits 0: any word from it is a failure.
-  out=$(systemd-analyze verify "$work/fluidcast-server.service" 2>&1)
-  [[ $? -eq 0 && -z "$out" ]] || fail "systemd-analyze verify: $out"
+  for unit in fluidcast-server.service fluidcast-server@.service; do
+    # As installed for this prefix: the unit names the binary by the configured prefix.
+    sed "s|^ExecStart=[^ ]*|ExecStart=$prefix/bin/fluidcast-server|" \
+      "$prefix/lib/systemd/system/$unit" > "$work/$unit"
+    # verify warns of a key it cannot parse and still exits 0: any word from it is a failure.
+    out=$(systemd-analyze verify "$work/$unit" 2>&1)
+    [[ $? -eq 0 && -z "$out" ]] || fail "systemd-analyze verify $unit: $out"
+  done
+  grep -qx "ExecStart=$prefix/bin/fluidcast-server --device %i" "$work/fluidcast-server@.service" ||
+    fail "the template's instance is not its device: $(grep ExecStart "$work/fluidcast-server@.service")"
 else
   echo "systemd-analyze is not installed: the unit is not verified"
 fi

@@ -23,7 +23,8 @@ failures=0
 lint=$(promtool check metrics < "$work/metrics.txt" 2>&1) || { echo "promtool: $lint"; failures=1; }
 for series in 'fluidcast_build_info{version="' \
               'fluidcast_streams_refused_total{transport="grpc",reason="RESOURCE_EXHAUSTED"} 1' \
-              'fluidcast_send_seconds_count{transport="grpc"}' 'fluidcast_device_info{device="'; do
+              'fluidcast_send_seconds_count{transport="grpc"}' 'fluidcast_device_info{device="' \
+              ',index="0",uuid="'; do
   grep -qF "$series" "$work/metrics.txt" || { echo "no series $series"; failures=1; }
 done
 [[ $failures -eq 0 ]] && echo "/metrics passes promtool" || { head -40 "$work/metrics.txt"; exit 1; }

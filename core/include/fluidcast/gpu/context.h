@@ -34,6 +34,9 @@ struct DeviceInfo {
   std::string type;  // discrete, integrated, virtual, cpu, other
   std::string api_version;
   std::string driver;
+  // The driver's deviceUUID (empty before Vulkan 1.2): the same device whatever the enumeration
+  // order; NVIDIA's is what nvidia-smi -L prints after "GPU-".
+  std::string uuid;
   std::uint64_t device_local_bytes = 0;
   // The most the device allocates in one piece (maxMemoryAllocationSize): the largest buffer.
   std::uint64_t largest_allocation_bytes = 0;
@@ -76,6 +79,10 @@ ContextOptions options_from_environment(ContextOptions defaults = {});
 
 // Every physical device with the reasons it cannot be used. Throws GpuUnavailable without a driver.
 std::vector<DeviceInfo> list_devices();
+// The device a Context picks when none is asked for: of the usable ones, a discrete GPU before an
+// integrated one, a virtual one and a CPU, then the most device-local memory; none when no device
+// is usable.
+std::optional<std::uint32_t> best_device(const std::vector<DeviceInfo>& devices);
 
 class Context {
  public:
