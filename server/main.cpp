@@ -4,6 +4,7 @@
 #include <arpa/inet.h>
 #include <grpcpp/ext/proto_server_reflection_plugin.h>
 #include <grpcpp/grpcpp.h>
+#include <grpcpp/resource_quota.h>
 #include <grpcpp/health_check_service_interface.h>
 #include <ifaddrs.h>
 #include <malloc.h>
@@ -47,6 +48,8 @@ namespace {
 // At shutdown, after gRPC's streams had theirs: how long WebSockets have to write the StreamEnd
 // that says the server is going, and close.
 constexpr std::chrono::seconds kWebSocketGoodbye{1};
+// The least memory gRPC's buffers may hold in all (start_grpc).
+constexpr std::size_t kLeastGrpcMemory = std::size_t(256) << 20;
 
 std::string read_file(const std::string& path) {
   std::ifstream in(path);
@@ -195,8 +198,15 @@ GrpcServer start_grpc(const ServerOptions& options, const ServerLimits& limits,
   builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_PERMIT_WITHOUT_CALLS, 1);
   builder.AddChannelArgument(GRPC_ARG_HTTP2_MIN_RECV_PING_INTERVAL_WITHOUT_DATA_MS, 5000);
   // A snapshot of the largest session, and room for the rest.
-  builder.SetMaxReceiveMessageSize(static_cast<int>(std::min<std::uint64_t>(
-      INT32_MAX, v1::kSnapshotBytesPerParticle * limits.max_particles + (1 << 20))));
+  const auto largest_message = static_cast<int>(std::min<std::uint64_t>(
+      INT32_MAX, v1::kSnapshotBytesPerParticle * limits.max_particles + (1 << 20)));
+  builder.SetMaxReceiveMessageSize(largest_message);
+  // gRPC (1.51) buffers a message whole before it checks its size (grpc/grpc#43012): one stream
+  // that declares 2 GB and sends it slowly would hold it all. Past its memory quota gRPC cancels
+  // streams instead: room for four of the largest messages at once, and at least 256 MiB.
+  grpc::ResourceQuota quota("fluidcast-grpc");
+  quota.Resize(std::max<std::size_t>(kLeastGrpcMemory, 4 * std::size_t(largest_message)));
+  builder.SetResourceQuota(quota);
   grpc.server = builder.BuildAndStart();
   if (grpc.server) listener.start(*grpc.acceptor);
   return grpc;
