@@ -5,6 +5,7 @@ namespace fluidcast::server {
 ConnectionLimits::Slot::~Slot() {
   std::lock_guard lock(tally_->mutex);
   --tally_->total;
+  if (awaiting_) --tally_->awaiting;
   if (--tally_->per_address[address_] == 0) tally_->per_address.erase(address_);
 }
 
@@ -17,13 +18,26 @@ std::shared_ptr<ConnectionLimits::Slot> ConnectionLimits::admit(
     return nullptr;
   }
   ++tally_->total;
+  ++tally_->awaiting;
   ++from_address;
   return std::make_shared<Slot>(tally_, address);
+}
+
+void ConnectionLimits::Slot::set_awaiting(bool awaiting) {
+  std::lock_guard lock(tally_->mutex);
+  if (awaiting == awaiting_) return;
+  awaiting_ = awaiting;
+  awaiting ? ++tally_->awaiting : --tally_->awaiting;
 }
 
 std::uint32_t ConnectionLimits::open() const {
   std::lock_guard lock(tally_->mutex);
   return tally_->total;
+}
+
+std::uint32_t ConnectionLimits::busy() const {
+  std::lock_guard lock(tally_->mutex);
+  return tally_->total - tally_->awaiting;
 }
 
 }  // namespace fluidcast::server

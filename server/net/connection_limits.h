@@ -16,6 +16,7 @@ class ConnectionLimits {
   struct Tally {
     std::mutex mutex;
     std::uint32_t total = 0;
+    std::uint32_t awaiting = 0;  // of total, those waiting for their client
     std::map<boost::asio::ip::address, std::uint32_t> per_address;
   };
 
@@ -30,10 +31,14 @@ class ConnectionLimits {
     Slot(const Slot&) = delete;
     Slot& operator=(const Slot&) = delete;
     const boost::asio::ip::address& address() const { return address_; }
+    // Whether the connection waits for its client's next bytes (a request, a TLS handshake; a
+    // new connection does): one a stopping server may cut without losing anything (busy()).
+    void set_awaiting(bool awaiting);
 
    private:
     std::shared_ptr<Tally> tally_;
     boost::asio::ip::address address_;
+    bool awaiting_ = true;  // under tally_->mutex
   };
 
   ConnectionLimits(std::uint32_t total, std::uint32_t per_address)
@@ -42,6 +47,8 @@ class ConnectionLimits {
   // A slot for a connection from `address`; null when it would pass a limit.
   std::shared_ptr<Slot> admit(const boost::asio::ip::address& address);
   std::uint32_t open() const;
+  // Open connections that are not waiting for their client: answering it, or a WebSocket.
+  std::uint32_t busy() const;
 
  private:
   std::uint32_t most_total_, most_per_address_;

@@ -1,7 +1,6 @@
 #include "http_server.h"
 
 #include <algorithm>
-#include <atomic>
 #include <boost/asio/strand.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
@@ -16,7 +15,6 @@
 #include <sstream>
 #include <stdexcept>
 #include <thread>
-#include <utility>
 
 namespace fluidcast::server {
 namespace {
@@ -39,21 +37,6 @@ std::string content_type(const std::filesystem::path& path) {
   return "text/plain; charset=utf-8";
 }
 
-// Counts a connection among those waiting for their client's next bytes (a request, or the first
-// ones) for as long as it lives: those a server that stops may cut without losing anything.
-class AwaitingClient {
- public:
-  explicit AwaitingClient(std::atomic<unsigned>& count) : count_(&count) { ++*count_; }
-  AwaitingClient(AwaitingClient&& other) noexcept : count_(std::exchange(other.count_, nullptr)) {}
-  AwaitingClient& operator=(AwaitingClient&&) = delete;
-  ~AwaitingClient() {
-    if (count_) --*count_;
-  }
-
- private:
-  std::atomic<unsigned>* count_;
-};
-
 // One connection's requests over Stream (beast::tcp_stream or TlsStream); `buffer` holds what
 // was read while telling TLS from plain HTTP.
 template <class Stream>
@@ -62,20 +45,20 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
 
  public:
   Connection(Stream stream, beast::flat_buffer buffer, const HttpServer::Routes& routes,
-             std::shared_ptr<ConnectionLimits::Slot> slot, std::atomic<unsigned>& awaiting)
+             std::shared_ptr<ConnectionLimits::Slot> slot)
       : stream_(std::move(stream)),
         routes_(&routes),
         slot_(std::move(slot)),
-        awaiting_(&awaiting),
         buffer_(std::move(buffer)) {}
 
   void read() {
     request_ = {};
     beast::get_lowest_layer(stream_).expires_after(kExchangeTimeout);
+    slot_->set_awaiting(true);
     http::async_read(
         stream_, buffer_, request_,
-        [self = shared_from_this(), idle = AwaitingClient(*awaiting_)](beast::error_code error,
-                                                                       std::size_t) {
+        [self = shared_from_this()](beast::error_code error, std::size_t) {
+          self->slot_->set_awaiting(false);
           if (error) return;
           const bool websocket = beast::websocket::is_upgrade(self->request_) &&
                                  self->request_.target() == "/ws" && self->routes_->websocket;
@@ -178,7 +161,6 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
   Stream stream_;
   const HttpServer::Routes* routes_;
   std::shared_ptr<ConnectionLimits::Slot> slot_;
-  std::atomic<unsigned>* awaiting_;
   beast::flat_buffer buffer_;
   http::request<http::string_body> request_;
 };
@@ -189,26 +171,23 @@ class Detector : public std::enable_shared_from_this<Detector> {
  public:
   Detector(tcp::socket socket, const HttpServer::Routes& routes,
            std::shared_ptr<boost::asio::ssl::context> tls,
-           std::shared_ptr<ConnectionLimits::Slot> slot, std::atomic<unsigned>& awaiting)
+           std::shared_ptr<ConnectionLimits::Slot> slot)
       : stream_(std::move(socket)),
         routes_(&routes),
         tls_(std::move(tls)),
-        slot_(std::move(slot)),
-        awaiting_(&awaiting) {}
+        slot_(std::move(slot)) {}
 
   void run() {
     stream_.expires_after(kExchangeTimeout);
     beast::async_detect_ssl(
-        stream_, buffer_,
-        [self = shared_from_this(), idle = AwaitingClient(*awaiting_)](beast::error_code error,
-                                                                       bool tls) {
+        stream_, buffer_, [self = shared_from_this()](beast::error_code error, bool tls) {
           if (error) return;
           if (tls && self->tls_) {
             self->handshake();
           } else {
-            std::make_shared<Connection<beast::tcp_stream>>(
-                std::move(self->stream_), std::move(self->buffer_), *self->routes_,
-                std::move(self->slot_), *self->awaiting_)
+            std::make_shared<Connection<beast::tcp_stream>>(std::move(self->stream_),
+                                                            std::move(self->buffer_),
+                                                            *self->routes_, std::move(self->slot_))
                 ->read();
           }
         });
@@ -223,8 +202,7 @@ class Detector : public std::enable_shared_from_this<Detector> {
           if (error) return;  // a browser that does not trust the certificate yet, say
           self->buffer_.consume(used);
           std::make_shared<Connection<TlsStream>>(std::move(*secure), std::move(self->buffer_),
-                                                  *self->routes_, std::move(self->slot_),
-                                                  *self->awaiting_)
+                                                  *self->routes_, std::move(self->slot_))
               ->read();
         });
   }
@@ -233,7 +211,6 @@ class Detector : public std::enable_shared_from_this<Detector> {
   const HttpServer::Routes* routes_;
   std::shared_ptr<boost::asio::ssl::context> tls_;
   std::shared_ptr<ConnectionLimits::Slot> slot_;
-  std::atomic<unsigned>* awaiting_;
   beast::flat_buffer buffer_;
 };
 
@@ -251,9 +228,7 @@ HttpServer::HttpServer(const std::string& address, unsigned short port, Routes r
   };
   listener_.start([this](tcp::socket socket, boost::asio::ip::address client) {
     if (auto slot = limits_.admit(client)) {
-      std::make_shared<Detector>(std::move(socket), routes_, tls_, std::move(slot),
-                                 awaiting_client_)
-          ->run();
+      std::make_shared<Detector>(std::move(socket), routes_, tls_, std::move(slot))->run();
     }  // else the socket closes here: over a limit
   });
   for (unsigned k = 0; k < threads; ++k) threads_.emplace_back([this] { io_.run(); });
@@ -265,7 +240,7 @@ void HttpServer::stop(std::chrono::milliseconds grace) {
   // WebSockets whose sessions were ended write their StreamEnd and close, and requests under way
   // are answered; connections waiting for their client (a page's keep-alive) are cut at once.
   const auto until = std::chrono::steady_clock::now() + grace;
-  while (limits_.open() > awaiting_client_ && std::chrono::steady_clock::now() < until) {
+  while (limits_.busy() > 0 && std::chrono::steady_clock::now() < until) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   io_.stop();

@@ -13,7 +13,6 @@
 #include <boost/beast/http/message.hpp>
 #include <boost/beast/http/string_body.hpp>
 #include <boost/beast/ssl/ssl_stream.hpp>
-#include <atomic>
 #include <chrono>
 #include <filesystem>
 #include <functional>
@@ -69,8 +68,6 @@ class HttpServer {
   Routes routes_;
   ConnectionLimits limits_;
   std::shared_ptr<boost::asio::ssl::context> tls_;
-  // Connections waiting for their client's next bytes; outlives io_, whose handlers hold them.
-  std::atomic<unsigned> awaiting_client_{0};
   boost::asio::io_context io_;
   Listener listener_;
   std::vector<std::thread> threads_;
