@@ -5,9 +5,12 @@
 #include <openssl/rand.h>
 #include <openssl/x509.h>
 #include <openssl/x509v3.h>
+#include <fcntl.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
@@ -97,6 +100,27 @@ void make(const TlsFiles& files, const std::vector<std::string>& addresses) {
   std::filesystem::rename(aside, files.certificate);
 }
 
+// Holds an exclusive lock on a file of the state folder while it lives: servers that start
+// together (one per GPU, sharing the folder) make one certificate, not one each, of which the
+// last renamed into place would leave the others serving theirs until they restart.
+class FolderLock {
+ public:
+  explicit FolderLock(const std::filesystem::path& file)
+      : fd_(::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0600)) {
+    if (fd_ < 0 || flock(fd_, LOCK_EX) != 0) {
+      const std::error_code error(errno, std::generic_category());
+      if (fd_ >= 0) ::close(fd_);
+      throw std::runtime_error("TLS: cannot lock " + file.string() + ": " + error.message());
+    }
+  }
+  ~FolderLock() { ::close(fd_); }  // which lets the lock go
+  FolderLock(const FolderLock&) = delete;
+  FolderLock& operator=(const FolderLock&) = delete;
+
+ private:
+  int fd_;
+};
+
 }  // namespace
 
 TlsFiles self_signed_certificate(const std::filesystem::path& folder,
@@ -109,6 +133,7 @@ TlsFiles self_signed_certificate(const std::filesystem::path& folder,
   }
   const std::filesystem::path both = folder / "self-signed.pem";  // the key, then the certificate
   const TlsFiles files{both, both};
+  const FolderLock lock(folder / "self-signed.lock");
   if (!covers(files.certificate, addresses)) make(files, addresses);
   return files;
 }
