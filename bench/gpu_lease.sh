@@ -8,7 +8,8 @@
 # (e.g. /tmp/w/PART) and pack it after each part, `tar czf $OUT/all.tgz -C /tmp/w .`, so that a
 # part cut off by its timeout still leaves the earlier ones (bench/results/h200-2026-11-28.md).
 # PART: programs  the programs the parts run (for the bundle), on standard output
-#       tests   every GPU test with the validation layer on (a message fails its test), then
+#       tests   the devices (fluidcast-server --list-devices beside nvidia-smi -L), every GPU
+#               test with the validation layer on (a message fails its test), then
 #               session_fuzz (clients' streams into a hub on the device, added 2026-11-30: its
 #               corpus from this tree, and 3 s of mutations; last, so that a part cut off at its
 #               timeout loses only it). The golden images and gpu_solver_inputs_test's corpus
@@ -86,6 +87,10 @@ table() {  # JSON of a benchmark program into its Markdown table
 case "$part" in
   tests)
     status=0
+    # The devices as the server lists them, and as NVIDIA's tool does: whether Vulkan's deviceUUID
+    # is the UUID nvidia-smi prints (docs/operations.md, Many GPUs, says so; added 2026-12-01).
+    { "$bin/fluidcast-server" --list-devices; nvidia-smi -L; } >"$out/devices.txt" 2>&1 || true
+    cat "$out/devices.txt"
     for test in "${gpu_tests[@]}"; do
       echo "== $test" >>"$out/tests.log"
       FLUIDCAST_VALIDATION=1 "$bin/$test" >>"$out/tests.log" 2>&1 || status=1
