@@ -229,6 +229,12 @@ std::optional<v1::Frame> StreamClient::next_frame(std::chrono::milliseconds time
 
 bool StreamClient::ended() const { return frames_.closed(); }
 
+bool stream_lost(const grpc::Status& status) {
+  return status.error_code() == grpc::StatusCode::UNAVAILABLE ||
+         (status.error_code() == grpc::StatusCode::RESOURCE_EXHAUSTED &&
+          status.error_message().starts_with("Received RST_STREAM"));
+}
+
 grpc::Status StreamClient::status() const {
   std::lock_guard lock(mutex_);
   return status_;

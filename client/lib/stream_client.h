@@ -39,6 +39,12 @@ std::shared_ptr<grpc::Channel> connect(const std::string& server);
 // The session joined and how others can join it, in a line for the terminal.
 std::string describe_welcome(const v1::Welcome& welcome);
 
+// Whether a stream that ended with `status` was lost rather than ended by the server on purpose:
+// UNAVAILABLE (the server stopped, the network dropped, or drop()), or a stream gRPC cancelled
+// when its buffers passed their quota on the server (RESOURCE_EXHAUSTED from a bare RST_STREAM,
+// which carries none of the server's sentences: someone else's huge messages, not this viewer's).
+bool stream_lost(const grpc::Status& status);
+
 class StreamClient final : public FluidStream {
  public:
   // Opens a stream and sends `hello`; waits for the Welcome (throws StreamError when the server
@@ -63,10 +69,7 @@ class StreamClient final : public FluidStream {
   std::optional<v1::Frame> next_frame(std::chrono::milliseconds timeout) override;
   bool ended() const override;
   std::string end_reason() const override { return status().error_message(); }
-  // UNAVAILABLE: the server stopped, the network dropped, or drop().
-  bool lost() const override {
-    return ended() && status().error_code() == grpc::StatusCode::UNAVAILABLE;
-  }
+  bool lost() const override { return ended() && stream_lost(status()); }
   std::string close() override;
   grpc::Status status() const;
   // Closes the sending side once what is queued is written, and waits for the server's status;

@@ -2,9 +2,9 @@
 # A client that half-sends huge gRPC messages cannot make the server hold them. gRPC buffers a
 # message whole before it checks its size against the limit, so two streams that each declare
 # 1.5 GB and send it would have the server hold 3 GB; its memory quota for gRPC (start_grpc in
-# server/main.cpp) makes gRPC cancel them instead, and the server goes on serving. (While memory
+# server/main.cpp) makes gRPC cancel them instead, and the server goes on serving. While memory
 # is short gRPC cancels streams it picks without regard to who sent what: a viewer streaming then
-# may lose its stream too, and resumes.)
+# may lose its stream too, and then carries its fluid on locally and hands it back.
 # Usage: grpc_memory_test.sh SERVER CLIENT
 set -uo pipefail
 server=$1
@@ -22,6 +22,10 @@ for _ in $(seq 300); do grep -q "listening: grpc=" "$work/server.txt" && break; 
 port=$(sed -n 's/.*listening: grpc=127.0.0.1:\([0-9]*\).*/\1/p' "$work/server.txt")
 [[ -n "$port" ]] || { echo "the server did not start: $(cat "$work/server.txt")"; exit 1; }
 resident_mb() { awk '/VmRSS/ { print int($2 / 1024) }' "/proc/$pid/status"; }
+"$client" --headless --handoff --server "127.0.0.1:$port" --particles 500 --seconds 5 \
+  > "$work/viewer.txt" 2>&1 &
+viewer=$!
+for _ in $(seq 100); do grep -q "streaming from" "$work/viewer.txt" && break; sleep 0.1; done
 node "$here/grpc_partial_messages.js" "$port" 1 2 1500000000 > "$work/flood.txt" 2>&1 &
 flood=$!
 # Until the server has ended both streams, at most 30 s (each line: {"opened":2,"closed":N,...}).
@@ -37,8 +41,11 @@ last=$(tail -1 "$work/flood.txt" | tr -d '\0')
 # Ended by the quota, not at once by something else: the server took over 100 MB of them first.
 sent=$(sed -n 's/.*"sent_mb":\([0-9]*\).*/\1/p' <<< "$last")
 ((${sent:-0} >= 100)) || fail "the streams ended before the server had taken 100 MB: $last"
+wait $viewer || fail "the viewer streaming during the flood failed: $(tail -4 "$work/viewer.txt")"
 "$client" --headless --server "127.0.0.1:$port" --particles 500 --seconds 1 > "$work/client.txt" 2>&1 ||
   fail "a client could not stream after: $(tail -3 "$work/client.txt")"
+grep -q "continuing locally" "$work/viewer.txt" &&
+  echo "the viewer lost its stream to the quota and carried on: $(grep -c 'took the state' "$work/viewer.txt") handback(s)"
 # The quota is 256 MiB; what the server holds besides is under 150 MB.
 ((peak < 700)) || fail "the server's memory reached $peak MB"
 echo "half-sent messages: $last; the server's memory at most $peak MB"

@@ -13,6 +13,20 @@
 namespace fluidcast::client {
 namespace {
 
+// What a handoff carries on from: a loss, not the server's refusal. gRPC's quota cancel arrives as
+// RESOURCE_EXHAUSTED from a bare RST_STREAM (status_conversion: ENHANCE_YOUR_CALM), the message
+// as a client received it (docs/operations.md, Memory); the server's own refusals say why.
+TEST(StreamLostTest, ALossOrAQuotaCancelIsLostAndTheServersRefusalsAreNot) {
+  EXPECT_TRUE(stream_lost({grpc::StatusCode::UNAVAILABLE, "the server is stopping"}));
+  EXPECT_TRUE(stream_lost(
+      {grpc::StatusCode::RESOURCE_EXHAUSTED, "Received RST_STREAM with error code 11"}));
+  EXPECT_FALSE(stream_lost({grpc::StatusCode::RESOURCE_EXHAUSTED,
+                            "this server holds at most 8 sessions (--max-sessions)"}));
+  EXPECT_FALSE(stream_lost({grpc::StatusCode::INVALID_ARGUMENT, "Viewport: width 0"}));
+  EXPECT_FALSE(stream_lost({grpc::StatusCode::DEADLINE_EXCEEDED, "idle for 600 s"}));
+  EXPECT_FALSE(stream_lost(grpc::Status::OK));
+}
+
 // Welcomes, then never reads again until the client goes away.
 class ServerThatStopsReading final : public v1::Fluidcast::Service {
  public:
