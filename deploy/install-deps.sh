@@ -25,8 +25,8 @@ packages=(
   libgrpc++-dev libprotobuf-dev protobuf-compiler protobuf-compiler-grpc
   # JSON: the headless client's report and gesture scripts
   nlohmann-json3-dev
-  # tests and benchmarks
-  libgtest-dev libgmock-dev libbenchmark-dev
+  # tests and benchmarks (gRPC for Python: the protocol's example client in another language)
+  libgtest-dev libgmock-dev libbenchmark-dev python3-grpcio python3-protobuf
   # the native client's window, its overlay's text and font, and a virtual display for its tests
   libsdl2-dev libsdl2-ttf-dev fonts-dejavu-core xvfb xauth
   # the page's local fluid: the C++ solvers compiled to WebAssembly
