@@ -48,7 +48,16 @@ def main():
     if args.frames <= DRAG_LAST:
         parser.error(f"--frames must be more than {DRAG_LAST}, the drag's last frame")
 
-    stub = fc_grpc.FluidcastStub(grpc.insecure_channel(args.server))
+    with grpc.insecure_channel(args.server) as channel:
+        try:
+            return run(fc_grpc.FluidcastStub(channel), args)
+        except grpc.RpcError as error:  # the server's status, and its sentence saying why
+            print(f"{args.server}: {error.code().name}: {error.details()}", file=sys.stderr)
+            return 1
+
+
+def run(stub, args):
+    """One session, as docs/protocol.md walks through it; returns the exit status."""
     info = stub.GetServerInfo(fc.GetServerInfoRequest(), timeout=10)
     print(f"fluidcast-server {info.version} on {info.device}: scenes {', '.join(info.rules.scenes)};"
           f" at most {info.limits.max_particles} particles and "
@@ -93,11 +102,12 @@ def main():
                     send_input(pointer=pointer)
                 if frames == args.frames:
                     outgoing.put(None)
-    except grpc.RpcError as error:
-        print(f"the stream ended: {error.code().name}: {error.details()}", file=sys.stderr)
-        return 1
     finally:
         outgoing.put(None)  # ends messages() however the stream ended
+    if frames < args.frames:
+        print(f"the server ended the stream after {frames} frames, before the goodbye",
+              file=sys.stderr)
+        return 1
 
     latencies_ms.sort()
     median = latencies_ms[len(latencies_ms) // 2] if latencies_ms else float("nan")

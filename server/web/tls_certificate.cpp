@@ -106,8 +106,11 @@ void make(const TlsFiles& files, const std::vector<std::string>& addresses) {
 class FolderLock {
  public:
   explicit FolderLock(const std::filesystem::path& file)
-      : fd_(::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0600)) {
-    if (fd_ < 0 || flock(fd_, LOCK_EX) != 0) {
+      : fd_(::open(file.c_str(), O_RDONLY | O_CREAT | O_CLOEXEC, 0600)) {
+    int locked = -1;
+    while (fd_ >= 0 && (locked = flock(fd_, LOCK_EX)) != 0 && errno == EINTR) {
+    }
+    if (locked != 0) {
       const std::error_code error(errno, std::generic_category());
       if (fd_ >= 0) ::close(fd_);
       throw std::runtime_error("TLS: cannot lock " + file.string() + ": " + error.message());
@@ -133,8 +136,12 @@ TlsFiles self_signed_certificate(const std::filesystem::path& folder,
   }
   const std::filesystem::path both = folder / "self-signed.pem";  // the key, then the certificate
   const TlsFiles files{both, both};
-  const FolderLock lock(folder / "self-signed.lock");
-  if (!covers(files.certificate, addresses)) make(files, addresses);
+  // Checked again under the lock: another server may have made it meanwhile. A certificate that
+  // covers the addresses needs no lock (nor a folder that can be written).
+  if (!covers(files.certificate, addresses)) {
+    const FolderLock lock(folder / "self-signed.lock");
+    if (!covers(files.certificate, addresses)) make(files, addresses);
+  }
   return files;
 }
 
