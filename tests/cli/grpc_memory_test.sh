@@ -7,6 +7,7 @@
 # may lose its stream too, and then carries its fluid on locally and hands it back.
 # Usage: grpc_memory_test.sh SERVER CLIENT
 set -uo pipefail
+source "$(dirname "$0")/server_process.sh"
 server=$1
 client=$2
 here=$(dirname "$0")
@@ -15,12 +16,8 @@ pid= flood= viewer=
 trap 'kill $pid $flood $viewer 2>/dev/null; rm -rf "$work"' EXIT
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
-"$server" --listen 127.0.0.1 --grpc-port 0 --http-port 0 --state-dir "$work/state" \
-  > "$work/server.txt" 2>&1 &
-pid=$!
-for _ in $(seq 300); do grep -q "listening: grpc=" "$work/server.txt" && break; sleep 0.1; done
-port=$(sed -n 's/.*listening: grpc=127.0.0.1:\([0-9]*\).*/\1/p' "$work/server.txt")
-[[ -n "$port" ]] || { echo "the server did not start: $(cat "$work/server.txt")"; exit 1; }
+start_server "$server" "$work"
+port=$grpc_port
 resident_mb() { awk '/VmRSS/ { print int($2 / 1024) }' "/proc/$pid/status"; }
 "$client" --headless --handoff --server "127.0.0.1:$port" --particles 500 --seconds 5 \
   > "$work/viewer.txt" 2>&1 &

@@ -3,17 +3,14 @@
 # `promtool check metrics` (Prometheus's own lint) and carries the labelled series.
 # Usage: metrics_test.sh SERVER CLIENT. Skipped (77) where promtool is not installed.
 set -uo pipefail
+source "$(dirname "$0")/server_process.sh"
 server=$1 client=$2
 command -v promtool >/dev/null || { echo "promtool is not installed: skipped"; exit 77; }
 work=$(mktemp -d)
-"$server" --listen 127.0.0.1 --grpc-port 0 --http-port 0 --state-dir "$work/state" \
-  --max-particles 5000 > "$work/server.txt" 2>&1 &
-pid=$!
+pid=
 trap 'kill $pid 2>/dev/null; rm -rf "$work"' EXIT
-for _ in $(seq 300); do grep -q "listening: grpc=" "$work/server.txt" && break; sleep 0.1; done
-grpc=$(sed -n 's/.*listening: grpc=127.0.0.1:\([0-9]*\).*/\1/p' "$work/server.txt")
-http=$(sed -n 's/.*http=127.0.0.1:\([0-9]*\).*/\1/p' "$work/server.txt")
-[[ -n "$grpc" && -n "$http" ]] || { echo "the server did not start: $(cat "$work/server.txt")"; exit 1; }
+start_server "$server" "$work" --max-particles 5000
+grpc=$grpc_port http=$http_port
 "$client" --headless --server "127.0.0.1:$grpc" --particles 500 --seconds 1 >/dev/null ||
   { echo "the streamed session failed"; exit 1; }
 "$client" --headless --server "127.0.0.1:$grpc" --particles 6000 --seconds 1 >/dev/null 2>&1

@@ -4,6 +4,7 @@
 # through it, measures touch-to-photon, saves a JPEG and says goodbye (OK).
 # Usage: python_client_test.sh SERVER SOURCE_DIR
 set -uo pipefail
+source "$(dirname "$0")/server_process.sh"
 server=$1
 source=$2
 python=/usr/bin/python3  # Debian's, with python3-grpcio and python3-protobuf
@@ -13,12 +14,8 @@ trap 'kill $pid 2>/dev/null; rm -rf "$work"' EXIT
 protoc -I "$source/proto" --python_out="$work" --grpc_python_out="$work" \
   --plugin=protoc-gen-grpc_python=/usr/bin/grpc_python_plugin \
   "$source/proto/fluidcast/v1/fluidcast.proto" || { echo "protoc failed"; exit 1; }
-"$server" --listen 127.0.0.1 --grpc-port 0 --http-port 0 --state-dir "$work/state" \
-  > "$work/server.txt" 2>&1 &
-pid=$!
-for _ in $(seq 300); do grep -q "listening: grpc=" "$work/server.txt" && break; sleep 0.1; done
-port=$(sed -n 's/.*listening: grpc=127.0.0.1:\([0-9]*\).*/\1/p' "$work/server.txt")
-[[ -n "$port" ]] || { echo "the server did not start: $(cat "$work/server.txt")"; exit 1; }
+start_server "$server" "$work"
+port=$grpc_port
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 out=$(PYTHONPATH="$work" timeout 120 "$python" "$source/docs/examples/python_client.py" \
