@@ -200,6 +200,16 @@ std::uint32_t Session::resume_viewer(const v1::Hello& hello, std::shared_ptr<Vie
     throw Refusal(RefusalCode::not_found, "Hello.resume.key: that viewer has been forgotten");
   }
   const Departed departed = kept->second;
+  if (hello.resume().has_state()) {
+    // In before the viewer is back: a state refused leaves it departed, free to try again.
+    if (departed.seat.access != Access::control) {
+      throw Refusal(RefusalCode::permission_denied,
+                    "Hello.resume.state: this viewer joined with the session's view key; handing "
+                    "a fluid back needs its control key");
+    }
+    check_room();
+    load(hello.resume().state());
+  }
   // A new resume key each time: one that leaked brings back no one after its viewer's next
   // connection.
   const std::uint32_t id = admit(hello, std::move(sink), Seat{departed.seat.access});
@@ -208,12 +218,16 @@ std::uint32_t Session::resume_viewer(const v1::Hello& hello, std::shared_ptr<Vie
   return id;
 }
 
-std::uint32_t Session::admit(const v1::Hello& hello, std::shared_ptr<ViewerSink> sink, Seat seat) {
+void Session::check_room() const {
   if (viewers_.size() >= services_.limits->max_viewers_per_session) {
     throw Refusal(RefusalCode::resource_exhausted,
                   "session " + id_ + " has its limit of " +
                       std::to_string(services_.limits->max_viewers_per_session) + " viewers");
   }
+}
+
+std::uint32_t Session::admit(const v1::Hello& hello, std::shared_ptr<ViewerSink> sink, Seat seat) {
+  check_room();
   const std::uint32_t id = next_viewer_++;
   auto viewer = std::make_unique<Viewer>(*services_.context, id, std::move(seat), hello.viewport(),
                                          hello.quality(), *services_.limits, std::move(sink));

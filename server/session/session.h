@@ -68,7 +68,8 @@ class Session {
   // The viewer, connected or recently departed, whose resume key `key` is.
   std::optional<std::uint32_t> viewer_resumed_by(const std::string& key) const;
   // A new connection for viewer `resumed` (viewer_resumed_by): its camera and access, a new
-  // resume key; a connection it still has is ended. Returns the new viewer's id.
+  // resume key, and the fluid in Hello.resume.state if any (a Refusal when it does not fit: the
+  // viewer stays departed); a connection it still has is ended. Returns the new viewer's id.
   std::uint32_t resume_viewer(const v1::Hello& hello, std::shared_ptr<ViewerSink> sink,
                               std::uint32_t resumed);
   // What the viewer may do.
@@ -122,6 +123,8 @@ class Session {
  private:
   // load()'s work, charged by it.
   std::uint32_t replace_fluid(const v1::Snapshot& snapshot);
+  // Throws a Refusal when the session has its most viewers.
+  void check_room() const;
   std::uint32_t admit(const v1::Hello& hello, std::shared_ptr<ViewerSink> sink, Seat seat);
   void rebuild(SessionSetup setup);
   // The scene `setup` starts from (its count filled in with the server's default where it names

@@ -130,24 +130,24 @@ void validate_tilt(const v1::Tilt& tilt) {
   }
 }
 
-// A state handed back in NewSession.state: its names and its size (the session checks each particle
-// against its tank when it loads it).
-void validate_state(const v1::Snapshot& state, const ServerLimits& limits) {
+// A state handed back (NewSession.state, Hello.resume.state; `field` names it): its names and its
+// size (the session checks each particle against its tank when it loads it).
+void validate_state(const v1::Snapshot& state, const ServerLimits& limits, const char* field) {
   validate_scene(state.scene(), "Snapshot.scene");
   validate_solver(state.solver(), "Snapshot.solver");
   if (state.positions_size() % 3 != 0 || state.velocities_size() != state.positions_size()) {
     refuse(RefusalCode::invalid_argument,
-           "NewSession.state: positions and velocities need three values per particle each");
+           std::string(field) + ": positions and velocities need three values per particle each");
   }
   const auto particles = static_cast<std::uint32_t>(state.positions_size() / 3);
-  if (particles == 0) refuse(RefusalCode::invalid_argument, "NewSession.state has no particles");
+  if (particles == 0) refuse(RefusalCode::invalid_argument, std::string(field) + " has no particles");
   if (particles > kMaxStateParticles) {
     refuse(RefusalCode::resource_exhausted,
-           "NewSession.state: " + text(particles) + " particles are more than the " +
+           std::string(field) + ": " + text(particles) + " particles are more than the " +
                text(kMaxStateParticles) + " a stream carries (InputRules.max_state_particles)");
   }
-  validate_particles(particles, limits, "NewSession.state");
-  validate_snapshot_time(state.time(), "NewSession.state.time");
+  validate_particles(particles, limits, field);
+  validate_snapshot_time(state.time(), (std::string(field) + ".time").c_str());
 }
 
 void validate_command(const v1::Command& command, const ServerLimits& limits) {
@@ -264,13 +264,18 @@ void validate_hello(const v1::ClientMessage& message, const ServerLimits& limits
       validate_scene(hello.create().scene(), "NewSession.scene");
       validate_solver(hello.create().solver(), "NewSession.solver");
       validate_particles(hello.create().particles(), limits, "NewSession.particles");
-      if (hello.create().has_state()) validate_state(hello.create().state(), limits);
+      if (hello.create().has_state()) {
+        validate_state(hello.create().state(), limits, "NewSession.state");
+      }
       break;
     case v1::Hello::kJoin:
       validate_key(hello.join(), "Hello.join");
       break;
     case v1::Hello::kResume:
       validate_key(hello.resume().key(), "Hello.resume.key");
+      if (hello.resume().has_state()) {
+        validate_state(hello.resume().state(), limits, "Hello.resume.state");
+      }
       break;
     case v1::Hello::SESSION_NOT_SET:
       break;

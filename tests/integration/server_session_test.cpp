@@ -12,7 +12,10 @@
 #include <limits>
 #include <memory>
 #include <set>
+#include <string>
 #include <thread>
+#include <tuple>
+#include <utility>
 
 #include "server_test_support.h"
 #include "session/server_limits.h"
@@ -297,6 +300,71 @@ TEST(ServerTest, TheFirstViewerResumesAfterMoreThanTheKeptOthersDropped) {
   const auto back = resume(address, access);
   EXPECT_EQ(back->welcome().session_id(), session);
   EXPECT_TRUE(back->welcome().access().control());
+}
+
+// A viewer that carried the fluid on by itself while its network was down hands it back as it
+// resumes (Hello.resume.state), into the session another device watched throughout. A state the
+// session does not take, or one from a viewer with the view key, is refused and leaves the viewer
+// free to resume.
+TEST(ServerTest, AResumeHandsBackTheFluidCarriedOnIntoTheSessionLeft) {
+  testing::ServerProcess server;
+  const std::string& address = server.grpc_address();
+  auto creator = std::make_unique<StreamClient>(client::connect(address), small_hello(800));
+  const std::string session = creator->welcome().session_id();
+  v1::Hello join = small_hello();
+  join.set_join(creator->welcome().access().view_key());
+  auto watcher = std::make_unique<StreamClient>(client::connect(address), join);
+  frame_from(*creator);
+  frame_from(*watcher);
+  v1::Snapshot carried_on = creator->snapshot();  // as if it went on 100 s here
+  carried_on.set_time(carried_on.time() + 100.0);
+  const v1::Access creator_access = creator->welcome().access();
+  const v1::Access watcher_access = watcher->welcome().access();
+  creator->drop();
+  creator.reset();
+
+  const auto resume_with = [&](const v1::Access& access, const v1::Snapshot& state) {
+    v1::Hello hello = small_hello();
+    hello.mutable_resume()->set_key(access.resume_key());
+    *hello.mutable_resume()->mutable_state() = state;
+    return std::make_unique<StreamClient>(client::connect(address), hello);
+  };
+  const auto refusal = [&](const v1::Access& access, const v1::Snapshot& state) {
+    try {
+      resume_with(access, state);
+    } catch (const StreamError& e) {
+      return std::pair(e.code(), std::string(e.what()));
+    }
+    return std::pair(grpc::StatusCode::OK, std::string());
+  };
+  v1::Snapshot outside = carried_on;
+  outside.set_positions(4, 50.0f);
+  auto [code, why] = refusal(creator_access, outside);
+  EXPECT_EQ(code, grpc::StatusCode::INVALID_ARGUMENT) << why;
+  EXPECT_NE(why.find("Snapshot"), std::string::npos) << why;
+  v1::Snapshot uneven = carried_on;
+  uneven.add_positions(0.5f);
+  std::tie(code, why) = refusal(creator_access, uneven);
+  EXPECT_EQ(code, grpc::StatusCode::INVALID_ARGUMENT) << why;
+  EXPECT_NE(why.find("Hello.resume.state"), std::string::npos) << why;
+
+  const auto back = resume_with(creator_access, carried_on);
+  EXPECT_EQ(back->welcome().session_id(), session);
+  EXPECT_TRUE(back->welcome().access().control());
+  bool watcher_sees_it = false;
+  for (int k = 0; k < 100 && !watcher_sees_it; ++k) {
+    watcher_sees_it = frame_from(*watcher).sim_time() >= carried_on.time();
+  }
+  EXPECT_TRUE(watcher_sees_it) << "the watcher's session did not go on from the fluid handed back";
+
+  watcher->drop();
+  watcher.reset();
+  std::tie(code, why) = refusal(watcher_access, carried_on);
+  EXPECT_EQ(code, grpc::StatusCode::PERMISSION_DENIED) << why;
+  EXPECT_NE(why.find("control key"), std::string::npos) << why;
+  const auto watcher_back = resume(address, watcher_access);
+  EXPECT_EQ(watcher_back->welcome().session_id(), session);
+  EXPECT_FALSE(watcher_back->welcome().access().control());
 }
 
 TEST(ServerTest, TiltTurnsGravity) {
