@@ -391,14 +391,20 @@ void HandoffStream::reconnect() {
     try {
       came_back(reconnect_.get());
     } catch (const Unreachable&) {  // still gone
-    } catch (const Forgotten& e) {  // the next attempt asks for a new session
+    } catch (const Forgotten& e) {  // the next attempt, at once, asks for a new session
       resume_key_.clear();
+      last_retry_ = {};
       set_status(std::string("the server is back but no longer has the session (") + e.what() +
                  "); asking for a new one");
     } catch (const std::exception& e) {
       // The fluid here, paused while its state went over, goes on as the user last asked, with
-      // what they did meanwhile.
-      if (stream_) set_paused(*stream_, paused_);
+      // what they did meanwhile. It goes into a new session next: a resume the server refused
+      // may be refused again (the fluid here needs no old seat), and one that did not take the
+      // fluid spent its key.
+      if (stream_) {
+        set_paused(*stream_, paused_);
+        resume_key_.clear();
+      }
       set_status(std::string("the server is back but refused a session: ") + e.what() +
                  (stream_ ? "; continuing locally, retrying" : "; retrying"));
     }
@@ -408,15 +414,17 @@ void HandoffStream::reconnect() {
   const auto now = Clock::now();
   if (now - last_retry_ < options_.retry_every) return;
   last_retry_ = now;
+  // The session left is asked for first, the fluid here going into it: whoever else watches it
+  // sees it go on, and it frees no seat later. Once the server no longer has it, a new one.
   v1::Hello hello = hello_;
-  if (stream_) {
-    continue_session(hello, welcome().state());
-  } else if (!resume_key_.empty()) {
+  if (!resume_key_.empty()) {
     hello.mutable_resume()->set_key(resume_key_);
+  } else if (stream_) {
+    continue_session(hello, welcome().state());
   }
   reconnect_ = std::async(std::launch::async, [connect = sides_.connect, hello, local = stream_,
                                                 handback = handback_] {
-    Reconnected back{connect(hello), {}};
+    Reconnected back{connect(hello), {}, hello.has_resume()};
     if (!local) return back;
     // The fluid here stops while its state goes over, and what its user does meanwhile is held
     // back for where it goes on (refused, here: reconnect() unpauses it as its user last asked).
@@ -440,10 +448,11 @@ void HandoffStream::came_back(Reconnected back) {
   show_from_event_ = 0;
   pause_asked_ = 0;  // another stream's event ids
   if (const auto& state = back.state_put) {
-    char line[128];
+    char line[160];
     std::snprintf(line, sizeof line,
-                  "the server is back and took the state (%d particles, t = %.3f s)",
-                  state->positions_size() / 3, state->time());
+                  "the server is back and took the state (%d particles, t = %.3f s) into %s",
+                  state->positions_size() / 3, state->time(),
+                  back.resumed ? "the session it left" : "a new session");
     say(line);
     try {
       // A new session runs: the fluid here was paused.

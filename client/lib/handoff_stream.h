@@ -7,11 +7,13 @@
 // the stream is lost (FluidStream::lost: the server or the network went away), or sends nothing
 // for stall_after, the local fluid resumes from that state within a frame or two. Meanwhile it
 // asks the server again every retry_every; once one answers and takes the local fluid's state
-// into a new session, it streams from there (a server that refuses is asked again, the fluid
-// going on here). A session that does not continue here is resumed (the same fluid, gone on at
-// the server), or, once the server no longer has it, asked for anew. A stream the server ended on
-// purpose (bad input, an idle session) ends this one: its reason stands. Frames that reflect no
-// event since a side changed show a state from before the change: they are not returned.
+// into the session left (resumed: others watching it stay with it) or, once the server no longer
+// has that, a new one, it streams from there (a server that refuses is asked again, for a new
+// session, the fluid going on here). A session that does not continue here is resumed (the same
+// fluid, gone on at the server), or, once the server no longer has it, asked for anew. A stream
+// the server ended on purpose (bad input, an idle session) ends this one: its reason stands.
+// Frames that reflect no event since a side changed show a state from before the change: they
+// are not returned.
 //
 // What the user does while a handback has the fluid here paused (its state going over) is held
 // back and sent to whichever side the fluid goes on from; a finger held down as the fluid changes
@@ -116,6 +118,7 @@ class HandoffStream final : public FluidStream {
   struct Reconnected {
     std::shared_ptr<FluidStream> stream;
     std::optional<v1::Snapshot> state_put;  // what went in, if a fluid here did
+    bool resumed = false;                   // the session left, not a new one
   };
   using Clock = std::chrono::steady_clock;
 
@@ -152,8 +155,9 @@ class HandoffStream final : public FluidStream {
   bool paused_ = false;
   // This viewer's last pause or going on, while no frame of the streamed session reflects it yet.
   std::uint64_t pause_asked_ = 0;
-  // The lost session's, while nothing continues it here: the server keeps it for a while, so a
-  // blip of the network brings back the same fluid. Forgotten once a resume is refused.
+  // The lost session's, asked for first on the way back: the server keeps it for a while, so a
+  // blip of the network brings back the same session (with the fluid here, if one went on).
+  // Forgotten once the server no longer has it, or a resume with the fluid here failed.
   std::string resume_key_;
   bool streamed_before_ = false;
   std::string status_;

@@ -363,10 +363,12 @@ TEST(HandoffStream, LatencyCountsTheUsersEventsOnEitherSide) {
   for (const double ms : latencies) EXPECT_LT(ms, 250.0);
 }
 
+// The fluid goes back into the session it left (others watching it stay with it).
 TEST(HandoffStream, AServerThatComesBackTakesTheFluidAndStreamsAgain) {
   Fixture f;
   HandoffStream stream(hello_for(1000), f.sides(), f.options());
   stream_until_kept(stream, f);
+  const std::string key = stream.welcome().access().resume_key();
   f.set(&FakeServer::up, false);
   read_until(stream, [&] { return stream.simulating_here(); });
   const std::vector<float> here = read_for(stream, milliseconds(150));
@@ -378,15 +380,56 @@ TEST(HandoffStream, AServerThatComesBackTakesTheFluidAndStreamsAgain) {
   const std::vector<float> again = read_for(stream, milliseconds(100));
   {
     const std::lock_guard lock(f.server->mutex);
-    ASSERT_EQ(f.server->put.size(), 1u) << "the state here goes into the new session";
+    ASSERT_EQ(f.server->put.size(), 1u) << "the state here goes into the session";
     EXPECT_GE(f.server->put[0].time(), continued);
     EXPECT_EQ(f.server->streams, 2);
+    EXPECT_TRUE(f.server->hellos.back().has_resume()) << "a new session was asked for";
+    EXPECT_EQ(f.server->hellos.back().resume().key(), key);
   }
   ASSERT_FALSE(again.empty());
-  for (const float t : again) EXPECT_GE(t, continued) << "a frame of the new session before";
+  for (const float t : again) EXPECT_GE(t, continued) << "a frame of the session from before";
   EXPECT_NE(stream.status().find("again"), std::string::npos) << stream.status();
   EXPECT_TRUE(f.heard("the server is back and took the state (1000 particles"));
+  EXPECT_TRUE(f.heard("into the session it left"));
   EXPECT_TRUE(f.heard("first frame streamed after the handoff"));
+}
+
+// Streams, loses the server, goes on here for a while, and lets it back having forgotten the
+// session (it restarted) or refusing its resume once (`refused_resume`): the fluid goes into a
+// new session of its scene and count.
+void hand_back_into_a_new_session(bool refused_resume) {
+  Fixture f;
+  HandoffStream stream(hello_for(1000), f.sides(), f.options());
+  stream_until_kept(stream, f);
+  f.set(&FakeServer::up, false);
+  read_until(stream, [&] { return stream.simulating_here(); });
+  const float continued = read_for(stream, milliseconds(100)).back();
+  {
+    const std::lock_guard lock(f.server->mutex);
+    f.server->full_for = refused_resume ? 1 : 0;
+  }
+  f.set(&FakeServer::forgets_sessions, !refused_resume);
+  f.set(&FakeServer::up, true);
+  read_until(stream, [&] { return !stream.simulating_here(); });
+  EXPECT_TRUE(f.heard(refused_resume ? "refused a session" : "no longer has the session"));
+  EXPECT_TRUE(f.heard("into a new session"));
+  const std::lock_guard lock(f.server->mutex);
+  ASSERT_EQ(f.server->hellos.size(), 2u);
+  const v1::Hello& back = f.server->hellos.back();
+  EXPECT_FALSE(back.has_resume());
+  EXPECT_EQ(back.create().particles(), 1000u);
+  ASSERT_EQ(f.server->put.size(), 1u);
+  EXPECT_GE(f.server->put[0].time(), continued);
+}
+
+TEST(HandoffStream, AFluidWhoseSessionIsForgottenGoesIntoANewOne) {
+  hand_back_into_a_new_session(false);
+}
+
+// A resume refused (its seat taken, say) is not asked again while the fluid goes on here: it
+// needs no old seat.
+TEST(HandoffStream, AFluidWhoseResumeIsRefusedGoesIntoANewSession) {
+  hand_back_into_a_new_session(true);
 }
 
 TEST(HandoffStream, ASilentStreamCountsAsLost) {
@@ -504,6 +547,7 @@ TEST(HandoffStream, ANewStreamOpensWithTheNewestViewport) {
   stream_until_kept(stream, f);
   f.set(&FakeServer::up, false);
   read_until(stream, [&] { return stream.simulating_here(); });
+  f.set(&FakeServer::forgets_sessions, true);  // a new session: the Hello names the count
   f.set(&FakeServer::up, true);
   read_until(stream, [&] { return !stream.simulating_here(); });
   ASSERT_EQ(hellos.size(), 2u);
