@@ -63,7 +63,10 @@ let giveUp = false;
 // Why the last stream ended, in words for the person holding the phone, when the server said:
 // what the close that follows shows, instead of a bare "dropped".
 let endReason = '';
-let sessionLost = false;  // the server no longer had our session: the next one is new
+// Why the server did not give our session back, when it did not: the next one is new.
+let sessionLost = '';
+// This connection's Hello puts the fluid here back into the session it left.
+let handingBack = false;
 // A shared link's key (#view=… or #control=…, in the fragment so that it never reaches a server's
 // logs): the session this page joins, and whether it may play or only watch.
 let joinKey = (/^#(?:view|control)=([0-9a-f]{32})$/.exec(location.hash) || [])[1] || '';
@@ -167,13 +170,21 @@ function connect() {
   say(state.access || joinKey ? 'Reconnecting…' : 'Connecting…');
   socket.onopen = async () => {
     const hello = { token, viewport: viewport(), quality: quality() };
+    handingBack = false;
     if (handoff && handoff.mode) {
-      // The fluid went on here: the server gets it back in a new session. It stops here while its
-      // state goes over, so that the server goes on from where it was last shown.
+      // The fluid went on here: it goes back into the session it left (whoever else watches that
+      // stays with it) or, once the server no longer has that, into a new one. It stops here
+      // while its state goes over, so that the server goes on from where it was last shown.
       handoff.mode.paused = true;
       const opened = socket;
-      hello.create = { state: await handoff.mode.exportState() };
+      const carried = await handoff.mode.exportState();
       if (socket !== opened) return;  // closed meanwhile; a new connection says its own Hello
+      if (state.access) {
+        hello.resume = { key: state.access.resumeKey, state: carried };
+        handingBack = true;
+      } else {
+        hello.create = { state: carried };
+      }
     } else if (state.access) {
       hello.resume = { key: state.access.resumeKey };
     } else if (handoff) {
@@ -226,9 +237,10 @@ function receive(bytes) {
     joinKey = state.access.control ? state.access.controlKey : state.access.viewKey;
     history.replaceState(null, '', (state.access.control ? '#control=' : '#view=') + joinKey);
     if (sessionLost) {
-      sessionLost = false;
-      say('The server no longer had the fluid you were watching (it may have restarted): this ' +
-          'is a new one.');
+      const handedBack = handoff !== null && handoff.mode !== null;
+      say(sessionLost + (handedBack ? ': your fluid goes on in a new one, with a new link.'
+                                    : ': this is a new one.'));
+      sessionLost = '';
       setTimeout(() => { if (state.connected) say(''); }, 5000);
     } else if (addressProblem) {
       say(addressProblem);
@@ -276,13 +288,16 @@ function ended(code, text) {
     } else {
       say('No token given: ' + text);
     }
-  } else if (code === 'NOT_FOUND') {
-    // The session ended while we were away (or the server restarted): start a new one, and say so.
+  } else if (code === 'NOT_FOUND' || (handingBack && code !== 'UNAVAILABLE' && code !== 'INTERNAL')) {
+    // The session ended while we were away (or the server restarted), or would not take the fluid
+    // here back (its seats taken, say): start a new one, and say so.
     state.sessionId = '';
     state.viewerId = 0;
     state.access = null;
     joinKey = '';
-    sessionLost = true;
+    sessionLost = code === 'NOT_FOUND'
+      ? 'The server no longer had the session (it may have restarted)'
+      : 'The session you left did not take your fluid back (' + text + ')';
     retryDelayMs = 100;
   } else {
     endReason = (plainWords[code] || 'The server ended the stream') + ' (' + text + ')';
@@ -412,7 +427,8 @@ function showPaused(value) {
 // While it streams a session of at most kHandoffParticles (?handoff=N; the server's
 // InputRules.max_state_particles at most; 0: never), the page keeps the session's newest state;
 // when the connection drops it continues that fluid here within a frame or two, retries, and
-// when the server is back hands the fluid back in a new session and streams again.
+// when the server is back hands the fluid back into the session it left (or, once the server no
+// longer has that, a new one) and streams again.
 const kHandoffParticles =
   query.has('handoff') ? Number(query.get('handoff')) || 0 : kMaxLocalParticles;
 const kStateEveryMs = 250;

@@ -454,8 +454,8 @@ async function main() {
     await misread.close();
 
     // A page streaming a small session keeps its state; when the server goes away it continues
-    // the fluid itself within a frame or two, and when the server is back it hands the fluid
-    // back in a new session and streams again.
+    // the fluid itself within a frame or two, and when the server is back (restarted: it no
+    // longer has the session) it hands the fluid back in a new session and streams again.
     const handing = await context.newPage();
     handing.on('pageerror', (e) => { console.log('page error: ' + e.message); failures++; });
     await handing.goto(`http://127.0.0.1:${port}/?particles=1000`);
@@ -580,7 +580,7 @@ async function main() {
     const timeBeforeRace = await handing.evaluate(() => window.fluidcast.lastFrame.simTime);
     const handoffsBeforeRace = await handing.evaluate(() => window.fluidcast.handoffs);
     await handing.evaluate(() => {
-      const start = LocalMode.startFrom;
+      const start = window.realStartFrom = LocalMode.startFrom;
       window.releaseStart = null;
       LocalMode.startFrom = async (...args) => {  // held until the stream is back
         await new Promise((resolve) => { window.releaseStart = resolve; });
@@ -609,6 +609,51 @@ async function main() {
     check(raced.time >= timeBeforeRace,
           `and the server, restarted, goes on from the newest state streamed (t = ` +
           `${timeBeforeRace.toFixed(2)} s before → ${raced.time.toFixed(2)} s)`);
+
+    // The network drops while the server stays up (a phone between networks): the fluid goes on
+    // here, and then back into the session it left, which another device watches throughout.
+    await sleep(1500);  // states again
+    const left = await handing.evaluate(() => ({ id: window.fluidcast.sessionId,
+                                                 viewKey: window.fluidcast.access.viewKey }));
+    const onlooker = await context.newPage();
+    onlooker.on('pageerror', (e) => { console.log('onlooker error: ' + e.message); failures++; });
+    await onlooker.goto(`http://127.0.0.1:${port}/#view=${left.viewKey}`);
+    await waitFor(onlooker, () => window.fluidcast.frames >= 3, 'frames for the onlooker');
+    const handoffsBeforeDrop = await handing.evaluate(() => window.fluidcast.handoffs);
+    await handing.evaluate(() => {  // no connection gets through until the network is back
+      LocalMode.startFrom = window.realStartFrom;  // as it was before the race
+      window.RealWebSocket = WebSocket;
+      window.WebSocket = function (url) {
+        return new window.RealWebSocket(url.replace(/\/\/[^/]+\//, '//127.0.0.1:1/'));
+      };
+      window.fluidcast.drop();
+    });
+    await waitFor(handing, `window.fluidcast.handoffs > ${handoffsBeforeDrop} && ` +
+                           `window.fluidcast.mode === 'local' && window.fluidcast.local.fps > 0`,
+                  'the fluid going on here while the network is down', 15000);
+    await sleep(1000);
+    const localAtReturn = await handing.evaluate(() => {
+      window.WebSocket = window.RealWebSocket;
+      return window.fluidcast.local.time;
+    });
+    await waitFor(handing, () => window.fluidcast.mode === 'stream' && window.fluidcast.connected,
+                  'streaming again once the network is back', 30000);
+    const framesRejoined = await handing.evaluate(() => window.fluidcast.frames);
+    await waitFor(handing, `window.fluidcast.frames > ${framesRejoined + 2}`, 'frames again');
+    const rejoined = await handing.evaluate(() => ({ id: window.fluidcast.sessionId,
+      time: window.fluidcast.lastFrame.simTime, status: document.getElementById('status').textContent }));
+    check(rejoined.id === left.id && rejoined.time >= localAtReturn && rejoined.status === '',
+          `the network back, the fluid goes back into the session it left (` +
+          `${rejoined.id === left.id ? 'the same' : 'another'} session, t = ` +
+          `${localAtReturn.toFixed(2)} s here → ${rejoined.time.toFixed(2)} s there, ` +
+          `status "${rejoined.status}")`);
+    const onlookerFrames = await onlooker.evaluate(() => window.fluidcast.frames);
+    await waitFor(onlooker, `window.fluidcast.frames > ${onlookerFrames + 2}`, 'the onlooker\'s frames after it');
+    const onlooking = await onlooker.evaluate(() => ({ id: window.fluidcast.sessionId,
+                                                       reconnects: window.fluidcast.reconnects }));
+    check(onlooking.id === rejoined.id && onlooking.reconnects === 0,
+          `and the device watching it watches it still (${JSON.stringify(onlooking)})`);
+    await onlooker.close();
     await handing.close();
 
   } finally {
