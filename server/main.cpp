@@ -155,9 +155,13 @@ PageTls page_tls(const ServerOptions& options, const std::vector<std::string>& a
                                     addresses)
           : TlsFiles{options.tls_certificate, options.tls_key};
   auto context = std::make_shared<boost::asio::ssl::context>(boost::asio::ssl::context::tls_server);
+  // Read once: another server sharing the state folder may put a new self-signed file (key and
+  // certificate in one) in its place between two reads of it.
+  const std::string certificate = read_file(files.certificate.string());
+  const std::string key = files.key == files.certificate ? certificate : read_file(files.key.string());
   try {
-    context->use_certificate_chain_file(files.certificate.string());
-    context->use_private_key_file(files.key.string(), boost::asio::ssl::context::pem);
+    context->use_certificate_chain(boost::asio::buffer(certificate));
+    context->use_private_key(boost::asio::buffer(key), boost::asio::ssl::context::pem);
   } catch (const std::exception& e) {
     throw std::runtime_error("TLS: " + files.certificate.string() + " and " + files.key.string() +
                              " are not a PEM certificate and its key: " + e.what());
