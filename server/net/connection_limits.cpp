@@ -20,7 +20,7 @@ std::shared_ptr<ConnectionLimits::Slot> ConnectionLimits::admit(
   ++tally_->total;
   ++tally_->awaiting;
   ++from_address;
-  return std::make_shared<Slot>(tally_, address);
+  return std::shared_ptr<Slot>(new Slot(tally_, address));
 }
 
 void ConnectionLimits::Slot::set_awaiting(bool awaiting) {

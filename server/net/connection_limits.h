@@ -25,8 +25,6 @@ class ConnectionLimits {
   // it: the request reader, then a WebSocket).
   class Slot {
    public:
-    Slot(std::shared_ptr<Tally> tally, boost::asio::ip::address address)
-        : tally_(std::move(tally)), address_(std::move(address)) {}
     ~Slot();
     Slot(const Slot&) = delete;
     Slot& operator=(const Slot&) = delete;
@@ -36,6 +34,10 @@ class ConnectionLimits {
     void set_awaiting(bool awaiting);
 
    private:
+    friend class ConnectionLimits;  // admit() makes them: a slot made elsewhere was never counted
+    Slot(std::shared_ptr<Tally> tally, boost::asio::ip::address address)
+        : tally_(std::move(tally)), address_(std::move(address)) {}
+
     std::shared_ptr<Tally> tally_;
     boost::asio::ip::address address_;
     bool awaiting_ = true;  // under tally_->mutex
