@@ -168,7 +168,8 @@ void Session::tell_state() {
 
 std::uint32_t Session::add_viewer(const v1::Hello& hello, std::shared_ptr<ViewerSink> sink,
                                   Access access) {
-  return admit(hello, std::move(sink), Seat{access});
+  check_room(0);
+  return seat_viewer(new_viewer(hello, std::move(sink), Seat{access}));
 }
 
 std::optional<std::uint32_t> Session::viewer_resumed_by(const std::string& key) const {
@@ -187,51 +188,56 @@ std::optional<std::uint32_t> Session::viewer_resumed_by(const std::string& key) 
 
 std::uint32_t Session::resume_viewer(const v1::Hello& hello, std::shared_ptr<ViewerSink> sink,
                                      std::uint32_t resumed) {
-  // The old connection may not be known dead yet (a phone that changed networks): the resume
-  // replaces it.
-  const auto old = viewers_.find(resumed);
-  if (old != viewers_.end()) {
-    old->second->sink().end(
-        Refusal(RefusalCode::unavailable, "another connection resumed this viewer"));
-    remove_viewer(old->first);
-  }
+  const auto live = viewers_.find(resumed);
   const auto kept = departed_.find(resumed);
-  if (kept == departed_.end()) {
+  const bool connected = live != viewers_.end();
+  if (!connected && kept == departed_.end()) {
     throw Refusal(RefusalCode::not_found, "Hello.resume.key: that viewer has been forgotten");
   }
-  const Departed departed = kept->second;
-  if (hello.resume().has_state()) {
-    // In before the viewer is back: a state refused leaves it departed, free to try again.
-    if (departed.seat.access != Access::control) {
-      throw Refusal(RefusalCode::permission_denied,
-                    "Hello.resume.state: this viewer joined with the session's view key; handing "
-                    "a fluid back needs its control key");
-    }
-    check_room();
-    load(hello.resume().state());
+  const Access access = connected ? live->second->seat().access : kept->second.seat.access;
+  if (hello.resume().has_state() && access != Access::control) {
+    throw Refusal(RefusalCode::permission_denied,
+                  "Hello.resume.state: this viewer joined with the session's view key; handing a "
+                  "fluid back needs its control key");
   }
-  // A new resume key each time: one that leaked brings back no one after its viewer's next
-  // connection.
-  const std::uint32_t id = admit(hello, std::move(sink), Seat{departed.seat.access});
-  viewers_.at(id)->camera() = departed.camera;
-  departed_.erase(resumed);
-  return id;
+  // Whatever may refuse comes before anything changes (a room, the new connection's frames in GPU
+  // memory, the state): a refusal leaves the viewer as it was, connected or free to resume. A new
+  // resume key each time: one that leaked brings back no one after its viewer's next connection.
+  check_room(connected ? 1 : 0);
+  std::unique_ptr<Viewer> viewer = new_viewer(hello, std::move(sink), Seat{access});
+  viewer->camera() = connected ? live->second->camera() : kept->second.camera;
+  if (hello.resume().has_state()) load(hello.resume().state());
+  if (connected) {
+    // The old connection may not be known dead yet (a phone that changed networks): the resume
+    // replaces it.
+    live->second->sink().end(
+        Refusal(RefusalCode::unavailable, "another connection resumed this viewer"));
+    remove_viewer(resumed, Departure::left);
+  } else {
+    departed_.erase(kept);
+  }
+  return seat_viewer(std::move(viewer));
 }
 
-void Session::check_room() const {
-  if (viewers_.size() >= services_.limits->max_viewers_per_session) {
+void Session::check_room(std::size_t leaving) const {
+  if (viewers_.size() - leaving >= services_.limits->max_viewers_per_session) {
     throw Refusal(RefusalCode::resource_exhausted,
                   "session " + id_ + " has its limit of " +
                       std::to_string(services_.limits->max_viewers_per_session) + " viewers");
   }
 }
 
-std::uint32_t Session::admit(const v1::Hello& hello, std::shared_ptr<ViewerSink> sink, Seat seat) {
-  check_room();
-  const std::uint32_t id = next_viewer_++;
-  auto viewer = std::make_unique<Viewer>(*services_.context, id, std::move(seat), hello.viewport(),
-                                         hello.quality(), *services_.limits, std::move(sink));
+std::unique_ptr<Viewer> Session::new_viewer(const v1::Hello& hello,
+                                            std::shared_ptr<ViewerSink> sink, Seat seat) {
+  auto viewer = std::make_unique<Viewer>(*services_.context, next_viewer_++, std::move(seat),
+                                         hello.viewport(), hello.quality(), *services_.limits,
+                                         std::move(sink));
   viewer->look_at(solver_->tank());
+  return viewer;
+}
+
+std::uint32_t Session::seat_viewer(std::unique_ptr<Viewer> viewer) {
+  const std::uint32_t id = viewer->id();
   viewers_.emplace(id, std::move(viewer));
   services_.metrics->viewers++;
   last_input_ = Clock::now();

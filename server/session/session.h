@@ -123,9 +123,13 @@ class Session {
  private:
   // load()'s work, charged by it.
   std::uint32_t replace_fluid(const v1::Snapshot& snapshot);
-  // Throws a Refusal when the session has its most viewers.
-  void check_room() const;
-  std::uint32_t admit(const v1::Hello& hello, std::shared_ptr<ViewerSink> sink, Seat seat);
+  // Throws a Refusal when the session has its most viewers, `leaving` of them about to go.
+  void check_room(std::size_t leaving) const;
+  // A viewer, its frames' GPU memory taken (a Refusal when there is none), not yet seated.
+  std::unique_ptr<Viewer> new_viewer(const v1::Hello& hello, std::shared_ptr<ViewerSink> sink,
+                                     Seat seat);
+  // Returns its id.
+  std::uint32_t seat_viewer(std::unique_ptr<Viewer> viewer);
   void rebuild(SessionSetup setup);
   // The scene `setup` starts from (its count filled in with the server's default where it names
   // none), under the session's gravity; throws a Refusal naming what cannot be had.

@@ -305,7 +305,7 @@ TEST(ServerTest, TheFirstViewerResumesAfterMoreThanTheKeptOthersDropped) {
 // A viewer that carried the fluid on by itself while its network was down hands it back as it
 // resumes (Hello.resume.state), into the session another device watched throughout. A state the
 // session does not take, or one from a viewer with the view key, is refused and leaves the viewer
-// free to resume.
+// as it was: free to resume, or still connected.
 TEST(ServerTest, AResumeHandsBackTheFluidCarriedOnIntoTheSessionLeft) {
   testing::ServerProcess server;
   const std::string& address = server.grpc_address();
@@ -357,11 +357,14 @@ TEST(ServerTest, AResumeHandsBackTheFluidCarriedOnIntoTheSessionLeft) {
   }
   EXPECT_TRUE(watcher_sees_it) << "the watcher's session did not go on from the fluid handed back";
 
-  watcher->drop();
-  watcher.reset();
+  // Refused while its old connection is still up (not known dead yet), it keeps that connection.
   std::tie(code, why) = refusal(watcher_access, carried_on);
   EXPECT_EQ(code, grpc::StatusCode::PERMISSION_DENIED) << why;
   EXPECT_NE(why.find("control key"), std::string::npos) << why;
+  frame_from(*watcher);
+  EXPECT_FALSE(watcher->ended()) << watcher->status().error_message();
+  watcher->drop();
+  watcher.reset();
   const auto watcher_back = resume(address, watcher_access);
   EXPECT_EQ(watcher_back->welcome().session_id(), session);
   EXPECT_FALSE(watcher_back->welcome().access().control());
