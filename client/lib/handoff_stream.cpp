@@ -455,8 +455,8 @@ void HandoffStream::came_back(Reconnected back) {
                   back.resumed ? "the session it left" : "a new session");
     say(line);
     try {
-      // A new session runs: the fluid here was paused.
-      if (paused_) pause_asked_ = set_paused(*back.stream, true);
+      // As the fluid here was: a new session runs, and the one left may be paused.
+      if (paused_ || back.resumed) pause_asked_ = set_paused(*back.stream, paused_);
       v1::Command marker;  // frames from before the state went in reflect no later event
       *marker.mutable_quality() = hello_.quality();
       show_from_event_ = back.stream->command(marker);

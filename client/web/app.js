@@ -201,6 +201,7 @@ function connect() {
   socket.onclose = () => {
     state.connected = false;
     socket = null;
+    handingBack = false;  // ended() has read it: the server's end comes before the close
     if (handoff && handoff.mode) handoff.mode.paused = paused;  // not handed back: it goes on here
     clearInterval(stateTimer);
     clearStats();
@@ -236,10 +237,11 @@ function receive(bytes) {
     // The address bar opens what this page may do: a reload comes back to the same fluid.
     joinKey = state.access.control ? state.access.controlKey : state.access.viewKey;
     history.replaceState(null, '', (state.access.control ? '#control=' : '#view=') + joinKey);
+    handingBack = false;
+    const handedBack = handoff !== null && handoff.mode !== null;
     if (sessionLost) {
-      const handedBack = handoff !== null && handoff.mode !== null;
-      say(sessionLost + (handedBack ? ': your fluid goes on in a new one, with a new link.'
-                                    : ': this is a new one.'));
+      say(sessionLost + (handedBack ? ': your fluid goes on in a new session, with a new link.'
+                                    : ': this is a new session.'));
       sessionLost = '';
       setTimeout(() => { if (state.connected) say(''); }, 5000);
     } else if (addressProblem) {
@@ -249,13 +251,14 @@ function receive(bytes) {
     } else {
       say('');
     }
-    // A fluid paused here stays paused in the session it goes back to (a state carries no pause).
-    const pausedHere = handoff !== null && handoff.mode !== null && paused;
+    // The fluid handed back goes on as it was here, paused or not (a state carries no pause, and
+    // the session it left may be paused).
+    const pausedHere = paused;
     showSession(message.welcome.state);
     if (handoff) endHandoff();
-    if (pausedHere && !message.welcome.state.paused) {
-      command({ pause: true });
-      showPaused(true);
+    if (handedBack && pausedHere !== message.welcome.state.paused) {
+      command({ pause: pausedHere });
+      showPaused(pausedHere);
     }
     askForStates();
   } else if (message.session) {
@@ -289,14 +292,16 @@ function ended(code, text) {
       say('No token given: ' + text);
     }
   } else if (code === 'NOT_FOUND' || (handingBack && code !== 'UNAVAILABLE' && code !== 'INTERNAL')) {
-    // The session ended while we were away (or the server restarted), or would not take the fluid
-    // here back (its seats taken, say): start a new one, and say so.
+    // The session, or this viewer's place in it, is gone (the server restarted, or too long went
+    // by), or it would not take the fluid here back (its seats taken, say): start a new one, and
+    // say so.
     state.sessionId = '';
     state.viewerId = 0;
     state.access = null;
     joinKey = '';
     sessionLost = code === 'NOT_FOUND'
-      ? 'The server no longer had the session (it may have restarted)'
+      ? 'The server no longer had your place in that session (it may have restarted, or too long ' +
+        'went by)'
       : 'The session you left did not take your fluid back (' + text + ')';
     retryDelayMs = 100;
   } else {

@@ -27,6 +27,7 @@ struct FakeServer {
   bool refuses_states = false;     // a state put into a session is refused
   bool viewers_control = true;     // false: every stream only watches
   bool forgets_sessions = false;    // a resume finds nothing (it restarted, the grace ran out)
+  bool resumes_paused = false;      // a session resumed is paused (as someone left it)
   int full_for = 0;                 // resumes refused for now (the session's seats are taken)
   bool holds_loads = false;         // a state put in waits until this is false again...
   bool load_waiting = false;        // ...as one does now
@@ -52,6 +53,10 @@ class FakeFluid final : public FluidStream {
     // A resume key of its own for each stream, as the server gives.
     static std::atomic<int> keys = 0;
     welcome_.mutable_access()->set_resume_key("resume-" + std::to_string(++keys));
+    if (server && hello.has_resume() && server->resumes_paused) {
+      paused_ = true;
+      welcome_.mutable_state()->set_paused(true);
+    }
     pending_ = make_frame();
   }
 
@@ -645,6 +650,22 @@ TEST(HandoffStream, APausedFluidStaysPausedAcrossTheHandback) {
   const std::shared_ptr<FakeFluid> remote = f.remote_fluid();
   ASSERT_TRUE(remote);
   EXPECT_TRUE(remote->paused()) << "the new session runs what its viewer paused";
+}
+
+// A fluid that went on here goes on in the session it goes back to, though that was left paused.
+TEST(HandoffStream, AFluidGoingOnHereGoesOnInThePausedSessionItGoesBackTo) {
+  Fixture f;
+  HandoffStream stream(hello_for(1000), f.sides(), f.options());
+  stream_until_kept(stream, f);
+  f.set(&FakeServer::up, false);
+  read_until(stream, [&] { return stream.simulating_here(); });
+  f.set(&FakeServer::resumes_paused, true);
+  f.set(&FakeServer::up, true);
+  read_until(stream, [&] { return !stream.simulating_here(); });
+  const std::shared_ptr<FakeFluid> remote = f.remote_fluid();
+  ASSERT_TRUE(remote);
+  EXPECT_TRUE(f.hellos_answered().back().has_resume());
+  EXPECT_FALSE(remote->paused()) << "the fluid handed back stopped";
 }
 
 // A pause another viewer asked of the session holds for this viewer too: the fluid continued here
