@@ -3,6 +3,9 @@
 #include <fluidcast/version.h>
 
 #include <cstdio>
+#include <utility>
+
+#include "fluidcast/gpu/context.h"
 
 namespace fluidcast::server {
 namespace {
@@ -93,8 +96,12 @@ void Histogram::write_series(std::string& out, const std::string& name,
 }
 
 void Metrics::describe_device(const gpu::DeviceInfo& device) {
+  std::string labels = "device=" + quoted(device.name) +
+                       ",type=" + quoted(device.hardware() ? "gpu" : "cpu") +
+                       ",index=" + quoted(std::to_string(device.index)) +
+                       ",uuid=" + quoted(device.uuid);
   std::lock_guard lock(mutex_);
-  device_ = device;
+  device_labels_ = std::move(labels);
 }
 
 void Metrics::refused(Transport transport, RefusalCode reason) {
@@ -183,10 +190,7 @@ void Metrics::write_labelled(std::string& out) const {
                "The Vulkan device the server runs on (type: gpu, or cpu for a software device; "
                "index: what --device takes; uuid: the driver's, empty where it gives none); "
                "always 1.");
-  out += "fluidcast_device_info{device=" + quoted(device_.name) +
-         ",type=" + quoted(device_.hardware() ? "gpu" : "cpu") +
-         ",index=" + quoted(std::to_string(device_.index)) + ",uuid=" + quoted(device_.uuid) +
-         "} 1\n";
+  out += "fluidcast_device_info{" + device_labels_ + "} 1\n";
   write_header(out, "fluidcast_streams_refused_total", "counter",
                "Streams ended with an error status for bad input or a limit, by transport and "
                "status code.");

@@ -9,8 +9,11 @@
 #include <mutex>
 #include <string>
 
-#include "fluidcast/gpu/context.h"
 #include "refusal.h"
+
+namespace fluidcast::gpu {
+struct DeviceInfo;
+}
 
 namespace fluidcast::server {
 
@@ -74,7 +77,7 @@ struct Metrics {
   void write_labelled(std::string& out) const;
 
   mutable std::mutex mutex_;  // guards what follows
-  gpu::DeviceInfo device_;
+  std::string device_labels_;  // fluidcast_device_info's, as describe_device wrote them
   std::map<std::pair<Transport, RefusalCode>, std::uint64_t> refusals_;
   std::map<std::string, SessionFigures> session_figures_;
   std::array<Histogram, kTransports.size()> send_time_;
