@@ -437,10 +437,7 @@ void HandoffStream::reconnect() {
       v1::Snapshot state = local->snapshot();
       back.stream->load(state);
       back.state_put = std::move(state);
-    } catch (const std::exception& e) {
-      // The fluid stays here. The stream goes with a goodbye, not a drop: a session nobody else
-      // watches ends at once rather than holding its slot for the resume grace.
-      back.stream->close();
+    } catch (const std::exception& e) {  // the fluid stays here: the new session goes unused
       throw std::runtime_error(std::string("it did not take the fluid here (") + e.what() + ")");
     }
     return back;
