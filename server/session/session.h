@@ -68,8 +68,9 @@ class Session {
   // The viewer, connected or recently departed, whose resume key `key` is.
   std::optional<std::uint32_t> viewer_resumed_by(const std::string& key) const;
   // A new connection for viewer `resumed` (viewer_resumed_by): its camera and access, a new
-  // resume key, and the fluid in Hello.resume.state if any (a Refusal when it does not fit: the
-  // viewer stays departed); a connection it still has is ended. Returns the new viewer's id.
+  // resume key, and the fluid in Hello.resume.state if any; a connection it still has is ended.
+  // A Refusal (no room, no GPU memory for its frames, a state that does not fit) changes nothing:
+  // the viewer stays as it was, connected or departed. Returns the new viewer's id.
   std::uint32_t resume_viewer(const v1::Hello& hello, std::shared_ptr<ViewerSink> sink,
                               std::uint32_t resumed);
   // What the viewer may do.
