@@ -65,7 +65,8 @@ let giveUp = false;
 let endReason = '';
 // Why the server did not give our session back, when it did not: the next one is new.
 let sessionLost = '';
-// This connection's Hello puts the fluid here back into the session it left.
+// This connection's Hello puts the fluid here back into the session it left (until its Welcome or
+// its close).
 let handingBack = false;
 // A shared link's key (#view=… or #control=…, in the fragment so that it never reaches a server's
 // logs): the session this page joins, and whether it may play or only watch.
@@ -170,7 +171,6 @@ function connect() {
   say(state.access || joinKey ? 'Reconnecting…' : 'Connecting…');
   socket.onopen = async () => {
     const hello = { token, viewport: viewport(), quality: quality() };
-    handingBack = false;
     if (handoff && handoff.mode) {
       // The fluid went on here: it goes back into the session it left (whoever else watches that
       // stays with it) or, once the server no longer has that, into a new one. It stops here
