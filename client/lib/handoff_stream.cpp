@@ -334,7 +334,13 @@ void HandoffStream::lost(const std::string& why) {
   if (snapshot_request_.valid()) abandoned_.push_back(std::move(snapshot_request_));
   const std::uint32_t particles = welcome().state().particles();
   const bool may_continue = continues_here();
-  resume_key_ = welcome().access().resume_key();
+  const v1::Access& access = welcome().access();
+  resume_.reset();
+  if (!access.resume_key().empty()) {
+    resume_.emplace();
+    resume_->set_key(access.resume_key());
+    resume_->set_session_key(access.control() ? access.control_key() : access.view_key());
+  }
   stream_.reset();
   remote_ = false;
   const std::shared_ptr<Standby> standby = std::exchange(standby_, nullptr);
@@ -392,7 +398,7 @@ void HandoffStream::reconnect() {
       came_back(reconnect_.get());
     } catch (const Unreachable&) {  // still gone
     } catch (const Forgotten& e) {  // the next attempt, at once, asks for a new session
-      resume_key_.clear();
+      resume_.reset();
       last_retry_ = {};
       set_status(std::string("the server is back but no longer has the session (") + e.what() +
                  "); asking for a new one");
@@ -403,7 +409,7 @@ void HandoffStream::reconnect() {
       // fluid spent its key.
       if (stream_) {
         set_paused(*stream_, paused_);
-        resume_key_.clear();
+        resume_.reset();
       }
       set_status(std::string("the server is back but refused a session: ") + e.what() +
                  (stream_ ? "; continuing locally, retrying" : "; retrying"));
@@ -415,10 +421,11 @@ void HandoffStream::reconnect() {
   if (now - last_retry_ < options_.retry_every) return;
   last_retry_ = now;
   // The session left is asked for first, the fluid here going into it: whoever else watches it
-  // sees it go on, and it frees no seat later. Once the server no longer has it, a new one.
+  // sees it go on, and it frees no seat later (its key takes a new one where this viewer's seat
+  // was forgotten). Once the server no longer has it, a new one.
   v1::Hello hello = hello_;
-  if (!resume_key_.empty()) {
-    hello.mutable_resume()->set_key(resume_key_);
+  if (resume_) {
+    *hello.mutable_resume() = *resume_;
   } else if (stream_) {
     continue_session(hello, welcome().state());
   }
@@ -470,7 +477,7 @@ void HandoffStream::came_back(Reconnected back) {
   remote_ = true;
   press_held_pointers();  // the new or resumed session has not seen them go down
   release_held_back();
-  resume_key_.clear();
+  resume_.reset();
   last_remote_frame_ = Clock::now();
   snapshot_.reset();
   set_status("streaming from " + sides_.server + (streamed_before_ ? " again" : ""));

@@ -155,10 +155,11 @@ class HandoffStream final : public FluidStream {
   bool paused_ = false;
   // This viewer's last pause or going on, while no frame of the streamed session reflects it yet.
   std::uint64_t pause_asked_ = 0;
-  // The lost session's, asked for first on the way back: the server keeps it for a while, so a
-  // blip of the network brings back the same session (with the fluid here, if one went on).
-  // Forgotten once the server no longer has it, or a resume with the fluid here failed.
-  std::string resume_key_;
+  // The lost session's keys, asked for first on the way back: the server keeps this viewer's seat
+  // for a while and the session while anyone watches, so a blip of the network brings back the
+  // same session (with the fluid here, if one went on). Forgotten once the server no longer has
+  // it, or a resume with the fluid here failed.
+  std::optional<v1::Resume> resume_;
   bool streamed_before_ = false;
   std::string status_;
 

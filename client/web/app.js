@@ -163,6 +163,12 @@ function quality() {
   return { jpegQuality: wanted.quality, renderer: wanted.renderer, adaptive: wanted.adaptive };
 }
 
+// Back to the session left: this page's own seat, or, where the server has forgotten that (away
+// past its grace) while others still watch, a new seat with the session's key.
+function wayBack(access) {
+  return { key: access.resumeKey, sessionKey: access.control ? access.controlKey : access.viewKey };
+}
+
 function connect() {
   giveUp = false;
   const scheme = location.protocol === 'https:' ? 'wss:' : 'ws:';
@@ -180,13 +186,13 @@ function connect() {
       const carried = await handoff.mode.exportState();
       if (socket !== opened) return;  // closed meanwhile; a new connection says its own Hello
       if (state.access) {
-        hello.resume = { key: state.access.resumeKey, state: carried };
+        hello.resume = { ...wayBack(state.access), state: carried };
         handingBack = true;
       } else {
         hello.create = { state: carried };
       }
     } else if (state.access) {
-      hello.resume = { key: state.access.resumeKey };
+      hello.resume = wayBack(state.access);
     } else if (handoff) {
       // The session is gone and the fluid here has not started yet: the newest state streamed.
       hello.create = { state: handoff.snapshot };
@@ -292,16 +298,14 @@ function ended(code, text) {
       say('No token given: ' + text);
     }
   } else if (code === 'NOT_FOUND' || (handingBack && code !== 'UNAVAILABLE' && code !== 'INTERNAL')) {
-    // The session, or this viewer's place in it, is gone (the server restarted, or too long went
-    // by), or it would not take the fluid here back (its seats taken, say): start a new one, and
-    // say so.
+    // The session is gone (the server restarted, or nobody watched it past the grace), or it
+    // would not take the fluid here back (its seats taken, say): start a new one, and say so.
     state.sessionId = '';
     state.viewerId = 0;
     state.access = null;
     joinKey = '';
     sessionLost = code === 'NOT_FOUND'
-      ? 'The server no longer had your place in that session (it may have restarted, or too long ' +
-        'went by)'
+      ? 'That session has ended (the server may have restarted, or nobody watched it for a while)'
       : 'The session you left did not take your fluid back (' + text + ')';
     retryDelayMs = 100;
   } else {

@@ -41,6 +41,18 @@ std::string setup_field_or_setting(std::string_view name) {
   return "the server's " + std::string(name);
 }
 
+// The fluid a Hello.resume hands back, if any (null when none); PERMISSION_DENIED for a seat
+// with the view key's `access`, before anything changes.
+const v1::Snapshot* handed_back(const v1::Hello& hello, Access access) {
+  if (!hello.has_resume() || !hello.resume().has_state()) return nullptr;
+  if (access != Access::control) {
+    throw Refusal(RefusalCode::permission_denied,
+                  "Hello.resume.state: this viewer joined with the session's view key; handing a "
+                  "fluid back needs its control key");
+  }
+  return &hello.resume().state();
+}
+
 }  // namespace
 
 Session::Session(std::string id, std::string creator, SessionSetup setup, SessionServices services)
@@ -168,8 +180,11 @@ void Session::tell_state() {
 
 std::uint32_t Session::add_viewer(const v1::Hello& hello, std::shared_ptr<ViewerSink> sink,
                                   Access access) {
+  const v1::Snapshot* state = handed_back(hello, access);
   check_room(0);
-  return seat_viewer(new_viewer(hello, std::move(sink), Seat{access}));
+  std::unique_ptr<Viewer> viewer = new_viewer(hello, std::move(sink), Seat{access});
+  if (state) load(*state);
+  return seat_viewer(std::move(viewer));
 }
 
 std::optional<std::uint32_t> Session::viewer_resumed_by(const std::string& key) const {
@@ -195,18 +210,14 @@ std::uint32_t Session::resume_viewer(const v1::Hello& hello, std::shared_ptr<Vie
     throw Refusal(RefusalCode::not_found, "Hello.resume.key: that viewer has been forgotten");
   }
   const Access access = connected ? live->second->seat().access : kept->second.seat.access;
-  if (hello.resume().has_state() && access != Access::control) {
-    throw Refusal(RefusalCode::permission_denied,
-                  "Hello.resume.state: this viewer joined with the session's view key; handing a "
-                  "fluid back needs its control key");
-  }
+  const v1::Snapshot* state = handed_back(hello, access);
   // Whatever may refuse comes before anything changes (a room, the new connection's frames in GPU
   // memory, the state): a refusal leaves the viewer as it was, connected or free to resume. A new
   // resume key each time: one that leaked brings back no one after its viewer's next connection.
   check_room(connected ? 1 : 0);
   std::unique_ptr<Viewer> viewer = new_viewer(hello, std::move(sink), Seat{access});
   viewer->camera() = connected ? live->second->camera() : kept->second.camera;
-  if (hello.resume().has_state()) load(hello.resume().state());
+  if (state) load(*state);
   if (connected) {
     // The old connection may not be known dead yet (a phone that changed networks): the resume
     // replaces it.

@@ -63,7 +63,9 @@ class Session {
   void post(std::uint32_t viewer, v1::ClientMessage message);
 
   // The rest, and the destructor, on the worker's thread.
-  // Adds a viewer that may do what `access` allows; returns its id.
+  // Adds a viewer that may do what `access` allows; returns its id. A Hello.resume that falls
+  // back to its session_key (the viewer forgotten) joins here too, taking its state on
+  // resume_viewer's terms.
   std::uint32_t add_viewer(const v1::Hello& hello, std::shared_ptr<ViewerSink> sink, Access access);
   // The viewer, connected or recently departed, whose resume key `key` is.
   std::optional<std::uint32_t> viewer_resumed_by(const std::string& key) const;

@@ -87,13 +87,12 @@ SessionHub::Opening SessionHub::find(const std::string& key, const char* field) 
   return found;
 }
 
-std::pair<std::shared_ptr<Session>, std::uint32_t> SessionHub::find_resumed(
+std::optional<std::pair<std::shared_ptr<Session>, std::uint32_t>> SessionHub::find_resumed(
     const std::string& key) const {
-  std::pair<std::shared_ptr<Session>, std::uint32_t> found;
+  std::optional<std::pair<std::shared_ptr<Session>, std::uint32_t>> found;
   for (const auto& [id, session] : sessions_) {
-    if (const auto viewer = session->viewer_resumed_by(key)) found = {session, *viewer};
+    if (const auto viewer = session->viewer_resumed_by(key)) found.emplace(session, *viewer);
   }
-  if (!found.first) throw Refusal(RefusalCode::not_found, no_session("Hello.resume.key", limits_));
   return found;
 }
 
@@ -104,27 +103,36 @@ void SessionHub::open(v1::Hello hello, std::string address, std::shared_ptr<View
     Opened opened;
     std::shared_ptr<Session> session;
     std::uint32_t viewer = 0;
+    const char* how = "created it";
     try {
       if (closed_) throw Refusal(RefusalCode::unavailable, "the server is shutting down");
       if (hello.has_join()) {
         const Opening joined = find(hello.join(), "Hello.join");
         session = joined.session;
         viewer = session->add_viewer(hello, sink, joined.access);
+        how = "joined";
       } else if (hello.has_resume()) {
-        const auto [found, resumed] = find_resumed(hello.resume().key());
-        session = found;
-        viewer = session->resume_viewer(hello, sink, resumed);
+        if (const auto resumed = find_resumed(hello.resume().key())) {
+          session = resumed->first;
+          viewer = session->resume_viewer(hello, sink, resumed->second);
+          how = "resumed";
+        } else if (!hello.resume().session_key().empty()) {
+          // The viewer was forgotten, its session may not be: a phone away past the grace
+          // comes back to the fluid a device beside it still watches.
+          const Opening rejoined = find(hello.resume().session_key(), "Hello.resume.session_key");
+          session = rejoined.session;
+          viewer = session->add_viewer(hello, sink, rejoined.access);
+          how = "rejoined (its seat forgotten)";
+        } else {
+          throw Refusal(RefusalCode::not_found, no_session("Hello.resume.key", limits_));
+        }
       } else {
         session = create_session(hello.create(), address);
         viewer = session->add_viewer(hello, sink, Access::control);
       }
       opened.access = session->access(viewer);
       spdlog::info("session {}: viewer {} {} from {} ({} particles, {} sessions)", session->id(),
-                   viewer,
-                   hello.has_resume() ? "resumed"
-                   : hello.has_join() ? "joined"
-                                      : "created it",
-                   address, session->state().particles(), sessions_.size());
+                   viewer, how, address, session->state().particles(), sessions_.size());
     } catch (const Refusal& refusal) {
       opened.refusal = refusal;
     } catch (const std::exception& e) {  // this request fails alone

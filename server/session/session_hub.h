@@ -86,8 +86,9 @@ class SessionHub {
     Access access;
   };
   Opening find(const std::string& key, const char* field) const;
-  // The session and viewer a resume key names; a Refusal (NOT_FOUND) when none.
-  std::pair<std::shared_ptr<Session>, std::uint32_t> find_resumed(const std::string& key) const;
+  // The session and viewer a resume key names, if any.
+  std::optional<std::pair<std::shared_ptr<Session>, std::uint32_t>> find_resumed(
+      const std::string& key) const;
   // A new session for a NewSession from `address`, within the server's limits (else a Refusal).
   std::shared_ptr<Session> create_session(const v1::NewSession& create, const std::string& address);
   std::shared_ptr<v1::ServerMessage> welcome(const Session& session, std::uint32_t viewer) const;

@@ -273,6 +273,9 @@ void validate_hello(const v1::ClientMessage& message, const ServerLimits& limits
       break;
     case v1::Hello::kResume:
       validate_key(hello.resume().key(), "Hello.resume.key");
+      if (!hello.resume().session_key().empty()) {
+        validate_key(hello.resume().session_key(), "Hello.resume.session_key");
+      }
       if (hello.resume().has_state()) {
         validate_state(hello.resume().state(), limits, "Hello.resume.state");
       }

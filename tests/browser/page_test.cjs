@@ -131,6 +131,22 @@ async function localCanvasListeners(cdp) {
   return listeners.length;
 }
 
+// Cuts the page's network (no WebSocket gets through until the page sets window.WebSocket back to
+// window.RealWebSocket), drops its stream, and waits for the fluid to go on in the page (`what`).
+async function dropNetwork(page, what) {
+  const handoffs = await page.evaluate(() => window.fluidcast.handoffs);
+  await page.evaluate(() => {
+    window.RealWebSocket = window.RealWebSocket || WebSocket;
+    window.WebSocket = function (url) {
+      return new window.RealWebSocket(url.replace(/\/\/[^/]+\//, '//127.0.0.1:1/'));
+    };
+    window.fluidcast.drop();
+  });
+  await waitFor(page, `window.fluidcast.handoffs > ${handoffs} && ` +
+                      `window.fluidcast.mode === 'local' && window.fluidcast.local.fps > 0`,
+                what, 15000);
+}
+
 async function main() {
   fs.mkdirSync(out, { recursive: true });
   const { child, port } = await startServer();
@@ -619,18 +635,8 @@ async function main() {
     onlooker.on('pageerror', (e) => { console.log('onlooker error: ' + e.message); failures++; });
     await onlooker.goto(`http://127.0.0.1:${port}/#view=${left.viewKey}`);
     await waitFor(onlooker, () => window.fluidcast.frames >= 3, 'frames for the onlooker');
-    const handoffsBeforeDrop = await handing.evaluate(() => window.fluidcast.handoffs);
-    await handing.evaluate(() => {  // no connection gets through until the network is back
-      LocalMode.startFrom = window.realStartFrom;  // as it was before the race
-      window.RealWebSocket = WebSocket;
-      window.WebSocket = function (url) {
-        return new window.RealWebSocket(url.replace(/\/\/[^/]+\//, '//127.0.0.1:1/'));
-      };
-      window.fluidcast.drop();
-    });
-    await waitFor(handing, `window.fluidcast.handoffs > ${handoffsBeforeDrop} && ` +
-                           `window.fluidcast.mode === 'local' && window.fluidcast.local.fps > 0`,
-                  'the fluid going on here while the network is down', 15000);
+    await handing.evaluate(() => { LocalMode.startFrom = window.realStartFrom; });  // as before the race
+    await dropNetwork(handing, 'the fluid going on here while the network is down');
     // Reset here: the fluid handed back is one the session's clock can tell from its own (it
     // went on meanwhile, for the onlooker), and the onlooker's clock goes back once it is in.
     const localBeforeDropReset = await handing.evaluate(() => window.fluidcast.local.time);
@@ -671,6 +677,31 @@ async function main() {
     check(onlooking.id === rejoined.id && onlooking.reconnects === 0 && onlooking.wentBack > 0,
           `and the device watching it watches it still, its clock back to the fluid handed back ` +
           `(${JSON.stringify(onlooking)})`);
+
+    // Away past the server's grace, the page's seat is forgotten (here: its resume key made one
+    // the server never gave) while the onlooker keeps the session alive: the page takes a new
+    // seat in the session it left with the session's key, its fluid with it.
+    await sleep(1500);  // states again
+    await dropNetwork(handing, 'the fluid going on here while the network is down again');
+    const localAtSecondReturn = await handing.evaluate(() => {
+      window.fluidcast.access.resumeKey = 'f'.repeat(32);
+      window.WebSocket = window.RealWebSocket;
+      return window.fluidcast.local.time;
+    });
+    await waitFor(handing, () => window.fluidcast.mode === 'stream' && window.fluidcast.connected,
+                  'streaming again, in a new seat', 30000);
+    const framesReseated = await handing.evaluate(() => window.fluidcast.frames);
+    await waitFor(handing, `window.fluidcast.frames > ${framesReseated + 2}`, 'frames in the new seat');
+    const reseated = await handing.evaluate(() => ({ id: window.fluidcast.sessionId,
+      time: window.fluidcast.lastFrame.simTime, control: window.fluidcast.access.control,
+      status: document.getElementById('status').textContent }));
+    const stillOnlooking = await onlooker.evaluate(() => ({ id: window.fluidcast.sessionId,
+      reconnects: window.fluidcast.reconnects }));
+    check(reseated.id === left.id && reseated.control && reseated.time >= localAtSecondReturn &&
+          reseated.status === '' && stillOnlooking.id === left.id && stillOnlooking.reconnects === 0,
+          `its seat forgotten, the page takes a new one in the session it left, with its fluid (` +
+          `${JSON.stringify(reseated)}, t = ${localAtSecondReturn.toFixed(2)} s here; the ` +
+          `onlooker: ${JSON.stringify(stillOnlooking)})`);
     await onlooker.close();
     await handing.close();
 

@@ -69,8 +69,9 @@ bool shows_a_frame(FluidStream& stream, std::chrono::seconds within) {
   return false;
 }
 
-TEST(Handback, ADroppedConnectionHandsTheFluidBackIntoTheSessionItLeft) {
-  testing::ServerProcess server;
+// `flags`: the server's.
+void hand_back_after_a_drop(std::vector<std::string> flags) {
+  testing::ServerProcess server(std::move(flags));
   WatchedSides watched;
   HandoffOptions options;
   options.snapshot_every = milliseconds(100);
@@ -131,6 +132,16 @@ TEST(Handback, ADroppedConnectionHandsTheFluidBackIntoTheSessionItLeft) {
       << "nothing streams after the handback";
   EXPECT_EQ(stream.close(), "");
   EXPECT_EQ(watcher.close(), "");
+}
+
+TEST(Handback, ADroppedConnectionHandsTheFluidBackIntoTheSessionItLeft) {
+  hand_back_after_a_drop({});
+}
+
+// Away past the grace (0 s here), the client's seat is forgotten; the session lives on while the
+// other device watches, and the client's way back takes a new seat in it with the session's key.
+TEST(Handback, AClientWhoseSeatWasForgottenHandsTheFluidBackIntoTheSessionItLeft) {
+  hand_back_after_a_drop({"--resume-grace", "0"});
 }
 
 }  // namespace

@@ -302,6 +302,47 @@ TEST(ServerTest, TheFirstViewerResumesAfterMoreThanTheKeptOthersDropped) {
   EXPECT_TRUE(back->welcome().access().control());
 }
 
+// A session whose creator drops while a second viewer, with the view key, watches it; the state
+// the creator carried on by itself meanwhile (as if for 100 s).
+struct WatchedDrop {
+  std::string session;
+  v1::Access creator_access;
+  std::unique_ptr<StreamClient> watcher;
+  v1::Snapshot carried_on;
+};
+WatchedDrop creator_drops_while_watched(const std::string& address) {
+  auto creator = std::make_unique<StreamClient>(client::connect(address), small_hello(800));
+  v1::Hello join = small_hello();
+  join.set_join(creator->welcome().access().view_key());
+  WatchedDrop dropped{creator->welcome().session_id(), creator->welcome().access(),
+                      std::make_unique<StreamClient>(client::connect(address), join), {}};
+  frame_from(*creator);
+  frame_from(*dropped.watcher);
+  dropped.carried_on = creator->snapshot();
+  dropped.carried_on.set_time(dropped.carried_on.time() + 100.0);
+  creator->drop();
+  return dropped;
+}
+
+// Whether `viewer` shows a frame of simulated time `time` or later within 100 frames.
+bool shows_time(StreamClient& viewer, double time) {
+  for (int k = 0; k < 100; ++k) {
+    if (frame_from(viewer).sim_time() >= time) return true;
+  }
+  return false;
+}
+
+// How a stream opened with `hello` ends at once: its status and sentence (OK when it opens).
+std::pair<grpc::StatusCode, std::string> refusal_of(const std::string& address,
+                                                    const v1::Hello& hello) {
+  try {
+    const StreamClient opened(client::connect(address), hello);
+  } catch (const StreamError& e) {
+    return {e.code(), e.what()};
+  }
+  return {grpc::StatusCode::OK, {}};
+}
+
 // A viewer that carried the fluid on by itself while its network was down hands it back as it
 // resumes (Hello.resume.state), into the session another device watched throughout. A state the
 // session does not take, or one from a viewer with the view key, is refused and leaves the viewer
@@ -309,33 +350,17 @@ TEST(ServerTest, TheFirstViewerResumesAfterMoreThanTheKeptOthersDropped) {
 TEST(ServerTest, AResumeHandsBackTheFluidCarriedOnIntoTheSessionLeft) {
   testing::ServerProcess server;
   const std::string& address = server.grpc_address();
-  auto creator = std::make_unique<StreamClient>(client::connect(address), small_hello(800));
-  const std::string session = creator->welcome().session_id();
-  v1::Hello join = small_hello();
-  join.set_join(creator->welcome().access().view_key());
-  auto watcher = std::make_unique<StreamClient>(client::connect(address), join);
-  frame_from(*creator);
-  frame_from(*watcher);
-  v1::Snapshot carried_on = creator->snapshot();  // as if it went on 100 s here
-  carried_on.set_time(carried_on.time() + 100.0);
-  const v1::Access creator_access = creator->welcome().access();
+  auto [session, creator_access, watcher, carried_on] = creator_drops_while_watched(address);
   const v1::Access watcher_access = watcher->welcome().access();
-  creator->drop();
-  creator.reset();
 
   const auto resume_with = [&](const v1::Access& access, const v1::Snapshot& state) {
     v1::Hello hello = small_hello();
     hello.mutable_resume()->set_key(access.resume_key());
     *hello.mutable_resume()->mutable_state() = state;
-    return std::make_unique<StreamClient>(client::connect(address), hello);
+    return hello;
   };
   const auto refusal = [&](const v1::Access& access, const v1::Snapshot& state) {
-    try {
-      resume_with(access, state);
-    } catch (const StreamError& e) {
-      return std::pair(e.code(), std::string(e.what()));
-    }
-    return std::pair(grpc::StatusCode::OK, std::string());
+    return refusal_of(address, resume_with(access, state));
   };
   v1::Snapshot outside = carried_on;
   outside.set_positions(4, 50.0f);
@@ -348,14 +373,12 @@ TEST(ServerTest, AResumeHandsBackTheFluidCarriedOnIntoTheSessionLeft) {
   EXPECT_EQ(code, grpc::StatusCode::INVALID_ARGUMENT) << why;
   EXPECT_NE(why.find("Hello.resume.state"), std::string::npos) << why;
 
-  const auto back = resume_with(creator_access, carried_on);
+  const auto back =
+      std::make_unique<StreamClient>(client::connect(address), resume_with(creator_access, carried_on));
   EXPECT_EQ(back->welcome().session_id(), session);
   EXPECT_TRUE(back->welcome().access().control());
-  bool watcher_sees_it = false;
-  for (int k = 0; k < 100 && !watcher_sees_it; ++k) {
-    watcher_sees_it = frame_from(*watcher).sim_time() >= carried_on.time();
-  }
-  EXPECT_TRUE(watcher_sees_it) << "the watcher's session did not go on from the fluid handed back";
+  EXPECT_TRUE(shows_time(*watcher, carried_on.time()))
+      << "the watcher's session did not go on from the fluid handed back";
 
   // Refused while its old connection is still up (not known dead yet), it keeps that connection.
   std::tie(code, why) = refusal(watcher_access, carried_on);
@@ -368,6 +391,54 @@ TEST(ServerTest, AResumeHandsBackTheFluidCarriedOnIntoTheSessionLeft) {
   const auto watcher_back = resume(address, watcher_access);
   EXPECT_EQ(watcher_back->welcome().session_id(), session);
   EXPECT_FALSE(watcher_back->welcome().access().control());
+}
+
+// A viewer away past the grace (0 s here) has lost its seat, but the session lives on while
+// another device watches: a resume that also gives the session's key joins it again, with that
+// key's access and the fluid it carried on; without the key it finds nothing, and a key of a
+// session that ended or a state from the view key's seat is refused, naming the field.
+TEST(ServerTest, AViewerWhoseSeatWasForgottenRejoinsTheSessionByItsKey) {
+  testing::ServerProcess server({"--resume-grace", "0"});
+  const std::string& address = server.grpc_address();
+  auto [session, creator_access, watcher, carried_on] = creator_drops_while_watched(address);
+  // Once the server has seen the drop, the seat is forgotten at once.
+  for (int k = 0; k < 100 && server.metric("fluidcast_viewers") != 1; ++k) {
+    std::this_thread::sleep_for(milliseconds(50));
+  }
+  ASSERT_EQ(server.metric("fluidcast_viewers"), 1);
+
+  const auto resume_with = [&](const std::string& session_key, const v1::Snapshot* state) {
+    v1::Hello hello = small_hello();
+    hello.mutable_resume()->set_key(creator_access.resume_key());
+    hello.mutable_resume()->set_session_key(session_key);
+    if (state) *hello.mutable_resume()->mutable_state() = *state;
+    return hello;
+  };
+  const auto opens = [&](const std::string& session_key, const v1::Snapshot* state) {
+    return std::make_unique<StreamClient>(client::connect(address), resume_with(session_key, state));
+  };
+  const auto refusal = [&](const std::string& session_key, const v1::Snapshot* state) {
+    return refusal_of(address, resume_with(session_key, state));
+  };
+  auto [code, why] = refusal("", &carried_on);
+  EXPECT_EQ(code, grpc::StatusCode::NOT_FOUND) << why;
+  EXPECT_NE(why.find("Hello.resume.key"), std::string::npos) << why;
+  std::tie(code, why) = refusal(std::string(32, 'x'), &carried_on);
+  EXPECT_EQ(code, grpc::StatusCode::NOT_FOUND) << why;
+  EXPECT_NE(why.find("Hello.resume.session_key"), std::string::npos) << why;
+  std::tie(code, why) = refusal(creator_access.view_key(), &carried_on);
+  EXPECT_EQ(code, grpc::StatusCode::PERMISSION_DENIED) << why;
+  EXPECT_NE(why.find("Hello.resume.state"), std::string::npos) << why;
+
+  const auto back = opens(creator_access.control_key(), &carried_on);
+  EXPECT_EQ(back->welcome().session_id(), session);
+  EXPECT_TRUE(back->welcome().access().control());
+  EXPECT_NE(back->welcome().access().resume_key(), creator_access.resume_key());
+  EXPECT_TRUE(shows_time(*watcher, carried_on.time()))
+      << "the watcher's session did not go on from the fluid handed back";
+  const auto onlooker = opens(creator_access.view_key(), nullptr);  // as the view key allows
+  EXPECT_EQ(onlooker->welcome().session_id(), session);
+  EXPECT_FALSE(onlooker->welcome().access().control());
 }
 
 TEST(ServerTest, TiltTurnsGravity) {

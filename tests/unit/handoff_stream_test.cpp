@@ -50,6 +50,8 @@ class FakeFluid final : public FluidStream {
     welcome_.mutable_state()->set_scene(hello.create().scene());
     welcome_.set_session_id(server ? "remote" : "local");
     welcome_.mutable_access()->set_control(!server || server->viewers_control);
+    welcome_.mutable_access()->set_view_key("view-key");
+    if (welcome_.access().control()) welcome_.mutable_access()->set_control_key("control-key");
     // A resume key of its own for each stream, as the server gives.
     static std::atomic<int> keys = 0;
     welcome_.mutable_access()->set_resume_key("resume-" + std::to_string(++keys));
@@ -390,6 +392,8 @@ TEST(HandoffStream, AServerThatComesBackTakesTheFluidAndStreamsAgain) {
     EXPECT_EQ(f.server->streams, 2);
     EXPECT_TRUE(f.server->hellos.back().has_resume()) << "a new session was asked for";
     EXPECT_EQ(f.server->hellos.back().resume().key(), key);
+    EXPECT_EQ(f.server->hellos.back().resume().session_key(), "control-key")
+        << "a seat forgotten would leave the session behind";
   }
   ASSERT_FALSE(again.empty());
   for (const float t : again) EXPECT_GE(t, continued) << "a frame of the session from before";
@@ -506,6 +510,13 @@ TEST(HandoffStream, AWatcherDoesNotContinueSomeoneElsesFluid) {
   read_until(stream, [&] { return stream.status().find("retrying") != std::string::npos; });
   EXPECT_FALSE(stream.simulating_here());
   EXPECT_EQ(f.locals(), 0);
+  // Back, it asks for its seat, or a new one with the key it was given (the view key).
+  f.set(&FakeServer::up, true);
+  read_until(stream, [&] { return f.hellos_answered().size() == 2; });
+  const v1::Hello back = f.hellos_answered().back();
+  ASSERT_TRUE(back.has_resume());
+  EXPECT_EQ(back.resume().session_key(), "view-key");
+  EXPECT_FALSE(back.resume().has_state());
 }
 
 TEST(HandoffStream, WithoutHandoffAServerThatDoesNotAnswerIsAnError) {
