@@ -134,9 +134,13 @@ inline v1::ClientMessage hello(Bytes& in, const ServerLimits& limits, const Know
     case 1:
       hello.set_join(known.key(in));
       break;
-    case 2:
-      hello.mutable_resume()->set_key(known.key(in));
+    case 2: {
+      v1::Resume& resume = *hello.mutable_resume();
+      resume.set_key(known.key(in));
+      if (in.byte() % 2) resume.set_session_key(known.key(in));
+      if (known.state && in.byte() % 3 == 0) *resume.mutable_state() = handed_back(in, *known.state);
       break;
+    }
     default: {
       v1::NewSession& create = *hello.mutable_create();
       create.set_scene(name_from(in, sim::scene_names()));

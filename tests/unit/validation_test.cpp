@@ -444,6 +444,12 @@ TEST(ValidationTest, AMessageMissingWhatItNeedsIsRefused) {
   resume.mutable_hello()->mutable_resume()->set_key("");
   EXPECT_EQ(code_of([&] { validate_hello(resume, limits, std::nullopt); }),
             RefusalCode::invalid_argument);
+  // The session's key beside a resume is optional, but not overlong.
+  resume.mutable_hello()->mutable_resume()->set_key(std::string(32, 'a'));
+  EXPECT_NO_THROW(validate_hello(resume, limits, std::nullopt));
+  resume.mutable_hello()->mutable_resume()->set_session_key(std::string(300, 'a'));
+  EXPECT_EQ(refusal_text([&] { validate_hello(resume, limits, std::nullopt); }),
+            "Hello.resume.session_key is longer than 256 bytes");
   v1::ClientMessage scene;
   scene.mutable_command()->set_scene("");
   EXPECT_EQ(code_of([&] { validate_event(scene, limits, Access::control); }),
