@@ -13,6 +13,15 @@ bool ready(const std::future<T>& request) {
   return request.valid() && request.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
 }
 
+// What a reconnection throws when the stream came back but did not take the fluid here: that
+// stream, whose seat goes unused.
+class FluidNotTaken : public std::runtime_error {
+ public:
+  FluidNotTaken(std::shared_ptr<FluidStream> unused, const std::string& why)
+      : std::runtime_error(why), stream(std::move(unused)) {}
+  std::shared_ptr<FluidStream> stream;
+};
+
 // The scene, solver and count of a session, for a new one that continues it elsewhere.
 void continue_session(v1::Hello& hello, const v1::SessionState& state) {
   hello.mutable_create()->set_scene(state.scene());
@@ -411,6 +420,14 @@ void HandoffStream::reconnect() {
         set_paused(*stream_, paused_);
         resume_.reset();
       }
+      // A stream that did not take the fluid says goodbye, so that the server keeps its seat for
+      // no resume (a session nobody else watches ends at once, its slot free for the next try);
+      // off this thread and after the fluid here went on, as a server may take seconds to answer.
+      if (const auto* not_taken = dynamic_cast<const FluidNotTaken*>(&e)) {
+        std::erase_if(goodbyes_, [](const std::future<void>& goodbye) { return ready(goodbye); });
+        goodbyes_.push_back(
+            std::async(std::launch::async, [stream = not_taken->stream] { stream->close(); }));
+      }
       set_status(std::string("the server is back but refused a session: ") + e.what() +
                  (stream_ ? "; continuing locally, retrying" : "; retrying"));
     }
@@ -444,8 +461,9 @@ void HandoffStream::reconnect() {
       v1::Snapshot state = local->snapshot();
       back.stream->load(state);
       back.state_put = std::move(state);
-    } catch (const std::exception& e) {  // the fluid stays here: the new session goes unused
-      throw std::runtime_error(std::string("it did not take the fluid here (") + e.what() + ")");
+    } catch (const std::exception& e) {  // the fluid stays here: the stream goes unused
+      throw FluidNotTaken(std::move(back.stream),
+                          std::string("it did not take the fluid here (") + e.what() + ")");
     }
     return back;
   });

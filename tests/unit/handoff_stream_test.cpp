@@ -31,6 +31,8 @@ struct FakeServer {
   int full_for = 0;                 // resumes refused for now (the session's seats are taken)
   bool holds_loads = false;         // a state put in waits until this is false again...
   bool load_waiting = false;        // ...as one does now
+  bool holds_goodbyes = false;      // a stream's goodbye waits until this is false again
+  int goodbyes = 0;                 // streams closed in order
   std::condition_variable loads_released;
   std::uint32_t particles = 1000;  // of a session whose Hello names no count
   std::vector<v1::Snapshot> put;   // states put into its sessions
@@ -106,7 +108,14 @@ class FakeFluid final : public FluidStream {
   std::string end_reason() const override {
     return !ended() ? "" : lost() ? "the server went away" : "nobody touched the fluid";
   }
-  std::string close() override { return end_reason(); }
+  std::string close() override {
+    if (server_) {
+      std::unique_lock lock(server_->mutex);
+      server_->loads_released.wait(lock, [this] { return !server_->holds_goodbyes; });
+      ++server_->goodbyes;
+    }
+    return end_reason();
+  }
   v1::Snapshot snapshot() override {
     if (ended()) throw std::runtime_error("no server");
     if (server_) {
@@ -637,6 +646,32 @@ TEST(HandoffStream, AServerThatRefusesTheFluidLeavesItHere) {
   const std::vector<float> back = read_for(stream, milliseconds(100));
   ASSERT_FALSE(back.empty());
   EXPECT_GE(back.front(), here.back());
+}
+
+// A stream that came back but did not take the fluid says goodbye, so that the server keeps no
+// seat for it (nor a session nobody watches); a server slow to answer that holds nothing here.
+TEST(HandoffStream, AStreamThatDidNotTakeTheFluidSaysGoodbyeWithoutHoldingItUp) {
+  Fixture f;
+  HandoffStream stream(hello_for(1000), f.sides(), f.options());
+  stream_until_kept(stream, f);
+  f.set(&FakeServer::up, false);
+  read_until(stream, [&] { return stream.simulating_here(); });
+  f.set(&FakeServer::holds_goodbyes, true);
+  f.set(&FakeServer::refuses_states, true);
+  f.set(&FakeServer::up, true);
+  read_until(stream, [&] { return stream.status().find("refused") != std::string::npos; });
+  const std::vector<float> here = read_for(stream, milliseconds(100));
+  ASSERT_FALSE(here.empty());
+  EXPECT_TRUE(goes_on_after(stream, here.back())) << "the fluid here waited for the goodbye";
+  f.set(&FakeServer::holds_goodbyes, false);
+  f.set(&FakeServer::refuses_states, false);
+  read_until(stream, [&] { return !stream.simulating_here(); });
+  read_for(stream, milliseconds(100));
+  const std::lock_guard lock(f.server->mutex);
+  EXPECT_GE(f.server->streams, 3);
+  EXPECT_EQ(f.server->goodbyes, f.server->streams - 2)
+      << "each stream that did not take the fluid says goodbye (the lost one and the one "
+         "streaming do not)";
 }
 
 // A fluid its viewer paused stays paused through the handback: here while a server refuses it,
