@@ -49,7 +49,7 @@ class Unreachable : public std::runtime_error {
 };
 
 // What HandoffSides::connect throws when the server no longer has the session a Hello resumes
-// (it restarted, or the grace ran out): a new one is asked for.
+// (it restarted, or nobody watched it past the grace): a new one is asked for.
 class Forgotten : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;

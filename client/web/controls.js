@@ -241,7 +241,7 @@ async function keepAwake() {
 }
 
 // A hidden tab streams nothing: the stream closes, and the session waits (the server's resume
-// grace) for the tab to come back and resume it.
+// grace, or longer while another device watches it) for the tab to come back and resume it.
 let hiddenPause = false;
 document.addEventListener('visibilitychange', () => {
   if (local) return;  // the browser stops animating a hidden page, and the fluid with it

@@ -273,9 +273,9 @@ void Session::remove_viewer(std::uint32_t id, Departure departure) {
   if (departure == Departure::dropped) {
     const auto now = Clock::now();
     departed_[id] = {found->second->camera(), found->second->seat(), now};
-    // Past the grace a viewer can no longer resume; beyond the limit, those who left earliest are
-    // forgotten first (not those who joined earliest: the creator, connected for hours, may be
-    // the one whose network just changed).
+    // Past the grace a viewer can no longer resume its own seat; beyond the limit, those who
+    // left earliest are forgotten first (not those who joined earliest: the creator, connected
+    // for hours, may be the one whose network just changed).
     std::erase_if(departed_, [&](const auto& departed) {
       return now - departed.second.left > services_.limits->resume_grace;
     });

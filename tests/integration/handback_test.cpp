@@ -4,9 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "handoff_sides.h"
@@ -26,9 +28,11 @@ struct WatchedSides {
   std::shared_ptr<StreamClient> last_stream;
   bool local_started = false;
   std::vector<std::string> said;
+  std::function<void()> before_resume;  // runs before a Hello that resumes goes out
 
   HandoffSides around(HandoffSides sides) {
     sides.connect = [this, connect = sides.connect](const v1::Hello& hello) {
+      if (hello.has_resume() && before_resume) before_resume();
       std::shared_ptr<FluidStream> stream = connect(hello);
       const std::lock_guard lock(mutex);
       last_stream = std::dynamic_pointer_cast<StreamClient>(stream);
@@ -73,6 +77,12 @@ bool shows_a_frame(FluidStream& stream, std::chrono::seconds within) {
 void hand_back_after_a_drop(std::vector<std::string> flags) {
   testing::ServerProcess server(std::move(flags));
   WatchedSides watched;
+  // The way back starts once the server has seen the drop (its seat kept, or forgotten at once).
+  watched.before_resume = [&] {
+    for (int k = 0; k < 100 && server.metric("fluidcast_viewers") != 1; ++k) {
+      std::this_thread::sleep_for(milliseconds(50));
+    }
+  };
   HandoffOptions options;
   options.snapshot_every = milliseconds(100);
   options.retry_every = milliseconds(200);
