@@ -140,11 +140,17 @@ class FakeFluid final : public FluidStream {
     {
       const std::lock_guard lock(mutex_);
       time_ = snapshot.time();
+      loaded_from_ = time_;
     }
     if (server_) {
       const std::lock_guard lock(server_->mutex);
       server_->put.push_back(snapshot);
     }
+  }
+  // The clock of the last state loaded (nothing loaded: negative).
+  double loaded_from() const {
+    const std::lock_guard lock(mutex_);
+    return loaded_from_;
   }
   bool paused() const {
     const std::lock_guard lock(mutex_);
@@ -183,6 +189,7 @@ class FakeFluid final : public FluidStream {
   v1::Welcome welcome_;
   mutable std::mutex mutex_;
   double time_ = 0.0;
+  double loaded_from_ = -1.0;
   bool paused_ = false;
   std::optional<bool> told_paused_;  // for the Welcome, with the frame reflecting...
   std::uint64_t told_with_event_ = 0;  // ...this event
@@ -502,12 +509,13 @@ TEST(HandoffStream, AResumeTheServerRefusesAsksForANewSession) {
   read_until(stream, [&] { return stream.status().find("gone") != std::string::npos; });
   f.set(&FakeServer::forgets_sessions, true);
   f.set(&FakeServer::up, true);
-  read_until(stream, [&] { return f.hellos_answered().size() == 2; });
+  // The server answers the Hello before this thread takes the stream: streaming says both.
+  read_until(stream, [&] { return stream.status().find("streaming") != std::string::npos; });
   EXPECT_TRUE(f.heard("no longer has the session"));
+  ASSERT_EQ(f.hellos_answered().size(), 2u);
   const v1::Hello back = f.hellos_answered().back();
   EXPECT_FALSE(back.has_resume());
   EXPECT_EQ(back.create().particles(), 1000u);
-  EXPECT_NE(stream.status().find("streaming"), std::string::npos) << stream.status();
 }
 
 TEST(HandoffStream, AWatcherDoesNotContinueSomeoneElsesFluid) {
@@ -639,7 +647,11 @@ TEST(HandoffStream, AServerThatRefusesTheFluidLeavesItHere) {
   EXPECT_NE(stream.status().find("particle 7 is outside"), std::string::npos) << stream.status();
   const std::vector<float> here = read_for(stream, milliseconds(100));
   ASSERT_FALSE(here.empty());
-  EXPECT_GT(here.front(), 0.05f) << "the fluid here went on, not from the start";
+  const std::shared_ptr<FakeFluid> local = f.local_fluid();
+  ASSERT_TRUE(local);
+  EXPECT_GT(local->loaded_from(), 0.0) << "the fluid here did not start from the server's state";
+  EXPECT_GE(here.front(), static_cast<float>(local->loaded_from()))  // frames carry floats
+      << "the fluid here went on, not from the start";
   EXPECT_TRUE(goes_on_after(stream, here.back())) << "the fluid here was left paused";
   f.set(&FakeServer::refuses_states, false);
   read_until(stream, [&] { return !stream.simulating_here(); });
