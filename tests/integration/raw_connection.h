@@ -36,6 +36,10 @@ class RawConnection {
   RawConnection& operator=(const RawConnection&) = delete;
 
   bool connected() const { return connected_; }
+  // Sends `bytes` as they are (a request or handshake cut short, say); whether they went.
+  bool send_bytes(const std::string& bytes) {
+    return send(fd_, bytes.data(), bytes.size(), MSG_NOSIGNAL) == static_cast<ssize_t>(bytes.size());
+  }
   // True when the server closed it (a read sees the end) within the timeout.
   bool closed_by_server() {
     char byte;
