@@ -426,7 +426,10 @@ void HandoffStream::reconnect() {
       if (const auto* not_taken = dynamic_cast<const FluidNotTaken*>(&e)) {
         std::erase_if(goodbyes_, [](const std::future<void>& goodbye) { return ready(goodbye); });
         goodbyes_.push_back(
-            std::async(std::launch::async, [stream = not_taken->stream] { stream->close(); }));
+            std::async(std::launch::async, [stream = not_taken->stream]() mutable {
+              stream->close();
+              stream.reset();  // its channel goes now, not when the future is collected
+            }));
       }
       set_status(std::string("the server is back but refused a session: ") + e.what() +
                  (stream_ ? "; continuing locally, retrying" : "; retrying"));

@@ -165,7 +165,9 @@ class HandoffStream final : public FluidStream {
 
   std::future<v1::Snapshot> snapshot_request_;
   std::vector<std::future<v1::Snapshot>> abandoned_;  // requests to a lost server, still running
-  std::vector<std::future<void>> goodbyes_;  // of streams that did not take the fluid, running
+  // Goodbyes of streams that did not take the fluid, running; each ends within StreamClient's
+  // bounds on a close (about 10 s), which the destructor may wait out.
+  std::vector<std::future<void>> goodbyes_;
   std::optional<v1::Snapshot> snapshot_;
   std::shared_ptr<Standby> standby_;
   std::future<Reconnected> reconnect_;

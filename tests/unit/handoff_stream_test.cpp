@@ -111,7 +111,9 @@ class FakeFluid final : public FluidStream {
   std::string close() override {
     if (server_) {
       std::unique_lock lock(server_->mutex);
-      server_->loads_released.wait(lock, [this] { return !server_->holds_goodbyes; });
+      // Bounded: a goodbye said on the caller's thread fails the test rather than hangs it.
+      server_->loads_released.wait_for(lock, std::chrono::seconds(5),
+                                       [this] { return !server_->holds_goodbyes; });
       ++server_->goodbyes;
     }
     return end_reason();
@@ -640,6 +642,10 @@ TEST(HandoffStream, AServerThatRefusesTheFluidLeavesItHere) {
   stream_until_kept(stream, f);
   f.set(&FakeServer::up, false);
   read_until(stream, [&] { return stream.simulating_here(); });
+  const std::shared_ptr<FakeFluid> local = f.local_fluid();
+  ASSERT_TRUE(local);
+  const double started_from = local->loaded_from();
+  EXPECT_GT(started_from, 0.0) << "the fluid here did not start from the server's state";
   f.set(&FakeServer::refuses_states, true);
   f.set(&FakeServer::up, true);
   read_until(stream, [&] { return stream.status().find("refused") != std::string::npos; });
@@ -647,10 +653,8 @@ TEST(HandoffStream, AServerThatRefusesTheFluidLeavesItHere) {
   EXPECT_NE(stream.status().find("particle 7 is outside"), std::string::npos) << stream.status();
   const std::vector<float> here = read_for(stream, milliseconds(100));
   ASSERT_FALSE(here.empty());
-  const std::shared_ptr<FakeFluid> local = f.local_fluid();
-  ASSERT_TRUE(local);
-  EXPECT_GT(local->loaded_from(), 0.0) << "the fluid here did not start from the server's state";
-  EXPECT_GE(here.front(), static_cast<float>(local->loaded_from()))  // frames carry floats
+  EXPECT_EQ(local->loaded_from(), started_from) << "the fluid here was loaded again";
+  EXPECT_GE(here.front(), static_cast<float>(started_from))  // frames carry floats
       << "the fluid here went on, not from the start";
   EXPECT_TRUE(goes_on_after(stream, here.back())) << "the fluid here was left paused";
   f.set(&FakeServer::refuses_states, false);
@@ -678,7 +682,10 @@ TEST(HandoffStream, AStreamThatDidNotTakeTheFluidSaysGoodbyeWithoutHoldingItUp) 
   f.set(&FakeServer::holds_goodbyes, false);
   f.set(&FakeServer::refuses_states, false);
   read_until(stream, [&] { return !stream.simulating_here(); });
-  read_for(stream, milliseconds(100));
+  read_until(stream, [&] {  // the goodbyes' threads, released, finish
+    const std::lock_guard lock(f.server->mutex);
+    return f.server->goodbyes >= f.server->streams - 2;
+  });
   const std::lock_guard lock(f.server->mutex);
   EXPECT_GE(f.server->streams, 3);
   EXPECT_EQ(f.server->goodbyes, f.server->streams - 2)
