@@ -147,6 +147,18 @@ async function dropNetwork(page, what) {
                 what, 15000);
 }
 
+// Waits for the page to stream again once its network is back, then for a few frames (`what`);
+// what it shows then.
+async function streamingAgain(page, what) {
+  await waitFor(page, () => window.fluidcast.mode === 'stream' && window.fluidcast.connected, what,
+                30000);
+  const frames = await page.evaluate(() => window.fluidcast.frames);
+  await waitFor(page, `window.fluidcast.frames > ${frames + 2}`, 'frames: ' + what);
+  return page.evaluate(() => ({ id: window.fluidcast.sessionId,
+    time: window.fluidcast.lastFrame.simTime, control: window.fluidcast.access.control,
+    status: document.getElementById('status').textContent }));
+}
+
 async function main() {
   fs.mkdirSync(out, { recursive: true });
   const { child, port } = await startServer();
@@ -659,12 +671,7 @@ async function main() {
       window.WebSocket = window.RealWebSocket;
       return window.fluidcast.local.time;
     });
-    await waitFor(handing, () => window.fluidcast.mode === 'stream' && window.fluidcast.connected,
-                  'streaming again once the network is back', 30000);
-    const framesRejoined = await handing.evaluate(() => window.fluidcast.frames);
-    await waitFor(handing, `window.fluidcast.frames > ${framesRejoined + 2}`, 'frames again');
-    const rejoined = await handing.evaluate(() => ({ id: window.fluidcast.sessionId,
-      time: window.fluidcast.lastFrame.simTime, status: document.getElementById('status').textContent }));
+    const rejoined = await streamingAgain(handing, 'streaming again once the network is back');
     check(rejoined.id === left.id && rejoined.time >= localAtReturn && rejoined.status === '',
           `the network back, the fluid goes back into the session it left (` +
           `${rejoined.id === left.id ? 'the same' : 'another'} session, t = ` +
@@ -688,13 +695,7 @@ async function main() {
       window.WebSocket = window.RealWebSocket;
       return window.fluidcast.local.time;
     });
-    await waitFor(handing, () => window.fluidcast.mode === 'stream' && window.fluidcast.connected,
-                  'streaming again, in a new seat', 30000);
-    const framesReseated = await handing.evaluate(() => window.fluidcast.frames);
-    await waitFor(handing, `window.fluidcast.frames > ${framesReseated + 2}`, 'frames in the new seat');
-    const reseated = await handing.evaluate(() => ({ id: window.fluidcast.sessionId,
-      time: window.fluidcast.lastFrame.simTime, control: window.fluidcast.access.control,
-      status: document.getElementById('status').textContent }));
+    const reseated = await streamingAgain(handing, 'streaming again, in a new seat');
     const stillOnlooking = await onlooker.evaluate(() => ({ id: window.fluidcast.sessionId,
       reconnects: window.fluidcast.reconnects }));
     check(reseated.id === left.id && reseated.control && reseated.time >= localAtSecondReturn &&

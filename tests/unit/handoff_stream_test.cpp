@@ -33,7 +33,7 @@ struct FakeServer {
   bool load_waiting = false;        // ...as one does now
   bool holds_goodbyes = false;      // a stream's goodbye waits until this is false again
   int goodbyes = 0;                 // streams closed in order
-  std::condition_variable loads_released;
+  std::condition_variable released;  // a load or goodbye held may go on
   std::uint32_t particles = 1000;  // of a session whose Hello names no count
   std::vector<v1::Snapshot> put;   // states put into its sessions
   std::vector<v1::Hello> hellos;   // of the streams it answered
@@ -112,7 +112,7 @@ class FakeFluid final : public FluidStream {
     if (server_) {
       std::unique_lock lock(server_->mutex);
       // Bounded: a goodbye said on the caller's thread fails the test rather than hangs it.
-      server_->loads_released.wait_for(lock, std::chrono::seconds(5),
+      server_->released.wait_for(lock, std::chrono::seconds(5),
                                        [this] { return !server_->holds_goodbyes; });
       ++server_->goodbyes;
     }
@@ -135,7 +135,7 @@ class FakeFluid final : public FluidStream {
     if (server_) {
       std::unique_lock lock(server_->mutex);
       server_->load_waiting = server_->holds_loads;
-      server_->loads_released.wait(lock, [this] { return !server_->holds_loads; });
+      server_->released.wait(lock, [this] { return !server_->holds_loads; });
       server_->load_waiting = false;
       if (server_->refuses_states) throw std::invalid_argument("Snapshot: particle 7 is outside");
     }
@@ -276,7 +276,7 @@ struct Fixture {
       const std::lock_guard lock(server->mutex);
       server.get()->*field = value;
     }
-    server->loads_released.notify_all();
+    server->released.notify_all();
   }
   bool is(bool FakeServer::*field) {
     const std::lock_guard lock(server->mutex);
@@ -664,18 +664,24 @@ TEST(HandoffStream, AServerThatRefusesTheFluidLeavesItHere) {
   EXPECT_GE(back.front(), here.back());
 }
 
+// Streams, loses the server, goes on here, and lets the server back refusing the fluid here;
+// returns once the refusal is told.
+void refused_on_its_return(HandoffStream& stream, Fixture& f) {
+  stream_until_kept(stream, f);
+  f.set(&FakeServer::up, false);
+  read_until(stream, [&] { return stream.simulating_here(); });
+  f.set(&FakeServer::refuses_states, true);
+  f.set(&FakeServer::up, true);
+  read_until(stream, [&] { return stream.status().find("refused") != std::string::npos; });
+}
+
 // A stream that came back but did not take the fluid says goodbye, so that the server keeps no
 // seat for it (nor a session nobody watches); a server slow to answer that holds nothing here.
 TEST(HandoffStream, AStreamThatDidNotTakeTheFluidSaysGoodbyeWithoutHoldingItUp) {
   Fixture f;
   HandoffStream stream(hello_for(1000), f.sides(), f.options());
-  stream_until_kept(stream, f);
-  f.set(&FakeServer::up, false);
-  read_until(stream, [&] { return stream.simulating_here(); });
   f.set(&FakeServer::holds_goodbyes, true);
-  f.set(&FakeServer::refuses_states, true);
-  f.set(&FakeServer::up, true);
-  read_until(stream, [&] { return stream.status().find("refused") != std::string::npos; });
+  refused_on_its_return(stream, f);
   const std::vector<float> here = read_for(stream, milliseconds(100));
   ASSERT_FALSE(here.empty());
   EXPECT_TRUE(goes_on_after(stream, here.back())) << "the fluid here waited for the goodbye";
@@ -701,12 +707,7 @@ TEST(HandoffStream, APausedFluidStaysPausedAcrossTheHandback) {
   v1::Command pause;
   pause.set_pause(true);
   stream.command(pause);
-  stream_until_kept(stream, f);
-  f.set(&FakeServer::up, false);
-  read_until(stream, [&] { return stream.simulating_here(); });
-  f.set(&FakeServer::refuses_states, true);
-  f.set(&FakeServer::up, true);
-  read_until(stream, [&] { return stream.status().find("refused") != std::string::npos; });
+  refused_on_its_return(stream, f);
   const std::shared_ptr<FakeFluid> local = f.local_fluid();
   ASSERT_TRUE(local);
   EXPECT_TRUE(local->paused()) << "a refused handback set the fluid here going";
