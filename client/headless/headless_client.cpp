@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -10,6 +11,7 @@
 #include "fluidcast/codec/jpeg.h"
 #include "gesture_script.h"
 #include "handoff_sides.h"
+#include "stop_signals.h"
 #include "stream_client.h"
 
 namespace fluidcast::client {
@@ -136,6 +138,7 @@ int run_headless(const HeadlessOptions& o) {
   handoff.say = [](const std::string& line) {
     std::fprintf(stderr, "fluidcast-client: %s\n", line.c_str());
   };
+  StopSignals stop;  // before the stream starts its threads
   HandoffStream stream(o.hello, handoff_sides(o.server, o.max_local_particles), handoff);
   if (!stream.welcome().session_id().empty()) {  // else it is still asking (--handoff)
     std::fprintf(stderr, "fluidcast-client: %s\n", describe_welcome(stream.welcome()).c_str());
@@ -145,7 +148,8 @@ int run_headless(const HeadlessOptions& o) {
       start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(o.seconds));
   std::size_t next_event = 0;
   FrameFigures figures;
-  while (Clock::now() < end && !stream.ended()) {
+  int stopped_by = 0;
+  while (Clock::now() < end && !stream.ended() && !(stopped_by = stop.take())) {
     next_event = play(stream, script, next_event,
                       std::chrono::duration<double>(Clock::now() - start).count());
     const auto frame = stream.next_frame(std::chrono::milliseconds(5));
@@ -156,6 +160,11 @@ int run_headless(const HeadlessOptions& o) {
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   const nlohmann::json report = report_of(figures, stream, seconds);
   const std::string ended_because = stream.close();
+  if (stopped_by) {
+    // Its figures, cut short: said, and the status a shell gives a run that signal ended.
+    print(report, "stopped by SIG" + std::string(sigabbrev_np(stopped_by)), o.json);
+    return 128 + stopped_by;
+  }
   print(report, ended_because, o.json);
   if (!ended_because.empty()) {
     std::fprintf(stderr, "fluidcast-client: the stream ended: %s\n", ended_because.c_str());

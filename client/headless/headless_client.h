@@ -1,7 +1,8 @@
 // fluidcast-client --headless: connects to a server, plays a gesture script (or a default drag),
 // decodes every frame, and reports frames, fps, bitrate and touch-to-photon latency. With --json
 // its last line is one JSON object. With handoff it carries the fluid on here when the server
-// drops (as the window does) and reports the gap; without, the run ends with the stream.
+// drops (as the window does) and reports the gap; without, the run ends with the stream. SIGINT
+// (Ctrl-C) or SIGTERM ends it early: the figures so far, a goodbye, exit status 128 + signal.
 #pragma once
 
 #include <string>

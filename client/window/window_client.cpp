@@ -395,6 +395,9 @@ int Client::run() {
     update_title(now);
   }
   screenshot();
+  // A goodbye, not a drop: the server ends a session at once when its last viewer leaves, while
+  // a dropped viewer's seat and session wait out --resume-grace, counted against this address.
+  stream_->close();
   std::printf("fluidcast-client: %zu frames, %s\n", frames_, status().c_str());
   return 0;
 }

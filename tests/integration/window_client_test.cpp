@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -17,7 +18,9 @@
 #include <random>
 #include <regex>
 #include <string>
+#include <string_view>
 #include <thread>
+#include <vector>
 
 #include "fluidcast/codec/png.h"
 #include "server_process.h"
@@ -44,6 +47,76 @@ ClientRun run_client(const std::string& flags) {
   const int status = pclose(pipe);
   run.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return run;
+}
+
+// The client headless, as a process of its own that a test sends signals to (SIGINT as from a
+// terminal, not ignored as a background job's is); what it prints is read as it comes.
+class HeadlessClient {
+ public:
+  explicit HeadlessClient(std::vector<std::string> flags) {
+    int out[2];
+    if (pipe(out) != 0) throw std::runtime_error("pipe failed");
+    flags.insert(flags.begin(), {FLUIDCAST_CLIENT_PATH, "--headless"});
+    pid_ = fork();
+    if (pid_ == 0) {
+      std::signal(SIGINT, SIG_DFL);
+      dup2(out[1], STDOUT_FILENO);
+      dup2(out[1], STDERR_FILENO);
+      close(out[0]);
+      std::vector<char*> argv;
+      for (auto& flag : flags) argv.push_back(flag.data());
+      argv.push_back(nullptr);
+      execv(argv[0], argv.data());
+      _exit(127);
+    }
+    close(out[1]);
+    output_ = fdopen(out[0], "r");
+  }
+  ~HeadlessClient() {
+    if (pid_ > 0) finish();
+  }
+  // Reads what it prints until a line holds `text`; false when it ended first.
+  bool wait_for(const std::string& text) {
+    std::array<char, 4096> line;
+    while (std::fgets(line.data(), line.size(), output_)) {
+      run_.output += line.data();
+      if (std::string_view(line.data()).find(text) != std::string_view::npos) return true;
+    }
+    return false;
+  }
+  void signal(int signal) const { kill(pid_, signal); }
+  // What it printed, and how it ended, once it has.
+  const ClientRun& finish() {
+    wait_for("\n\n\n");  // everything: no line holds it
+    std::fclose(output_);
+    int status = 0;
+    waitpid(pid_, &status, 0);
+    pid_ = -1;
+    run_.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return run_;
+  }
+
+ private:
+  pid_t pid_ = -1;
+  FILE* output_ = nullptr;
+  ClientRun run_;
+};
+
+// The last line that is a JSON object: the headless client's report with --json.
+nlohmann::json report_in(const std::string& output) {
+  const std::size_t line = output.rfind("\n{") + 1;
+  return nlohmann::json::parse(output.substr(line, output.find('\n', line) - line));
+}
+
+// Whether the server has no session left within `within`: a client that said goodbye as its
+// session's last viewer ended it; a dropped one's seat and session wait out --resume-grace (30 s).
+bool sessions_end_within(const testing::ServerProcess& server, std::chrono::seconds within) {
+  const auto until = std::chrono::steady_clock::now() + within;
+  while (server.metric("fluidcast_sessions") != 0) {
+    if (std::chrono::steady_clock::now() > until) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  return true;
 }
 
 // Standard deviation of brightness: a picture, not a blank window.
@@ -139,6 +212,7 @@ TEST(WindowClientTest, ShowsAStreamedFrame) {
   const auto image = codec::read_png(kOut + "window_streamed.png");
   EXPECT_EQ(image.width, 320);
   EXPECT_GT(spread(image), 20.0);
+  EXPECT_TRUE(sessions_end_within(server, std::chrono::seconds(5))) << "the window left no goodbye";
 }
 
 // AddressSanitizer slows the client, its local fluid and the server's restart several times.
@@ -220,9 +294,7 @@ TEST(WindowClientTest, TheHeadlessClientHandsOffWhenAsked) {
   ASSERT_EQ(run.status, 0);
   EXPECT_NE(run.output.find("continuing locally"), std::string::npos);
   EXPECT_NE(run.output.find("took the state"), std::string::npos);
-  const std::size_t line = run.output.rfind("\n{") + 1;  // the report: its one JSON line
-  const nlohmann::json report =
-      nlohmann::json::parse(run.output.substr(line, run.output.find('\n', line) - line));
+  const nlohmann::json report = report_in(run.output);
   EXPECT_EQ(report["status"], "OK");
   EXPECT_FALSE(report["simulated_here"].get<bool>()) << "streaming again at the end";
   ASSERT_TRUE(report["handoff_gap_ms"].is_number());
@@ -238,6 +310,27 @@ TEST(WindowClientTest, AHeadlessRunEndsWithItsServer) {
   std::printf("%s", run.output.c_str());
   EXPECT_EQ(run.status, 1);
   EXPECT_NE(run.output.find("the stream ended: the server is gone"), std::string::npos);
+}
+
+// Ctrl-C ends a headless run early as its end would: the figures so far, and a goodbye (the
+// server ends the session at once, where a killed client's waited out --resume-grace); the exit
+// status is a run SIGINT ended.
+TEST(WindowClientTest, CtrlCEndsAHeadlessRunWithItsFiguresAndAGoodbye) {
+  testing::ServerProcess server;
+  HeadlessClient client(
+      {"--server", server.grpc_address(), "--particles", "500", "--seconds", "120", "--json"});
+  ASSERT_TRUE(client.wait_for("you control it"));
+  std::this_thread::sleep_for(std::chrono::seconds(2));  // frames come
+  client.signal(SIGINT);
+  const ClientRun& run = client.finish();
+  std::printf("%s", run.output.c_str());
+  EXPECT_EQ(run.status, 128 + SIGINT);
+  ASSERT_NE(run.output.find("\n{"), std::string::npos) << "no report";
+  const nlohmann::json report = report_in(run.output);
+  EXPECT_EQ(report["status"], "stopped by SIGINT");
+  EXPECT_GT(report["frames"].get<int>(), 0);
+  EXPECT_LT(report["seconds"].get<double>(), 60.0);
+  EXPECT_TRUE(sessions_end_within(server, std::chrono::seconds(5))) << "no goodbye";
 }
 
 }  // namespace
