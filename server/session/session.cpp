@@ -63,6 +63,15 @@ Session::Session(std::string id, std::string creator, SessionSetup setup, Sessio
   rebuild(setup);
 }
 
+Session::Session(std::string id, std::string creator, const v1::Snapshot& state,
+                 SessionServices services)
+    : id_(std::move(id)),
+      creator_(std::move(creator)),
+      services_(services),
+      source_(*services.context) {
+  load(state);
+}
+
 Session::~Session() {
   try {
     if (solver_) retire_solver(std::move(solver_));
@@ -280,10 +289,9 @@ void Session::remove_viewer(std::uint32_t id, Departure departure) {
       return now - departed.second.left > services_.limits->resume_grace;
     });
     while (departed_.size() > kMaxDepartedViewers) {
-      departed_.erase(std::min_element(departed_.begin(), departed_.end(),
-                                       [](const auto& a, const auto& b) {
-                                         return a.second.left < b.second.left;
-                                       }));
+      departed_.erase(std::min_element(
+          departed_.begin(), departed_.end(),
+          [](const auto& a, const auto& b) { return a.second.left < b.second.left; }));
     }
   }
   viewers_.erase(found);
@@ -367,9 +375,9 @@ void Session::rebuild_or_reset() {
         return;
       } catch (const Refusal& refusal) {
         // A rebuild to the fluid it has (a wish for what it is) blames whoever asked.
-        std::uint32_t asker = askers.scene      ? askers.scene
-                              : askers.solver   ? askers.solver
-                                                : askers.particles;
+        std::uint32_t asker = askers.scene    ? askers.scene
+                              : askers.solver ? askers.solver
+                                              : askers.particles;
         if (wanted.particles != setup_.particles) {
           asker = askers.particles;
           wanted.particles = setup_.particles;

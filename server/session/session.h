@@ -53,6 +53,9 @@ class Session {
   // Throws Refusal (RESOURCE_EXHAUSTED) when the solver does not fit the device. `creator`: the
   // address of the client that created it (its sessions count against the per-address limit).
   Session(std::string id, std::string creator, SessionSetup setup, SessionServices services);
+  // A session that goes on from a state handed back (NewSession.state): its scene, solver and
+  // count. Throws Refusal for a state that does not fit, found before any solver is built.
+  Session(std::string id, std::string creator, const v1::Snapshot& state, SessionServices services);
   ~Session();
 
   const std::string& id() const { return id_; }
@@ -124,7 +127,7 @@ class Session {
   void end_all(const Refusal& why);
 
  private:
-  // load()'s work, charged by it.
+  // load()'s work, charged by it; the first fluid too, where there is no solver yet.
   std::uint32_t replace_fluid(const v1::Snapshot& snapshot);
   // Throws a Refusal when the session has its most viewers, `leaving` of them about to go.
   void check_room(std::size_t leaving) const;

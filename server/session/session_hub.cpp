@@ -167,22 +167,19 @@ std::shared_ptr<Session> SessionHub::create_session(const v1::NewSession& create
                       std::to_string(limits_.resume_grace.count()) +
                       " s after they drop) or join one");
   }
-  // A state handed back (NewSession.state) names its scene and solver and counts its particles;
-  // the session starts from the scene and then takes the state.
-  const std::string& scene = create.has_state() ? create.state().scene() : create.scene();
-  const std::string& solver = create.has_state() ? create.state().solver() : create.solver();
-  SessionSetup setup;
-  if (!scene.empty()) setup.scene = sim::parse_scene(scene);
-  if (!solver.empty()) setup.solver = sim::parse_solver(solver);
-  setup.particles = create.has_state()
-                        ? static_cast<std::uint32_t>(create.state().positions_size() / 3)
-                        : create.particles();
   const std::string id = new_key();
-  auto session = std::make_shared<Session>(
-      id, address, setup,
-      SessionServices{context_, gpu_solver_, &steps_, &frame_ms_per_megapixel_, cpu_threads_,
-                      &limits_, metrics_, encoders_.get()});
-  if (create.has_state()) session->load(create.state());
+  const SessionServices services{context_,     gpu_solver_, &steps_,  &frame_ms_per_megapixel_,
+                                 cpu_threads_, &limits_,    metrics_, encoders_.get()};
+  std::shared_ptr<Session> session;
+  if (create.has_state()) {  // its scene, solver and count, not NewSession's
+    session = std::make_shared<Session>(id, address, create.state(), services);
+  } else {
+    SessionSetup setup;
+    if (!create.scene().empty()) setup.scene = sim::parse_scene(create.scene());
+    if (!create.solver().empty()) setup.solver = sim::parse_solver(create.solver());
+    setup.particles = create.particles();
+    session = std::make_shared<Session>(id, address, setup, services);
+  }
   // What the client owes, from sessions that ended and from its sessions that nobody watches
   // now (a client that drops or says goodbye and comes straight back starts no fresher).
   const auto now = Clock::now();

@@ -25,16 +25,15 @@ struct Particles {
   std::vector<glm::vec3> position, velocity;
 };
 
-// A snapshot's particles, each finite, inside `tank` and not faster than the solvers allow;
-// throws a Refusal naming what is wrong.
-Particles checked_particles(const v1::Snapshot& snapshot, std::uint32_t max_particles,
-                            const sim::Box& tank) {
+// How many particles a snapshot holds; throws a Refusal where its values do not make particles
+// or make more than `max_particles`.
+std::uint32_t particle_count(const v1::Snapshot& snapshot, std::uint32_t max_particles) {
   const int values = snapshot.positions_size();
   if (values % 3 != 0 || snapshot.velocities_size() != values) {
     throw Refusal(RefusalCode::invalid_argument,
                   "Snapshot: positions and velocities need three values per particle each");
   }
-  const std::size_t count = static_cast<std::size_t>(values / 3);
+  const auto count = static_cast<std::uint32_t>(values / 3);
   if (count == 0) throw Refusal(RefusalCode::invalid_argument, "Snapshot has no particles");
   if (count > max_particles) {
     throw Refusal(RefusalCode::resource_exhausted,
@@ -42,6 +41,13 @@ Particles checked_particles(const v1::Snapshot& snapshot, std::uint32_t max_part
                       " particles are more than this server's limit of " +
                       std::to_string(max_particles));
   }
+  return count;
+}
+
+// A snapshot's `count` particles (particle_count()), each finite, inside `tank` and not faster
+// than the solvers allow; throws a Refusal naming what is wrong.
+Particles checked_particles(const v1::Snapshot& snapshot, std::uint32_t count,
+                            const sim::Box& tank) {
   Particles particles{std::vector<glm::vec3>(count), std::vector<glm::vec3>(count)};
   for (std::size_t k = 0; k < count; ++k) {
     glm::vec3& p = particles.position[k];
@@ -131,10 +137,9 @@ std::uint32_t Session::load(const v1::Snapshot& snapshot) {
 }
 
 std::uint32_t Session::replace_fluid(const v1::Snapshot& snapshot) {
-  // Checked before the fluid is touched: a refused snapshot leaves the session as it was. Every
-  // scene has the same tank.
-  const Particles particles =
-      checked_particles(snapshot, services_.limits->max_particles, solver_->tank());
+  // Checked before the fluid is touched, and before a solver is built for it: a refused snapshot
+  // leaves the session as it was, and costs no solver.
+  const std::uint32_t count = particle_count(snapshot, services_.limits->max_particles);
   SessionSetup setup = setup_;
   if (!snapshot.scene().empty()) {
     validate_scene(snapshot.scene(), "Snapshot.scene");
@@ -144,7 +149,7 @@ std::uint32_t Session::replace_fluid(const v1::Snapshot& snapshot) {
     validate_solver(snapshot.solver(), "Snapshot.solver");
     setup.solver = sim::parse_solver(snapshot.solver());
   }
-  setup.particles = static_cast<std::uint32_t>(particles.position.size());
+  setup.particles = count;
   std::optional<glm::vec3> gravity;
   if (snapshot.has_gravity()) {
     gravity = glm::vec3(snapshot.gravity().x(), snapshot.gravity().y(), snapshot.gravity().z());
@@ -156,14 +161,16 @@ std::uint32_t Session::replace_fluid(const v1::Snapshot& snapshot) {
   validate_snapshot_time(snapshot.time(), "Snapshot.time");
   // A scene's particles are spaced for its water's volume and their count: a fluid of another
   // scene or count, loaded into this one's solver, would be squeezed or stretched to its rest
-  // density. It goes into a solver built for it, as NewSession.state's does, once it passed the
-  // checks that need no solver.
+  // density. It goes into a solver built for it (the first fluid too), once it passed the checks
+  // that need no solver.
   std::optional<sim::Scene> scene;
-  if (!(setup == setup_)) scene = scene_for(setup);
+  if (!solver_ || !(setup == setup_)) scene = scene_for(setup);
+  const Particles particles =
+      checked_particles(snapshot, count, scene ? scene->tank : solver_->tank());
   try {
-    sim::check_density(particles.position,
-                       scene ? sim::derive_fluid_constants(scene->spacing, solver_params())
-                             : solver_->fluid());
+    sim::check_density(
+        particles.position,
+        scene ? sim::derive_fluid_constants(scene->spacing, solver_params()) : solver_->fluid());
   } catch (const std::invalid_argument& e) {
     throw Refusal(RefusalCode::invalid_argument, std::string("Snapshot: ") + e.what());
   }

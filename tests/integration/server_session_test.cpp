@@ -48,10 +48,22 @@ TEST(ServerTest, AStreamCarriesTheStateBothWays) {
   EXPECT_EQ(second.welcome().state().scene(), "dam_break");
   EXPECT_GE(frame_from(second).sim_time(), state->time());
 
-  // Its rules: a state outside the tank, and more than a stream carries, are refused.
+  // Its rules: a state outside the tank, squeezed past its rest density, or more than a stream
+  // carries, is refused.
   v1::Hello outside = hello;
   outside.mutable_create()->mutable_state()->set_positions(1, -5.0f);
   EXPECT_EQ(refusal_of(server.grpc_address(), outside), grpc::StatusCode::INVALID_ARGUMENT);
+  v1::Hello squeezed = hello;
+  for (int k = 0; k < state->positions_size(); ++k) {
+    squeezed.mutable_create()->mutable_state()->set_positions(k, state->positions(k % 3));
+  }
+  try {
+    StreamClient refused(channel, squeezed);
+    ADD_FAILURE() << "a squeezed state was taken";
+  } catch (const StreamError& e) {
+    EXPECT_EQ(e.code(), grpc::StatusCode::INVALID_ARGUMENT);
+    EXPECT_NE(std::string(e.what()).find("rest density"), std::string::npos) << e.what();
+  }
   v1::Hello huge = hello;
   v1::Snapshot& big = *huge.mutable_create()->mutable_state();
   while (big.positions_size() / 3 <= int(second.welcome().rules().max_state_particles())) {
