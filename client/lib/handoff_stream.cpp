@@ -92,7 +92,7 @@ HandoffStream::HandoffStream(v1::Hello hello, HandoffSides sides, HandoffOptions
   open_first();
 }
 
-HandoffStream::~HandoffStream() = default;
+HandoffStream::~HandoffStream() { closing_.request_stop(); }
 
 void HandoffStream::open_first() {
   if (options_.local) {
@@ -101,7 +101,7 @@ void HandoffStream::open_first() {
     return;
   }
   try {
-    stream_ = sides_.connect(hello_);
+    stream_ = sides_.connect(hello_, closing_.get_token());
   } catch (const Unreachable& e) {
     if (!options_.handoff || !options_.retry) throw;
     set_status(std::string("cannot connect: ") + e.what() + "; retrying");
@@ -450,9 +450,10 @@ void HandoffStream::reconnect() {
     continue_session(hello, welcome().state());
   }
   reconnect_ = std::async(std::launch::async, [connect = sides_.connect, hello, local = stream_,
-                                                handback = handback_] {
-    Reconnected back{connect(hello), {}, hello.has_resume()};
-    if (!local) return back;
+                                                handback = handback_,
+                                                closing = closing_.get_token()] {
+    Reconnected back{connect(hello, closing), {}, hello.has_resume()};
+    if (!local || closing.stop_requested()) return back;  // no handback as it goes
     // The fluid here stops while its state goes over, and what its user does meanwhile is held
     // back for where it goes on (refused, here: reconnect() unpauses it as its user last asked).
     try {

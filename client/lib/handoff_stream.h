@@ -35,6 +35,7 @@
 #include <mutex>
 #include <optional>
 #include <stdexcept>
+#include <stop_token>
 #include <string>
 #include <vector>
 
@@ -60,8 +61,9 @@ struct HandoffSides {
   std::string server;  // where connect goes, as the status line names it
   // A new stream of the server's session that this Hello asks for. Throws Unreachable when no
   // server answered, Forgotten when it no longer has the session resumed, anything else for what
-  // the server refused.
-  std::function<std::shared_ptr<FluidStream>(const v1::Hello&)> connect;
+  // the server refused; returns or throws soon once `closing` is requested (the HandoffStream
+  // goes, and waits for it), whatever the server does.
+  std::function<std::shared_ptr<FluidStream>(const v1::Hello&, std::stop_token closing)> connect;
   // A fluid simulated here; throws when it cannot start.
   std::function<std::shared_ptr<FluidStream>(const v1::Hello&)> start_local;
 };
@@ -87,6 +89,7 @@ class HandoffStream final : public FluidStream {
   // again; a refusal stands (asking again would not change it). Later, while the server is gone,
   // any failure to reconnect is asked again.
   HandoffStream(v1::Hello hello, HandoffSides sides, HandoffOptions options);
+  // Waits for the work of its own threads, a connection being made given up at once.
   ~HandoffStream() override;
   HandoffStream(const HandoffStream&) = delete;
   HandoffStream& operator=(const HandoffStream&) = delete;
@@ -163,6 +166,7 @@ class HandoffStream final : public FluidStream {
   bool streamed_before_ = false;
   std::string status_;
 
+  std::stop_source closing_;  // requested as it goes: a reconnection stops waiting on the server
   std::future<v1::Snapshot> snapshot_request_;
   std::vector<std::future<v1::Snapshot>> abandoned_;  // requests to a lost server, still running
   // Goodbyes of streams that did not take the fluid, running; each ends within StreamClient's

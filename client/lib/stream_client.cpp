@@ -1,5 +1,6 @@
 #include "stream_client.h"
 
+#include <algorithm>
 #include <utility>
 
 #include "fluidcast/v1/wire_sizes.h"
@@ -8,6 +9,8 @@ namespace fluidcast::client {
 namespace {
 
 constexpr auto kConnectTimeout = std::chrono::seconds(5);
+// How often a connection being made looks whether its client is closing.
+constexpr auto kStopSeenWithin = std::chrono::milliseconds(50);
 constexpr int kReconnectEvery = 500;  // ms
 
 // A snapshot call is given the time the server takes to build it (GetSnapshot) or to load it
@@ -43,13 +46,19 @@ std::shared_ptr<grpc::Channel> connect(const std::string& server) {
 }
 
 StreamClient::StreamClient(std::shared_ptr<grpc::Channel> channel, const v1::Hello& hello,
-                           std::chrono::milliseconds welcome_within)
+                           std::chrono::milliseconds welcome_within, std::stop_token stop)
     : stub_(v1::Fluidcast::NewStub(channel)), token_(hello.token()) {
+  const grpc::Status closing(grpc::StatusCode::CANCELLED, "the client closed while connecting");
   // A server that cannot be reached is said in seconds, not after gRPC's long backoff.
-  if (!channel->WaitForConnected(std::chrono::system_clock::now() + kConnectTimeout)) {
-    throw StreamError(
-        grpc::Status(grpc::StatusCode::UNAVAILABLE,
-                     "no server answered within 5 s; is fluidcast-server running there?"));
+  const auto give_up = std::chrono::system_clock::now() + kConnectTimeout;
+  while (!channel->WaitForConnected(
+      std::min(give_up, std::chrono::system_clock::now() + kStopSeenWithin))) {
+    if (stop.stop_requested()) throw StreamError(closing);
+    if (std::chrono::system_clock::now() >= give_up) {
+      throw StreamError(
+          grpc::Status(grpc::StatusCode::UNAVAILABLE,
+                       "no server answered within 5 s; is fluidcast-server running there?"));
+    }
   }
   stream_ = stub_->Stream(&context_);
   v1::ClientMessage message;
@@ -57,11 +66,11 @@ StreamClient::StreamClient(std::shared_ptr<grpc::Channel> channel, const v1::Hel
   v1::ServerMessage reply;
   // The blocking Write and Read have no deadline of their own: a watchdog cancels them.
   std::mutex waiting;
-  std::condition_variable answered;
+  std::condition_variable_any answered;
   bool done = false, gave_up = false;
   std::thread watchdog([&] {
     std::unique_lock lock(waiting);
-    if (!answered.wait_for(lock, welcome_within, [&] { return done; })) {
+    if (!answered.wait_for(lock, stop, welcome_within, [&] { return done; })) {
       gave_up = true;
       context_.TryCancel();
     }
@@ -75,6 +84,7 @@ StreamClient::StreamClient(std::shared_ptr<grpc::Channel> channel, const v1::Hel
   watchdog.join();
   if (!welcomed) {
     const grpc::Status status = stream_->Finish();
+    if (gave_up && stop.stop_requested()) throw StreamError(closing);
     if (gave_up) {
       throw StreamError(grpc::Status(grpc::StatusCode::UNAVAILABLE,
                                      "the server took the stream but sent no Welcome within " +

@@ -15,6 +15,7 @@
 #include <mutex>
 #include <optional>
 #include <stdexcept>
+#include <stop_token>
 #include <string>
 #include <thread>
 #include <vector>
@@ -49,10 +50,12 @@ class StreamClient final : public FluidStream {
  public:
   // Opens a stream and sends `hello`; waits for the Welcome (throws StreamError when the server
   // refuses, with its status, and UNAVAILABLE when none comes within `welcome_within`: a server
-  // that takes the call and never answers is one that does not answer).
+  // that takes the call and never answers is one that does not answer). Once `stop` is requested
+  // it waits no longer, for the connection or the Welcome (CANCELLED): a client closing.
   static constexpr std::chrono::seconds kWelcomeWithin{30};
   StreamClient(std::shared_ptr<grpc::Channel> channel, const v1::Hello& hello,
-               std::chrono::milliseconds welcome_within = kWelcomeWithin);
+               std::chrono::milliseconds welcome_within = kWelcomeWithin,
+               std::stop_token stop = {});
   ~StreamClient();
   StreamClient(const StreamClient&) = delete;
   StreamClient& operator=(const StreamClient&) = delete;

@@ -7,9 +7,11 @@ namespace fluidcast::client {
 
 HandoffSides handoff_sides(const std::string& server, std::uint32_t max_local_particles) {
   return {server,
-          [server](const v1::Hello& hello) -> std::shared_ptr<FluidStream> {
+          [server](const v1::Hello& hello,
+                   std::stop_token closing) -> std::shared_ptr<FluidStream> {
             try {
-              return std::make_shared<StreamClient>(connect(server), hello);
+              return std::make_shared<StreamClient>(connect(server), hello,
+                                                    StreamClient::kWelcomeWithin, closing);
             } catch (const StreamError& e) {
               if (e.code() == grpc::StatusCode::UNAVAILABLE) throw Unreachable(e.what());
               if (e.code() == grpc::StatusCode::NOT_FOUND && hello.has_resume()) {

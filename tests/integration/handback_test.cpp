@@ -31,9 +31,10 @@ struct WatchedSides {
   std::function<void()> before_resume;  // runs before a Hello that resumes goes out
 
   HandoffSides around(HandoffSides sides) {
-    sides.connect = [this, connect = sides.connect](const v1::Hello& hello) {
+    sides.connect = [this, connect = sides.connect](const v1::Hello& hello,
+                                                    std::stop_token closing) {
       if (hello.has_resume() && before_resume) before_resume();
-      std::shared_ptr<FluidStream> stream = connect(hello);
+      std::shared_ptr<FluidStream> stream = connect(hello, closing);
       const std::lock_guard lock(mutex);
       last_stream = std::dynamic_pointer_cast<StreamClient>(stream);
       return stream;

@@ -8,7 +8,9 @@
 
 #include <atomic>
 #include <chrono>
+#include <stop_token>
 #include <thread>
+#include <utility>
 
 namespace fluidcast::client {
 namespace {
@@ -102,6 +104,39 @@ TEST_F(StreamClientTest, AServerThatNeverWelcomesIsGivenUpOn) {
         << e.what();
   }
   EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(5));
+}
+
+// A client that closes while it opens a stream (stop requested) waits no longer, for the
+// Welcome (kWelcomeWithin, 30 s) or for a connection to a server that is not there (5 s).
+TEST_F(StreamClientTest, AClientClosingWhileItOpensAStreamWaitsNoLonger) {
+  const std::string address = "127.0.0.1:" + std::to_string(port_);
+  const auto opened_while_closing = [&](const v1::Hello& hello) {
+    std::stop_source closing;
+    std::thread closer([&] {
+      std::this_thread::sleep_for(std::chrono::milliseconds(300));
+      closing.request_stop();
+    });
+    const auto start = std::chrono::steady_clock::now();
+    grpc::StatusCode code = grpc::StatusCode::OK;
+    try {
+      StreamClient client(connect(address), hello, StreamClient::kWelcomeWithin,
+                          closing.get_token());
+    } catch (const StreamError& e) {
+      code = e.code();
+    }
+    closer.join();
+    return std::pair(code, std::chrono::steady_clock::now() - start);
+  };
+  v1::Hello mute;
+  mute.set_token("mute");
+  const auto [unwelcomed, waited_for_welcome] = opened_while_closing(mute);
+  EXPECT_EQ(unwelcomed, grpc::StatusCode::CANCELLED);
+  EXPECT_LT(waited_for_welcome, std::chrono::seconds(2));
+  server_->Shutdown(std::chrono::system_clock::now());  // nobody listens there now
+  server_.reset();
+  const auto [unconnected, waited_for_connection] = opened_while_closing(v1::Hello{});
+  EXPECT_EQ(unconnected, grpc::StatusCode::CANCELLED);
+  EXPECT_LT(waited_for_connection, std::chrono::seconds(2));
 }
 
 TEST_F(StreamClientTest, FinishingWithAServerThatNeverEndsTheStreamTakesBoundedTime) {

@@ -32,6 +32,8 @@ struct FakeServer {
   bool holds_loads = false;         // a state put in waits until this is false again...
   bool load_waiting = false;        // ...as one does now
   bool holds_goodbyes = false;      // a stream's goodbye waits until this is false again
+  bool hangs = false;               // a connection is made only once its client closes (or 30 s)
+  bool connecting = false;          // one is being made
   int goodbyes = 0;                 // streams closed in order
   std::condition_variable released;  // a load or goodbye held may go on
   std::uint32_t particles = 1000;  // of a session whose Hello names no count
@@ -229,12 +231,20 @@ struct Fixture {
   }
   HandoffSides sides() {
     return {"fake:1",
-            [this, server = server](const v1::Hello& hello) -> std::shared_ptr<FluidStream> {
+            [this, server = server](const v1::Hello& hello,
+                                    std::stop_token closing) -> std::shared_ptr<FluidStream> {
               {
                 const std::lock_guard lock(mutex);
                 ++connects;
               }
-              const std::lock_guard lock(server->mutex);
+              std::unique_lock lock(server->mutex);
+              if (server->hangs) {
+                server->connecting = true;
+                std::condition_variable_any().wait_for(lock, closing, std::chrono::seconds(30),
+                                                       [] { return false; });
+                server->connecting = false;
+                throw Unreachable("no server answered");
+              }
               if (!server->up) throw Unreachable("no server answered");
               if (hello.create().scene() == "refused") throw std::invalid_argument("no such scene");
               if (hello.has_resume() && server->forgets_sessions) {
@@ -565,13 +575,28 @@ TEST(HandoffStream, WithHandoffAServerThatDoesNotAnswerYetIsAskedAgain) {
   EXPECT_EQ(stream.status(), "streaming from fake:1");
 }
 
+// A stream that goes while it asks the server again waits for no answer: a window closed during
+// an outage closes at once, not when the connection being made gives up (5 s).
+TEST(HandoffStream, GoingWhileAskingTheServerAgainWaitsForNoAnswer) {
+  Fixture f;
+  auto stream = std::make_unique<HandoffStream>(hello_for(0), f.sides(), f.options());
+  stream_until_kept(*stream, f);
+  f.set(&FakeServer::hangs, true);
+  f.set(&FakeServer::up, false);
+  read_until(*stream, [&] { return stream->simulating_here() && f.is(&FakeServer::connecting); });
+  ASSERT_TRUE(f.is(&FakeServer::connecting));
+  const auto going = std::chrono::steady_clock::now();
+  stream.reset();
+  EXPECT_LT(std::chrono::steady_clock::now() - going, std::chrono::seconds(2));
+}
+
 TEST(HandoffStream, ANewStreamOpensWithTheNewestViewport) {
   Fixture f;
   f.server->particles = 1500;  // the server's choice: the Hello names no count
   std::vector<v1::Hello> hellos;
   HandoffSides sides = f.sides();
-  sides.connect = [&, connect = sides.connect](const v1::Hello& hello) {
-    auto opened = connect(hello);  // one retry at a time: no two threads push at once
+  sides.connect = [&, connect = sides.connect](const v1::Hello& hello, std::stop_token closing) {
+    auto opened = connect(hello, closing);  // one retry at a time: no two threads push at once
     hellos.push_back(hello);
     return opened;
   };
