@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "fluidcast/codec/jpeg.h"
 #include "gesture_script.h"
@@ -112,6 +113,7 @@ void print(nlohmann::json report, const std::string& ended_because, bool json) {
   report["status"] = ended_because.empty() ? "OK" : ended_because;
   if (json) {
     std::printf("%s\n", report.dump().c_str());
+    std::fflush(stdout);
     return;
   }
   std::printf(
@@ -123,6 +125,7 @@ void print(nlohmann::json report, const std::string& ended_because, bool json) {
       report["latency_max_ms"].get<double>(), report["latency_samples"].get<std::size_t>(),
       report["sim_speed_p50"].get<double>());
   std::printf("where the time went (p50 ms): %s\n", report["stages_p50_ms"].dump().c_str());
+  std::fflush(stdout);  // before a goodbye that a second Ctrl-C may cut short
 }
 
 }  // namespace
@@ -139,7 +142,19 @@ int run_headless(const HeadlessOptions& o) {
     std::fprintf(stderr, "fluidcast-client: %s\n", line.c_str());
   };
   StopSignals stop;  // before the stream starts its threads
-  HandoffStream stream(o.hello, handoff_sides(o.server, o.max_local_particles), handoff);
+  handoff.stop = stop.stop_token();
+  const auto stopped = [&stop] {
+    return "stopped by SIG" + std::string(sigabbrev_np(stop.received()));
+  };
+  std::optional<HandoffStream> opened;
+  try {
+    opened.emplace(o.hello, handoff_sides(o.server, o.max_local_particles), handoff);
+  } catch (const std::exception&) {
+    if (!stop.received()) throw;
+    std::fprintf(stderr, "fluidcast-client: %s while connecting\n", stopped().c_str());
+    return 128 + stop.received();
+  }
+  HandoffStream& stream = *opened;
   if (!stream.welcome().session_id().empty()) {  // else it is still asking (--handoff)
     std::fprintf(stderr, "fluidcast-client: %s\n", describe_welcome(stream.welcome()).c_str());
   }
@@ -148,8 +163,7 @@ int run_headless(const HeadlessOptions& o) {
       start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(o.seconds));
   std::size_t next_event = 0;
   FrameFigures figures;
-  int stopped_by = 0;
-  while (Clock::now() < end && !stream.ended() && !(stopped_by = stop.take())) {
+  while (Clock::now() < end && !stream.ended() && !stop.received()) {
     next_event = play(stream, script, next_event,
                       std::chrono::duration<double>(Clock::now() - start).count());
     const auto frame = stream.next_frame(std::chrono::milliseconds(5));
@@ -159,12 +173,14 @@ int run_headless(const HeadlessOptions& o) {
   }
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   const nlohmann::json report = report_of(figures, stream, seconds);
-  const std::string ended_because = stream.close();
-  if (stopped_by) {
-    // Its figures, cut short: said, and the status a shell gives a run that signal ended.
-    print(report, "stopped by SIG" + std::string(sigabbrev_np(stopped_by)), o.json);
-    return 128 + stopped_by;
+  if (stop.received()) {
+    // Its figures, cut short, said before the goodbye (which a second signal may cut short), and
+    // the status a shell gives a run that signal ended.
+    print(report, stopped(), o.json);
+    stream.close();
+    return 128 + stop.received();
   }
+  const std::string ended_because = stream.close();
   print(report, ended_because, o.json);
   if (!ended_because.empty()) {
     std::fprintf(stderr, "fluidcast-client: the stream ended: %s\n", ended_because.c_str());

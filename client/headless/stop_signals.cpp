@@ -16,16 +16,29 @@ StopSignals::StopSignals() {
     }
   }
   pthread_sigmask(SIG_BLOCK, &held_, &before_);
+  waiter_ = std::jthread([this](std::stop_token leaving) {
+    const timespec looks_every{0, 100'000'000};  // how soon it sees that it may go
+    while (!leaving.stop_requested()) {
+      const int number = sigtimedwait(&held_, nullptr, &looks_every);
+      if (number <= 0) continue;
+      if (received_.exchange(number) == 0) {
+        stop_.request_stop();
+        continue;
+      }
+      signal(number, SIG_DFL);
+      sigset_t just_it;
+      sigemptyset(&just_it);
+      sigaddset(&just_it, number);
+      pthread_sigmask(SIG_UNBLOCK, &just_it, nullptr);
+      raise(number);
+    }
+  });
 }
 
-StopSignals::~StopSignals() { pthread_sigmask(SIG_SETMASK, &before_, nullptr); }
-
-int StopSignals::take() {
-  const timespec now{0, 0};
-  const int number = sigtimedwait(&held_, nullptr, &now);
-  if (number <= 0) return 0;
+StopSignals::~StopSignals() {
+  waiter_.request_stop();
+  waiter_.join();
   pthread_sigmask(SIG_SETMASK, &before_, nullptr);
-  return number;
 }
 
 }  // namespace fluidcast::client

@@ -265,7 +265,10 @@ std::string HandoffStream::end_reason() const {
   return stream_ ? stream_->end_reason() : ended() ? status_ : "";
 }
 
-std::string HandoffStream::close() { return stream_ ? stream_->close() : status_; }
+std::string HandoffStream::close() {
+  closing_.request_stop();  // nothing starts on the server's side now
+  return stream_ ? stream_->close() : status_;
+}
 
 FluidStream& HandoffStream::current() const {
   if (!stream_) throw std::runtime_error("no fluid: the server is gone and none continues here");
@@ -453,7 +456,11 @@ void HandoffStream::reconnect() {
                                                 handback = handback_,
                                                 closing = closing_.get_token()] {
     Reconnected back{connect(hello, closing), {}, hello.has_resume()};
-    if (!local || closing.stop_requested()) return back;  // no handback as it goes
+    if (closing.stop_requested()) {  // unused: a goodbye, not a drop the server keeps a seat for
+      back.stream->close();
+      return back;
+    }
+    if (!local) return back;
     // The fluid here stops while its state goes over, and what its user does meanwhile is held
     // back for where it goes on (refused, here: reconnect() unpauses it as its user last asked).
     try {

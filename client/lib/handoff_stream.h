@@ -80,6 +80,9 @@ struct HandoffOptions {
   // A stream that sends nothing for this long is lost (a wedged server, a dead route).
   std::chrono::milliseconds stall_after{5000};
   std::function<void(const std::string&)> say;  // what happened, in a line for the user
+  // Requested by the client as it stops (Ctrl-C): a connection being made, the first one too,
+  // gives up at once.
+  std::stop_token stop;
 };
 
 class HandoffStream final : public FluidStream {
@@ -166,7 +169,14 @@ class HandoffStream final : public FluidStream {
   bool streamed_before_ = false;
   std::string status_;
 
-  std::stop_source closing_;  // requested as it goes: a reconnection stops waiting on the server
+  // Requested as it closes or goes, or as options_.stop is: a reconnection stops waiting on the
+  // server.
+  std::stop_source closing_;
+  struct RequestStop {
+    std::stop_source* source;
+    void operator()() const { source->request_stop(); }
+  };
+  const std::stop_callback<RequestStop> stop_when_asked_{options_.stop, RequestStop{&closing_}};
   std::future<v1::Snapshot> snapshot_request_;
   std::vector<std::future<v1::Snapshot>> abandoned_;  // requests to a lost server, still running
   // Goodbyes of streams that did not take the fluid, running; each ends within StreamClient's

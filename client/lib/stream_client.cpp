@@ -60,6 +60,7 @@ StreamClient::StreamClient(std::shared_ptr<grpc::Channel> channel, const v1::Hel
                        "no server answered within 5 s; is fluidcast-server running there?"));
     }
   }
+  if (stop.stop_requested()) throw StreamError(closing);  // before a Hello makes a session
   stream_ = stub_->Stream(&context_);
   v1::ClientMessage message;
   *message.mutable_hello() = hello;

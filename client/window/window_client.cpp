@@ -397,6 +397,8 @@ int Client::run() {
   screenshot();
   // A goodbye, not a drop: the server ends a session at once when its last viewer leaves, while
   // a dropped viewer's seat and session wait out --resume-grace, counted against this address.
+  // The window goes first: a server that does not answer holds the goodbye up to seconds.
+  SDL_HideWindow(window_.get());
   stream_->close();
   std::printf("fluidcast-client: %zu frames, %s\n", frames_, status().c_str());
   return 0;

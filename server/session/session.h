@@ -54,7 +54,8 @@ class Session {
   // address of the client that created it (its sessions count against the per-address limit).
   Session(std::string id, std::string creator, SessionSetup setup, SessionServices services);
   // A session that goes on from a state handed back (NewSession.state): its scene, solver and
-  // count. Throws Refusal for a state that does not fit, found before any solver is built.
+  // count. Throws Refusal for a state that does not fit, its particles checked before any solver
+  // is built.
   Session(std::string id, std::string creator, const v1::Snapshot& state, SessionServices services);
   ~Session();
 

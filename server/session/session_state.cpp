@@ -189,8 +189,8 @@ std::uint32_t Session::replace_fluid(const v1::Snapshot& snapshot) {
   wish_askers_ = {};
   reset_wanted_ = false;
   if (built) {
+    if (solver_) last_rebuild_ = Clock::now();  // the first fluid is no rebuild
     adopt(std::move(built), setup);
-    last_rebuild_ = Clock::now();
   } else {
     forget_costs();  // another fluid: another cost
     fingers_.clear();

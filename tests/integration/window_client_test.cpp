@@ -57,15 +57,15 @@ class HeadlessClient {
     int out[2];
     if (pipe(out) != 0) throw std::runtime_error("pipe failed");
     flags.insert(flags.begin(), {FLUIDCAST_CLIENT_PATH, "--headless"});
+    std::vector<char*> argv;  // before the fork: the child only execs
+    for (auto& flag : flags) argv.push_back(flag.data());
+    argv.push_back(nullptr);
     pid_ = fork();
     if (pid_ == 0) {
       std::signal(SIGINT, SIG_DFL);
       dup2(out[1], STDOUT_FILENO);
       dup2(out[1], STDERR_FILENO);
       close(out[0]);
-      std::vector<char*> argv;
-      for (auto& flag : flags) argv.push_back(flag.data());
-      argv.push_back(nullptr);
       execv(argv[0], argv.data());
       _exit(127);
     }
@@ -318,9 +318,11 @@ TEST(WindowClientTest, AHeadlessRunEndsWithItsServer) {
 TEST(WindowClientTest, CtrlCEndsAHeadlessRunWithItsFiguresAndAGoodbye) {
   testing::ServerProcess server;
   HeadlessClient client(
-      {"--server", server.grpc_address(), "--particles", "500", "--seconds", "120", "--json"});
+      {"--server", server.grpc_address(), "--particles", "500", "--seconds", "30", "--json"});
   ASSERT_TRUE(client.wait_for("you control it"));
-  std::this_thread::sleep_for(std::chrono::seconds(2));  // frames come
+  for (int k = 0; k < 100 && server.metric("fluidcast_frames_sent_total") < 5; ++k) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
   client.signal(SIGINT);
   const ClientRun& run = client.finish();
   std::printf("%s", run.output.c_str());
@@ -329,8 +331,23 @@ TEST(WindowClientTest, CtrlCEndsAHeadlessRunWithItsFiguresAndAGoodbye) {
   const nlohmann::json report = report_in(run.output);
   EXPECT_EQ(report["status"], "stopped by SIGINT");
   EXPECT_GT(report["frames"].get<int>(), 0);
-  EXPECT_LT(report["seconds"].get<double>(), 60.0);
+  EXPECT_LT(report["seconds"].get<double>(), 20.0);
   EXPECT_TRUE(sessions_end_within(server, std::chrono::seconds(5))) << "no goodbye";
+}
+
+// Ctrl-C while the client waits for a server that is not there (up to 5 s) ends it at once.
+TEST(WindowClientTest, CtrlCEndsAHeadlessRunWhileItConnects) {
+  HeadlessClient client({"--server",
+                         "127.0.0.1:" + std::to_string(port_below_the_ephemeral_range()),
+                         "--seconds", "30"});
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  const auto stopped = std::chrono::steady_clock::now();
+  client.signal(SIGINT);
+  const ClientRun& run = client.finish();
+  std::printf("%s", run.output.c_str());
+  EXPECT_EQ(run.status, 128 + SIGINT);
+  EXPECT_NE(run.output.find("stopped by SIGINT while connecting"), std::string::npos);
+  EXPECT_LT(std::chrono::steady_clock::now() - stopped, std::chrono::seconds(2));
 }
 
 }  // namespace
