@@ -7,8 +7,10 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <future>
 #include <map>
 #include <memory>
+#include <stop_token>
 
 #include "fluidcast/codec/jpeg.h"
 #include "fluidcast/codec/png.h"
@@ -91,6 +93,7 @@ class Client {
   v1::Frame last_frame_;  // without its JPEG: what the overlay reports
   Sensor accelerometer_;
 
+  std::stop_source closing_;  // requested when the window closes while the fluid opens
   std::unique_ptr<HandoffStream> stream_;
   // The newest input refused or frame not shown, said beside the stream's status for a while.
   std::string trouble_;
@@ -101,6 +104,7 @@ class Client {
   std::size_t frames_ = 0;
   std::vector<std::pair<Clock::time_point, std::size_t>> recent_frames_;  // arrival, JPEG bytes
   bool quit_ = false;
+  Clock::time_point end_ = Clock::time_point::max();  // --seconds after the start
   int renderer_choice_ = 0;
 };
 
@@ -116,6 +120,8 @@ v1::Hello Client::hello_for_window() const {
 }
 
 // The fluid: the server's (carried on here when it drops, if small enough), or one simulated here.
+// Opened on a thread of its own while the window answers: a first connection may wait seconds
+// for a server (5 s where none answers), and the window may be closed meanwhile, which stops it.
 void Client::open() {
   HandoffOptions handoff;
   handoff.local = options_.local;
@@ -124,10 +130,35 @@ void Client::open() {
   handoff.say = [](const std::string& line) {
     std::fprintf(stderr, "fluidcast-client: %s\n", line.c_str());
   };
-  stream_ = std::make_unique<HandoffStream>(
-      hello_for_window(), handoff_sides(options_.server, options_.max_local_particles), handoff);
+  handoff.stop = closing_.get_token();
+  const v1::Hello hello = hello_for_window();
+  auto opening = std::async(std::launch::async, [hello, handoff, this] {
+    return std::make_unique<HandoffStream>(
+        hello, handoff_sides(options_.server, options_.max_local_particles), handoff);
+  });
+  SDL_SetWindowTitle(window_.get(), options_.local
+                                        ? "fluidcast — starting the fluid here"
+                                        : ("fluidcast — connecting to " + options_.server).c_str());
+  while (opening.wait_for(std::chrono::milliseconds(16)) != std::future_status::ready) {
+    SDL_Event event;
+    while (SDL_PollEvent(&event)) {
+      const bool quit_key = event.type == SDL_KEYDOWN && (event.key.keysym.sym == SDLK_ESCAPE ||
+                                                          event.key.keysym.sym == SDLK_q);
+      if (event.type == SDL_QUIT || quit_key) quit_ = true;
+    }
+    if (Clock::now() > end_) quit_ = true;
+    if (quit_) closing_.request_stop();
+    draw();
+  }
+  stream_ = opening.get();
   if (!stream_->welcome().session_id().empty()) {
     std::fprintf(stderr, "fluidcast-client: %s\n", describe_welcome(stream_->welcome()).c_str());
+  }
+  // The window may have changed size while it opened.
+  if (hello_for_window().viewport().SerializeAsString() != hello.viewport().SerializeAsString()) {
+    v1::Command command;
+    *command.mutable_viewport() = hello_for_window().viewport();
+    stream_->command(command);
   }
 }
 
@@ -358,9 +389,17 @@ int Client::run() {
       break;
     }
   }
+  if (options_.seconds > 0) {
+    end_ = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                              std::chrono::duration<double>(options_.seconds));
+  }
   try {
     open();
   } catch (const std::exception& e) {
+    if (quit_) {  // closed before the fluid opened
+      std::printf("fluidcast-client: closed while %s\n", options_.local ? "starting" : "connecting");
+      return 0;
+    }
     const bool unreachable = dynamic_cast<const Unreachable*>(&e) != nullptr;
     const std::string why = std::string(options_.local ? "cannot start: "
                                         : unreachable  ? "cannot connect: "
@@ -370,7 +409,6 @@ int Client::run() {
     SDL_SetWindowTitle(window_.get(), ("fluidcast — " + why).c_str());
     return 1;
   }
-  const auto start = Clock::now();
   while (!quit_) {
     SDL_Event event;
     while (SDL_PollEvent(&event)) {
@@ -381,9 +419,7 @@ int Client::run() {
       }
     }
     const auto now = Clock::now();
-    if (options_.seconds > 0 && now - start > std::chrono::duration<double>(options_.seconds)) {
-      break;
-    }
+    if (now > end_) break;
     if (const auto frame = stream_->next_frame(std::chrono::milliseconds(5))) {
       try {
         show(*frame);

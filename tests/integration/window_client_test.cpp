@@ -230,6 +230,20 @@ constexpr double kHandoffGapBoundMs = 1000.0;
 constexpr int kLongerUnderAsanSeconds = 0;
 #endif
 
+// A window whose server does not answer yet still answers its user: it ends at its --seconds (or
+// when closed) rather than after the first connection's 5 s, and says so.
+TEST(WindowClientTest, AWindowWaitingForItsServerStillCloses) {
+  const auto start = std::chrono::steady_clock::now();
+  const ClientRun run = run_client(
+      "--server 127.0.0.1:" + std::to_string(port_below_the_ephemeral_range()) + " --seconds 1");
+  const auto took = std::chrono::steady_clock::now() - start;
+  std::printf("%s", run.output.c_str());
+  EXPECT_EQ(run.status, 0);
+  EXPECT_NE(run.output.find("closed while connecting"), std::string::npos);
+  EXPECT_LT(took, std::chrono::seconds(4 + kLongerUnderAsanSeconds / 10))
+      << "the window waited for the connection";
+}
+
 TEST(WindowClientTest, LocalModeSimulatesAndRendersWithoutAServer) {
   std::filesystem::create_directories(kOut);
   const ClientRun run = run_client("--local --particles 2000 --width 320 --height 240 --seconds " +
@@ -249,7 +263,8 @@ TEST(WindowClientTest, LocalModeRefusesMoreThanItsCap) {
 }
 
 TEST(WindowClientTest, AnAddressWithNoServerSaysSo) {
-  const ClientRun run = run_client("--server 127.0.0.1:1 --no-handoff --seconds 2");
+  // Longer than the 5 s a first connection waits: the run would end first.
+  const ClientRun run = run_client("--server 127.0.0.1:1 --no-handoff --seconds 10");
   std::printf("%s", run.output.c_str());
   EXPECT_NE(run.status, 0);
   EXPECT_NE(run.output.find("cannot connect"), std::string::npos);
