@@ -51,7 +51,8 @@ void add_flags(CLI::App& app, Flags& f) {
       ->excludes(handoff_flag);
   app.add_option("--script", f.script, "Headless: gesture script (JSON; see gesture_script.h)");
   app.add_option("--seconds", f.seconds,
-                 "How long to run (0: headless 5 s, window until closed); Ctrl-C ends a run early")
+                 "How long to run: headless from its first stream (0: 5 s), a window from its "
+                 "start (0: until closed); Ctrl-C ends a run early")
       ->check(fluidcast::finite_range(0.0, 86400.0));
   app.add_option("--save-frames", f.save_frames, "Headless: write every frame received as JPEG");
   app.add_flag("--json", f.json, "Headless: last line is one JSON object with the figures");

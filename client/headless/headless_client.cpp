@@ -149,8 +149,8 @@ int run_headless(const HeadlessOptions& o) {
   std::optional<HandoffStream> opened;
   try {
     opened.emplace(o.hello, handoff_sides(o.server, o.max_local_particles), handoff);
-  } catch (const std::exception&) {
-    if (!stop.received()) throw;
+  } catch (const StreamError& e) {
+    if (e.code() != grpc::StatusCode::CANCELLED || !stop.received()) throw;
     std::fprintf(stderr, "fluidcast-client: %s while connecting\n", stopped().c_str());
     return 128 + stop.received();
   }

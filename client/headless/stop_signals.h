@@ -32,7 +32,7 @@ class StopSignals {
   sigset_t before_{};
   std::atomic<int> received_{0};
   std::stop_source stop_;
-  std::jthread waiter_;  // last: it uses the members above
+  std::jthread waiter_;
 };
 
 }  // namespace fluidcast::client

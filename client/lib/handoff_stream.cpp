@@ -92,7 +92,7 @@ HandoffStream::HandoffStream(v1::Hello hello, HandoffSides sides, HandoffOptions
   open_first();
 }
 
-HandoffStream::~HandoffStream() { closing_.request_stop(); }
+HandoffStream::~HandoffStream() { give_up_reconnecting(); }
 
 void HandoffStream::open_first() {
   if (options_.local) {
@@ -266,8 +266,19 @@ std::string HandoffStream::end_reason() const {
 }
 
 std::string HandoffStream::close() {
-  closing_.request_stop();  // nothing starts on the server's side now
+  give_up_reconnecting();
   return stream_ ? stream_->close() : status_;
+}
+
+void HandoffStream::give_up_reconnecting() {
+  closing_.request_stop();
+  if (!reconnect_.valid()) return;
+  try {
+    reconnect_.get().stream->close();
+  } catch (const FluidNotTaken& e) {
+    e.stream->close();
+  } catch (const std::exception&) {  // it opened none
+  }
 }
 
 FluidStream& HandoffStream::current() const {
@@ -456,11 +467,7 @@ void HandoffStream::reconnect() {
                                                 handback = handback_,
                                                 closing = closing_.get_token()] {
     Reconnected back{connect(hello, closing), {}, hello.has_resume()};
-    if (closing.stop_requested()) {  // unused: a goodbye, not a drop the server keeps a seat for
-      back.stream->close();
-      return back;
-    }
-    if (!local) return back;
+    if (!local || closing.stop_requested()) return back;  // closing: no fluid goes over
     // The fluid here stops while its state goes over, and what its user does meanwhile is held
     // back for where it goes on (refused, here: reconnect() unpauses it as its user last asked).
     try {

@@ -148,6 +148,10 @@ class HandoffStream final : public FluidStream {
   void continue_here(Standby& standby, const std::string& why);
   void reconnect();
   void came_back(Reconnected back);
+  // Nothing more starts on the server's side: a reconnection in flight ends soon (its connection
+  // gives up), and a stream it opened goes unused, with a goodbye rather than a drop that the
+  // server keeps a seat for.
+  void give_up_reconnecting();
   void set_status(std::string status);
   void say(const std::string& line) const;
 

@@ -27,6 +27,13 @@ constexpr auto kMoveInterval = std::chrono::milliseconds(16);
 // Frames asked for are at most this many pixels along each side (aspect kept).
 constexpr int kMaxViewportWidth = 1920, kMaxViewportHeight = 1080;
 
+// The window's close button (or SDL's SIGINT and SIGTERM), Esc or q.
+bool asks_to_quit(const SDL_Event& event) {
+  return event.type == SDL_QUIT ||
+         (event.type == SDL_KEYDOWN &&
+          (event.key.keysym.sym == SDLK_ESCAPE || event.key.keysym.sym == SDLK_q));
+}
+
 // Owns an SDL object.
 template <typename T, void (*Destroy)(T*)>
 struct SdlDeleter {
@@ -66,6 +73,8 @@ class Client {
  private:
   void open();
   void handle(const SDL_Event& event);
+  // The window's size, to the stream: the frames it asks for.
+  void send_viewport();
   void handle_key(SDL_Keycode key);
   void handle_finger(const SDL_TouchFingerEvent& finger, Uint32 type);
   void pointer(std::uint32_t id, v1::PointerEvent::Phase phase, float window_x, float window_y);
@@ -121,7 +130,8 @@ v1::Hello Client::hello_for_window() const {
 
 // The fluid: the server's (carried on here when it drops, if small enough), or one simulated here.
 // Opened on a thread of its own while the window answers: a first connection may wait seconds
-// for a server (5 s where none answers), and the window may be closed meanwhile, which stops it.
+// for a server (5 s where none answers), and the window may be closed meanwhile, which stops it
+// (a local fluid's start is waited for).
 void Client::open() {
   HandoffOptions handoff;
   handoff.local = options_.local;
@@ -141,11 +151,7 @@ void Client::open() {
                                         : ("fluidcast — connecting to " + options_.server).c_str());
   while (opening.wait_for(std::chrono::milliseconds(16)) != std::future_status::ready) {
     SDL_Event event;
-    while (SDL_PollEvent(&event)) {
-      const bool quit_key = event.type == SDL_KEYDOWN && (event.key.keysym.sym == SDLK_ESCAPE ||
-                                                          event.key.keysym.sym == SDLK_q);
-      if (event.type == SDL_QUIT || quit_key) quit_ = true;
-    }
+    while (SDL_PollEvent(&event)) quit_ = quit_ || asks_to_quit(event);
     if (Clock::now() > end_) quit_ = true;
     if (quit_) closing_.request_stop();
     draw();
@@ -154,12 +160,19 @@ void Client::open() {
   if (!stream_->welcome().session_id().empty()) {
     std::fprintf(stderr, "fluidcast-client: %s\n", describe_welcome(stream_->welcome()).c_str());
   }
-  // The window may have changed size while it opened.
   if (hello_for_window().viewport().SerializeAsString() != hello.viewport().SerializeAsString()) {
-    v1::Command command;
-    *command.mutable_viewport() = hello_for_window().viewport();
-    stream_->command(command);
+    try {  // resized while it opened
+      send_viewport();
+    } catch (const std::exception& e) {
+      complain(std::string("refused: ") + e.what());
+    }
   }
+}
+
+void Client::send_viewport() {
+  v1::Command command;
+  *command.mutable_viewport() = hello_for_window().viewport();
+  stream_->command(command);
 }
 
 void Client::pointer(std::uint32_t id, v1::PointerEvent::Phase phase, float window_x,
@@ -181,10 +194,11 @@ void Client::pointer(std::uint32_t id, v1::PointerEvent::Phase phase, float wind
 }
 
 void Client::handle(const SDL_Event& event) {
+  if (asks_to_quit(event)) {
+    quit_ = true;
+    return;
+  }
   switch (event.type) {
-    case SDL_QUIT:
-      quit_ = true;
-      break;
     case SDL_MOUSEBUTTONDOWN:
     case SDL_MOUSEBUTTONUP:  // touches also arrive as fingers: their mouse copies are skipped
       if (event.button.which != SDL_TOUCH_MOUSEID) {
@@ -221,11 +235,7 @@ void Client::handle(const SDL_Event& event) {
       handle_key(event.key.keysym.sym);
       break;
     case SDL_WINDOWEVENT:
-      if (event.window.event == SDL_WINDOWEVENT_SIZE_CHANGED && stream_) {
-        v1::Command command;
-        *command.mutable_viewport() = hello_for_window().viewport();
-        stream_->command(command);
-      }
+      if (event.window.event == SDL_WINDOWEVENT_SIZE_CHANGED && stream_) send_viewport();
       break;
     default:
       break;
@@ -257,9 +267,7 @@ void Client::handle_key(SDL_Keycode key) {
   if (!stream_) return;
   v1::Command command;
   const v1::InputRules& rules = stream_->welcome().rules();
-  if (key == SDLK_ESCAPE || key == SDLK_q) {
-    quit_ = true;
-  } else if (key == SDLK_r && controls()) {
+  if (key == SDLK_r && controls()) {
     command.set_reset(true);
   } else if (key >= SDLK_1 && key <= SDLK_9 && key - SDLK_1 < rules.scenes_size() && controls()) {
     command.set_scene(rules.scenes(key - SDLK_1));
@@ -396,8 +404,9 @@ int Client::run() {
   try {
     open();
   } catch (const std::exception& e) {
-    if (quit_) {  // closed before the fluid opened
-      std::printf("fluidcast-client: closed while %s\n", options_.local ? "starting" : "connecting");
+    const auto* stopped = dynamic_cast<const StreamError*>(&e);
+    if (stopped && stopped->code() == grpc::StatusCode::CANCELLED && closing_.stop_requested()) {
+      std::printf("fluidcast-client: closed while connecting\n");
       return 0;
     }
     const bool unreachable = dynamic_cast<const Unreachable*>(&e) != nullptr;
