@@ -160,7 +160,8 @@ void Client::open() {
   if (!stream_->welcome().session_id().empty()) {
     std::fprintf(stderr, "fluidcast-client: %s\n", describe_welcome(stream_->welcome()).c_str());
   }
-  if (hello_for_window().viewport().SerializeAsString() != hello.viewport().SerializeAsString()) {
+  const v1::Viewport now = hello_for_window().viewport();
+  if (now.width() != hello.viewport().width() || now.height() != hello.viewport().height()) {
     try {  // resized while it opened
       send_viewport();
     } catch (const std::exception& e) {

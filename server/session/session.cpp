@@ -55,20 +55,20 @@ const v1::Snapshot* handed_back(const v1::Hello& hello, Access access) {
 
 }  // namespace
 
-Session::Session(std::string id, std::string creator, SessionSetup setup, SessionServices services)
+Session::Session(std::string id, std::string creator, SessionServices services)
     : id_(std::move(id)),
       creator_(std::move(creator)),
       services_(services),
-      source_(*services.context) {
+      source_(*services.context) {}
+
+Session::Session(std::string id, std::string creator, SessionSetup setup, SessionServices services)
+    : Session(std::move(id), std::move(creator), services) {
   rebuild(setup);
 }
 
 Session::Session(std::string id, std::string creator, const v1::Snapshot& state,
                  SessionServices services)
-    : id_(std::move(id)),
-      creator_(std::move(creator)),
-      services_(services),
-      source_(*services.context) {
+    : Session(std::move(id), std::move(creator), services) {
   load(state);
 }
 

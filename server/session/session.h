@@ -128,6 +128,8 @@ class Session {
   void end_all(const Refusal& why);
 
  private:
+  // Without a fluid yet: the public constructors give it one.
+  Session(std::string id, std::string creator, SessionServices services);
   // load()'s work, charged by it; the first fluid too, where there is no solver yet.
   std::uint32_t replace_fluid(const v1::Snapshot& snapshot);
   // Throws a Refusal when the session has its most viewers, `leaving` of them about to go.
