@@ -38,9 +38,12 @@ class GrpcViewerSink final : public ViewerSink {
     reactor_->Finish(to_status(why));
     return true;
   }
-  void hello_came() {
+  // The first message came: the deadline is met, unless the stream is ending already (the
+  // deadline's alarm ran first, or the client cancelled), when the message opens nothing.
+  bool hello_came() {
     std::lock_guard lock(mutex_);
     hello_came_ = true;
+    return reactor_ && !finishing_;
   }
 
   void finish(const grpc::Status& status) {
@@ -147,8 +150,8 @@ void StreamReactor::OnReadDone(bool ok) {
     return;
   }
   if (!viewer_) {  // the first message: whatever it is, the deadline has been met
-    sink_->hello_came();
     hello_deadline_.Cancel();
+    if (!sink_->hello_came()) return;  // too late: the stream was ended, OnDone follows
   }
   // gRPC takes messages as large as a snapshot (PutSnapshot); a stream's are never that large, and
   // one is refused before it is parsed.

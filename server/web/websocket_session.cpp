@@ -106,6 +106,9 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
       leave(goodbye ? Departure::left : Departure::dropped);
       return;
     }
+    // A read that completed as the stream was being ended (a Hello just after its deadline)
+    // opens and posts nothing: the socket is closing.
+    if (ending_) return;
     if (buffer_.size() > kMaxClientMessageBytes) {
       buffer_.consume(buffer_.size());
       refuse(Refusal(RefusalCode::resource_exhausted,
