@@ -46,13 +46,17 @@ test-sanitized: deps
 # (lavapipe's LLVM holds more locks at once than TSan's detector tracks). Left out as under
 # ASan: frame-rate comparisons, adaptive quality (it reads round trips) and the bound on the
 # server's memory.
+# The native client's handoff runs here too, with fluids in memory (handoff_stream_test) and
+# against the server (handback_test): its threads (connecting, snapshots, the warm local fluid,
+# goodbyes) are ours.
 TSAN_TESTS := fluidcast-server server_test server_session_test stream_client_test \
-  connection_limits_test
+  connection_limits_test handoff_stream_test handback_test
 test-tsan: deps
 	cmake --preset tsan
 	cmake --build --preset tsan -j $(JOBS) --target $(TSAN_TESTS)
 	ctest --preset tsan -j $(JOBS) -L integration \
 	  -E 'FrameLoopTest|WindowClient|load_8_clients|DoesNotGrowTheServersMemory|AdaptiveQualityFalls'
+	ctest --preset tsan -j $(JOBS) -R '^HandoffStream\.'
 
 # Coverage-guided fuzzing: each target in tests/fuzz as a libFuzzer program (clang, ASan+UBSan,
 # build/fuzz) for FUZZ_SECONDS, from its corpus in tests/fuzz/corpus. New inputs it finds go to
