@@ -230,49 +230,70 @@ void SessionHub::close(std::shared_ptr<Session> session, std::uint32_t viewer,
 void SessionHub::snapshot(
     std::string key,
     std::function<void(std::optional<v1::Snapshot>, std::optional<Refusal>)> done) {
-  post([this, key = std::move(key), done = std::move(done)] {
-    if (closed_) {
-      done(std::nullopt, Refusal(RefusalCode::unavailable, "the server is shutting down"));
-      return;
-    }
-    std::optional<v1::Snapshot> snapshot;
-    try {
-      snapshot = find(key, "SnapshotRequest.key").session->snapshot();
-    } catch (const Refusal& refusal) {
-      done(std::nullopt, refusal);
-      return;
-    } catch (const std::exception& e) {
-      done(std::nullopt, server_failure(e, "snapshot"));
-      return;
-    }
-    done(std::move(snapshot), std::nullopt);
-  });
+  const char* field = "SnapshotRequest.key";
+  beside_the_streams(
+      key, field,
+      [this, key, field, done] {
+        std::optional<v1::Snapshot> snapshot;
+        try {
+          snapshot = find(key, field).session->snapshot();
+        } catch (const Refusal& refusal) {
+          done(std::nullopt, refusal);
+          return;
+        } catch (const std::exception& e) {
+          done(std::nullopt, server_failure(e, "snapshot"));
+          return;
+        }
+        done(std::move(snapshot), std::nullopt);
+      },
+      [done](const Refusal& refusal) { done(std::nullopt, refusal); });
 }
 
 void SessionHub::load(std::string key, v1::Snapshot snapshot,
                       std::function<void(std::uint32_t, std::optional<Refusal>)> done) {
-  post([this, key = std::move(key), snapshot = std::move(snapshot), done = std::move(done)] {
+  const char* field = "PutSnapshotRequest.key";
+  auto state = std::make_shared<const v1::Snapshot>(std::move(snapshot));
+  beside_the_streams(
+      key, field,
+      [this, key, field, state, done] {
+        std::uint32_t particles = 0;
+        try {
+          const Opening opening = find(key, field);
+          if (opening.access != Access::control) {
+            throw Refusal(RefusalCode::permission_denied,
+                          "PutSnapshotRequest.key is the session's view key: replacing its fluid "
+                          "needs the control key");
+          }
+          particles = opening.session->load(*state);
+        } catch (const Refusal& refusal) {
+          done(0, refusal);
+          return;
+        } catch (const std::exception& e) {
+          done(0, server_failure(e, "snapshot"));
+          return;
+        }
+        done(particles, std::nullopt);
+      },
+      [done](const Refusal& refusal) { done(0, refusal); });
+}
+
+void SessionHub::beside_the_streams(const std::string& key, const char* field,
+                                    std::function<void()> run,
+                                    std::function<void(const Refusal&)> refuse) {
+  post([this, key, field, run = std::move(run), refuse = std::move(refuse)]() mutable {
+    const Refusal stopping(RefusalCode::unavailable, "the server is shutting down");
     if (closed_) {
-      done(0, Refusal(RefusalCode::unavailable, "the server is shutting down"));
+      refuse(stopping);
       return;
     }
-    std::uint32_t particles = 0;
+    std::string session;
     try {
-      const Opening opening = find(key, "PutSnapshotRequest.key");
-      if (opening.access != Access::control) {
-        throw Refusal(RefusalCode::permission_denied,
-                      "PutSnapshotRequest.key is the session's view key: replacing its fluid "
-                      "needs the control key");
-      }
-      particles = opening.session->load(snapshot);
+      session = find(key, field).session->id();
     } catch (const Refusal& refusal) {
-      done(0, refusal);
-      return;
-    } catch (const std::exception& e) {
-      done(0, server_failure(e, "snapshot"));
+      refuse(refusal);
       return;
     }
-    done(particles, std::nullopt);
+    side_work_.add(session, {std::move(run), [refuse, stopping] { refuse(stopping); }});
   });
 }
 
@@ -439,6 +460,7 @@ void SessionHub::run() {
       jobs.swap(jobs_);
     }
     run_jobs(jobs);
+    side_work_.run_due([] { return Clock::now(); });
     const auto now = Clock::now();
     if (now < next_tick) continue;
     tick_all(now);
@@ -452,6 +474,7 @@ void SessionHub::run() {
     metrics_->forget_session(id);
   }
   sessions_.clear();
+  side_work_.refuse_all();
   // Jobs still queued get their answers: no session now.
   std::vector<std::function<void()>> jobs;
   {

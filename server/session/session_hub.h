@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "session.h"
+#include "side_work.h"
 #include "viewer_link.h"
 
 namespace fluidcast::server {
@@ -61,6 +62,10 @@ class SessionHub {
   // grace period, and ends at the next tick once nobody watches and nobody may resume.
   void close(std::shared_ptr<Session> session, std::uint32_t viewer, Departure departure);
   void post(std::function<void()> job);
+  // A snapshot call's work, `run` on the worker in the line of the session `key` opens (a
+  // Refusal naming `field` when none), within SideWork's share; `refuse`d when it will not run.
+  void beside_the_streams(const std::string& key, const char* field, std::function<void()> run,
+                          std::function<void(const Refusal&)> refuse);
   void run();
   void run_jobs(std::vector<std::function<void()>>& jobs);
   void tick_all(Clock::time_point now);
@@ -113,6 +118,7 @@ class SessionHub {
   // solvers.
   std::shared_ptr<sim::ForkJoinPool> cpu_threads_;
   std::map<std::string, std::shared_ptr<Session>> sessions_;
+  SideWork side_work_;  // the snapshot calls' work, waiting for its share of the worker
   // The newest submission of each of the last ticks: a tick starts once the one two before it has
   // finished on the GPU, so no more than one tick's work waits behind the one executing.
   std::deque<std::uint64_t> tick_serials_;
