@@ -47,16 +47,18 @@ grpc::ServerUnaryReactor* FluidcastService::GetSnapshot(grpc::CallbackServerCont
   if (refused(call, *request, hub_->token(), "SnapshotRequest.token", "SnapshotRequest.key")) {
     return call;
   }
-  call->hold(request->key(), "SnapshotRequest.key", [this, call, request, reply] {
-    hub_->snapshot(request->key(), [call, reply](std::optional<v1::Snapshot> snapshot,
-                                                 std::optional<Refusal> refusal) {
-      if (refusal) {
-        call->answer(to_status(*refusal));
-        return;
-      }
-      *reply = std::move(*snapshot);
-      call->answer(grpc::Status::OK);
-    });
+  call->hold(request->key(), "SnapshotRequest.key", [this, call, context, request, reply] {
+    hub_->snapshot(
+        request->key(),
+        [call, reply](std::optional<v1::Snapshot> snapshot, std::optional<Refusal> refusal) {
+          if (refusal) {
+            call->answer(to_status(*refusal));
+            return;
+          }
+          *reply = std::move(*snapshot);
+          call->answer(grpc::Status::OK);
+        },
+        [context] { return context->IsCancelled(); });
   });
   return call;
 }
@@ -74,16 +76,18 @@ grpc::ServerUnaryReactor* FluidcastService::PutSnapshot(grpc::CallbackServerCont
         Refusal(RefusalCode::invalid_argument, "PutSnapshotRequest.snapshot is missing")));
     return call;
   }
-  call->hold(request->key(), "PutSnapshotRequest.key", [this, call, request, reply] {
-    hub_->load(request->key(), request->snapshot(),
-               [call, reply](std::uint32_t particles, std::optional<Refusal> refusal) {
-                 if (refusal) {
-                   call->answer(to_status(*refusal));
-                   return;
-                 }
-                 reply->set_particles(particles);
-                 call->answer(grpc::Status::OK);
-               });
+  call->hold(request->key(), "PutSnapshotRequest.key", [this, call, context, request, reply] {
+    hub_->load(
+        request->key(), request->snapshot(),
+        [call, reply](std::uint32_t particles, std::optional<Refusal> refusal) {
+          if (refusal) {
+            call->answer(to_status(*refusal));
+            return;
+          }
+          reply->set_particles(particles);
+          call->answer(grpc::Status::OK);
+        },
+        [context] { return context->IsCancelled(); });
   });
   return call;
 }

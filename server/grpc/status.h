@@ -8,7 +8,8 @@
 namespace fluidcast::server {
 
 // RefusalCode's values are gRPC's own.
-static_assert(int(RefusalCode::invalid_argument) == grpc::StatusCode::INVALID_ARGUMENT &&
+static_assert(int(RefusalCode::cancelled) == grpc::StatusCode::CANCELLED &&
+              int(RefusalCode::invalid_argument) == grpc::StatusCode::INVALID_ARGUMENT &&
               int(RefusalCode::deadline_exceeded) == grpc::StatusCode::DEADLINE_EXCEEDED &&
               int(RefusalCode::not_found) == grpc::StatusCode::NOT_FOUND &&
               int(RefusalCode::permission_denied) == grpc::StatusCode::PERMISSION_DENIED &&

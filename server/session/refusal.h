@@ -9,6 +9,7 @@ namespace fluidcast::server {
 
 // The values are the canonical status codes (google.rpc.Code), which gRPC's StatusCode shares.
 enum class RefusalCode {
+  cancelled = 1,  // the client cancelled its call while it waited its turn
   invalid_argument = 3,
   deadline_exceeded = 4,  // no viewer's input for ServerLimits::idle_timeout, or no Hello in time
   not_found = 5,
@@ -23,6 +24,8 @@ enum class RefusalCode {
 // The code's name as gRPC spells it: the WebSocket's close reason and the metrics' label.
 inline const char* refusal_code_name(RefusalCode code) {
   switch (code) {
+    case RefusalCode::cancelled:
+      return "CANCELLED";
     case RefusalCode::invalid_argument:
       return "INVALID_ARGUMENT";
     case RefusalCode::unauthenticated:

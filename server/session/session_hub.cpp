@@ -228,8 +228,8 @@ void SessionHub::close(std::shared_ptr<Session> session, std::uint32_t viewer,
 }
 
 void SessionHub::snapshot(
-    std::string key,
-    std::function<void(std::optional<v1::Snapshot>, std::optional<Refusal>)> done) {
+    std::string key, std::function<void(std::optional<v1::Snapshot>, std::optional<Refusal>)> done,
+    std::function<bool()> given_up) {
   const char* field = "SnapshotRequest.key";
   beside_the_streams(
       key, field,
@@ -246,11 +246,12 @@ void SessionHub::snapshot(
         }
         done(std::move(snapshot), std::nullopt);
       },
-      [done](const Refusal& refusal) { done(std::nullopt, refusal); });
+      [done](const Refusal& refusal) { done(std::nullopt, refusal); }, std::move(given_up));
 }
 
 void SessionHub::load(std::string key, v1::Snapshot snapshot,
-                      std::function<void(std::uint32_t, std::optional<Refusal>)> done) {
+                      std::function<void(std::uint32_t, std::optional<Refusal>)> done,
+                      std::function<bool()> given_up) {
   const char* field = "PutSnapshotRequest.key";
   auto state = std::make_shared<const v1::Snapshot>(std::move(snapshot));
   beside_the_streams(
@@ -274,13 +275,15 @@ void SessionHub::load(std::string key, v1::Snapshot snapshot,
         }
         done(particles, std::nullopt);
       },
-      [done](const Refusal& refusal) { done(0, refusal); });
+      [done](const Refusal& refusal) { done(0, refusal); }, std::move(given_up));
 }
 
 void SessionHub::beside_the_streams(const std::string& key, const char* field,
                                     std::function<void()> run,
-                                    std::function<void(const Refusal&)> refuse) {
-  post([this, key, field, run = std::move(run), refuse = std::move(refuse)]() mutable {
+                                    std::function<void(const Refusal&)> refuse,
+                                    std::function<bool()> given_up) {
+  post([this, key, field, run = std::move(run), refuse = std::move(refuse),
+        given_up = std::move(given_up)]() mutable {
     const Refusal stopping(RefusalCode::unavailable, "the server is shutting down");
     if (closed_) {
       refuse(stopping);
@@ -293,7 +296,26 @@ void SessionHub::beside_the_streams(const std::string& key, const char* field,
       refuse(refusal);
       return;
     }
-    side_work_.add(session, {std::move(run), [refuse, stopping] { refuse(stopping); }});
+    // Each answers its caller; what escapes is logged as a job's would be (run_jobs).
+    const auto guarded = [](const std::function<void()>& work) {
+      try {
+        work();
+      } catch (const std::exception& e) {
+        spdlog::error("a snapshot call's work failed: {}", e.what());
+      }
+    };
+    side_work_.add(session,
+                   {[guarded, run = std::move(run), refuse, given_up = std::move(given_up)] {
+                      guarded([&] {
+                        if (given_up && given_up()) {
+                          refuse(Refusal(RefusalCode::cancelled,
+                                         "the call was cancelled while it waited its turn"));
+                        } else {
+                          run();
+                        }
+                      });
+                    },
+                    [guarded, refuse, stopping] { guarded([&] { refuse(stopping); }); }});
   });
 }
 
@@ -460,6 +482,8 @@ void SessionHub::run() {
       jobs.swap(jobs_);
     }
     run_jobs(jobs);
+    // Between ticks, within its share. Run after a tick's frames were collected instead, it left
+    // the viewer of bench/snapshot_flood.sh 25.9-28.3 frames/s against 28.2-28.4.
     side_work_.run_due([] { return Clock::now(); });
     const auto now = Clock::now();
     if (now < next_tick) continue;

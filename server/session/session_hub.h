@@ -45,12 +45,15 @@ class SessionHub {
   // worker's thread).
   void open(v1::Hello hello, std::string address, std::shared_ptr<ViewerSink> sink,
             std::function<void(Opened)> done);
-  // Snapshots, for GetSnapshot (either of the session's keys) and PutSnapshot (its control key);
-  // `done` runs on the worker's thread.
+  // Snapshots, for GetSnapshot (either of the session's keys) and PutSnapshot (its control key),
+  // each in its session's line (SideWork); `done` runs on the worker's thread. A call whose
+  // `given_up` says so when its turn comes is not carried out (CANCELLED).
   void snapshot(std::string key,
-                std::function<void(std::optional<v1::Snapshot>, std::optional<Refusal>)> done);
+                std::function<void(std::optional<v1::Snapshot>, std::optional<Refusal>)> done,
+                std::function<bool()> given_up = {});
   void load(std::string key, v1::Snapshot snapshot,
-            std::function<void(std::uint32_t particles, std::optional<Refusal>)> done);
+            std::function<void(std::uint32_t particles, std::optional<Refusal>)> done,
+            std::function<bool()> given_up = {});
 
   v1::ServerInfo info() const;
   // Ends every stream with UNAVAILABLE and stops the worker; idempotent.
@@ -63,9 +66,11 @@ class SessionHub {
   void close(std::shared_ptr<Session> session, std::uint32_t viewer, Departure departure);
   void post(std::function<void()> job);
   // A snapshot call's work, `run` on the worker in the line of the session `key` opens (a
-  // Refusal naming `field` when none), within SideWork's share; `refuse`d when it will not run.
+  // Refusal naming `field` when none), within SideWork's share; `refuse`d when it will not run
+  // (the worker stops, or the call was `given_up` by its turn).
   void beside_the_streams(const std::string& key, const char* field, std::function<void()> run,
-                          std::function<void(const Refusal&)> refuse);
+                          std::function<void(const Refusal&)> refuse,
+                          std::function<bool()> given_up);
   void run();
   void run_jobs(std::vector<std::function<void()>>& jobs);
   void tick_all(Clock::time_point now);
