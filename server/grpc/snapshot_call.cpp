@@ -2,20 +2,26 @@
 
 #include <utility>
 
+#include "peer_address.h"
 #include "session/refusal.h"
 #include "status.h"
 
 namespace fluidcast::server {
 
+SnapshotSlots::KeyAndAddress SnapshotSlots::key_and_address(const SnapshotCaller& caller) {
+  return {caller.key, peer_address(caller.peer)};
+}
+
 bool SnapshotSlots::take(const SnapshotCaller& caller, std::function<void()> go_on) {
   {
     std::lock_guard lock(mutex_);
     if (!under_way_.insert(caller).second) return false;
-    const auto sending = being_sent_.find(caller);
-    if (sending != being_sent_.end() && sending->second >= kUnreadAnswers) {
-      waiting_.emplace(caller, std::move(go_on));
+    Answers& answers = answers_[key_and_address(caller)];
+    if (answers.held >= kUnreadAnswers) {
+      answers.waiting.push_back(std::move(go_on));
       return true;
     }
+    ++answers.held;
   }
   go_on();
   return true;
@@ -24,22 +30,23 @@ bool SnapshotSlots::take(const SnapshotCaller& caller, std::function<void()> go_
 void SnapshotSlots::answered(const SnapshotCaller& caller) {
   std::lock_guard lock(mutex_);
   under_way_.erase(caller);
-  ++being_sent_[caller];
 }
 
 void SnapshotSlots::sent(const SnapshotCaller& caller) {
   std::function<void()> go_on;
   {
     std::lock_guard lock(mutex_);
-    const auto sending = being_sent_.find(caller);
-    if (sending == being_sent_.end()) return;
-    if (--sending->second == 0) being_sent_.erase(sending);
-    const auto waiting = waiting_.find(caller);
-    if (waiting == waiting_.end()) return;
-    go_on = std::move(waiting->second);
-    waiting_.erase(waiting);
+    const auto answers = answers_.find(key_and_address(caller));
+    if (answers == answers_.end()) return;
+    Answers& those = answers->second;
+    if (!those.waiting.empty()) {  // its place goes to the call waiting longest
+      go_on = std::move(those.waiting.front());
+      those.waiting.pop_front();
+    } else if (--those.held == 0) {
+      answers_.erase(answers);
+    }
   }
-  go_on();
+  if (go_on) go_on();
 }
 
 void SnapshotCall::hold(const std::string& key, const char* field, std::function<void()> go_on) {

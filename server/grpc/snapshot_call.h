@@ -1,24 +1,28 @@
 // The snapshot calls (GetSnapshot, PutSnapshot): one at a time per key and connection, from the
 // moment a call is taken until it is answered. The shared worker then builds or loads at most one
-// snapshot at a time for each, and a client that fires many calls at once gets RESOURCE_EXHAUSTED
-// for all but one; viewers sharing a session's view key do not hold each other up.
+// snapshot at a time for each, and a client that fires many calls at once on one connection gets
+// RESOURCE_EXHAUSTED for all but one; viewers sharing a session's view key are not refused for
+// each other.
 // An answer (a GetSnapshot's reply: up to ~24 MB) stays in the server's memory until the client
 // has read it; a client that never read could otherwise have one answer after another queued, so
-// a call that finds kUnreadAnswers of its connection's answers with its key still being sent waits
-// until one of them has gone out (or its call ended). It waits rather than being refused: a
-// client that calls again as soon as it has read an answer may find the server not yet told that
-// the answer went out.
+// a call that finds kUnreadAnswers calls with its key from its address gone on and not yet sent
+// waits until one of them has gone out (or its call ended). By address, not connection: one
+// client's connections (up to --max-connections-per-address) would each hold as many. It waits
+// rather than being refused: a client that calls again as soon as it has read an answer may find
+// the server not yet told that the answer went out.
 #pragma once
 
 #include <grpcpp/grpcpp.h>
 
 #include <compare>
+#include <deque>
 #include <functional>
 #include <map>
 #include <mutex>
 #include <optional>
 #include <set>
 #include <string>
+#include <utility>
 
 namespace fluidcast::server {
 
@@ -30,14 +34,16 @@ struct SnapshotCaller {
   auto operator<=>(const SnapshotCaller&) const = default;
 };
 
-// Each caller's slot: its snapshot call under way (or waiting), and its answers still being sent.
+// Each caller's slot: its snapshot call under way (or waiting); and the calls with each key from
+// each address not yet sent.
 class SnapshotSlots {
  public:
   static constexpr int kUnreadAnswers = 2;
 
-  // Takes `caller`'s slot for a call and runs `go_on`: at once, or, while kUnreadAnswers of the
-  // caller's answers are being sent, on the thread that reports one of them sent. False (and
-  // `go_on` never runs) when another call holds the slot.
+  // Takes `caller`'s slot for a call and runs `go_on`: at once, or, while kUnreadAnswers calls
+  // with its key from its address are worked on or being sent, on the thread that reports one of
+  // them sent (the calls waiting for an address in the order they came). False (and `go_on` never
+  // runs) when another call holds the slot.
   bool take(const SnapshotCaller& caller, std::function<void()> go_on);
   // The call taken for `caller` is answered: its reply is being sent. Another call may be taken.
   void answered(const SnapshotCaller& caller);
@@ -45,10 +51,19 @@ class SnapshotSlots {
   void sent(const SnapshotCaller& caller);
 
  private:
+  // A key and the address of the connections it comes on.
+  using KeyAndAddress = std::pair<std::string, std::string>;
+  static KeyAndAddress key_and_address(const SnapshotCaller& caller);
+  struct Answers {
+    // Calls gone on and not yet sent (worked on, or answered and being sent): at most
+    // kUnreadAnswers.
+    int held = 0;
+    std::deque<std::function<void()>> waiting;  // calls waiting for one of them to go out
+  };
+
   std::mutex mutex_;
   std::set<SnapshotCaller> under_way_;
-  std::map<SnapshotCaller, int> being_sent_;
-  std::map<SnapshotCaller, std::function<void()>> waiting_;
+  std::map<KeyAndAddress, Answers> answers_;
 };
 
 // One snapshot call's reactor; deletes itself when gRPC is done with the call.

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <future>
 #include <limits>
 #include <memory>
 #include <set>
@@ -717,9 +718,11 @@ class UnreadSnapshotCalls {
 
 // A client that reads none of its snapshot answers: its connection's windows are too small for
 // one, so the server holds each answered call until the client reads it. Two such answers, then a
-// third call with the key waits (a fourth on that connection is refused, another connection is
-// served), and is carried out once the client reads the first.
-TEST(ServerTest, ASnapshotCallWaitsWhileTwoAnswersOnItsConnectionAreUnread) {
+// third call with the key waits (a fourth on that connection is refused), and so does a call with
+// the key from another of the address's connections (the address's answers are shared: a client's
+// many connections hold no more); another key is served. Each waiting call is carried out once the
+// client reads an answer, in the order they came.
+TEST(ServerTest, ASnapshotCallWaitsWhileTwoAnswersToItsAddressAreUnread) {
   testing::ServerProcess server;
   constexpr std::uint32_t kParticles = 8000;  // 192 kB a snapshot: three windows of 64 kB
   StreamClient owner(client::connect(server.grpc_address()), small_hello(kParticles));
@@ -729,7 +732,7 @@ TEST(ServerTest, ASnapshotCallWaitsWhileTwoAnswersOnItsConnectionAreUnread) {
   v1::SnapshotRequest request;
   request.set_key(owner.welcome().access().view_key());
 
-  for (int call = 0; call < 2; ++call) {  // the answers a connection may leave unread
+  for (int call = 0; call < 2; ++call) {  // the answers an address may leave unread
     calls.get(call, request);
     ASSERT_EQ(calls.next_event(seconds(30)), Calls::tag(call, Calls::kStarted)) << "call " << call;
   }
@@ -741,7 +744,22 @@ TEST(ServerTest, ASnapshotCallWaitsWhileTwoAnswersOnItsConnectionAreUnread) {
   EXPECT_EQ(calls.status(3).error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
   EXPECT_NE(calls.status(3).error_message().find("under way"), std::string::npos)
       << calls.status(3).error_message();
-  EXPECT_EQ(owner.snapshot().positions_size(), 3 * int(kParticles)) << "another connection";
+
+  // The owner's connection: another key is served at once, the same key waits its turn.
+  auto stub = v1::Fluidcast::NewStub(client::connect(server.grpc_address()));
+  const auto get_on_owners_connection = [&stub](const std::string& key) {
+    grpc::ClientContext context;
+    context.set_deadline(std::chrono::system_clock::now() + seconds(30));
+    v1::SnapshotRequest other;
+    other.set_key(key);
+    v1::Snapshot snapshot;
+    const grpc::Status status = stub->GetSnapshot(&context, other, &snapshot);
+    return status.ok() ? snapshot.positions_size() : -int(status.error_code());
+  };
+  EXPECT_EQ(get_on_owners_connection(owner.welcome().access().control_key()), 3 * int(kParticles));
+  auto same_key = std::async(std::launch::async, get_on_owners_connection, request.key());
+  EXPECT_EQ(same_key.wait_for(milliseconds(1500)), std::future_status::timeout)
+      << "the address's two answers are unread";
 
   calls.finish(0);
   std::set<void*> events;
@@ -749,8 +767,10 @@ TEST(ServerTest, ASnapshotCallWaitsWhileTwoAnswersOnItsConnectionAreUnread) {
     events.insert(event);
   }
   EXPECT_EQ(events,
-            (std::set<void*>{Calls::tag(0, Calls::kFinished), Calls::tag(2, Calls::kStarted)}));
+            (std::set<void*>{Calls::tag(0, Calls::kFinished), Calls::tag(2, Calls::kStarted)}))
+      << "the call that waited longest goes first";
   calls.finish(1);
+  EXPECT_EQ(same_key.get(), 3 * int(kParticles)) << "once the client read another answer";
   calls.finish(2);
   for (int left = 2; left > 0 && calls.next_event(seconds(30)); --left) {
   }

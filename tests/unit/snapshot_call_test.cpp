@@ -1,10 +1,12 @@
 // Snapshot calls one at a time per key and connection: a second call with the same key on the same
-// connection is refused until the first is answered; a call that finds two answers of its key and
-// connection still being sent waits for one of them to go out; other keys and other connections
-// are not held up.
+// connection is refused until the first is answered; a call that finds two answers with its key to
+// its address still being sent (or worked on) waits for one of them to go out, whichever of the
+// address's connections it comes on; other keys and other addresses are not held up.
 #include "grpc/snapshot_call.h"
 
 #include <gtest/gtest.h>
+
+#include <vector>
 
 namespace fluidcast::server {
 namespace {
@@ -12,6 +14,7 @@ namespace {
 const SnapshotCaller kViewer{"view-key", "ipv4:192.0.2.1:50000"};
 const SnapshotCaller kController{"control-key", "ipv4:192.0.2.1:50000"};
 const SnapshotCaller kOtherViewer{"view-key", "ipv4:192.0.2.7:41000"};
+const SnapshotCaller kViewersOtherConnection{"view-key", "ipv4:192.0.2.1:50001"};
 
 TEST(SnapshotSlotsTest, AKeyHasOneCallAtATimeOnAConnection) {
   SnapshotSlots slots;
@@ -45,7 +48,7 @@ TEST(SnapshotSlotsTest, ACallWaitsWhileTwoAnswersOfItsKeyAndConnectionAreBeingSe
   EXPECT_FALSE(waited_on);
   EXPECT_FALSE(slots.take(kViewer, go_on)) << "the waiting call holds the slot";
   EXPECT_TRUE(slots.take(kController, go_on));
-  EXPECT_TRUE(slots.take(kOtherViewer, go_on)) << "another connection's answers are its own";
+  EXPECT_TRUE(slots.take(kOtherViewer, go_on)) << "another address's answers are its own";
   EXPECT_EQ(gone_on, SnapshotSlots::kUnreadAnswers + 2);
 
   slots.sent(kOtherViewer);  // nothing of kOtherViewer's was being sent: no effect
@@ -57,6 +60,33 @@ TEST(SnapshotSlotsTest, ACallWaitsWhileTwoAnswersOfItsKeyAndConnectionAreBeingSe
   EXPECT_EQ(gone_on, SnapshotSlots::kUnreadAnswers + 2) << "two answers are being sent again";
   slots.sent(kViewer);
   EXPECT_EQ(gone_on, SnapshotSlots::kUnreadAnswers + 3);
+}
+
+// One client's many connections share its address's two answers: 64 connections that never read
+// would otherwise hold 64 times as many in the server's memory.
+TEST(SnapshotSlotsTest, AnAddressHasTwoAnswersOfAKeyHeldWhateverItsConnections) {
+  SnapshotSlots slots;
+  int gone_on = 0;
+  const auto go_on = [&gone_on] { ++gone_on; };
+  ASSERT_TRUE(slots.take(kViewer, go_on));
+  slots.answered(kViewer);
+  ASSERT_TRUE(slots.take(kViewersOtherConnection, go_on));  // worked on, not yet answered
+  ASSERT_EQ(gone_on, 2);
+
+  std::vector<int> order;
+  const SnapshotCaller third{"view-key", "ipv4:192.0.2.1:50002"};
+  const SnapshotCaller fourth{"view-key", "ipv4:192.0.2.1:50003"};
+  EXPECT_TRUE(slots.take(third, [&order] { order.push_back(3); }));
+  EXPECT_TRUE(slots.take(fourth, [&order] { order.push_back(4); }));
+  EXPECT_TRUE(order.empty()) << "two are held for the address already";
+  EXPECT_TRUE(slots.take(kOtherViewer, go_on)) << "another address is not held up";
+  EXPECT_EQ(gone_on, 3);
+
+  slots.sent(kViewer);
+  EXPECT_EQ(order, std::vector<int>{3}) << "the call that waited longest goes first, alone";
+  slots.answered(kViewersOtherConnection);
+  slots.sent(kViewersOtherConnection);
+  EXPECT_EQ(order, (std::vector<int>{3, 4}));
 }
 
 }  // namespace
