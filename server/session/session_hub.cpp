@@ -38,6 +38,16 @@ std::string no_session(const char* field, const ServerLimits& limits) {
          "viewers end after " + std::to_string(limits.resume_grace.count()) + " s)";
 }
 
+// Runs one piece of the worker's work (`what`). Each piece answers its own caller; this is a last
+// guard, so that what escapes one is logged instead of ending the worker and every session.
+void run_guarded(const std::function<void()>& work, const char* what) {
+  try {
+    work();
+  } catch (const std::exception& e) {
+    spdlog::error("{} failed: {}", what, e.what());
+  }
+}
+
 }  // namespace
 
 SessionHub::SessionHub(gpu::Context& context, bool gpu_solver, ServerLimits limits,
@@ -296,26 +306,21 @@ void SessionHub::beside_the_streams(const std::string& key, const char* field,
       refuse(refusal);
       return;
     }
-    // Each answers its caller; what escapes is logged as a job's would be (run_jobs).
-    const auto guarded = [](const std::function<void()>& work) {
-      try {
-        work();
-      } catch (const std::exception& e) {
-        spdlog::error("a snapshot call's work failed: {}", e.what());
-      }
-    };
+    const char* what = "a snapshot call's work";
     side_work_.add(session,
-                   {[guarded, run = std::move(run), refuse, given_up = std::move(given_up)] {
-                      guarded([&] {
-                        if (given_up && given_up()) {
-                          refuse(Refusal(RefusalCode::cancelled,
-                                         "the call was cancelled while it waited its turn"));
-                        } else {
-                          run();
-                        }
-                      });
+                   {[what, run = std::move(run), refuse, given_up = std::move(given_up)] {
+                      run_guarded(
+                          [&] {
+                            if (given_up && given_up()) {
+                              refuse(Refusal(RefusalCode::cancelled,
+                                             "the call was cancelled while it waited its turn"));
+                            } else {
+                              run();
+                            }
+                          },
+                          what);
                     },
-                    [guarded, refuse, stopping] { guarded([&] { refuse(stopping); }); }});
+                    [what, refuse, stopping] { run_guarded([&] { refuse(stopping); }, what); }});
   });
 }
 
@@ -511,13 +516,7 @@ void SessionHub::run() {
 }
 
 void SessionHub::run_jobs(std::vector<std::function<void()>>& jobs) {
-  for (auto& job : jobs) {
-    try {
-      job();
-    } catch (const std::exception& e) {  // each job answers its caller; this is a last guard
-      spdlog::error("a worker job failed: {}", e.what());
-    }
-  }
+  for (auto& job : jobs) run_guarded(job, "a worker job");
   jobs.clear();  // the jobs' captures (sessions among them) are released here, on the worker
 }
 
