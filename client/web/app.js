@@ -58,6 +58,9 @@ let wanted = {
 let paused = false;
 let local = null;  // the LocalMode when this page simulates the fluid itself (?local)
 let retryDelayMs = 500;
+// A stream ended by an answer that changes what the next Hello asks (a token, a new session, an
+// address's mistake dropped) is asked again after this, with no "dropped" message meanwhile.
+const kAskAgainMs = 100;
 let retryTimer = 0;
 let giveUp = false;
 // Why the last stream ended, in words for the person holding the phone, when the server said:
@@ -68,6 +71,7 @@ let sessionLost = '';
 // This connection's Hello puts the fluid here back into the session it left (until its Welcome or
 // its close).
 let handingBack = false;
+let askedViewport = null;  // the size the last Hello asked for
 // A shared link's key (#view=… or #control=…, in the fragment so that it never reaches a server's
 // logs): the session this page joins, and whether it may play or only watch.
 let joinKey = (/^#(?:view|control)=([0-9a-f]{32})$/.exec(location.hash) || [])[1] || '';
@@ -96,6 +100,12 @@ function say(text, retry = false) {
     button.onclick = retryNow;
     page.status.append(document.createElement('br'), button);
   }
+}
+
+// Shows `text` for `ms`, then hides it unless something else is shown by then.
+function sayFor(text, ms) {
+  say(text);
+  setTimeout(() => { if (page.status.textContent === text) say(''); }, ms);
 }
 
 function retryNow() {
@@ -132,6 +142,9 @@ async function loadProtocol() {
 
 function send(fields, isInput) {
   if (!socket || socket.readyState !== WebSocket.OPEN) return 0;
+  // Until the Welcome only the Hello goes: anything before it would end the stream, and what was
+  // asked meanwhile (a size) is asked again at the Welcome.
+  if (!fields.hello && !state.connected) return 0;
   const message = Object.assign({}, fields);
   if (isInput) {
     message.eventId = nextEventId++;
@@ -143,7 +156,11 @@ function send(fields, isInput) {
   return message.eventId || 0;
 }
 
-function viewport() { return pixelSize(page.canvas); }
+// The frame size to ask for: the streamed canvas's, or the local one's while the fluid goes on here
+// (the hidden one has no size).
+function viewport() {
+  return pixelSize(page.canvas.hidden ? document.getElementById('local-view') : page.canvas);
+}
 
 // Device pixels, capped: a phone's 3× screen does not need 3× the pixels streamed or drawn, and
 // no frame is larger than the server draws (its limits, once it has said them).
@@ -173,16 +190,16 @@ function connect() {
   giveUp = false;
   const scheme = location.protocol === 'https:' ? 'wss:' : 'ws:';
   socket = new WebSocket(scheme + '//' + location.host + '/ws');
+  const opened = socket;
   socket.binaryType = 'arraybuffer';
   say(state.access || joinKey ? 'Reconnecting…' : 'Connecting…');
   socket.onopen = async () => {
-    const hello = { token, viewport: viewport(), quality: quality() };
+    const hello = { token, quality: quality() };
     if (handoff && handoff.mode) {
       // The fluid went on here: it goes back into the session it left (whoever else watches that
       // stays with it) or, once the server no longer has that, into a new one. It stops here
       // while its state goes over, so that the server goes on from where it was last shown.
       handoff.mode.paused = true;
-      const opened = socket;
       const carried = await handoff.mode.exportState();
       if (socket !== opened) return;  // closed meanwhile; a new connection says its own Hello
       if (state.access) {
@@ -201,17 +218,24 @@ function connect() {
     } else {
       hello.create = { scene: wanted.scene, particles: wanted.particles };
     }
+    hello.viewport = viewport();  // as it is now, after a state that took a while to export
+    askedViewport = hello.viewport;
     send({ hello }, false);
   };
   socket.onmessage = (event) => receive(new Uint8Array(event.data));
   socket.onclose = () => {
     state.connected = false;
     socket = null;
+    heldInputs.clear();  // a new stream starts with no finger down
     handingBack = false;  // ended() has read it: the server's end comes before the close
     if (handoff && handoff.mode) handoff.mode.paused = paused;  // not handed back: it goes on here
     clearInterval(stateTimer);
     clearStats();
     if (hiddenPause) return;
+    if (opened.closedForHidden) {  // the tab was shown again before this close came
+      connect();
+      return;
+    }
     if (!giveUp && newestState && !handoff) startHandoff(newestState);
     if (giveUp) {
       if (endReason) say(endReason, true);
@@ -219,8 +243,10 @@ function connect() {
     }
     // The network dropped or the server went away: try again, resuming the session (or, while
     // the fluid goes on here, handing it back; the stats say so, the screen stays clear).
-    say(handoff ? '' : (endReason || 'The connection dropped') + '; reconnecting in ' +
-        (retryDelayMs / 1000).toFixed(1) + ' s…', !handoff);
+    if (retryDelayMs > kAskAgainMs) {
+      say(handoff ? '' : (endReason || 'The connection dropped') + '; reconnecting in ' +
+          (retryDelayMs / 1000).toFixed(1) + ' s…', !handoff);
+    }
     endReason = '';
     retryTimer = setTimeout(() => { state.reconnects++; connect(); }, retryDelayMs);
     retryDelayMs = Math.min(retryDelayMs * 2, 8000);
@@ -246,16 +272,18 @@ function receive(bytes) {
     handingBack = false;
     const handedBack = handoff !== null && handoff.mode !== null;
     if (sessionLost) {
-      say(sessionLost + (handedBack ? ': your fluid goes on in a new session, with a new link.'
-                                    : ': this is a new session.'));
+      sayFor(sessionLost + (handedBack ? ': your fluid goes on in a new session, with a new link.'
+                                       : ': this is a new session.'), 5000);
       sessionLost = '';
-      setTimeout(() => { if (state.connected) say(''); }, 5000);
     } else if (addressProblem) {
-      say(addressProblem);
+      sayFor(addressProblem, 5000);
       addressProblem = '';
-      setTimeout(() => { if (state.connected) say(''); }, 5000);
     } else {
       say('');
+    }
+    const size = viewport();  // turned or resized between the Hello and its Welcome
+    if (size.width !== askedViewport.width || size.height !== askedViewport.height) {
+      command({ viewport: size });
     }
     // The fluid handed back goes on as it was here, paused or not (a state carries no pause, and
     // the session it left may be paused).
@@ -268,6 +296,7 @@ function receive(bytes) {
     }
     askForStates();
   } else if (message.session) {
+    stateAskedAt = 0;  // a state waiting to go out is dropped when the session's goes first
     // Another scene or count, or a pause, from this page or another viewer: the menu and the Pause
     // button show it. A new fluid's states are asked for afresh (none kept from the old one), if
     // the page keeps states for its count.
@@ -276,6 +305,7 @@ function receive(bytes) {
     showSession(message.session);
     if (another) askForStates();
   } else if (message.state) {
+    stateAskedAt = 0;
     newestState = message.state;
     state.streamed = { centre: centreOfMass(newestState.positions), time: newestState.time };
   } else if (message.frame) {
@@ -293,10 +323,12 @@ function ended(code, text) {
       token = given;
       localStorage.setItem('fluidcast.token', token);
       giveUp = false;  // onclose reconnects
-      retryDelayMs = 100;
+      retryDelayMs = kAskAgainMs;
     } else {
-      say('No token given: ' + text);
+      say('No token given: ' + text, true);
     }
+  } else if (code === 'INVALID_ARGUMENT' && !state.connected && droppedFromAddress(text)) {
+    retryDelayMs = kAskAgainMs;  // onclose asks again without it
   } else if (code === 'NOT_FOUND' || (handingBack && code !== 'UNAVAILABLE' && code !== 'INTERNAL')) {
     // The session is gone (the server restarted, or nobody watched it past the grace), or it
     // would not take the fluid here back (its seats taken, say): start a new one, and say so.
@@ -307,7 +339,7 @@ function ended(code, text) {
     sessionLost = code === 'NOT_FOUND'
       ? 'That session has ended (the server may have restarted, or nobody watched it for a while)'
       : 'The session you left did not take your fluid back (' + text + ')';
-    retryDelayMs = 100;
+    retryDelayMs = kAskAgainMs;
   } else {
     endReason = (plainWords[code] || 'The server ended the stream') + ' (' + text + ')';
     // Going away or a fault may pass; a limit or a request it cannot use would be refused again:
@@ -316,12 +348,28 @@ function ended(code, text) {
   }
 }
 
+// A scene or renderer in the address that this server does not have (its refusal of the Hello names
+// the field) is dropped, the server choosing instead, and said, as a count that is not one is:
+// asked for again, it would be refused again.
+function droppedFromAddress(text) {
+  const drop = (field, name) => {
+    if (!wanted[name] || !text.includes(field)) return false;
+    addressProblem = `"${name}=${wanted[name]}" in the address is not a ${name} this server ` +
+                     'has: it chose one.';
+    wanted[name] = '';
+    return true;
+  };
+  return drop('NewSession.scene', 'scene') || drop('Quality.renderer', 'renderer');
+}
+
 // ---- frames --------------------------------------------------------------------------------
 
 let frameTimes = [];
 let bytesWindow = [];
 let pendingFrame = null;  // the newest frame not yet drawn: a newer one replaces it
 let decoding = false;
+let lastFrameAt = 0;  // when the newest frame came (performance.now())
+const kFrameError = 'A frame could not be shown: ';
 
 // Decodes off the main thread and draws, newest frame first; never a queue.
 async function present(blob) {
@@ -335,8 +383,9 @@ async function present(blob) {
       const image = await createImageBitmap(next);
       draw(image);
       image.close();
+      if (page.status.textContent.startsWith(kFrameError)) say('');
     } catch (error) {
-      say('A frame could not be shown: ' + error.message);
+      say(kFrameError + error.message);
     }
   }
   decoding = false;
@@ -344,6 +393,7 @@ async function present(blob) {
 
 function showFrame(frame) {
   const now = performance.now();
+  lastFrameAt = now;
   send({ ack: { sequence: frame.sequence, clientReceiveTimeUs: Math.round(Date.now() * 1000) } },
        false);
   for (const [id, at] of sentAt) {
@@ -441,6 +491,11 @@ function showPaused(value) {
 const kHandoffParticles =
   query.has('handoff') ? Number(query.get('handoff')) || 0 : kMaxLocalParticles;
 const kStateEveryMs = 250;
+// One StateRequest at a time: requests held up by a stalled network would arrive together, past
+// the server's 4 a second, and end the stream. One with no answer for this long (none comes when
+// the session grew past what a state carries) is asked again.
+const kStateAnswerWaitMs = 5000;
+let stateAskedAt = 0;  // when the unanswered one went; 0: none
 let newestState = null;  // the session's, while streaming
 let stateTimer = 0;
 // { mode, snapshot, since, cancelled } while the page simulates after a drop
@@ -451,16 +506,22 @@ function askForStates() {
   clearInterval(stateTimer);
   newestState = null;
   state.streamed = null;
+  stateAskedAt = 0;
   // A watcher does not hand the fluid back: that would start a copy of someone else's session.
   const mine = state.access && state.access.control;
   const most = mine ? Math.min(kHandoffParticles, state.rules ? state.rules.maxStateParticles : 0) : 0;
   if (!(state.particles > 0 && state.particles <= most) || typeof WebAssembly === 'undefined') return;
   LocalFluid.prepare();  // ready before it is needed
-  stateTimer = setInterval(() => send({ stateRequest: {} }, false), kStateEveryMs);
+  stateTimer = setInterval(() => {
+    const now = performance.now();
+    if (stateAskedAt && now - stateAskedAt < kStateAnswerWaitMs) return;
+    stateAskedAt = now;
+    send({ stateRequest: {} }, false);
+  }, kStateEveryMs);
 }
 
 async function startHandoff(snapshot) {
-  const lastFrameAt = frameTimes.length ? frameTimes[frameTimes.length - 1] : performance.now();
+  const lastStreamed = lastFrameAt || performance.now();
   // The stream may come back (a resume) before the fluid here has started: endHandoff() then
   // cancels it, and it is stopped as soon as it exists.
   const starting = { mode: null, snapshot, since: performance.now(), cancelled: false };
@@ -488,7 +549,7 @@ async function startHandoff(snapshot) {
   state.mode = 'local';
   state.local = mode.stats;
   state.handoffs++;
-  state.handoffGapMs = performance.now() - lastFrameAt;
+  state.handoffGapMs = performance.now() - lastStreamed;
   statsTimer = setInterval(showLocalStats, 500);
 }
 
@@ -497,6 +558,7 @@ function endHandoff() {
   else handoff.cancelled = true;
   document.getElementById('local-view').hidden = true;
   page.canvas.hidden = false;
+  fitCanvas();  // it had no size while hidden
   clearInterval(statsTimer);
   state.mode = 'stream';
   state.local = null;
@@ -526,6 +588,7 @@ async function startLocal() {
   page.panel.querySelector('#scene').value = local.stats.scene;
   setupControls();
   say('');
+  keepAwake();  // tilting is playing too: no touch keeps the screen on
   statsTimer = setInterval(showLocalStats, 500);
 }
 

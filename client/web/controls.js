@@ -16,6 +16,24 @@ function normalised(event) {
   return { x: clamp((px - rect.x) / rect.w), y: clamp((py - rect.y) / rect.h) };
 }
 
+// While no frame has come for kStallMs (a stalled network), each finger's moves and the tilt wait
+// here, the newest replacing the one waiting, and go out every kReleaseHeldMs: held up by the
+// network, two fingers' 120 moves a second would arrive together, past the server's input rate
+// (ServerLimits.max_input_events_per_second), and end the stream.
+const kStallMs = 500, kReleaseHeldMs = 250;
+const heldInputs = new Map();  // our pointer id, or 'tilt' → the message
+
+function sendInput(key, fields) {
+  heldInputs.delete(key);  // replaced by this one
+  if (performance.now() - lastFrameAt > kStallMs) heldInputs.set(key, fields);
+  else send(fields, true);
+}
+
+setInterval(() => {
+  for (const fields of heldInputs.values()) send(fields, true);
+  heldInputs.clear();
+}, kReleaseHeldMs);
+
 function pointer(event, phase) {
   let id = pointerIds.get(event.pointerId);
   if (id === undefined) {
@@ -27,7 +45,13 @@ function pointer(event, phase) {
     pointerIds.set(event.pointerId, id);
   }
   const at = normalised(event);
-  send({ pointer: { pointerId: id, phase, x: at.x, y: at.y } }, true);
+  const fields = { pointer: { pointerId: id, phase, x: at.x, y: at.y } };
+  if (phase === 'MOVE') {
+    sendInput(id, fields);
+  } else {
+    heldInputs.delete(id);  // where it went down or up says where it is
+    send(fields, true);
+  }
   if (phase === 'UP' || phase === 'CANCEL') {
     pointerIds.delete(event.pointerId);
     lastMove.delete(event.pointerId);
@@ -78,7 +102,7 @@ function onMotion(event) {
   if (!range || magnitude < range.min || magnitude > range.max) return;  // free fall, a first zero
   lastTiltSent = now;
   state.tilt = gravity;
-  send({ tilt: gravity }, true);
+  sendInput('tilt', { tilt: gravity });
 }
 
 // Why tilt cannot work in this browser, or '' when it can: browsers give motion sensors only to
@@ -95,8 +119,7 @@ function tiltUnavailable() {
 async function enableTilt() {
   const why = tiltUnavailable();
   if (why) {
-    say(why);
-    setTimeout(() => say(''), 5000);
+    sayFor(why, 5000);
     return;
   }
   try {
@@ -152,8 +175,7 @@ async function shareLink(kind, key) {
     }
     if (navigator.clipboard && window.isSecureContext) {
       await navigator.clipboard.writeText(url);
-      say('Link copied: whoever opens it can ' + what + '.');
-      setTimeout(() => say(''), 4000);
+      sayFor('Link copied: whoever opens it can ' + what + '.', 4000);
       return;
     }
   } catch (error) {
@@ -171,10 +193,7 @@ function setupControls() {
   const act = (hereAction, serverAction) => () => {
     const fluid = local || (handoff && handoff.mode);
     if (!fluid) return serverAction();
-    Promise.resolve().then(() => hereAction(fluid)).catch((error) => {
-      say(error.message);
-      setTimeout(() => say(''), 5000);
-    });
+    Promise.resolve().then(() => hereAction(fluid)).catch((error) => sayFor(error.message, 5000));
   };
   scene.onchange = act((fluid) => fluid.create(scene.value, fluid.stats.solver, fluid.stats.particles),
                        () => command({ scene: scene.value }));
@@ -244,22 +263,27 @@ async function keepAwake() {
 // grace, or longer while another device watches it) for the tab to come back and resume it.
 let hiddenPause = false;
 document.addEventListener('visibilitychange', () => {
-  if (local) return;  // the browser stops animating a hidden page, and the fluid with it
+  if (local) {  // the browser stops animating a hidden page, and the fluid with it
+    if (!document.hidden) keepAwake();  // the lock went with the page
+    return;
+  }
   if (document.hidden) {
     hiddenPause = true;
-    if (socket) socket.close();
+    clearTimeout(retryTimer);  // no retry in the background either
+    if (socket) {
+      socket.closedForHidden = true;
+      socket.close();
+    }
   } else if (hiddenPause) {
     hiddenPause = false;
-    retryNow();
+    retryNow();  // or, while the hidden tab's socket is still closing, its close reconnects
   }
 });
 
 let resizeTimer = 0;
 window.addEventListener('resize', () => {
-  if (local) {
-    fitLocalCanvas();
-    return;
-  }
+  if (local || (handoff && handoff.mode)) fitLocalCanvas();
+  if (local) return;
   fitCanvas();
   clearTimeout(resizeTimer);
   resizeTimer = setTimeout(() => command({ viewport: viewport() }), 250);

@@ -481,6 +481,19 @@ async function main() {
     await misread.screenshot({ path: path.join(out, 'browser_misread_count.png') });
     await misread.close();
 
+    // A scene the server does not have, named in the address: said, and the server picks one
+    // (asked for again, it would be refused again).
+    const unknownScene = await context.newPage();
+    unknownScene.on('pageerror', (e) => { console.log('page error: ' + e.message); failures++; });
+    await unknownScene.goto(`http://127.0.0.1:${port}/?scene=nosuch&particles=500`);
+    await waitFor(unknownScene, () => window.fluidcast.connected, 'a session for scene=nosuch', 15000);
+    const chosenScene = await unknownScene.evaluate(() => ({
+      text: document.getElementById('status').textContent, scene: window.fluidcast.scene }));
+    check(/scene=nosuch/.test(chosenScene.text) && chosenScene.scene !== 'nosuch',
+          `a scene the server lacks is named, and it chose one (${chosenScene.scene}): ` +
+          `"${chosenScene.text}"`);
+    await unknownScene.close();
+
     // A page streaming a small session keeps its state; when the server goes away it continues
     // the fluid itself within a frame or two, and when the server is back (restarted: it no
     // longer has the session) it hands the fluid back in a new session and streams again.
@@ -491,6 +504,32 @@ async function main() {
     await sleep(1500);  // states come four times a second
     const streamed = await handing.evaluate(() => ({ id: window.fluidcast.sessionId,
                                                      time: window.fluidcast.lastFrame.simTime }));
+
+    // A stalled network (nothing comes; what the page sends would arrive together once it moves
+    // again): one StateRequest waits for its answer, and a finger's moves wait, the newest going
+    // out 4 times a second, so that the server's rates (4 states, 400 inputs a second) are not
+    // passed when they arrive and the stream goes on.
+    await handing.evaluate(() => {
+      window.stall = { states: 0, moves: 0, send, receive };
+      send = (fields, isInput) => {
+        if (fields.stateRequest) window.stall.states++;
+        if (fields.pointer && fields.pointer.phase === 'MOVE') window.stall.moves++;
+        return window.stall.send(fields, isInput);
+      };
+      receive = () => {};
+    });
+    await sleep(600);  // past the page's 500 ms without a frame
+    const stallCdp = await context.newCDPSession(handing);
+    await touchDrag(handing, stallCdp, { x: 200, y: 200 }, { x: 100, y: 200 }, 30);  // 20 moves a second
+    await sleep(500);
+    const stalled = await handing.evaluate(() => {
+      send = window.stall.send;
+      receive = window.stall.receive;
+      return { states: window.stall.states, moves: window.stall.moves };
+    });
+    check(stalled.states <= 1 && stalled.moves >= 3 && stalled.moves <= 12,
+          `while nothing comes, one state request waits (${stalled.states} sent) and a finger's ` +
+          `30 moves go 4 a second (${stalled.moves} sent)`);
 
     // The server goes away: the page that may not continue says so instead of a blank screen.
     child.kill('SIGTERM');
@@ -548,7 +587,11 @@ async function main() {
     const framesBack = await handing.evaluate(() => window.fluidcast.frames);
     await waitFor(handing, `window.fluidcast.frames > ${framesBack + 2}`, 'frames again');
     const back = await handing.evaluate(() => ({ id: window.fluidcast.sessionId,
-      particles: window.fluidcast.particles, time: window.fluidcast.lastFrame.simTime }));
+      particles: window.fluidcast.particles, time: window.fluidcast.lastFrame.simTime,
+      width: window.fluidcast.lastFrame.width, height: window.fluidcast.lastFrame.height }));
+    // The stream's canvas is hidden while the fluid goes on here: the size asked for is the screen's.
+    check(back.width === 300 && back.height === 400,
+          `streamed again at the screen's size (${back.width}×${back.height})`);
     check(back.id !== streamed.id && back.particles === 1000 && back.time >= localAtRestart,
           `the server back, the fluid goes back to it (new session, ${back.particles} particles, ` +
           `t = ${localAtRestart.toFixed(2)} s here → ${back.time.toFixed(2)} s there)`);
