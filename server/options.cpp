@@ -74,10 +74,14 @@ ServerOptions read_server_options(CLI::App& app, int argc, const char* const* ar
                  "this device keeps in real time, measured at start)")
       ->envname("FLUIDCAST_DEFAULT_PARTICLES")
       ->check(CLI::Range(1u, 16u << 20));
-  app.add_option("--max-width", l.max_width, "Widest frame a viewer may ask for, pixels")
+  app.add_option("--max-width", l.max_width,
+                 "Widest frame drawn, pixels: a viewer asking for more gets frames scaled down, "
+                 "its shape kept")
       ->envname("FLUIDCAST_MAX_WIDTH")
       ->check(CLI::Range(1u, 16384u));
-  app.add_option("--max-height", l.max_height, "Tallest frame a viewer may ask for, pixels")
+  app.add_option("--max-height", l.max_height,
+                 "Tallest frame drawn, pixels: a viewer asking for more gets frames scaled down, "
+                 "its shape kept")
       ->envname("FLUIDCAST_MAX_HEIGHT")
       ->check(CLI::Range(1u, 16384u));
   app.add_option("--target-fps", o.target_fps,

@@ -1,5 +1,7 @@
 #include "session.h"
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -225,7 +227,7 @@ std::uint32_t Session::resume_viewer(const v1::Hello& hello, std::shared_ptr<Vie
   // resume key each time: one that leaked brings back no one after its viewer's next connection.
   check_room(connected ? 1 : 0);
   std::unique_ptr<Viewer> viewer = new_viewer(hello, std::move(sink), Seat{access});
-  viewer->camera() = connected ? live->second->camera() : kept->second.camera;
+  viewer->resume_view(connected ? live->second->view() : kept->second.view);
   if (state) load(*state);
   if (connected) {
     // The old connection may not be known dead yet (a phone that changed networks): the resume
@@ -281,7 +283,7 @@ void Session::remove_viewer(std::uint32_t id, Departure departure) {
   if (found == viewers_.end()) return;
   if (departure == Departure::dropped) {
     const auto now = Clock::now();
-    departed_[id] = {found->second->camera(), found->second->seat(), now};
+    departed_[id] = {found->second->view(), found->second->seat(), now};
     // Past the grace a viewer can no longer resume its own seat; beyond the limit, those who
     // left earliest are forgotten first (not those who joined earliest: the creator, connected
     // for hours, may be the one whose network just changed).
@@ -331,6 +333,12 @@ void Session::end_all(const Refusal& why) {
     first->second->sink().end(why);
     remove_viewer(first->first);  // kept for a resume (after an idle timeout, say)
   }
+}
+
+void Session::end_for_good(const Refusal& why) {
+  failed_ = true;
+  end_all(why);
+  departed_.clear();
 }
 
 float Session::collider_radius() const { return std::max(0.04f, 4.0f * solver_->scene().spacing); }
@@ -396,7 +404,15 @@ void Session::rebuild_or_reset() {
     }
   } else {
     reset_wanted_ = false;
-    solver_->reset();
+    try {
+      solver_->reset();
+    } catch (const gpu::VulkanError& e) {
+      // No GPU memory for the reset's upload (other sessions hold it, or --gpu-memory is met):
+      // the fluid goes on as it was, which the frames show, and the session with it.
+      if (!e.out_of_memory()) throw;
+      spdlog::warn("session {}: the fluid was not reset: {}", id_, e.what());
+      return;
+    }
     fingers_.clear();
   }
 }

@@ -126,6 +126,10 @@ class Session {
   std::uint32_t load(const v1::Snapshot& snapshot);
   // Ends every viewer's stream (shutdown, idle timeout); each may resume while the session lives.
   void end_all(const Refusal& why);
+  // Ends every viewer's stream and the session with them (it failed): nobody resumes or joins it,
+  // and it expires at once. A session left in an unknown state would fail its viewers again.
+  void end_for_good(const Refusal& why);
+  bool failed() const { return failed_; }
 
  private:
   // Without a fluid yet: the public constructors give it one.
@@ -194,13 +198,14 @@ class Session {
   std::map<std::uint32_t, std::unique_ptr<Viewer>> viewers_;
   // Kept for a resume.
   struct Departed {
-    render::OrbitCamera camera;
+    Viewer::View view;
     Seat seat;
     Clock::time_point left;
   };
   std::map<std::uint32_t, Departed> departed_;
   std::uint32_t next_viewer_ = 1;
   bool paused_ = false;
+  bool failed_ = false;
   std::optional<SessionSetup> setup_wanted_;
   // The viewer that asked for each part of the wish (0: none), told when its part cannot be met.
   struct WishAskers {

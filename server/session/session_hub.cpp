@@ -91,7 +91,8 @@ SessionHub::Opening SessionHub::find(const std::string& key, const char* field) 
   Opening found;
   // Every session's keys compared: how long it takes tells nothing of which came close.
   for (const auto& [id, session] : sessions_) {
-    if (const auto access = session->keys().opens(key)) found = {session, *access};
+    const auto access = session->keys().opens(key);
+    if (access && !session->failed()) found = {session, *access};
   }
   if (!found.session) throw Refusal(RefusalCode::not_found, no_session(field, limits_));
   return found;
@@ -347,7 +348,7 @@ v1::ServerInfo SessionHub::info() const {
 
 void SessionHub::end_failed(Session& session, const std::exception& e) {
   spdlog::error("session {} failed: {}", session.id(), e.what());
-  session.end_all(server_failure(e, "the session failed on the server"));
+  session.end_for_good(server_failure(e, "the session failed on the server"));
 }
 
 void SessionHub::end_all_on_gpu_failure(const std::string& why) {

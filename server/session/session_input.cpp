@@ -1,7 +1,10 @@
 // Session: a viewer's messages, queued from any thread and applied at the tick.
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <cmath>
 
+#include "fluidcast/gpu/vk_check.h"
 #include "fluidcast/sim/scene.h"
 #include "input_rules.h"
 #include "session.h"
@@ -59,7 +62,15 @@ void Session::answer_state_request(Viewer& viewer) {
   // that another viewer made the session larger is no fault of that client's.
   if (solver_->particle_count() > kMaxStateParticles) return;
   auto answer = std::make_shared<v1::ServerMessage>();
-  *answer->mutable_state() = snapshot();
+  try {
+    *answer->mutable_state() = snapshot();
+  } catch (const gpu::VulkanError& e) {
+    // No GPU memory to read it out (other sessions hold it, or --gpu-memory is met): no answer
+    // this time, and the stream and the session go on; a later request may find the room.
+    if (!e.out_of_memory()) throw;
+    spdlog::warn("session {}: a state request went unanswered: {}", id_, e.what());
+    return;
+  }
   viewer.sink().deliver(answer);
 }
 

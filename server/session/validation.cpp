@@ -172,7 +172,7 @@ void validate_command(const v1::Command& command, const ServerLimits& limits) {
     case v1::Command::kQuality:
       return validate_quality(command.quality(), limits);
     case v1::Command::kViewport:
-      return validate_viewport(command.viewport(), limits);
+      return validate_viewport(command.viewport());
     case v1::Command::kCamera:
       return validate_camera(command.camera());
     case v1::Command::KIND_NOT_SET:
@@ -217,15 +217,10 @@ void validate_snapshot_time(double seconds, const char* field) {
   }
 }
 
-void validate_viewport(const v1::Viewport& viewport, const ServerLimits& limits) {
+void validate_viewport(const v1::Viewport& viewport) {
+  // One beyond the server's limits is not refused: its frames are scaled down to them (Viewer).
   if (viewport.width() == 0 || viewport.height() == 0) {
     refuse(RefusalCode::invalid_argument, "Viewport: width and height must be at least 1 pixel");
-  }
-  if (viewport.width() > limits.max_width || viewport.height() > limits.max_height) {
-    refuse(RefusalCode::resource_exhausted,
-           "Viewport " + text(viewport.width()) + "×" + text(viewport.height()) +
-               " is beyond this server's limit of " + text(limits.max_width) + "×" +
-               text(limits.max_height));
   }
 }
 
@@ -257,7 +252,7 @@ void validate_hello(const v1::ClientMessage& message, const ServerLimits& limits
   const v1::Hello& hello = message.hello();
   validate_token(hello.token(), token, "Hello.token");
   if (!hello.has_viewport()) refuse(RefusalCode::invalid_argument, "Hello.viewport is missing");
-  validate_viewport(hello.viewport(), limits);
+  validate_viewport(hello.viewport());
   validate_quality(hello.quality(), limits);
   switch (hello.session_case()) {
     case v1::Hello::kCreate:

@@ -23,7 +23,7 @@ void validate_hello(const v1::ClientMessage& message, const ServerLimits& limits
 void validate_event(const v1::ClientMessage& message, const ServerLimits& limits, Access access);
 
 // Parts shared with the other requests.
-void validate_viewport(const v1::Viewport& viewport, const ServerLimits& limits);
+void validate_viewport(const v1::Viewport& viewport);
 void validate_quality(const v1::Quality& quality, const ServerLimits& limits);
 // A key as a client gives it (join, resume, snapshots): not empty, not overlong.
 void validate_key(const std::string& key, const char* field);

@@ -20,6 +20,25 @@ Refusal refusal_for_frames(const gpu::VulkanError& error, std::uint32_t width,
                        "ask for a smaller one");
 }
 
+// A viewport beyond the server's largest frame, scaled down to fit it with its shape kept: a
+// phone's portrait screen asks for frames taller than a server limited to landscape's 1920×1080
+// draws. Frames say their size.
+FlowControl::Size within_limits(const v1::Viewport& viewport, const ServerLimits& limits) {
+  const double scale = std::min({1.0, double(limits.max_width) / double(viewport.width()),
+                                 double(limits.max_height) / double(viewport.height())});
+  const auto scaled = [scale](std::uint32_t pixels, std::uint32_t most) {
+    return std::clamp<std::uint32_t>(static_cast<std::uint32_t>(std::lround(pixels * scale)), 1,
+                                     most);
+  };
+  return {scaled(viewport.width(), limits.max_width), scaled(viewport.height(), limits.max_height)};
+}
+
+// Whether frames of `to` are turned from frames of `from` (one portrait, the other landscape);
+// not from no size yet.
+bool turned_from(FlowControl::Size from, FlowControl::Size to) {
+  return from.width != 0 && (to.width > to.height) != (from.width > from.height);
+}
+
 }  // namespace
 
 Viewer::Viewer(gpu::Context& context, std::uint32_t id, Seat seat, const v1::Viewport& viewport,
@@ -84,9 +103,10 @@ void Viewer::make_renderer(std::uint32_t width, std::uint32_t height) {
 }
 
 void Viewer::apply_viewport(const v1::Viewport& viewport) {
-  const bool turned = width_ != 0 && (viewport.width() > viewport.height()) != (width_ > height_);
-  width_ = viewport.width();
-  height_ = viewport.height();
+  const FlowControl::Size size = within_limits(viewport, *limits_);
+  const bool turned = turned_from({width_, height_}, size);
+  width_ = size.width;
+  height_ = size.height;
   flow_.ask_size({width_, height_});
   aim_size(width_, height_);
   // A phone turned between portrait and landscape: the tank in view again.
@@ -109,6 +129,11 @@ void Viewer::apply_camera(const v1::Camera& camera) {
     camera_.field_of_view_degrees = camera.field_of_view_degrees();
   }
   orbit_.clamp(camera_);
+}
+
+void Viewer::resume_view(const View& seen) {
+  camera_ = seen.camera;
+  if (turned_from(seen.size, {width_, height_})) camera_.fit(tank_, float(width_) / float(height_));
 }
 
 void Viewer::look_at(const sim::Box& tank) {

@@ -132,7 +132,15 @@ class Viewer {
   // it; 0 for later frames (they wait for no input).
   double input_wait_ms(Clock::time_point tick_start);
 
-  render::OrbitCamera& camera() { return camera_; }
+  // Where it looks from: its camera, and the frame size it asked for.
+  struct View {
+    render::OrbitCamera camera;
+    FlowControl::Size size;
+  };
+  View view() const { return {camera_, {width_, height_}}; }
+  // The view of the seat it resumes: its camera, fitted to the tank again when this viewer's
+  // frames are turned from those it was seen in (portrait and landscape), as a turned viewport's.
+  void resume_view(const View& seen);
   // Counts frames in the encoders; the encoder's callback decrements it.
   const std::shared_ptr<std::atomic<int>>& encoding() const { return encoding_; }
 

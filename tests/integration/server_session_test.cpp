@@ -18,6 +18,7 @@
 #include <tuple>
 #include <utility>
 
+#include "fluidcast/codec/jpeg.h"
 #include "server_test_support.h"
 #include "session/server_limits.h"
 
@@ -277,6 +278,70 @@ TEST(ServerTest, TwoViewersShareASessionAndResumeFindsTheFluidAsItWas) {
   EXPECT_NE(back->welcome().access().resume_key(), access.resume_key());
   // Not a new fluid: time went on from where it was.
   EXPECT_GE(frame_from(*back).sim_time(), time_before);
+}
+
+// A viewer that resumes with its screen turned (portrait after landscape: a phone turned while
+// its network was gone) sees the whole tank again, as a new viewer of that shape does; the fluid
+// is paused, so the two frames differ only by their cameras.
+TEST(ServerTest, AViewerResumedTurnedSeesTheTankFittedToItsNewShape) {
+  testing::ServerProcess server;
+  const std::string& address = server.grpc_address();
+  auto first = std::make_unique<StreamClient>(client::connect(address), small_hello());
+  v1::Command pause;
+  pause.set_pause(true);
+  first->command(pause);
+  ASSERT_TRUE(told(*first, [](const v1::SessionState& state) { return state.paused(); }));
+  const v1::Access access = first->welcome().access();
+  first->drop();
+  first.reset();
+
+  v1::Hello turned = small_hello();
+  turned.mutable_viewport()->set_width(120);
+  turned.mutable_viewport()->set_height(160);
+  v1::Hello fresh = turned;
+  turned.mutable_resume()->set_key(access.resume_key());
+  fresh.set_join(access.view_key());
+  StreamClient back(client::connect(address), turned);
+  StreamClient other(client::connect(address), fresh);
+  const auto picture = [](StreamClient& stream) {
+    v1::Frame frame;
+    for (int k = 0; k < 3; ++k) frame = frame_from(stream);  // the pause's last step shown
+    EXPECT_EQ(frame.width(), 120u);
+    EXPECT_EQ(frame.height(), 160u);
+    return codec::decode_jpeg(
+        {reinterpret_cast<const std::uint8_t*>(frame.jpeg().data()), frame.jpeg().size()});
+  };
+  const codec::ImageRgba resumed = picture(back), joined = picture(other);
+  ASSERT_EQ(resumed.pixels.size(), joined.pixels.size());
+  double difference = 0.0;
+  for (std::size_t k = 0; k < resumed.pixels.size(); ++k) {
+    difference += std::abs(int(resumed.pixels[k]) - int(joined.pixels[k]));
+  }
+  difference /= double(resumed.pixels.size());
+  std::printf("resumed turned vs a new viewer of that shape: %.2f levels apart on average\n",
+              difference);
+  EXPECT_LT(difference, 1.0) << "the resumed camera was not fitted to the turned frames";
+}
+
+// A viewport beyond the server's largest frame is not refused: its frames come scaled down to the
+// limits with its shape kept (a phone's portrait screen on a server limited to landscape's).
+TEST(ServerTest, AViewportBeyondTheServersLimitsGetsFramesScaledDownWithItsShape) {
+  testing::ServerProcess server({"--max-width", "160", "--max-height", "120"});
+  v1::Hello portrait = small_hello();
+  portrait.mutable_viewport()->set_width(240);
+  portrait.mutable_viewport()->set_height(320);
+  StreamClient stream(client::connect(server.grpc_address()), portrait);
+  v1::Frame frame = frame_from(stream);
+  EXPECT_EQ(frame.width(), 90u);
+  EXPECT_EQ(frame.height(), 120u);
+  v1::Command wide;
+  wide.mutable_viewport()->set_width(480);
+  wide.mutable_viewport()->set_height(240);
+  stream.command(wide);
+  for (int k = 0; k < 90 && frame.width() != 160u; ++k) frame = frame_from(stream);
+  EXPECT_EQ(frame.width(), 160u);
+  EXPECT_EQ(frame.height(), 80u);
+  EXPECT_FALSE(stream.ended()) << stream.status().error_message();
 }
 
 // The session forgets departed viewers by when they left, not when they joined: the creator,

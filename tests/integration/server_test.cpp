@@ -177,9 +177,9 @@ TEST(ServerTest, EveryBadInputEndsOnlyItsOwnStreamWithItsStatus) {
   unknown.set_join("0123456789abcdef0123456789abcdef");
   EXPECT_EQ(refusal_of(address, unknown), grpc::StatusCode::NOT_FOUND);
 
-  v1::Hello huge = small_hello();
-  huge.mutable_viewport()->set_width(4000);
-  EXPECT_EQ(refusal_of(address, huge), grpc::StatusCode::RESOURCE_EXHAUSTED);
+  v1::Hello too_fast = small_hello();  // past the server's --max-fps
+  too_fast.mutable_quality()->set_max_fps(1000);
+  EXPECT_EQ(refusal_of(address, too_fast), grpc::StatusCode::RESOURCE_EXHAUSTED);
 
   v1::Hello bad_scene = small_hello();
   bad_scene.mutable_create()->set_scene("ocean");
