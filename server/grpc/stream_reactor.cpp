@@ -28,7 +28,10 @@ class GrpcViewerSink final : public ViewerSink {
     return kept;
   }
 
-  void end(const Refusal& why) override { finish(to_status(why)); }
+  // The stream's rules or its session end it: counted and logged once, as it finishes.
+  void end(const Refusal& why) override {
+    if (finish(to_status(why))) record_refusal(*metrics_, Transport::grpc, why);
+  }
 
   // Ends a stream that has sent no Hello yet; false when one came meanwhile (or it is ending).
   bool end_unopened(const Refusal& why) {
@@ -36,6 +39,7 @@ class GrpcViewerSink final : public ViewerSink {
     if (!reactor_ || finishing_ || hello_came_) return false;
     finishing_ = true;
     reactor_->Finish(to_status(why));
+    record_refusal(*metrics_, Transport::grpc, why);
     return true;
   }
   // The first message came: the deadline is met, unless the stream is ending already (the
@@ -46,9 +50,10 @@ class GrpcViewerSink final : public ViewerSink {
     return reactor_ && !finishing_;
   }
 
-  void finish(const grpc::Status& status) {
+  // Finishes the stream with `status` once; false when it is finishing already (or gone).
+  bool finish(const grpc::Status& status) {
     std::lock_guard lock(mutex_);
-    if (!reactor_ || finishing_) return;
+    if (!reactor_ || finishing_) return false;
     finishing_ = true;
     outgoing_.stop_frames();
     if (writing_) {
@@ -56,6 +61,7 @@ class GrpcViewerSink final : public ViewerSink {
     } else {
       reactor_->Finish(status);
     }
+    return true;
   }
 
   // The next read, unless the stream is finishing (no operation may follow Finish).
@@ -90,9 +96,9 @@ class GrpcViewerSink final : public ViewerSink {
     std::lock_guard lock(mutex_);
     if (!reactor_ || finishing_) return;
     if (opened.refusal) {
-      reactor_->protocol_.refused(*opened.refusal);
       finishing_ = true;
       reactor_->Finish(to_status(*opened.refusal));
+      record_refusal(*metrics_, Transport::grpc, *opened.refusal);
       return;
     }
     reactor_->on_opened(std::move(opened));
@@ -124,21 +130,19 @@ class GrpcViewerSink final : public ViewerSink {
 StreamReactor::StreamReactor(SessionHub& hub, std::string address)
     : hub_(&hub),
       sink_(std::make_shared<GrpcViewerSink>(this, hub.metrics())),
-      protocol_(Transport::grpc, hub.limits(), hub.token(), hub.metrics()),
+      protocol_(hub.limits(), hub.token()),
       address_(std::move(address)) {
   // The alarm's reaction holds the sink and the refusal, not the reactor: it may run after the
   // stream is done.
-  hello_deadline_.Set(
-      std::chrono::system_clock::now() + hub.limits().hello_timeout,
-      [sink = sink_, late = protocol_.no_hello(), &metrics = hub.metrics()](bool fired) {
-        if (!fired) return;  // cancelled: the Hello came, or the stream ended
-        if (sink->end_unopened(late)) record_refusal(metrics, Transport::grpc, late);
-      });
+  hello_deadline_.Set(std::chrono::system_clock::now() + hub.limits().hello_timeout,
+                      [sink = sink_, late = protocol_.no_hello()](bool fired) {
+                        if (fired)
+                          sink->end_unopened(late);  // else cancelled: the Hello came, or it ended
+                      });
   StartRead(&incoming_);
 }
 
 void StreamReactor::refuse(const Refusal& refusal) {
-  protocol_.refused(refusal);
   sink_->end(refusal);
   // The viewer leaves now, even if a client that stopped reading holds the last write open.
   if (viewer_) viewer_->leave(Departure::dropped);

@@ -20,6 +20,13 @@ bool FlowControl::due(Clock::time_point now) const {
   return throttled() ? overdue(now) >= kThrottledFrameEvery : now >= next_frame_;
 }
 
+bool FlowControl::skips_frame(Clock::time_point now) {
+  const Clock::time_point due = std::max(next_frame_, next_skipped_);
+  if (!throttled() || now < due) return false;
+  next_skipped_ = due + frame_interval_;
+  return true;
+}
+
 void FlowControl::rendered(Clock::time_point now) {
   next_frame_ = std::max(next_frame_ + frame_interval_, now);
   last_rendered_ = now;

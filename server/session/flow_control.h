@@ -49,6 +49,9 @@ class FlowControl {
   // been sent for kThrottledFrameEvery).
   bool due(Clock::time_point now) const;
   bool throttled() const { return sequence_ - acknowledged_ >= kMaxFramesInFlight; }
+  // Whether throttling holds back a frame its rate has due now: true once a frame interval at
+  // most, so that a count of them counts frames, not the server's ticks.
+  bool skips_frame(Clock::time_point now);
   // How long ago its next frame fell due (negative before).
   Clock::duration overdue(Clock::time_point now) const { return now - next_frame_; }
   // How long since its last frame was rendered (since `start` before its first): what the
@@ -73,6 +76,7 @@ class FlowControl {
   Clock::duration frame_interval_{};
   Clock::time_point next_frame_{};
   Clock::time_point last_rendered_{};
+  Clock::time_point next_skipped_{};  // when the next frame held back falls due
   std::uint64_t sequence_ = 0, acknowledged_ = 0;
   std::array<Clock::time_point, 64> produced_at_{};
   std::optional<double> round_trip_ms_;

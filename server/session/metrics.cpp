@@ -192,8 +192,8 @@ void Metrics::write_labelled(std::string& out) const {
                "always 1.");
   out += "fluidcast_device_info{" + device_labels_ + "} 1\n";
   write_header(out, "fluidcast_streams_refused_total", "counter",
-               "Streams ended with an error status for bad input or a limit, by transport and "
-               "status code.");
+               "Streams the server ended with an error status (bad input, a limit, a failure, the "
+               "idle timeout, shutdown), by transport and status code.");
   for (const auto& [key, count] : refusals_) {
     out += std::string("fluidcast_streams_refused_total{transport=") +
            quoted(transport_name(key.first)) + ",reason=" + quoted(refusal_code_name(key.second)) +

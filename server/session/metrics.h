@@ -63,7 +63,8 @@ struct Metrics {
 
   // What the server runs on, for fluidcast_device_info.
   void describe_device(const gpu::DeviceInfo& device);
-  // A stream ended with an error status for bad input or a limit.
+  // The server ended a stream with an error status: at its Hello, for a message, or with its
+  // session (a limit, a failure, the idle timeout, a resume elsewhere, shutdown).
   void refused(Transport transport, RefusalCode reason);
   // From a frame's hand-over to the transport until it was written.
   void sent(Transport transport, double milliseconds);

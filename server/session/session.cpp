@@ -553,7 +553,7 @@ void Session::render(const GpuGrant& grant, Clock::time_point now) {
       candidates.push_back({id, viewer.get(), std::nullopt});
       due_frames.push_back(
           {frame_price(*viewer), milliseconds(viewer->flow().since_rendered(now))});
-    } else if (viewer->flow().throttled()) {
+    } else if (viewer->skips_frame(now)) {
       services_.metrics->frames_skipped++;
     }
   }

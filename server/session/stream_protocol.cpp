@@ -6,9 +6,8 @@
 
 namespace fluidcast::server {
 
-StreamProtocol::StreamProtocol(Transport transport, const ServerLimits& limits,
-                               const std::optional<std::string>& token, Metrics& metrics)
-    : transport_(transport), limits_(&limits), token_(&token), metrics_(&metrics), rates_(limits) {}
+StreamProtocol::StreamProtocol(const ServerLimits& limits, const std::optional<std::string>& token)
+    : limits_(&limits), token_(&token), rates_(limits) {}
 
 std::variant<StreamProtocol::Open, StreamProtocol::Post> StreamProtocol::receive(
     google::protobuf::io::ZeroCopyInputStream& bytes) {
@@ -45,10 +44,6 @@ Refusal StreamProtocol::no_hello() const {
 void record_refusal(Metrics& metrics, Transport transport, const Refusal& refusal) {
   metrics.refused(transport, refusal.code());
   spdlog::warn("ended a {} stream: {}", transport_name(transport), refusal.what());
-}
-
-void StreamProtocol::refused(const Refusal& refusal) const {
-  record_refusal(*metrics_, transport_, refusal);
 }
 
 }  // namespace fluidcast::server

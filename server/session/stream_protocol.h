@@ -2,7 +2,7 @@
 // WebSocket): the first must be a Hello, which opens a session; each later one is an event for
 // it, checked against its viewer's access and the stream's rates. A transport reads a message,
 // hands its bytes here and does what comes back; a Refusal thrown ends the stream with its status
-// (refused() counts and logs it). A transport reads the next message only after the last one's
+// (record_refusal counts and logs it). A transport reads the next message only after the last one's
 // answer, and after opened() once it opened a session, so this needs no lock.
 #pragma once
 
@@ -19,15 +19,14 @@
 
 namespace fluidcast::server {
 
-// Counts a refusal that ended a stream of `transport`, and logs it: what StreamProtocol::refused
-// does, for a reaction that may outlive the protocol (the gRPC Hello deadline's alarm).
+// Counts a refusal that ended a stream of `transport`, and logs it: each transport once, as the
+// stream ends, whatever ended it (this protocol's rules, the session, the Hello deadline).
 void record_refusal(Metrics& metrics, Transport transport, const Refusal& refusal);
 
 class StreamProtocol {
  public:
-  // `limits`, `token` and `metrics` outlive it.
-  StreamProtocol(Transport transport, const ServerLimits& limits,
-                 const std::optional<std::string>& token, Metrics& metrics);
+  // `limits` and `token` outlive it.
+  StreamProtocol(const ServerLimits& limits, const std::optional<std::string>& token);
 
   // Open a session (create, join or resume) for this Hello; the next message waits for opened().
   struct Open {
@@ -45,16 +44,12 @@ class StreamProtocol {
 
   // Why a stream that sent no Hello within ServerLimits::hello_timeout ends.
   Refusal no_hello() const;
-  // Counts a refusal that ended the stream, and logs it (record_refusal).
-  void refused(const Refusal& refusal) const;
 
  private:
   enum class Stage { awaiting_hello, opening, open };
 
-  Transport transport_;
   const ServerLimits* limits_;
   const std::optional<std::string>* token_;
-  Metrics* metrics_;
   StreamRates rates_;
   Stage stage_ = Stage::awaiting_hello;
   Access access_ = Access::view;

@@ -87,6 +87,7 @@ class Viewer {
   // many of its frames.
   bool due(Clock::time_point now) const;
   const FlowControl& flow() const { return flow_; }
+  bool skips_frame(Clock::time_point now) { return flow_.skips_frame(now); }
   // What a frame shows, besides its pixels, and when its tick began.
   struct Shows {
     std::uint64_t input_event_id = 0;  // the newest of this viewer's inputs applied

@@ -34,7 +34,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
       : socket_(std::move(stream)),
         slot_(std::move(slot)),
         hub_(&hub),
-        protocol_(Transport::websocket, hub.limits(), hub.token(), hub.metrics()),
+        protocol_(hub.limits(), hub.token()),
         hello_deadline_(socket_.get_executor()) {}
 
   void start(beast::http::request<beast::http::string_body> request) {
@@ -66,8 +66,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
         [self = shared_from_this(), message = std::move(message)] { self->send(message); });
   }
   void post_end(const Refusal& why) {
-    boost::asio::post(socket_.get_executor(),
-                      [self = shared_from_this(), why] { self->end(why.code(), why.what()); });
+    boost::asio::post(socket_.get_executor(), [self = shared_from_this(), why] { self->end(why); });
   }
 
  private:
@@ -143,8 +142,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
   // Ends the stream with a StreamEnd saying why; the viewer leaves now, and the socket closes once
   // the StreamEnd is written.
   void refuse(const Refusal& refusal) {
-    protocol_.refused(refusal);
-    end(refusal.code(), refusal.what());
+    end(refusal);
     leave();
   }
 
@@ -155,8 +153,7 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
                  boost::asio::post(self->socket_.get_executor(),
                                    [self, opened = std::move(opened)]() mutable {
                                      if (opened.refusal) {
-                                       self->protocol_.refused(*opened.refusal);
-                                       self->end(opened.refusal->code(), opened.refusal->what());
+                                       self->end(*opened.refusal);
                                        return;
                                      }
                                      // The socket went away while the session opened: the link,
@@ -195,14 +192,15 @@ class WebSocketSession : public std::enable_shared_from_this<WebSocketSession<St
                         });
   }
 
-  // Says why in a StreamEnd, then closes once it is written.
-  void end(RefusalCode code, const std::string& why) {
+  // Says why in a StreamEnd, then closes once it is written; counted and logged once.
+  void end(const Refusal& why) {
     if (ending_) return;
     ending_ = true;
+    record_refusal(hub_->metrics(), Transport::websocket, why);
     outgoing_.stop_frames();
     auto message = std::make_shared<v1::ServerMessage>();
-    message->mutable_end()->set_code(refusal_code_name(code));
-    message->mutable_end()->set_message(why);
+    message->mutable_end()->set_code(refusal_code_name(why.code()));
+    message->mutable_end()->set_message(why.what());
     outgoing_.push(std::move(message));
     if (!writing_) write_next();
   }

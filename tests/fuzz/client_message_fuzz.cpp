@@ -20,7 +20,6 @@ namespace {
 
 const ServerLimits kLimits;
 const std::optional<std::string> kToken = std::string("secret");
-Metrics metrics;
 
 void receive(StreamProtocol& protocol, const std::uint8_t* data, std::size_t size) {
   google::protobuf::io::ArrayInputStream bytes(data, static_cast<int>(size));
@@ -31,7 +30,7 @@ void receive(StreamProtocol& protocol, const std::uint8_t* data, std::size_t siz
 }
 
 StreamProtocol opened(Access access) {
-  StreamProtocol protocol(Transport::grpc, kLimits, kToken, metrics);
+  StreamProtocol protocol(kLimits, kToken);
   v1::ClientMessage hello;
   hello.mutable_hello()->set_token(*kToken);
   hello.mutable_hello()->mutable_viewport()->set_width(320);
@@ -46,7 +45,7 @@ StreamProtocol opened(Access access) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   static StreamProtocol controls = opened(Access::control), watches = opened(Access::view);
-  StreamProtocol first(Transport::websocket, kLimits, kToken, metrics);
+  StreamProtocol first(kLimits, kToken);
   receive(first, data, size);
   receive(controls, data, size);
   receive(watches, data, size);

@@ -165,10 +165,10 @@ struct Server {
 
 // A stream as a transport runs it: its protocol, and once open the link to its viewer.
 struct Stream {
-  explicit Stream(SessionHub& hub)
-      : protocol(Transport::grpc, hub.limits(), hub.token(), hub.metrics()) {}
+  explicit Stream(SessionHub& hub) : protocol(hub.limits(), hub.token()), metrics(&hub.metrics()) {}
   std::shared_ptr<RecordingSink> sink = std::make_shared<RecordingSink>();
   StreamProtocol protocol;
+  Metrics* metrics;
   std::shared_ptr<ViewerLink> link;
   bool ended = false;
 };
@@ -204,7 +204,7 @@ bool open(SessionHub& hub, Stream& stream, const v1::ClientMessage& message,
     stream.link = std::move(result.viewer);
     stream.protocol.opened(result.access);
   } catch (const Refusal& refusal) {
-    stream.protocol.refused(refusal);
+    record_refusal(*stream.metrics, Transport::grpc, refusal);
     end(stream, Departure::dropped);
     return false;
   }
@@ -226,7 +226,7 @@ void send(Stream& stream, const v1::ClientMessage& message) {
       defect("an open stream's message was taken as a Hello");
     stream.link->post(std::get<StreamProtocol::Post>(received).message);
   } catch (const Refusal& refusal) {
-    stream.protocol.refused(refusal);
+    record_refusal(*stream.metrics, Transport::grpc, refusal);
     end(stream, Departure::dropped);
   }
 }

@@ -63,6 +63,25 @@ TEST_F(FlowControlTest, AViewerThatDoesNotAcknowledgeGetsAFrameASecondAfterItsTh
   EXPECT_TRUE(flow.due(now));
 }
 
+// A throttled viewer's frames held back are counted once a frame interval (30 a second here),
+// however often the server ticks (120 a second here), and not at all while it keeps up.
+TEST_F(FlowControlTest, FramesHeldBackAreCountedByTheRateNotByTheTick) {
+  const auto skipped_in_a_second = [&] {
+    int skipped = 0;
+    for (int tick = 0; tick < 120; ++tick) {
+      if (!flow.due(now) && flow.skips_frame(now)) ++skipped;
+      now += std::chrono::microseconds(8333);
+    }
+    return skipped;
+  };
+  EXPECT_EQ(skipped_in_a_second(), 0);
+  for (std::uint64_t k = 0; k < FlowControl::kMaxFramesInFlight; ++k) frame();
+  ASSERT_TRUE(flow.throttled());
+  const int skipped = skipped_in_a_second();
+  EXPECT_GE(skipped, 28);
+  EXPECT_LE(skipped, 31);
+}
+
 TEST_F(FlowControlTest, AcknowledgementsOfFramesNotSentOrAlreadyAcknowledgedAreIgnored) {
   const std::uint64_t sequence = frame();
   flow.acknowledge(sequence + 5, now + milliseconds(10));

@@ -49,8 +49,7 @@ class StreamProtocolTest : public testing::Test {
  protected:
   ServerLimits limits;
   std::optional<std::string> token;
-  Metrics metrics;
-  StreamProtocol protocol{Transport::websocket, limits, token, metrics};
+  StreamProtocol protocol{limits, token};
 };
 
 TEST_F(StreamProtocolTest, AHelloOpensThenEventsArePostedInTheOrderTheyCame) {
@@ -112,7 +111,8 @@ TEST_F(StreamProtocolTest, UnknownFieldsAreDropped) {
 }
 
 TEST_F(StreamProtocolTest, ARefusalIsCountedByTransportAndCode) {
-  protocol.refused(protocol.no_hello());
+  Metrics metrics;
+  record_refusal(metrics, Transport::websocket, protocol.no_hello());
   EXPECT_NE(metrics.prometheus_text().find("fluidcast_streams_refused_total{transport="
                                            "\"websocket\",reason=\"DEADLINE_EXCEEDED\"} 1"),
             std::string::npos);
