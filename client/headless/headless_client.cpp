@@ -83,9 +83,10 @@ void save(const v1::Frame& frame, const std::string& folder) {
       .write(frame.jpeg().data(), static_cast<std::streamsize>(frame.jpeg().size()));
 }
 
-nlohmann::json report_of(const FrameFigures& figures, const HandoffStream& stream, double seconds) {
-  const std::vector<double> latencies = stream.latencies_ms();
-  const auto handoff_gap_ms = stream.handoff_gap_ms();
+// The run's figures; without a stream (none opened), those of no frames.
+nlohmann::json report_of(const FrameFigures& figures, const HandoffStream* stream, double seconds) {
+  const std::vector<double> latencies = stream ? stream->latencies_ms() : std::vector<double>{};
+  const auto handoff_gap_ms = stream ? stream->handoff_gap_ms() : std::nullopt;
   return {
       {"frames", figures.frames},
       {"bad_frames", figures.bad_frames},
@@ -103,7 +104,7 @@ nlohmann::json report_of(const FrameFigures& figures, const HandoffStream& strea
       {"outside_server_p50_ms",
        std::max(0.0, percentile(latencies, 0.5) - percentile(figures.on_server, 0.5))},
       // Where the fluid was at the end, and the gap of the newest handoff (null: none).
-      {"simulated_here", stream.simulating_here()},
+      {"simulated_here", stream && stream->simulating_here()},
       {"handoff_gap_ms", handoff_gap_ms ? nlohmann::json(*handoff_gap_ms) : nlohmann::json()},
   };
 }
@@ -147,12 +148,26 @@ int run_headless(const HeadlessOptions& o) {
     return "stopped by SIG" + std::string(sigabbrev_np(stop.received()));
   };
   std::optional<HandoffStream> opened;
+  const auto asked = Clock::now();
+  // A run that never streamed still ends with --json's report as its last line, saying why.
+  const auto report_unopened = [&](const std::string& why) {
+    if (!o.json) return;
+    print(report_of({}, nullptr, std::chrono::duration<double>(Clock::now() - asked).count()), why,
+          true);
+  };
   try {
     opened.emplace(o.hello, handoff_sides(o.server, o.max_local_particles), handoff);
   } catch (const StreamError& e) {
-    if (e.code() != grpc::StatusCode::CANCELLED || !stop.received()) throw;
-    std::fprintf(stderr, "fluidcast-client: %s while connecting\n", stopped().c_str());
-    return 128 + stop.received();
+    if (e.code() == grpc::StatusCode::CANCELLED && stop.received()) {
+      report_unopened(stopped() + " while connecting");
+      std::fprintf(stderr, "fluidcast-client: %s while connecting\n", stopped().c_str());
+      return 128 + stop.received();
+    }
+    report_unopened(std::string("the server refused: ") + e.what());
+    throw;
+  } catch (const Unreachable& e) {
+    report_unopened(std::string("cannot connect: ") + e.what());
+    throw;
   }
   HandoffStream& stream = *opened;
   if (!stream.welcome().session_id().empty()) {  // else it is still asking (--handoff)
@@ -172,7 +187,7 @@ int run_headless(const HeadlessOptions& o) {
     if (!o.save_frames.empty()) save(*frame, o.save_frames);
   }
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  const nlohmann::json report = report_of(figures, stream, seconds);
+  const nlohmann::json report = report_of(figures, &stream, seconds);
   if (stop.received()) {
     // Its figures, cut short, said before the goodbye (which a second signal may cut short), and
     // the status a shell gives a run that signal ended.

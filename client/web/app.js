@@ -265,6 +265,7 @@ function receive(bytes) {
     fillMenus(state.rules);
     showAccess(state.access);
     retryDelayMs = 500;
+    lastFrameAt = performance.now();  // a new stream: its frames are not late yet
     keepAwake();
     // The address bar opens what this page may do: a reload comes back to the same fluid.
     joinKey = state.access.control ? state.access.controlKey : state.access.viewKey;
@@ -296,7 +297,6 @@ function receive(bytes) {
     }
     askForStates();
   } else if (message.session) {
-    stateAskedAt = 0;  // a state waiting to go out is dropped when the session's goes first
     // Another scene or count, or a pause, from this page or another viewer: the menu and the Pause
     // button show it. A new fluid's states are asked for afresh (none kept from the old one), if
     // the page keeps states for its count.
@@ -354,8 +354,9 @@ function ended(code, text) {
 function droppedFromAddress(text) {
   const drop = (field, name) => {
     if (!wanted[name] || !text.includes(field)) return false;
-    addressProblem = `"${name}=${wanted[name]}" in the address is not a ${name} this server ` +
-                     'has: it chose one.';
+    addressProblem = (addressProblem ? addressProblem + ' ' : '') +
+        `"${name}=${wanted[name]}" in the address is not a ${name} this server ` +
+        'has: it chose one.';
     wanted[name] = '';
     return true;
   };

@@ -23,9 +23,18 @@ function normalised(event) {
 const kStallMs = 500, kReleaseHeldMs = 250;
 const heldInputs = new Map();  // our pointer id, or 'tilt' → the message
 
+// No frame for kStallMs, or for twice the recent frames' interval where they come slower (a
+// throttled viewer), up to 2 s: moves held 2 s at most arrive within the server's rate.
+function stalled() {
+  const n = frameTimes.length;
+  const interval = n >= 2 ? (frameTimes[n - 1] - frameTimes[0]) / (n - 1) : 0;
+  return performance.now() - lastFrameAt > Math.min(2000, Math.max(kStallMs, 2 * interval));
+}
+
 function sendInput(key, fields) {
   heldInputs.delete(key);  // replaced by this one
-  if (performance.now() - lastFrameAt > kStallMs) heldInputs.set(key, fields);
+  if (stalled())
+    heldInputs.set(key, fields);
   else send(fields, true);
 }
 
@@ -62,12 +71,18 @@ page.canvas.addEventListener('pointerdown', (e) => {
   page.canvas.setPointerCapture(e.pointerId);
   pointer(e, 'DOWN');
 });
-// Moves at most 60 a second per finger: the server's input rate limit is for all of them.
+// Moves at most 60 a second per finger, and for all of them together at most half the server's
+// input rate (Welcome.limits): a hand on the screen, 10 fingers' 600 a second, would pass it and
+// end the stream.
 const lastMove = new Map();
+function moveIntervalMs() {
+  const rate = state.limits ? state.limits.maxInputEventsPerSecond : 0;
+  return rate ? Math.max(16, 2000 * pointerIds.size / rate) : 16;
+}
 page.canvas.addEventListener('pointermove', (e) => {
   if (!pointerIds.has(e.pointerId)) return;
   const now = performance.now();
-  if (now - (lastMove.get(e.pointerId) || 0) < 16) return;
+  if (now - (lastMove.get(e.pointerId) || 0) < moveIntervalMs()) return;
   lastMove.set(e.pointerId, now);
   pointer(e, 'MOVE');
 });

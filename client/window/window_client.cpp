@@ -78,18 +78,28 @@ class Client {
   void handle_key(SDL_Keycode key);
   void handle_finger(const SDL_TouchFingerEvent& finger, Uint32 type);
   void pointer(std::uint32_t id, v1::PointerEvent::Phase phase, float window_x, float window_y);
+  // How often each pointer's moves go: kMoveInterval, and for all of them together at most half
+  // the server's input rate (a hand on a touch screen, 10 fingers' 600 moves a second, would
+  // pass its 400 and end the stream).
+  Clock::duration move_interval() const;
   // Whether this viewer may change the fluid (it joined with a view key: no).
   bool controls() const { return stream_ && stream_->welcome().access().control(); }
-  // The mouse takes the last pointer id the server allows (Welcome.rules), fingers those below.
-  std::uint32_t mouse_pointer() const {
-    return stream_ ? std::max(1u, stream_->welcome().rules().pointer_ids()) - 1 : 0;
+  // The mouse takes the last pointer id the server allows (Welcome.rules), fingers those below;
+  // kept while no stream says it (a handoff's gap), so that a release then lifts what it pressed.
+  std::uint32_t mouse_pointer() {
+    if (stream_ && stream_->welcome().rules().pointer_ids() > 0) {
+      mouse_pointer_ = stream_->welcome().rules().pointer_ids() - 1;
+    }
+    return mouse_pointer_;
   }
   void show(const v1::Frame& frame);
   void draw();
   void update_title(Clock::time_point now);
   std::string status() const;
   void complain(std::string trouble);
-  void screenshot() const;
+  // The window as drawn, as --screenshot's PNG: read before it is presented, after which the
+  // renderer's buffer is undefined.
+  void write_screenshot() const;
   v1::Hello hello_for_window() const;
 
   WindowOptions options_;
@@ -109,6 +119,8 @@ class Client {
   Clock::time_point trouble_until_{};
   std::map<SDL_FingerID, std::uint32_t> fingers_;
   std::map<std::uint32_t, Clock::time_point> last_move_;
+  std::uint32_t mouse_pointer_ = 0;
+  bool screenshot_wanted_ = false;  // by F12, or at the end
   Clock::time_point last_tilt_{}, last_title_{};
   std::size_t frames_ = 0;
   std::vector<std::pair<Clock::time_point, std::size_t>> recent_frames_;  // arrival, JPEG bytes
@@ -176,12 +188,22 @@ void Client::send_viewport() {
   stream_->command(command);
 }
 
+Clock::duration Client::move_interval() const {
+  const std::uint32_t rate =
+      stream_ ? stream_->welcome().limits().max_input_events_per_second() : 0;
+  if (rate == 0) return kMoveInterval;  // none said: the fluid here has no limit
+  const double pointers = double(fingers_.size() + 1);
+  return std::max<Clock::duration>(
+      kMoveInterval, std::chrono::duration_cast<Clock::duration>(
+                         std::chrono::duration<double>(2.0 * pointers / double(rate))));
+}
+
 void Client::pointer(std::uint32_t id, v1::PointerEvent::Phase phase, float window_x,
                      float window_y) {
   if (!stream_ || frame_width_ == 0) return;
   const auto now = Clock::now();
   if (phase == v1::PointerEvent::MOVE) {
-    if (now - last_move_[id] < kMoveInterval) return;
+    if (now - last_move_[id] < move_interval()) return;
     last_move_[id] = now;
   }
   int width = 0, height = 0;
@@ -279,7 +301,7 @@ void Client::handle_key(SDL_Keycode key) {
   } else if (key == SDLK_p && controls()) {
     command.set_pause(!stream_->welcome().state().paused());
   } else if (key == SDLK_F12) {
-    screenshot();
+    screenshot_wanted_ = !options_.screenshot.empty();
   } else if (key == SDLK_h) {
     overlay_->toggle();
   }
@@ -316,6 +338,10 @@ void Client::draw() {
     SDL_RenderCopy(renderer_.get(), texture_.get(), nullptr, &rect);
   }
   overlay_->draw();
+  if (screenshot_wanted_) {
+    screenshot_wanted_ = false;
+    write_screenshot();
+  }
   SDL_RenderPresent(renderer_.get());
 }
 
@@ -361,8 +387,7 @@ void Client::update_title(Clock::time_point now) {
   SDL_SetWindowTitle(window_.get(), line);
 }
 
-void Client::screenshot() const {
-  if (options_.screenshot.empty()) return;
+void Client::write_screenshot() const {
   int width = 0, height = 0;
   SDL_GetRendererOutputSize(renderer_.get(), &width, &height);
   codec::ImageRgba image(width, height);
@@ -440,7 +465,8 @@ int Client::run() {
     draw();
     update_title(now);
   }
-  screenshot();
+  screenshot_wanted_ = !options_.screenshot.empty();
+  draw();
   // A goodbye, not a drop: the server ends a session at once when its last viewer leaves, while
   // a dropped viewer's seat and session wait out --resume-grace, counted against this address.
   // The window goes first: a server that does not answer holds the goodbye up to seconds.

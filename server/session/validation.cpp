@@ -229,7 +229,7 @@ void validate_quality(const v1::Quality& quality, const ServerLimits& limits) {
     refuse(RefusalCode::invalid_argument,
            "Quality.jpeg_quality must be 0 (default) or 1 to " + text(kMaxJpegQuality));
   }
-  if (quality.max_fps() > limits.max_fps) {  // a server limit, as the viewport's size is
+  if (quality.max_fps() > limits.max_fps) {  // a server limit, as the particle count is
     refuse(RefusalCode::resource_exhausted, "Quality.max_fps " + text(quality.max_fps()) +
                                                 " is beyond this server's limit of " +
                                                 text(limits.max_fps) + " (0: the server's rate)");

@@ -530,6 +530,10 @@ async function main() {
     check(stalled.states <= 1 && stalled.moves >= 3 && stalled.moves <= 12,
           `while nothing comes, one state request waits (${stalled.states} sent) and a finger's ` +
           `30 moves go 4 a second (${stalled.moves} sent)`);
+    // The network moves again: frames come (the server throttled the viewer while no
+    // acknowledgement came), and the handoff below is timed from the newest.
+    const framesAfterStall = await handing.evaluate(() => window.fluidcast.frames);
+    await waitFor(handing, `window.fluidcast.frames > ${framesAfterStall + 2}`, 'frames after the stall');
 
     // The server goes away: the page that may not continue says so instead of a blank screen.
     child.kill('SIGTERM');
