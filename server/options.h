@@ -20,6 +20,7 @@ struct ServerOptions {
   unsigned short http_port = 8080;
   std::optional<std::uint32_t> device;
   bool list_devices = false;  // print them and exit, serving nothing
+  bool list_settings = false;        // print docs/server-settings.md and exit
   std::uint32_t gpu_memory_mib = 0;  // the most GPU memory the server allocates; 0: no limit
   SolverBackend backend = SolverBackend::automatic;
   ServerLimits limits;  // as given, but for the two below

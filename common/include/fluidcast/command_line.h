@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <set>
 #include <string>
 
 #include "fluidcast/version.h"
@@ -50,6 +51,42 @@ inline int exit_for(const CLI::App& app, const CLI::ParseError& error) {
     }
   }
   return app.exit(error) == 0 ? 0 : kBadFlag;
+}
+
+// Every setting of `app` as a Markdown table (flag, environment variable, default, values, what it
+// does), for a program's settings in docs/: the values are the range or names --help gives, else
+// the type.
+// The options named in `said_defaults` have a default that depends on where the program is (a
+// folder beside it): their description says it, the table shows none.
+inline std::string settings_markdown(const CLI::App& app,
+                                     const std::set<std::string>& said_defaults = {}) {
+  const auto cell = [](std::string text) {
+    std::string escaped;
+    for (const char c : text) {
+      if (c == '|') escaped += '\\';
+      escaped += c;
+    }
+    return escaped.empty() ? std::string("–") : escaped;
+  };
+  const auto code = [](const std::string& text) {
+    return text.empty() ? std::string() : "`" + text + "`";
+  };
+  std::string table =
+      "| flag | variable | default | values | what |\n| --- | --- | --- | --- | --- |\n";
+  for (const CLI::Option* option : app.get_options()) {
+    if (option->get_envname().empty()) continue;       // --help, --version, --list-…: no setting
+    const std::string type = option->get_type_name();  // "UINT:UINT in [1 - 8]": its checks
+    const std::size_t checks = type.find(':');
+    const std::string values = option->get_expected_max() == 0 ? "flag"
+                               : checks == std::string::npos   ? type
+                                                               : type.substr(checks + 1);
+    const std::string fallback =
+        said_defaults.count(option->get_name()) != 0 ? std::string() : option->get_default_str();
+    table += "| " + code(option->get_name()) + " | " + code(option->get_envname()) + " | " +
+             cell(code(fallback)) + " | " + cell(values) + " | " + cell(option->get_description()) +
+             " |\n";
+  }
+  return table;
 }
 
 }  // namespace fluidcast

@@ -41,10 +41,19 @@ struct ParamSpec {
   bool is_integer() const { return std::holds_alternative<int Owner::*>(member); }
 };
 
-inline std::string format_range(double min, double max) {
+// A whole number in full (16777216, not 1.67772e+07), any other in six significant digits.
+inline std::string format_number(double x) {
   std::ostringstream out;
-  out << '[' << min << ", " << max << ']';
+  if (std::isfinite(x) && x == std::floor(x) && std::fabs(x) < 0x1p53) {
+    out << static_cast<long long>(x);
+  } else {
+    out << x;
+  }
   return out.str();
+}
+
+inline std::string format_range(double min, double max) {
+  return '[' + format_number(min) + ", " + format_number(max) + ']';
 }
 
 // Throws ParamError("{name}: value V ...; accepted range [min, max] unit") for the first bad value.
@@ -88,8 +97,8 @@ std::string describe_markdown(const Owner& defaults, const std::vector<ParamSpec
   std::ostringstream out;
   out << "| flag | unit | default | range | meaning |\n|---|---|---|---|---|\n";
   for (const auto& spec : specs) {
-    out << "| `--" << spec.name << "` | " << spec.unit << " | " << spec.get(defaults) << " | "
-        << format_range(spec.min, spec.max) << " | " << spec.description << " |\n";
+    out << "| `--" << spec.name << "` | " << spec.unit << " | " << format_number(spec.get(defaults))
+        << " | " << format_range(spec.min, spec.max) << " | " << spec.description << " |\n";
   }
   return out.str();
 }
