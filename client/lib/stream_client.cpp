@@ -47,7 +47,7 @@ std::shared_ptr<grpc::Channel> connect(const std::string& server) {
 
 StreamClient::StreamClient(std::shared_ptr<grpc::Channel> channel, const v1::Hello& hello,
                            std::chrono::milliseconds welcome_within, std::stop_token stop)
-    : stub_(v1::Fluidcast::NewStub(channel)), token_(hello.token()) {
+    : stub_(v1::Fluidcast::NewStub(channel)), token_(hello.token()), stop_(stop) {
   const grpc::Status closing(grpc::StatusCode::CANCELLED, "the client closed while connecting");
   // A server that cannot be reached is said in seconds, not after gRPC's long backoff.
   const auto give_up = std::chrono::system_clock::now() + kConnectTimeout;
@@ -297,6 +297,7 @@ v1::Snapshot StreamClient::snapshot() {
   request.set_token(token_);
   request.set_key(welcome_.access().view_key());
   v1::Snapshot snapshot;
+  const std::stop_callback cancel(stop_, [&context] { context.TryCancel(); });
   const grpc::Status status = stub_->GetSnapshot(&context, request, &snapshot);
   if (!status.ok()) throw StreamError(status);
   return snapshot;
@@ -321,6 +322,7 @@ void StreamClient::load(const v1::Snapshot& snapshot) {
   *request.mutable_snapshot() = snapshot;
   context.set_deadline(snapshot_deadline(kSnapshotLoad, request.ByteSizeLong()));
   v1::PutSnapshotReply reply;
+  const std::stop_callback cancel(stop_, [&context] { context.TryCancel(); });
   const grpc::Status status = stub_->PutSnapshot(&context, request, &reply);
   if (!status.ok()) throw StreamError(status);
 }

@@ -51,7 +51,8 @@ class StreamClient final : public FluidStream {
   // Opens a stream and sends `hello`; waits for the Welcome (throws StreamError when the server
   // refuses, with its status, and UNAVAILABLE when none comes within `welcome_within`: a server
   // that takes the call and never answers is one that does not answer). Once `stop` is requested
-  // it waits no longer, for the connection or the Welcome (CANCELLED): a client closing.
+  // it waits no longer, for the connection or the Welcome, nor does a snapshot call under way
+  // (CANCELLED): a client closing does not wait on a server that stopped answering.
   static constexpr std::chrono::seconds kWelcomeWithin{30};
   StreamClient(std::shared_ptr<grpc::Channel> channel, const v1::Hello& hello,
                std::chrono::milliseconds welcome_within = kWelcomeWithin,
@@ -100,6 +101,7 @@ class StreamClient final : public FluidStream {
   grpc::ClientContext context_;
   std::unique_ptr<v1::Fluidcast::Stub> stub_;
   const std::string token_;  // the Hello's, for the snapshot calls
+  const std::stop_token stop_;  // the client closing: a snapshot call under way is cancelled
   std::unique_ptr<grpc::ClientReaderWriter<v1::ClientMessage, v1::ServerMessage>> stream_;
   v1::Welcome welcome_;
   SessionChanges changes_;  // from the reader, into welcome_ in next_frame

@@ -29,9 +29,15 @@ TEST(StreamLostTest, ALossOrAQuotaCancelIsLostAndTheServersRefusalsAreNot) {
   EXPECT_FALSE(stream_lost(grpc::Status::OK));
 }
 
-// Welcomes, then never reads again until the client goes away.
+// Welcomes, then never reads again until the client goes away; takes snapshot calls and never
+// answers them.
 class ServerThatStopsReading final : public v1::Fluidcast::Service {
  public:
+  grpc::Status GetSnapshot(grpc::ServerContext* context, const v1::SnapshotRequest*,
+                           v1::Snapshot*) override {
+    while (!context->IsCancelled()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    return grpc::Status::CANCELLED;
+  }
   grpc::Status Stream(
       grpc::ServerContext* context,
       grpc::ServerReaderWriter<v1::ServerMessage, v1::ClientMessage>* stream) override {
@@ -137,6 +143,28 @@ TEST_F(StreamClientTest, AClientClosingWhileItOpensAStreamWaitsNoLonger) {
   const auto [unconnected, waited_for_connection] = opened_while_closing(v1::Hello{});
   EXPECT_EQ(unconnected, grpc::StatusCode::CANCELLED);
   EXPECT_LT(waited_for_connection, std::chrono::seconds(2));
+}
+
+// A client closing does not wait for a snapshot call the server never answers (its deadline is
+// seconds, more for a large session over a slow link).
+TEST_F(StreamClientTest, ASnapshotCallUnderWayWaitsNoLongerOnceTheClientCloses) {
+  std::stop_source closing;
+  StreamClient client(connect("127.0.0.1:" + std::to_string(port_)), v1::Hello{},
+                      StreamClient::kWelcomeWithin, closing.get_token());
+  std::thread closer([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    closing.request_stop();
+  });
+  const auto start = std::chrono::steady_clock::now();
+  grpc::StatusCode code = grpc::StatusCode::OK;
+  try {
+    client.snapshot();
+  } catch (const StreamError& e) {
+    code = e.code();
+  }
+  closer.join();
+  EXPECT_EQ(code, grpc::StatusCode::CANCELLED);
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(2));
 }
 
 TEST_F(StreamClientTest, FinishingWithAServerThatNeverEndsTheStreamTakesBoundedTime) {
