@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <functional>
 #include <stop_token>
 #include <thread>
 #include <utility>
@@ -112,26 +113,35 @@ TEST_F(StreamClientTest, AServerThatNeverWelcomesIsGivenUpOn) {
   EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(5));
 }
 
+// Runs `call` while `closing` is requested 300 ms in: the status it ended with (OK: it threw
+// none) and how long it took.
+std::pair<grpc::StatusCode, std::chrono::steady_clock::duration> closed_during(
+    std::stop_source& closing, const std::function<void()>& call) {
+  std::thread closer([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    closing.request_stop();
+  });
+  const auto start = std::chrono::steady_clock::now();
+  grpc::StatusCode code = grpc::StatusCode::OK;
+  try {
+    call();
+  } catch (const StreamError& e) {
+    code = e.code();
+  }
+  closer.join();
+  return {code, std::chrono::steady_clock::now() - start};
+}
+
 // A client that closes while it opens a stream (stop requested) waits no longer, for the
 // Welcome (kWelcomeWithin, 30 s) or for a connection to a server that is not there (5 s).
 TEST_F(StreamClientTest, AClientClosingWhileItOpensAStreamWaitsNoLonger) {
   const std::string address = "127.0.0.1:" + std::to_string(port_);
   const auto opened_while_closing = [&](const v1::Hello& hello) {
     std::stop_source closing;
-    std::thread closer([&] {
-      std::this_thread::sleep_for(std::chrono::milliseconds(300));
-      closing.request_stop();
-    });
-    const auto start = std::chrono::steady_clock::now();
-    grpc::StatusCode code = grpc::StatusCode::OK;
-    try {
+    return closed_during(closing, [&] {
       StreamClient client(connect(address), hello, StreamClient::kWelcomeWithin,
                           closing.get_token());
-    } catch (const StreamError& e) {
-      code = e.code();
-    }
-    closer.join();
-    return std::pair(code, std::chrono::steady_clock::now() - start);
+    });
   };
   v1::Hello mute;
   mute.set_token("mute");
@@ -151,20 +161,9 @@ TEST_F(StreamClientTest, ASnapshotCallUnderWayWaitsNoLongerOnceTheClientCloses) 
   std::stop_source closing;
   StreamClient client(connect("127.0.0.1:" + std::to_string(port_)), v1::Hello{},
                       StreamClient::kWelcomeWithin, closing.get_token());
-  std::thread closer([&] {
-    std::this_thread::sleep_for(std::chrono::milliseconds(300));
-    closing.request_stop();
-  });
-  const auto start = std::chrono::steady_clock::now();
-  grpc::StatusCode code = grpc::StatusCode::OK;
-  try {
-    client.snapshot();
-  } catch (const StreamError& e) {
-    code = e.code();
-  }
-  closer.join();
+  const auto [code, waited] = closed_during(closing, [&] { client.snapshot(); });
   EXPECT_EQ(code, grpc::StatusCode::CANCELLED);
-  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(2));
+  EXPECT_LT(waited, std::chrono::seconds(2));
 }
 
 TEST_F(StreamClientTest, FinishingWithAServerThatNeverEndsTheStreamTakesBoundedTime) {
