@@ -27,14 +27,23 @@ void add_flags(CLI::App& app, Flags& f) {
   app.add_flag("--headless", f.headless, "No window: play a script, report figures");
   app.add_flag("--local", f.local, "Simulate and render here, without a server");
   app.add_option("--server", f.server, "HOST:PORT of the server's gRPC");
-  app.add_option("--width", f.width, "Frame width, pixels (default 320 headless, 960 window)");
-  app.add_option("--height", f.height, "Frame height, pixels (default 240 headless, 540 window)");
-  app.add_option("--particles", f.particles, "Particles of a new session (0: the default)");
+  app.add_option("--width", f.width,
+                 "Headless: the frames' width, pixels (0: 320); a window: its width in screen "
+                 "points (0: 960), its frames as wide as its pixels")
+      ->check(CLI::Range(0u, 16384u));
+  app.add_option("--height", f.height,
+                 "Headless: the frames' height, pixels (0: 240); a window: its height in screen "
+                 "points (0: 540), its frames as tall as its pixels")
+      ->check(CLI::Range(0u, 16384u));
+  app.add_option("--particles", f.particles, "Particles of a new session (0: the default)")
+      ->check(CLI::Range(0u, 1u << 24));
   app.add_option("--scene", f.scene, "Scene of a new session (server default when empty)");
   app.add_option("--solver", f.solver, "pbf or sph (server default when empty)");
   app.add_option("--renderer", f.renderer, "auto, ssfr, mc or points (local default: mc)");
-  app.add_option("--quality", f.quality, "JPEG quality 1-100 (0: server default)");
-  app.add_option("--fps", f.fps, "Highest frame rate wanted (0: server's rate)");
+  app.add_option("--quality", f.quality, "JPEG quality 1-100 (0: server default)")
+      ->check(CLI::Range(0u, 100u));
+  app.add_option("--fps", f.fps, "Highest frame rate wanted (0: server's rate)")
+      ->check(CLI::Range(0u, 1000u));
   app.add_flag("--adaptive", f.adaptive, "Let the server lower quality and size to keep up");
   app.add_option("--token", f.token, "Token, when the server wants one")
       ->envname("FLUIDCAST_TOKEN");
