@@ -27,13 +27,17 @@ void add_flags(CLI::App& app, Flags& f) {
   app.add_flag("--headless", f.headless, "No window: play a script, report figures");
   app.add_flag("--local", f.local, "Simulate and render here, without a server");
   app.add_option("--server", f.server, "HOST:PORT of the server's gRPC");
+  const std::string at_most =
+      std::to_string(client::kMaxViewportWidth) + "×" + std::to_string(client::kMaxViewportHeight);
   app.add_option("--width", f.width,
                  "Headless: the frames' width, pixels (0: 320); a window: its width in screen "
-                 "points (0: 960), its frames as wide as its pixels")
+                 "points (0: 960), its frames as wide as its pixels (within " +
+                     at_most + ")")
       ->check(CLI::Range(0u, 16384u));
   app.add_option("--height", f.height,
                  "Headless: the frames' height, pixels (0: 240); a window: its height in screen "
-                 "points (0: 540), its frames as tall as its pixels")
+                 "points (0: 540), its frames as tall as its pixels (within " +
+                     at_most + ")")
       ->check(CLI::Range(0u, 16384u));
   app.add_option("--particles", f.particles, "Particles of a new session (0: the default)")
       ->check(CLI::Range(0u, 1u << 24));

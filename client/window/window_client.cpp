@@ -24,8 +24,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 // Pointer moves sent per finger at most: the server limits input events per second.
 constexpr auto kMoveInterval = std::chrono::milliseconds(16);
-// Frames asked for are at most this many pixels along each side (aspect kept).
-constexpr int kMaxViewportWidth = 1920, kMaxViewportHeight = 1080;
 
 // The window's close button (or SDL's SIGINT and SIGTERM), Esc or q.
 bool asks_to_quit(const SDL_Event& event) {

@@ -11,6 +11,9 @@
 
 namespace fluidcast::client {
 
+// Frames a window asks for are at most this many pixels along each side (its shape kept).
+inline constexpr int kMaxViewportWidth = 1920, kMaxViewportHeight = 1080;
+
 struct WindowOptions {
   std::string server;  // HOST:PORT; ignored with local
   bool local = false;  // simulate here only

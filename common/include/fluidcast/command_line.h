@@ -61,10 +61,10 @@ inline int exit_for(const CLI::App& app, const CLI::ParseError& error) {
 inline std::string settings_markdown(const CLI::App& app,
                                      const std::set<std::string>& said_defaults = {}) {
   const auto cell = [](std::string text) {
-    std::string escaped;
+    std::string escaped;  // one row: no line breaks, and a | that is not a column's end
     for (const char c : text) {
       if (c == '|') escaped += '\\';
-      escaped += c;
+      escaped += c == '\n' ? ' ' : c;
     }
     return escaped.empty() ? std::string("–") : escaped;
   };

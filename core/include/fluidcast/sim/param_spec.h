@@ -69,7 +69,7 @@ void validate(const Owner& owner, const std::vector<ParamSpec<Owner>>& specs) {
     if (!std::isfinite(value) || stored(value) < stored(spec.min) ||
         stored(value) > stored(spec.max)) {
       std::ostringstream out;
-      out << '{' << spec.name << "}: value " << value
+      out << '{' << spec.name << "}: value " << format_number(value)
           << (std::isfinite(value) ? " is out of range" : " is not a finite number")
           << "; accepted range " << format_range(spec.min, spec.max) << ' ' << spec.unit;
       throw ParamError(out.str());
