@@ -1,6 +1,9 @@
 // fluidcast-client: a window on a server's fluid (or a local one), or --headless for scripts and
 // measurements.
+#include <cctype>
 #include <cstdio>
+#include <string_view>
+#include <utility>
 
 #include "fluidcast/command_line.h"
 #include "handoff_stream.h"
@@ -91,6 +94,34 @@ fluidcast::v1::Hello hello_from(const Flags& f) {
   return hello;
 }
 
+// The Hello's fields that flags set (hello_from): a refusal at the start names the flag too, for
+// the person who typed it ("NewSession.particles (--particles): 5000000 particles are more...").
+constexpr std::pair<std::string_view, std::string_view> kFlagOfField[] = {
+    {"Hello.token", "--token"},
+    {"Hello.join", "--join"},
+    {"NewSession.scene", "--scene"},
+    {"NewSession.solver", "--solver"},
+    {"NewSession.particles", "--particles"},
+    {"Quality.jpeg_quality", "--quality"},
+    {"Quality.max_fps", "--fps"},
+    {"Quality.renderer", "--renderer"}};
+
+std::string with_flags(const std::string& refusal) {
+  std::string said = refusal;
+  for (const auto& [field, flag] : kFlagOfField) {
+    const std::size_t at = said.find(field);
+    if (at == std::string::npos) continue;
+    const std::size_t after = at + field.size();
+    const bool longer_name =  // Hello.join is not Hello.joined, nor Hello.join.key
+        after < said.size() &&
+        (std::isalnum(static_cast<unsigned char>(said[after])) || said[after] == '_' ||
+         (said[after] == '.' && after + 1 < said.size() &&
+          std::isalpha(static_cast<unsigned char>(said[after + 1]))));
+    if (!longer_name) said.insert(after, " (" + std::string(flag) + ")");
+  }
+  return said;
+}
+
 int run_headless(const Flags& f, const fluidcast::v1::Hello& hello) {
   if (f.local) {
     std::fprintf(stderr, "fluidcast-client: --local needs the window (drop --headless)\n");
@@ -103,7 +134,8 @@ int run_headless(const Flags& f, const fluidcast::v1::Hello& hello) {
     std::fprintf(stderr, "fluidcast-client: %s (--server %s)\n", e.what(), f.server.c_str());
     return 1;
   } catch (const client::StreamError& e) {
-    std::fprintf(stderr, "fluidcast-client: the server refused: %s\n", e.what());
+    std::fprintf(stderr, "fluidcast-client: the server refused: %s\n",
+                 with_flags(e.what()).c_str());
     return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "fluidcast-client: %s\n", e.what());
@@ -122,6 +154,7 @@ int run_window(const Flags& f, const fluidcast::v1::Hello& hello) {
   window.height = static_cast<int>(hello.viewport().height());
   window.seconds = f.seconds;
   window.screenshot = f.screenshot;
+  window.with_flags = with_flags;
   return client::run_window(window);
 }
 

@@ -2,6 +2,7 @@
 
 #include <SDL_ttf.h>
 
+#include <algorithm>
 #include <cstdio>
 
 namespace fluidcast::client {
@@ -33,9 +34,13 @@ StatsOverlay::~StatsOverlay() = default;
 void StatsOverlay::set_lines(const std::vector<std::string>& lines) {
   lines_.clear();
   if (!font_ || !visible_) return;
+  // A line longer than the window goes on below (a reason the fluid did not open, say).
+  int window_width = 0, window_height = 0;
+  SDL_GetRendererOutputSize(renderer_, &window_width, &window_height);
+  const Uint32 wrap = static_cast<Uint32>(std::max(100, window_width - 24));
   for (const std::string& text : lines) {
-    SDL_Surface* surface =
-        TTF_RenderUTF8_Blended(font_->font, text.c_str(), SDL_Color{235, 235, 235, 255});
+    SDL_Surface* surface = TTF_RenderUTF8_Blended_Wrapped(font_->font, text.c_str(),
+                                                          SDL_Color{235, 235, 235, 255}, wrap);
     if (!surface) continue;
     SDL_Texture* texture = SDL_CreateTextureFromSurface(renderer_, surface);
     const int width = surface->w, height = surface->h;

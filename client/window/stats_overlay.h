@@ -1,6 +1,6 @@
-// The window's stats overlay: a few lines of text in a translucent box at the top left (SDL_ttf,
-// DejaVu Sans Mono from Debian's fonts-dejavu-core). Without the font it says so once and stays
-// off; the window title carries the same figures.
+// The window's stats overlay: a few lines of text in a translucent box at the top left, each
+// wrapped to the window's width (SDL_ttf, DejaVu Sans Mono from Debian's fonts-dejavu-core).
+// Without the font it says so once and stays off; the window title carries the same figures.
 #pragma once
 
 #include <SDL.h>

@@ -99,6 +99,9 @@ class Client {
   // renderer's buffer is undefined.
   void write_screenshot() const;
   v1::Hello hello_for_window() const;
+  // Why the fluid did not open, in the window and its title, until it is closed (or --seconds);
+  // --screenshot shows it.
+  void say_until_closed(const std::string& why);
 
   WindowOptions options_;
   SdlLibrary sdl_;  // first in, last out: SDL_Quit after every SDL object is gone
@@ -222,7 +225,8 @@ void Client::handle(const SDL_Event& event) {
   switch (event.type) {
     case SDL_MOUSEBUTTONDOWN:
     case SDL_MOUSEBUTTONUP:  // touches also arrive as fingers: their mouse copies are skipped
-      if (event.button.which != SDL_TOUCH_MOUSEID) {
+      // The left button drags; the others' clicks would press and lift the same pointer.
+      if (event.button.which != SDL_TOUCH_MOUSEID && event.button.button == SDL_BUTTON_LEFT) {
         pointer(mouse_pointer(),
                 event.type == SDL_MOUSEBUTTONDOWN ? v1::PointerEvent::DOWN : v1::PointerEvent::UP,
                 float(event.button.x), float(event.button.y));
@@ -434,12 +438,11 @@ int Client::run() {
       return 0;
     }
     const bool unreachable = dynamic_cast<const Unreachable*>(&e) != nullptr;
-    const std::string why = std::string(options_.local ? "cannot start: "
-                                        : unreachable  ? "cannot connect: "
-                                                       : "the server refused: ") +
-                            e.what();
+    const std::string why = options_.local ? std::string("cannot start: ") + e.what()
+                            : unreachable  ? std::string("cannot connect: ") + e.what()
+                                           : "the server refused: " + options_.with_flags(e.what());
     std::fprintf(stderr, "fluidcast-client: %s\n", why.c_str());
-    SDL_SetWindowTitle(window_.get(), ("fluidcast — " + why).c_str());
+    say_until_closed(why);
     return 1;
   }
   while (!quit_) {
@@ -469,9 +472,33 @@ int Client::run() {
   // a dropped viewer's seat and session wait out --resume-grace, counted against this address.
   // The window goes first: a server that does not answer holds the goodbye up to seconds.
   SDL_HideWindow(window_.get());
-  stream_->close();
+  // Closed while a server that went is asked again is no failure; a stream that ended is.
+  const bool ended = stream_->ended();
+  const std::string ended_because = stream_->close();
   std::printf("fluidcast-client: %zu frames, %s\n", frames_, status().c_str());
+  if (ended) {
+    std::fprintf(stderr, "fluidcast-client: the stream ended: %s\n", ended_because.c_str());
+    return 1;
+  }
   return 0;
+}
+
+void Client::say_until_closed(const std::string& why) {
+  SDL_SetWindowTitle(window_.get(), ("fluidcast — " + why).c_str());
+  overlay_->set_lines({why, "Close the window (or press Esc) to quit."});
+  while (!quit_ && Clock::now() < end_) {
+    SDL_Event event;
+    while (SDL_PollEvent(&event)) {
+      quit_ = quit_ || asks_to_quit(event);
+      if (event.type == SDL_WINDOWEVENT && event.window.event == SDL_WINDOWEVENT_SIZE_CHANGED) {
+        overlay_->set_lines({why, "Close the window (or press Esc) to quit."});
+      }
+    }
+    draw();
+    SDL_Delay(16);
+  }
+  screenshot_wanted_ = !options_.screenshot.empty();
+  draw();
 }
 
 }  // namespace

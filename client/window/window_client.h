@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 
 #include "fluidcast/v1/fluidcast.pb.h"
@@ -23,9 +24,14 @@ struct WindowOptions {
   int width = 960, height = 540;
   double seconds = 0.0;    // 0: until the window is closed
   std::string screenshot;  // a PNG of the window's last frame, written on exit
+  // A refusal of the Hello as its reader should see it (the flags that set its fields named).
+  std::function<std::string(const std::string&)> with_flags = [](const std::string& said) {
+    return said;
+  };
 };
 
-// Returns the process's exit status; errors are said in the window's title and on stderr.
+// Returns the process's exit status: 1 when the fluid did not open or the stream ended (its
+// reason said on stderr, and in the window until it is closed where the fluid did not open).
 int run_window(const WindowOptions& options);
 
 }  // namespace fluidcast::client

@@ -1,6 +1,7 @@
 // The native client with a window, under Xvfb: a streamed frame on screen, local mode on its own,
-// the local cap, and the handoff (the server dies mid-stream, the client carries the fluid on,
-// the server comes back and the client streams again); and the same handoff headless.
+// the local cap, a refusal and an ended stream said, and the handoff (the server dies mid-stream,
+// the client carries the fluid on, the server comes back and the client streams again); and the
+// same handoff headless.
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <netinet/in.h>
@@ -283,6 +284,43 @@ TEST(WindowClientTest, AnAddressWithNoServerSaysSo) {
   std::printf("%s", run.output.c_str());
   EXPECT_NE(run.status, 0);
   EXPECT_NE(run.output.find("cannot connect"), std::string::npos);
+}
+
+// A refusal at the start names the flag that set the refused field, for the person who typed it;
+// a window says it until it is closed (here by --seconds) instead of vanishing at once.
+TEST(WindowClientTest, ARefusalAtTheStartNamesItsFlagAndStaysInTheWindow) {
+  std::filesystem::create_directories(kOut);
+  const auto token_file = std::filesystem::temp_directory_path() / "fluidcast_window_token";
+  std::ofstream(token_file) << "open sesame\n";
+  testing::ServerProcess server({"--token-file", token_file.string()});
+  const std::string shot = kOut + "window_refused.png";
+  std::filesystem::remove(shot);
+  const ClientRun window = run_client("--server " + server.grpc_address() +
+                                      " --width 480 --height 200 --seconds 2 --screenshot " + shot);
+  std::printf("%s", window.output.c_str());
+  EXPECT_EQ(window.status, 1);
+  EXPECT_NE(window.output.find("set Hello.token (--token)"), std::string::npos);
+  ASSERT_TRUE(std::filesystem::exists(shot)) << "the window closed without showing why";
+  EXPECT_GT(spread(codec::read_png(shot)), 20.0) << "no text in the window";
+
+  const ClientRun headless = run_client("--headless --server " + server.grpc_address() +
+                                        " --token 'open says me' --particles 500");
+  std::printf("%s", headless.output.c_str());
+  EXPECT_EQ(headless.status, 1);
+  EXPECT_NE(headless.output.find("Hello.token (--token) is not"), std::string::npos);
+}
+
+// A window whose stream the server ended (an idle session) says why and exits with 1, as a
+// headless run does.
+TEST(WindowClientTest, AWindowWhoseStreamTheServerEndedSaysWhy) {
+  testing::ServerProcess server({"--idle-timeout", "1"});
+  const ClientRun run = run_client("--server " + server.grpc_address() +
+                                   " --particles 500 --width 320 --height 240 --seconds " +
+                                   std::to_string(4 + kLongerUnderAsanSeconds));
+  std::printf("%s", run.output.c_str());
+  EXPECT_EQ(run.status, 1);
+  EXPECT_NE(run.output.find("the stream ended:"), std::string::npos);
+  EXPECT_NE(run.output.find("--idle-timeout"), std::string::npos);
 }
 
 // The server dies mid-stream: the client continues the same fluid locally, keeps retrying, and
