@@ -19,8 +19,7 @@ struct ServerOptions {
   unsigned short grpc_port = 50051;
   unsigned short http_port = 8080;
   std::optional<std::uint32_t> device;
-  bool list_devices = false;  // print them and exit, serving nothing
-  bool list_settings = false;        // print docs/server-settings.md and exit
+  bool list_devices = false;         // print them and exit, serving nothing
   std::uint32_t gpu_memory_mib = 0;  // the most GPU memory the server allocates; 0: no limit
   SolverBackend backend = SolverBackend::automatic;
   ServerLimits limits;  // as given, but for the two below
@@ -53,7 +52,9 @@ struct ServerOptions {
 // Exits the process with CLI11's message and status for --help or bad flags.
 ServerOptions parse_server_options(int argc, char** argv);
 // The same on `app`, without exiting: throws CLI::ParseError (CLI::CallForHelp and
-// CLI::CallForVersion too) for the caller to report with exit_for(app, error).
+// CLI::CallForVersion too, and CLI::Success once --list-settings has printed
+// docs/server-settings.md: before the environment is read, whose bad values it would refuse)
+// for the caller to report with exit_for(app, error).
 ServerOptions read_server_options(CLI::App& app, int argc, const char* const* argv);
 
 }  // namespace fluidcast::server

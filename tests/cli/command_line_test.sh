@@ -47,6 +47,11 @@ done
 err=$(FLUIDCAST_GRPC_PORT=abc "$server" 2>&1 >/dev/null)
 status=$?
 [[ $status -eq 2 && "$err" == *FLUIDCAST_GRPC_PORT* ]] || fail "FLUIDCAST_GRPC_PORT=abc: exit $status, '$err'"
+# --list-settings prints the defaults whatever the environment holds.
+settings=$(FLUIDCAST_GRPC_PORT=abc "$server" --list-settings 2>&1)
+status=$?
+[[ $status -eq 0 && "$settings" == *"| \`--grpc-port\`"*"50051"* ]] ||
+  fail "--list-settings with FLUIDCAST_GRPC_PORT=abc: exit $status, '${settings:0:300}'"
 # A second server on a port in use fails to start, saying so, rather than sharing the port.
 work=$(mktemp -d)
 "$server" --listen 127.0.0.1 --grpc-port 0 --http-port 0 --state-dir "$work/state" \
