@@ -39,8 +39,9 @@ std::uint64_t set_paused(FluidStream& fluid, bool paused) {
 }  // namespace
 
 // A local fluid kept warm while streaming (paused, one frame a second), so that a handoff needs no
-// start-up (a Vulkan context, pipelines, the solver): it starts on a thread of its own, and each
-// snapshot goes in as it arrives, on the thread that fetched it.
+// start-up (a Vulkan context, pipelines, the solver): it starts on a thread of its own, or is the
+// fluid that just went back to the server; each snapshot goes in as it arrives, on the thread that
+// fetched it.
 class HandoffStream::Standby {
  public:
   Standby(const std::function<std::shared_ptr<FluidStream>(const v1::Hello&)>& start_local,
@@ -51,6 +52,15 @@ class HandoffStream::Standby {
           const std::lock_guard lock(mutex_);
           local_ = std::move(local);
         })) {}
+  // A fluid here already paused (its state just went to the server).
+  explicit Standby(std::shared_ptr<FluidStream> paused) : local_(std::move(paused)) {
+    std::promise<void> started;
+    started.set_value();
+    start_ = started.get_future();
+  }
+
+  // Whether take() would not wait for the start (started, or failed to).
+  bool started() const { return ready(start_); }
 
   // Any thread. A state that does not go in is said when a handoff loads it again.
   void put(const v1::Snapshot& snapshot) {
@@ -252,13 +262,16 @@ std::optional<v1::Frame> HandoffStream::next_frame(std::chrono::milliseconds tim
     }
   } else {
     std::this_thread::sleep_for(timeout);
+    continue_when_started();
   }
-  if (!options_.local && !remote_ && options_.retry) reconnect();
+  // The server is asked again once the fluid here goes on: its state is what goes back.
+  if (!options_.local && !remote_ && !starting_here_ && options_.retry) reconnect();
   return frame;
 }
 
 bool HandoffStream::ended() const {
-  return server_ended_ || (options_.local ? stream_->ended() : !stream_ && !options_.retry);
+  return server_ended_ ||
+         (options_.local ? stream_->ended() : !stream_ && !starting_here_ && !options_.retry);
 }
 
 std::string HandoffStream::end_reason() const {
@@ -366,10 +379,15 @@ void HandoffStream::lost(const std::string& why) {
   }
   stream_.reset();
   remote_ = false;
-  const std::shared_ptr<Standby> standby = std::exchange(standby_, nullptr);
+  std::shared_ptr<Standby> standby = std::exchange(standby_, nullptr);
   // A state the standby took on the side counts even before this thread collected it.
   if (may_continue && standby && (snapshot_ || standby->holds_state())) {
-    continue_here(*standby, why);
+    // Its start, if still under way (a server that went within seconds of streaming), is waited
+    // for by next_frame's calls, not in one: a window goes on answering meanwhile.
+    starting_here_ = {std::move(standby), why};
+    if (!continue_when_started()) {
+      set_status("the server is gone (" + why + "): starting the fluid here");
+    }
     return;
   }
   const bool too_big = options_.handoff && particles > options_.max_local_particles;
@@ -378,6 +396,13 @@ void HandoffStream::lost(const std::string& why) {
                             " particles); "
                       : std::string()) +
              (options_.retry ? "retrying" : "not asking again"));
+}
+
+bool HandoffStream::continue_when_started() {
+  if (!starting_here_ || !starting_here_->standby->started()) return false;
+  const StartingHere starting = *std::exchange(starting_here_, std::nullopt);
+  continue_here(*starting.standby, starting.why);
+  return true;
 }
 
 void HandoffStream::continue_here(Standby& standby, const std::string& why) {
@@ -508,7 +533,18 @@ void HandoffStream::came_back(Reconnected back) {
       say(e.what());
     }
   }
-  stream_ = std::move(back.stream);
+  // The fluid here, paused as its state went over, waits warm for the next handoff.
+  if (std::shared_ptr<FluidStream> here = std::exchange(stream_, std::move(back.stream))) {
+    try {
+      v1::Command slow;  // as a standby started for it draws
+      *slow.mutable_quality() = hello_.quality();
+      slow.mutable_quality()->set_max_fps(1);
+      here->command(slow);
+      standby_ = std::make_shared<Standby>(std::move(here));
+    } catch (const std::exception& e) {  // a new one starts instead (keep_standby)
+      say(std::string("the fluid here cannot wait for the next handoff: ") + e.what());
+    }
+  }
   latency_.forget_unanswered();
   remote_ = true;
   press_held_pointers();  // the new or resumed session has not seen them go down

@@ -145,6 +145,9 @@ class HandoffStream final : public FluidStream {
   void keep_standby();
   void ended_by_server();
   void lost(const std::string& why);
+  // Once the standby in starting_here_ has started (or failed to), the fluid goes on here from
+  // it; says whether that happened.
+  bool continue_when_started();
   void continue_here(Standby& standby, const std::string& why);
   void reconnect();
   void came_back(Reconnected back);
@@ -188,6 +191,12 @@ class HandoffStream final : public FluidStream {
   std::vector<std::future<void>> goodbyes_;
   std::optional<v1::Snapshot> snapshot_;
   std::shared_ptr<Standby> standby_;
+  // The server went before the standby had started: it goes on here once started.
+  struct StartingHere {
+    std::shared_ptr<Standby> standby;
+    std::string why;  // the server went
+  };
+  std::optional<StartingHere> starting_here_;
   std::future<Reconnected> reconnect_;
   Clock::time_point last_snapshot_{}, last_retry_{}, last_remote_frame_{};
 

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <condition_variable>
 #include <mutex>
@@ -212,6 +213,18 @@ struct Fixture {
   std::weak_ptr<FakeFluid> remote;   // the server's last stream, while anyone holds it
   v1::Hello local_hello;             // and what it was started with
   int connects = 0;                  // attempts, answered or not
+  // A fluid starting here waits while this holds (a start that takes seconds: Vulkan, shaders).
+  std::mutex start_mutex;
+  std::condition_variable start_released;
+  bool holds_local_start = false;
+
+  void hold_local_start(bool hold) {
+    {
+      const std::lock_guard lock(start_mutex);
+      holds_local_start = hold;
+    }
+    start_released.notify_all();
+  }
 
   int locals() {
     const std::lock_guard lock(mutex);
@@ -262,6 +275,10 @@ struct Fixture {
               return fluid;
             },
             [this](const v1::Hello& hello) -> std::shared_ptr<FluidStream> {
+              {
+                std::unique_lock held(start_mutex);
+                start_released.wait(held, [this] { return !holds_local_start; });
+              }
               const std::lock_guard lock(mutex);
               ++locals_started;
               auto fluid = std::make_shared<FakeFluid>(nullptr, hello);
@@ -396,6 +413,59 @@ TEST(HandoffStream, LatencyCountsTheUsersEventsOnEitherSide) {
   const std::vector<double> latencies = stream.latencies_ms();
   ASSERT_EQ(latencies.size(), 2u);
   for (const double ms : latencies) EXPECT_LT(ms, 250.0);
+}
+
+// A server that goes while the warm fluid is still starting (within seconds of the first frame):
+// the fluid goes on here once started, and no call waits for the start meanwhile (a window goes
+// on drawing and answering its close button).
+TEST(HandoffStream, AServerGoneBeforeTheWarmFluidStartedHoldsNoCallUp) {
+  Fixture f;
+  f.hold_local_start(true);
+  HandoffStream stream(hello_for(1000), f.sides(), f.options());
+  read_until(stream, [&] { return f.snapshots_taken() >= 3; });
+  f.set(&FakeServer::up, false);
+  std::thread starts([&] {
+    std::this_thread::sleep_for(milliseconds(800));
+    f.hold_local_start(false);
+  });
+  auto longest = std::chrono::steady_clock::duration::zero();
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  while (!stream.simulating_here() && std::chrono::steady_clock::now() < end) {
+    const auto call = std::chrono::steady_clock::now();
+    stream.next_frame(milliseconds(2));
+    longest = std::max(longest, std::chrono::steady_clock::now() - call);
+  }
+  starts.join();
+  ASSERT_TRUE(stream.simulating_here()) << stream.status();
+  EXPECT_LT(longest, milliseconds(400)) << "a call waited for the fluid's start (800 ms)";
+  EXPECT_TRUE(f.heard("starting the fluid here"));
+  EXPECT_TRUE(goes_on_after(stream, 0.0f));
+  const std::shared_ptr<FakeFluid> here = f.local_fluid();
+  ASSERT_TRUE(here);
+  EXPECT_GT(here->loaded_from(), 0.0) << "it went on from the server's state";
+}
+
+// The fluid handed back to the server waits warm for the next handoff: nothing starts again.
+TEST(HandoffStream, TheFluidHandedBackWaitsWarmForTheNextHandoff) {
+  Fixture f;
+  HandoffStream stream(hello_for(1000), f.sides(), f.options());
+  stream_until_kept(stream, f);
+  f.set(&FakeServer::up, false);
+  read_until(stream, [&] { return stream.simulating_here(); });
+  const std::shared_ptr<FakeFluid> warm = f.local_fluid();
+  f.set(&FakeServer::up, true);
+  read_until(stream, [&] { return !stream.simulating_here(); });
+  const int snapshots = f.snapshots_taken();
+  const float streamed =
+      read_until(stream, [&] { return f.snapshots_taken() >= snapshots + 3; }).back();
+  EXPECT_TRUE(warm->paused()) << "the fluid here runs on beside the server's";
+
+  f.set(&FakeServer::up, false);
+  read_until(stream, [&] { return stream.simulating_here(); });
+  EXPECT_EQ(f.locals(), 1) << "a second fluid was started";
+  EXPECT_TRUE(f.local_fluid() == warm) << "not the fluid handed back";
+  EXPECT_GT(warm->loaded_from(), streamed / 2) << "not the newest state";
+  EXPECT_TRUE(goes_on_after(stream, warm->loaded_from())) << "still paused";
 }
 
 // The fluid goes back into the session it left (others watching it stay with it).
