@@ -51,11 +51,8 @@ grpc::ServerUnaryReactor* FluidcastService::GetSnapshot(grpc::CallbackServerCont
     hub_->snapshot(
         request->key(),
         [call, reply](std::optional<v1::Snapshot> snapshot, std::optional<Refusal> refusal) {
-          if (refusal) {
-            call->answer(to_status(*refusal));
-            return;
-          }
-          *reply = std::move(*snapshot);
+          if (refusal) return call->refuse(*refusal);
+          *reply = std::move(*snapshot);  // a swap: nothing thrown after the work is done
           call->answer(grpc::Status::OK);
         },
         [context] { return context->IsCancelled(); });
@@ -80,10 +77,7 @@ grpc::ServerUnaryReactor* FluidcastService::PutSnapshot(grpc::CallbackServerCont
     hub_->load(
         request->key(), request->snapshot(),
         [call, reply](std::uint32_t particles, std::optional<Refusal> refusal) {
-          if (refusal) {
-            call->answer(to_status(*refusal));
-            return;
-          }
+          if (refusal) return call->refuse(*refusal);
           reply->set_particles(particles);
           call->answer(grpc::Status::OK);
         },

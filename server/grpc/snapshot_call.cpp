@@ -1,5 +1,6 @@
 #include "snapshot_call.h"
 
+#include <new>
 #include <utility>
 
 #include "peer_address.h"
@@ -56,10 +57,14 @@ void SnapshotCall::hold(const std::string& key, const char* field, std::function
       answer(grpc::Status::CANCELLED);
       return;
     }
+    // It runs in another call's OnDone, where nothing may escape. go_on hands the call to the
+    // hub, which answers it: what escapes came before.
     try {
       go_on();
-    } catch (const std::exception& e) {  // it runs in another call's OnDone: nothing may escape
-      answer(to_status(Refusal(RefusalCode::internal, std::string("snapshot: ") + e.what())));
+    } catch (const std::bad_alloc&) {
+      answer(grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED, ""));
+    } catch (const std::exception&) {
+      answer(grpc::Status(grpc::StatusCode::INTERNAL, ""));
     }
   });
   if (!taken) {
@@ -71,12 +76,22 @@ void SnapshotCall::hold(const std::string& key, const char* field, std::function
   }
 }
 
-void SnapshotCall::answer(const grpc::Status& status) {
+void SnapshotCall::answer(grpc::Status status) noexcept {
   if (held_) {
     sending_ = std::exchange(held_, std::nullopt);
     slots_->answered(*sending_);
   }
-  Finish(status);
+  Finish(std::move(status));
+}
+
+void SnapshotCall::refuse(const Refusal& refusal) noexcept {
+  grpc::Status status;
+  try {
+    status = to_status(refusal);
+  } catch (const std::exception&) {  // no memory for its words: the code still says what it was
+    status = grpc::Status(static_cast<grpc::StatusCode>(refusal.code()), "");
+  }
+  answer(std::move(status));
 }
 
 void SnapshotCall::OnDone() {

@@ -24,6 +24,8 @@
 #include <string>
 #include <utility>
 
+#include "session/refusal.h"
+
 namespace fluidcast::server {
 
 // Whose snapshot call it is: the session key it gives and the connection it came on (gRPC's peer,
@@ -78,8 +80,10 @@ class SnapshotCall final : public grpc::ServerUnaryReactor {
   // with RESOURCE_EXHAUSTED naming `field`.
   void hold(const std::string& key, const char* field, std::function<void()> go_on);
   // Answers the call, first letting its slot go: a client that calls again as soon as it has its
-  // answer finds the slot free.
-  void answer(const grpc::Status& status);
+  // answer finds the slot free. Throws nothing: every call ends here, once.
+  void answer(grpc::Status status) noexcept;
+  // Answers with the refusal as a status; with its code alone where wording it found no memory.
+  void refuse(const Refusal& refusal) noexcept;
 
   // The reply was sent, or the call ended before it was.
   void OnDone() override;

@@ -119,7 +119,9 @@ class Session {
   // For /metrics.
   SessionFigures figures() const;
   v1::SessionState state() const;
-  v1::Snapshot snapshot() const;
+  // The fluid's state, its read-out charged to this session as a load is (GetSnapshot, a state
+  // request): a client that keeps asking slows its own fluid, not the others'.
+  v1::Snapshot snapshot();
   // Replaces the fluid, as the snapshot's scene, solver and count (a fluid of another is spaced
   // otherwise: it is rebuilt for them); throws Refusal for a snapshot that does not fit, and the
   // session keeps its fluid.

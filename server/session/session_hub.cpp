@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <new>
 #include <set>
 #include <string_view>
 
@@ -25,8 +26,18 @@ Refusal server_failure(const std::exception& e, const std::string& doing) {
   if (vulkan && vulkan->out_of_memory()) {
     return no_gpu_memory(doing, "it", e, "fewer particles or smaller frames need less");
   }
+  if (dynamic_cast<const std::bad_alloc*>(&e)) {
+    return Refusal(RefusalCode::resource_exhausted,
+                   doing + ": the server has no memory for it now (a smaller fluid needs less)");
+  }
   return Refusal(RefusalCode::internal, doing + ": " + e.what());
 }
+
+// What a snapshot call is told when even wording why it failed took memory there was none of.
+// Made at start: passing it on allocates nothing (std::runtime_error shares its message).
+const Refusal kNoMemoryToAnswer(RefusalCode::resource_exhausted,
+                                "the server ran out of memory answering this call");
+const Refusal kStopping(RefusalCode::unavailable, "the server is shutting down");
 
 // A steady clock's time as milliseconds, for ClientDebts.
 double milliseconds_since_epoch(Clock::time_point time) {
@@ -246,16 +257,15 @@ void SessionHub::snapshot(
       key, field,
       [this, key, field, done] {
         std::optional<v1::Snapshot> snapshot;
+        std::optional<Refusal> refusal;
         try {
           snapshot = find(key, field).session->snapshot();
-        } catch (const Refusal& refusal) {
-          done(std::nullopt, refusal);
-          return;
+        } catch (const Refusal& refused) {
+          refusal = refused;
         } catch (const std::exception& e) {
-          done(std::nullopt, server_failure(e, "snapshot"));
-          return;
+          refusal = server_failure(e, "snapshot");
         }
-        done(std::move(snapshot), std::nullopt);
+        done(std::move(snapshot), std::move(refusal));
       },
       [done](const Refusal& refusal) { done(std::nullopt, refusal); }, std::move(given_up));
 }
@@ -269,6 +279,7 @@ void SessionHub::load(std::string key, v1::Snapshot snapshot,
       key, field,
       [this, key, field, state, done] {
         std::uint32_t particles = 0;
+        std::optional<Refusal> refusal;
         try {
           const Opening opening = find(key, field);
           if (opening.access != Access::control) {
@@ -277,14 +288,12 @@ void SessionHub::load(std::string key, v1::Snapshot snapshot,
                           "needs the control key");
           }
           particles = opening.session->load(*state);
-        } catch (const Refusal& refusal) {
-          done(0, refusal);
-          return;
+        } catch (const Refusal& refused) {
+          refusal = refused;
         } catch (const std::exception& e) {
-          done(0, server_failure(e, "snapshot"));
-          return;
+          refusal = server_failure(e, "snapshot");
         }
-        done(particles, std::nullopt);
+        done(particles, std::move(refusal));
       },
       [done](const Refusal& refusal) { done(0, refusal); }, std::move(given_up));
 }
@@ -293,35 +302,37 @@ void SessionHub::beside_the_streams(const std::string& key, const char* field,
                                     std::function<void()> run,
                                     std::function<void(const Refusal&)> refuse,
                                     std::function<bool()> given_up) {
+  // Each call is answered once, whatever fails: `run` ends in `done`, which throws nothing, so
+  // what escapes came before it, and the call is refused instead (an answer that found no memory
+  // to be worded in still goes, with its code: SnapshotCall::refuse).
   post([this, key, field, run = std::move(run), refuse = std::move(refuse),
         given_up = std::move(given_up)]() mutable {
-    const Refusal stopping(RefusalCode::unavailable, "the server is shutting down");
     if (closed_) {
-      refuse(stopping);
+      refuse(kStopping);
       return;
     }
-    std::string session;
     try {
-      session = find(key, field).session->id();
+      const std::string session = find(key, field).session->id();
+      side_work_.add(session,
+                     {[run = std::move(run), refuse, given_up = std::move(given_up)] {
+                        try {
+                          if (given_up && given_up()) {
+                            refuse(Refusal(RefusalCode::cancelled,
+                                           "the call was cancelled while it waited its turn"));
+                          } else {
+                            run();
+                          }
+                        } catch (const std::exception& e) {
+                          spdlog::error("a snapshot call's work failed: {}", e.what());
+                          refuse(kNoMemoryToAnswer);
+                        }
+                      },
+                      [refuse] { refuse(kStopping); }});
     } catch (const Refusal& refusal) {
       refuse(refusal);
-      return;
+    } catch (const std::exception&) {
+      refuse(kNoMemoryToAnswer);
     }
-    const char* what = "a snapshot call's work";
-    side_work_.add(session,
-                   {[what, run = std::move(run), refuse, given_up = std::move(given_up)] {
-                      run_guarded(
-                          [&] {
-                            if (given_up && given_up()) {
-                              refuse(Refusal(RefusalCode::cancelled,
-                                             "the call was cancelled while it waited its turn"));
-                            } else {
-                              run();
-                            }
-                          },
-                          what);
-                    },
-                    [what, refuse, stopping] { run_guarded([&] { refuse(stopping); }, what); }});
   });
 }
 

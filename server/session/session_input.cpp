@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <new>
 
 #include "fluidcast/gpu/vk_check.h"
 #include "fluidcast/sim/scene.h"
@@ -69,6 +70,9 @@ void Session::answer_state_request(Viewer& viewer) {
     // this time, and the stream and the session go on; a later request may find the room.
     if (!e.out_of_memory()) throw;
     spdlog::warn("session {}: a state request went unanswered: {}", id_, e.what());
+    return;
+  } catch (const std::bad_alloc&) {  // nor memory here: likewise, not every viewer's end
+    spdlog::warn("session {}: a state request went unanswered: no memory for it", id_);
     return;
   }
   viewer.sink().deliver(answer);

@@ -106,7 +106,8 @@ v1::SessionState Session::state() const {
   return state;
 }
 
-v1::Snapshot Session::snapshot() const {
+v1::Snapshot Session::snapshot() {
+  const auto started = Clock::now();
   const sim::ParticleSet particles = solver_->snapshot();
   v1::Snapshot snapshot;
   snapshot.set_time(solver_->time());
@@ -121,6 +122,7 @@ v1::Snapshot Session::snapshot() const {
       snapshot.add_velocities(particles.velocity[k][axis]);
     }
   }
+  charge_worker_time(started);
   return snapshot;
 }
 
