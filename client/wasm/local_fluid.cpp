@@ -60,12 +60,15 @@ void show() {
   fluid.tank = {box.min.x, box.min.y, box.min.z, box.max.x, box.max.y, box.max.z};
 }
 
-void make(Scene scene, SolverKind kind, glm::vec3 gravity) {
+// The fluid goes on from `scene` at simulated time `time`; refused whole, the last one stays.
+void make(Scene scene, SolverKind kind, glm::vec3 gravity, double time = 0.0) {
   SolverParams params;
   params.threads = static_cast<int>(fluid.threads);
   params.iterations = fluid.iterations;
   scene.gravity = gravity;
-  fluid.solver = make_cpu_solver(kind, std::move(scene), params);
+  std::unique_ptr<Solver> made = make_cpu_solver(kind, std::move(scene), params);
+  made->set_time(time);
+  fluid.solver = std::move(made);
   fluid.fingers.clear();
   show();
 }
@@ -134,6 +137,11 @@ EMSCRIPTEN_KEEPALIVE const char* fluid_load(const char* scene, const char* solve
                                             double time, float gravity_x, float gravity_y,
                                             float gravity_z) {
   return attempt([&] {
+    // The scene is spaced for its count: a state of another would be squeezed or stretched.
+    if (count != particles) {
+      throw std::invalid_argument("load: " + std::to_string(count) + " particles given for a " +
+                                  std::to_string(particles) + "-particle scene");
+    }
     SceneParams params;
     params.kind = parse_scene(scene);
     params.particles = static_cast<int>(particles);
@@ -143,8 +151,8 @@ EMSCRIPTEN_KEEPALIVE const char* fluid_load(const char* scene, const char* solve
       state.particles.append({positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]},
                              {velocities[3 * i], velocities[3 * i + 1], velocities[3 * i + 2]}, i);
     }
-    make(std::move(state), parse_solver(solver), {gravity_x, gravity_y, gravity_z});
-    fluid.solver->set_time(time);
+    check_density(state.particles.position, derive_fluid_constants(state.spacing, SolverParams{}));
+    make(std::move(state), parse_solver(solver), {gravity_x, gravity_y, gravity_z}, time);
   });
 }
 

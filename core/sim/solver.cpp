@@ -60,10 +60,16 @@ Solver::Solver(Scene scene, const SolverParams& params)
     throw ParamError("scene: positions, velocities and ids differ in count");
   }
   for (std::size_t i = 0; i < p.size(); ++i) {
-    if (!is_finite(p.position[i]) || !is_finite(p.velocity[i]) ||
-        !scene_.tank.contains(p.position[i])) {
+    if (!is_finite(p.position[i]) || !scene_.tank.contains(p.position[i])) {
       throw ParamError("scene: particle " + std::to_string(i) + " at " + str(p.position[i]) +
-                       " is not finite or not inside the tank");
+                       " is not finite or not inside the tank " + str(scene_.tank.min) + "–" +
+                       str(scene_.tank.max));
+    }
+    // As for particles added later (check_new_particles): SPH's viscosity overflowed on 1e36 m/s.
+    if (!is_finite(p.velocity[i]) || !within_limit(p.velocity[i], kMaxSpeed)) {
+      throw ParamError("scene: particle " + std::to_string(i) + "'s velocity " +
+                       str(p.velocity[i]) + " must be finite with magnitude at most " +
+                       format_number(kMaxSpeed) + " m/s");
     }
   }
   fluid_ = derive_fluid_constants(scene_.spacing, params_);
@@ -93,11 +99,14 @@ Solver::Solver(Scene scene, const SolverParams& params)
 
 int Solver::step(float seconds, int substeps) {
   require(seconds > 0.0f && seconds <= params_.time_step,
-          "step: " + std::to_string(seconds) + " s is not in (0, " +
-              std::to_string(params_.time_step) + "] s, the time step");
+          "step: " + format_number(seconds) + " s is not in (0, " +
+              format_number(params_.time_step) + "] s, the time step");
   require(substeps >= 1 && substeps <= params_.max_substeps,
           "step: " + std::to_string(substeps) + " substeps are not in [1, " +
               std::to_string(params_.max_substeps) + "]");
+  require(seconds / float(substeps) >= kShortestSubstep,
+          "step: " + format_number(seconds) + " s in " + std::to_string(substeps) +
+              " substeps is less than " + format_number(kShortestSubstep) + " s a substep");
   const int taken = advance(seconds, substeps);
   for (Collider& c : colliders_) c.centre += c.velocity * seconds;
   ++steps_;

@@ -519,6 +519,13 @@ TEST(CpuSolverInputs, EachInputPassesAtItsLimitAndNotPast) {
   EXPECT_NE(error_of([&] { s->step(dt, 4); }).find("substeps are not in [1, 3]"),
             std::string::npos);
   EXPECT_NE(error_of([&] { s->step(1.01f * dt, 1); }).find("the time step"), std::string::npos);
+  // A denormal step made PBF's velocities inf·0 = NaN.
+  EXPECT_NO_THROW(s->step(kShortestSubstep, 1));
+  EXPECT_NE(error_of([&] { s->step(1e-40f, 1); }).find("is less than 1e-09 s a substep"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { s->step(2.5e-9f, 3); }).find("in 3 substeps is less than"),
+            std::string::npos);
+  testing::expect_sound(*s, 1000);
   EXPECT_NE(error_of([&] {
               s->set_gravity({0, 0, std::numeric_limits<float>::infinity()});
             }).find("must be finite"),

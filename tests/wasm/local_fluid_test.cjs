@@ -175,13 +175,30 @@ async function main() {
   module.HEAPU8.copyWithin(velocities, module._fluid_velocities(), module._fluid_velocities() + bytes);
   const time = module._fluid_time();
   const centre = figures(module).com;
-  const load = (gravity) => module.ccall('fluid_load', 'string',
-    ['string', 'string', 'number', 'number', 'number', 'number', 'number', 'number', 'number',
-      'number'],
-    ['dam_break', 'pbf', 2000, positions, velocities, n, time, ...gravity]) || null;
+  const load = (gravity, {count = n, at = time, from = positions, moving = velocities} = {}) =>
+    module.ccall('fluid_load', 'string',
+      ['string', 'string', 'number', 'number', 'number', 'number', 'number', 'number', 'number',
+        'number'],
+      ['dam_break', 'pbf', 2000, from, moving, count, at, ...gravity]) || null;
   const refused = load([0, -3000, 0]);
   check(refused !== null && refused.includes('gravity') && module._fluid_count() === n,
         `a state under too strong a gravity is refused, the fluid kept: "${refused}"`);
+  // What a state may not be, each refused with the fluid kept as it was (its clock too).
+  const fast = module._malloc(bytes), heaped = module._malloc(bytes);
+  module.HEAPU8.copyWithin(fast, velocities, velocities + bytes);
+  module.HEAPF32[fast / 4] = 1e36;  // SPH's viscosity made it NaN
+  for (let k = 0; k < 3 * n; ++k) module.HEAPF32[heaped / 4 + k] = module.HEAPF32[positions / 4 + k % 3];
+  const clock = module._fluid_time();
+  for (const [what, error, word] of [
+    ['a count other than the scene\'s', load([0, -9.81, 0], {count: n - 1}), 'particles given'],
+    ['a negative time', load([0, -9.81, 0], {at: -1}), 'time'],
+    ['a velocity past the limit', load([0, -9.81, 0], {moving: fast}), 'velocity'],
+    ['every particle in one place', load([0, -9.81, 0], {from: heaped}), 'rest density']]) {
+    check(error !== null && error.includes(word) && module._fluid_count() === n &&
+          module._fluid_time() === clock, `${what} is refused, the fluid kept: "${error}"`);
+  }
+  module._free(fast);
+  module._free(heaped);
   const loaded = load([3, -9, 0]);
   module._free(positions);
   module._free(velocities);

@@ -40,6 +40,9 @@ inline constexpr float kMaxGravity = 2000.0f;       // m/s², about 200 g
 inline constexpr float kMaxSpeed = 1000.0f;         // m/s, colliders and added particles
 inline constexpr float kMaxColliderRadius = 10.0f;  // m
 inline constexpr std::size_t kMaxColliders = 16;
+// A step's slice for each substep is at least this: PBF's velocities are 1/Δt times a distance,
+// and a float's 1/Δt overflows below ~3e-39 s (a velocity of inf·0 is NaN).
+inline constexpr float kShortestSubstep = 1e-9f;  // s
 // A vector's length against one of those limits, allowing for the rounding of a vector scaled to
 // the limit exactly (its float length may come out an ulp or two over). NaN is not within.
 inline bool within_limit(glm::vec3 v, float limit) {
