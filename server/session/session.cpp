@@ -33,13 +33,17 @@ double milliseconds_between(Clock::time_point from, Clock::time_point to) {
 }
 
 // A simulation parameter as a client reads it: the field of its message where a client chose it,
-// else the server's own setting (the tank's size follows the count, the rest the operator's).
+// the scene's tank (the same size for every count: no setting of anyone's), else the server's own
+// setting (the operator's).
 std::string setup_field_or_setting(std::string_view name) {
   if (name == "particles") {
     return "the particle count (NewSession.particles, Command.particles, a Snapshot's particles)";
   }
   if (name == "scene") return "the scene (NewSession.scene, Command.scene, Snapshot.scene)";
   if (name == "solver") return "the solver (NewSession.solver, Command.solver, Snapshot.solver)";
+  if (name == "tank-length") return "the scene's tank length (fixed)";
+  if (name == "tank-height") return "the scene's tank height (fixed)";
+  if (name == "depth") return "the scene's tank depth (fixed)";
   return "the server's " + std::string(name);
 }
 

@@ -21,6 +21,12 @@ v1::Vec3 vec3(glm::vec3 v) {
   return out;
 }
 
+// A vector as a client reads it back: (x, y, z) in six significant digits.
+std::string text(glm::vec3 v) {
+  return "(" + sim::format_number(v.x) + ", " + sim::format_number(v.y) + ", " +
+         sim::format_number(v.z) + ")";
+}
+
 struct Particles {
   std::vector<glm::vec3> position, velocity;
 };
@@ -56,13 +62,17 @@ Particles checked_particles(const v1::Snapshot& snapshot, std::uint32_t count,
       p[axis] = snapshot.positions(static_cast<int>(3 * k) + axis);
       v[axis] = snapshot.velocities(static_cast<int>(3 * k) + axis);
     }
-    if (!std::isfinite(p.x + p.y + p.z) || !std::isfinite(v.x + v.y + v.z) ||
-        glm::any(glm::lessThan(p, tank.min)) || glm::any(glm::greaterThan(p, tank.max)) ||
-        !sim::within_limit(v, sim::kMaxSpeed)) {
+    const std::string particle = "Snapshot: particle " + std::to_string(k) + "'s ";
+    if (!std::isfinite(p.x + p.y + p.z) || glm::any(glm::lessThan(p, tank.min)) ||
+        glm::any(glm::greaterThan(p, tank.max))) {
       throw Refusal(RefusalCode::invalid_argument,
-                    "Snapshot: particle " + std::to_string(k) +
-                        " is not finite, outside the tank, or faster than " +
-                        std::to_string(int(sim::kMaxSpeed)) + " m/s");
+                    particle + "position " + text(p) + " is not inside the tank, " +
+                        text(tank.min) + " to " + text(tank.max) + " m (SessionState.tank)");
+    }
+    if (!std::isfinite(v.x + v.y + v.z) || !sim::within_limit(v, sim::kMaxSpeed)) {
+      throw Refusal(RefusalCode::invalid_argument,
+                    particle + "velocity " + text(v) + " is faster than " +
+                        sim::format_number(sim::kMaxSpeed) + " m/s, or not finite");
     }
   }
   return particles;
@@ -155,9 +165,13 @@ std::uint32_t Session::replace_fluid(const v1::Snapshot& snapshot) {
   std::optional<glm::vec3> gravity;
   if (snapshot.has_gravity()) {
     gravity = glm::vec3(snapshot.gravity().x(), snapshot.gravity().y(), snapshot.gravity().z());
-    if (!std::isfinite(gravity->x + gravity->y + gravity->z) ||
-        !sim::within_limit(*gravity, sim::kMaxGravity)) {
-      throw Refusal(RefusalCode::invalid_argument, "Snapshot: gravity is not finite or too large");
+    // What a Tilt may set, the one gravity a session's fluid can have had.
+    const float magnitude = glm::length(*gravity);
+    if (!(magnitude >= kMinTiltGravity && magnitude <= kMaxTiltGravity)) {
+      throw Refusal(RefusalCode::invalid_argument,
+                    "Snapshot.gravity " + text(*gravity) + " must be finite with a magnitude of " +
+                        sim::format_number(kMinTiltGravity) + " to " +
+                        sim::format_number(kMaxTiltGravity) + " m/s² (InputRules.tilt_gravity)");
     }
   }
   validate_snapshot_time(snapshot.time(), "Snapshot.time");

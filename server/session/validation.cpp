@@ -133,8 +133,8 @@ void validate_tilt(const v1::Tilt& tilt) {
 // A state handed back (NewSession.state, Hello.resume.state; `field` names it): its names and its
 // size (the session checks each particle against its tank when it loads it).
 void validate_state(const v1::Snapshot& state, const ServerLimits& limits, const char* field) {
-  validate_scene(state.scene(), "Snapshot.scene");
-  validate_solver(state.solver(), "Snapshot.solver");
+  validate_scene(state.scene(), (std::string(field) + ".scene").c_str());
+  validate_solver(state.solver(), (std::string(field) + ".solver").c_str());
   if (state.positions_size() % 3 != 0 || state.velocities_size() != state.positions_size()) {
     refuse(RefusalCode::invalid_argument,
            std::string(field) + ": positions and velocities need three values per particle each");

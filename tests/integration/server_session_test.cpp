@@ -652,12 +652,30 @@ TEST(ServerTest, SnapshotsMoveAFluidBetweenSessionsAndBadOnesChangeNothing) {
     ++shown;
   }
 
-  put.mutable_snapshot()->set_positions(7, std::numeric_limits<float>::quiet_NaN());
-  {
+  // A particle out of place or too fast, or a gravity no Tilt could set: refused, naming which
+  // and what it may be, and the fluid stays.
+  const auto refused_saying = [&](const v1::PutSnapshotRequest& request) {
     grpc::ClientContext context;
-    EXPECT_EQ(stub->PutSnapshot(&context, put, &reply).error_code(),
-              grpc::StatusCode::INVALID_ARGUMENT);
-  }
+    const grpc::Status status = stub->PutSnapshot(&context, request, &reply);
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+    return status.error_message();
+  };
+  v1::PutSnapshotRequest bad = put;
+  bad.mutable_snapshot()->set_positions(7, std::numeric_limits<float>::quiet_NaN());
+  std::string said = refused_saying(bad);
+  EXPECT_NE(said.find("particle 2's position ("), std::string::npos) << said;
+  EXPECT_NE(said.find(", nan, "), std::string::npos) << said;
+  EXPECT_NE(said.find("SessionState.tank"), std::string::npos) << said;
+  bad = put;
+  bad.mutable_snapshot()->set_velocities(4, -2000.0f);
+  said = refused_saying(bad);
+  EXPECT_NE(said.find("particle 1's velocity"), std::string::npos) << said;
+  EXPECT_NE(said.find("faster than 1000 m/s"), std::string::npos) << said;
+  bad = put;
+  bad.mutable_snapshot()->mutable_gravity()->set_y(-300.0f);
+  said = refused_saying(bad);
+  EXPECT_NE(said.find("Snapshot.gravity"), std::string::npos) << said;
+  EXPECT_NE(said.find("0.1 to 200 m/s² (InputRules.tilt_gravity)"), std::string::npos) << said;
   EXPECT_EQ(into.snapshot().positions_size(), 3 * 800);
 
   // No snapshot, no particles, or a clock that cannot be a session's: refused, naming the field,

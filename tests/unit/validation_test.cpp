@@ -492,7 +492,7 @@ TEST(ValidationTest, AStateHandedBackIsCheckedWhole) {
   auto named = with_state(1, 3);
   named.mutable_hello()->mutable_create()->mutable_state()->set_scene("ocean");
   const std::string unknown = refusal_text([&] { validate_hello(named, limits, std::nullopt); });
-  EXPECT_TRUE(unknown.starts_with("Snapshot.scene")) << unknown;
+  EXPECT_TRUE(unknown.starts_with("NewSession.state.scene")) << unknown;
 }
 
 // A stream's three budgets are apart: state requests spent do not stop its input, and input spent
