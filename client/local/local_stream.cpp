@@ -154,7 +154,9 @@ v1::Snapshot LocalStream::snapshot() {
 
 void LocalStream::load(const v1::Snapshot& snapshot) {
   std::promise<void> result;
-  hub_->load(welcome_.access().control_key(), snapshot,
+  // Not a copy: read until the result, which this waits for.
+  hub_->load(welcome_.access().control_key(),
+             std::shared_ptr<const v1::Snapshot>(std::shared_ptr<void>(), &snapshot),
              [&result](std::uint32_t, std::optional<server::Refusal> refusal) {
                if (refusal) {
                  result.set_exception(std::make_exception_ptr(*refusal));

@@ -74,8 +74,11 @@ grpc::ServerUnaryReactor* FluidcastService::PutSnapshot(grpc::CallbackServerCont
     return call;
   }
   call->hold(request->key(), "PutSnapshotRequest.key", [this, call, context, request, reply] {
+    // The request's own snapshot, not a copy: gRPC frees the request once the call is answered,
+    // after the hub's last read of it.
     hub_->load(
-        request->key(), request->snapshot(),
+        request->key(),
+        std::shared_ptr<const v1::Snapshot>(std::shared_ptr<void>(), &request->snapshot()),
         [call, reply](std::uint32_t particles, std::optional<Refusal> refusal) {
           if (refusal) return call->refuse(*refusal);
           reply->set_particles(particles);

@@ -13,19 +13,22 @@ SnapshotSlots::KeyAndAddress SnapshotSlots::key_and_address(const SnapshotCaller
   return {caller.key, peer_address(caller.peer)};
 }
 
-bool SnapshotSlots::take(const SnapshotCaller& caller, std::function<void()> go_on) {
+SnapshotSlots::Take SnapshotSlots::take(const SnapshotCaller& caller, std::function<void()> go_on) {
   {
     std::lock_guard lock(mutex_);
-    if (!under_way_.insert(caller).second) return false;
+    if (under_way_.contains(caller)) return Take::slot_held;
     Answers& answers = answers_[key_and_address(caller)];
     if (answers.held >= kUnreadAnswers) {
+      if (answers.waiting.size() >= kMostWaiting) return Take::too_many_waiting;
       answers.waiting.push_back(std::move(go_on));
-      return true;
+      under_way_.insert(caller);
+      return Take::taken;
     }
     ++answers.held;
+    under_way_.insert(caller);
   }
   go_on();
-  return true;
+  return Take::taken;
 }
 
 void SnapshotSlots::answered(const SnapshotCaller& caller) {
@@ -52,7 +55,7 @@ void SnapshotSlots::sent(const SnapshotCaller& caller) {
 
 void SnapshotCall::hold(const std::string& key, const char* field, std::function<void()> go_on) {
   held_ = SnapshotCaller{key, context_->peer()};  // before take(): go_on may run on another thread
-  const bool taken = slots_->take(*held_, [this, go_on = std::move(go_on)] {
+  const SnapshotSlots::Take taken = slots_->take(*held_, [this, go_on = std::move(go_on)] {
     if (context_->IsCancelled()) {
       answer(grpc::Status::CANCELLED);
       return;
@@ -67,13 +70,17 @@ void SnapshotCall::hold(const std::string& key, const char* field, std::function
       answer(grpc::Status(grpc::StatusCode::INTERNAL, ""));
     }
   });
-  if (!taken) {
-    held_.reset();
-    Finish(to_status(Refusal(RefusalCode::resource_exhausted,
-                             std::string(field) +
-                                 ": this connection's last snapshot call with this key is still "
-                                 "under way; call again once it is answered")));
-  }
+  if (taken == SnapshotSlots::Take::taken) return;
+  held_.reset();
+  refuse(Refusal(
+      RefusalCode::resource_exhausted,
+      std::string(field) +
+          (taken == SnapshotSlots::Take::slot_held
+               ? ": this connection's last snapshot call with this key is still under way; call "
+                 "again once it is answered"
+               : ": " + std::to_string(SnapshotSlots::kMostWaiting) +
+                     " snapshot calls with this key from this address wait already for its "
+                     "unread answers to go out; read them first")));
 }
 
 void SnapshotCall::answer(grpc::Status status) noexcept {

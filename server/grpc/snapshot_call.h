@@ -15,6 +15,7 @@
 #include <grpcpp/grpcpp.h>
 
 #include <compare>
+#include <cstddef>
 #include <deque>
 #include <functional>
 #include <map>
@@ -41,12 +42,20 @@ struct SnapshotCaller {
 class SnapshotSlots {
  public:
   static constexpr int kUnreadAnswers = 2;
+  // Calls with a key from an address waiting for one of its answers to go out: each holds its
+  // request (a PutSnapshot's is the whole fluid, ~24 MB at 1M particles) until its turn.
+  static constexpr std::size_t kMostWaiting = 4;
 
+  enum class Take {
+    taken,             // `go_on` runs: now, or once an answer of the address's has gone out
+    slot_held,         // another call holds the slot
+    too_many_waiting,  // kMostWaiting calls with the key from the address wait already
+  };
   // Takes `caller`'s slot for a call and runs `go_on`: at once, or, while kUnreadAnswers calls
   // with its key from its address are worked on or being sent, on the thread that reports one of
-  // them sent (the calls waiting for an address in the order they came). False (and `go_on` never
-  // runs) when another call holds the slot.
-  bool take(const SnapshotCaller& caller, std::function<void()> go_on);
+  // them sent (the calls waiting for an address in the order they came). Otherwise `go_on` never
+  // runs, and the slot stays as it was.
+  Take take(const SnapshotCaller& caller, std::function<void()> go_on);
   // The call taken for `caller` is answered: its reply is being sent. Another call may be taken.
   void answered(const SnapshotCaller& caller);
   // A reply of `caller`'s (answered()) was sent, or its call ended before it was.

@@ -270,11 +270,10 @@ void SessionHub::snapshot(
       [done](const Refusal& refusal) { done(std::nullopt, refusal); }, std::move(given_up));
 }
 
-void SessionHub::load(std::string key, v1::Snapshot snapshot,
+void SessionHub::load(std::string key, std::shared_ptr<const v1::Snapshot> state,
                       std::function<void(std::uint32_t, std::optional<Refusal>)> done,
                       std::function<bool()> given_up) {
   const char* field = "PutSnapshotRequest.key";
-  auto state = std::make_shared<const v1::Snapshot>(std::move(snapshot));
   beside_the_streams(
       key, field,
       [this, key, field, state, done] {

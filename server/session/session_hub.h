@@ -52,7 +52,8 @@ class SessionHub {
   void snapshot(std::string key,
                 std::function<void(std::optional<v1::Snapshot>, std::optional<Refusal>)> done,
                 std::function<bool()> given_up = {});
-  void load(std::string key, v1::Snapshot snapshot,
+  // `snapshot` is read until `done` (a PutSnapshot's own request, not a copy of its megabytes).
+  void load(std::string key, std::shared_ptr<const v1::Snapshot> snapshot,
             std::function<void(std::uint32_t particles, std::optional<Refusal>)> done,
             std::function<bool()> given_up = {});
 

@@ -245,7 +245,7 @@ std::optional<v1::Snapshot> snapshot_of(SessionHub& hub, const std::string& key)
 
 std::optional<Refusal> load(SessionHub& hub, const std::string& key, v1::Snapshot snapshot) {
   std::promise<std::optional<Refusal>> loaded;
-  hub.load(key, std::move(snapshot),
+  hub.load(key, std::make_shared<const v1::Snapshot>(std::move(snapshot)),
            [&](std::uint32_t, std::optional<Refusal> refusal) { loaded.set_value(refusal); });
   return loaded.get_future().get();
 }

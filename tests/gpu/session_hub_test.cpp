@@ -142,7 +142,7 @@ TEST_F(SessionHubTest, APutSnapshotCallWhoseWorkFindsNoMemoryIsAnsweredOnce) {
 
   Answer<std::optional<Refusal>> failed;
   hub_.load(
-      key, **snapshot,
+      key, std::make_shared<const v1::Snapshot>(**snapshot),
       [&](std::uint32_t, std::optional<Refusal> refusal) { failed.give(std::move(refusal)); },
       no_memory);
   const auto answer = failed.within_20s();
