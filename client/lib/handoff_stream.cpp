@@ -536,6 +536,16 @@ void HandoffStream::came_back(Reconnected back) {
   // The fluid here, paused as its state went over, waits warm for the next handoff.
   if (std::shared_ptr<FluidStream> here = std::exchange(stream_, std::move(back.stream))) {
     try {
+      // The fingers held down go down on the server's side (below), and lift here: a finger left
+      // down in the standby would stir the next handoff's fluid where it pressed long before.
+      for (const auto& [id, at] : held_pointers_) {
+        v1::ClientMessage lift;
+        lift.mutable_pointer()->set_pointer_id(id);
+        lift.mutable_pointer()->set_phase(v1::PointerEvent::CANCEL);
+        lift.mutable_pointer()->set_x(at.x);
+        lift.mutable_pointer()->set_y(at.y);
+        here->send(std::move(lift));
+      }
       v1::Command slow;  // as a standby started for it draws
       *slow.mutable_quality() = hello_.quality();
       slow.mutable_quality()->set_max_fps(1);

@@ -5,7 +5,8 @@
 // is not continued), it keeps the session's newest state, fetched on the side every
 // snapshot_every, and a local fluid warm: started, paused, each state put in as it arrives. When
 // the stream is lost (FluidStream::lost: the server or the network went away), or sends nothing
-// for stall_after, the local fluid resumes from that state within a frame or two. Meanwhile it
+// for stall_after, the local fluid resumes from that state within a frame or two (or once it has
+// started, for a server gone within seconds of streaming; no call waits for that). Meanwhile it
 // asks the server again every retry_every; once one answers and takes the local fluid's state
 // into the session left (resumed: others watching it stay with it) or, once the server no longer
 // has that, a new one, it streams from there (a server that refuses is asked again, for a new

@@ -104,17 +104,19 @@ function onMotion(event) {
   const magnitude = Math.hypot(gravity.x, gravity.y, gravity.z);
   const now = performance.now();
   if (now - lastTiltSent < 50) return;  // 20 a second
+  // Free fall, a first zero, or a shake past what the server takes: nothing. The server's range
+  // holds for a fluid continued here too, whose state goes back to it.
+  const range = state.rules && state.rules.tiltGravity;
+  const within = range ? magnitude >= range.min && magnitude <= range.max : magnitude > 0.1;
+  if (!within) return;
   const here = local || (handoff && handoff.mode);
   if (here) {
-    if (!(magnitude > 0.1)) return;  // free fall, or a first zero
     lastTiltSent = now;
     state.tilt = gravity;
     here.tilt(gravity);
     return;
   }
-  const range = state.rules && state.rules.tiltGravity;
   if (!state.access || !state.access.control) return;  // tilting is playing, not watching
-  if (!range || magnitude < range.min || magnitude > range.max) return;  // free fall, a first zero
   lastTiltSent = now;
   state.tilt = gravity;
   sendInput('tilt', { tilt: gravity });

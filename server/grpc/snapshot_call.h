@@ -9,7 +9,8 @@
 // waits until one of them has gone out (or its call ended). By address, not connection: one
 // client's connections (up to --max-connections-per-address) would each hold as many. It waits
 // rather than being refused: a client that calls again as soon as it has read an answer may find
-// the server not yet told that the answer went out.
+// the server not yet told that the answer went out. Only a few wait (kMostWaiting): each holds
+// its request, and a PutSnapshot's is the whole fluid.
 #pragma once
 
 #include <grpcpp/grpcpp.h>

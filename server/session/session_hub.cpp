@@ -33,10 +33,16 @@ Refusal server_failure(const std::exception& e, const std::string& doing) {
   return Refusal(RefusalCode::internal, doing + ": " + e.what());
 }
 
-// What a snapshot call is told when even wording why it failed took memory there was none of.
-// Made at start: passing it on allocates nothing (std::runtime_error shares its message).
+// What a snapshot call is told when its work failed before it could be answered: out of memory
+// (even for wording why), or else the server's own failure. Made at start: passing one on
+// allocates nothing (std::runtime_error shares its message).
 const Refusal kNoMemoryToAnswer(RefusalCode::resource_exhausted,
                                 "the server ran out of memory answering this call");
+const Refusal kFailedToAnswer(RefusalCode::internal, "the server failed answering this call");
+
+const Refusal& unanswered(const std::exception& e) {
+  return dynamic_cast<const std::bad_alloc*>(&e) ? kNoMemoryToAnswer : kFailedToAnswer;
+}
 const Refusal kStopping(RefusalCode::unavailable, "the server is shutting down");
 
 // A steady clock's time as milliseconds, for ClientDebts.
@@ -323,14 +329,14 @@ void SessionHub::beside_the_streams(const std::string& key, const char* field,
                           }
                         } catch (const std::exception& e) {
                           spdlog::error("a snapshot call's work failed: {}", e.what());
-                          refuse(kNoMemoryToAnswer);
+                          refuse(unanswered(e));
                         }
                       },
                       [refuse] { refuse(kStopping); }});
     } catch (const Refusal& refusal) {
       refuse(refusal);
-    } catch (const std::exception&) {
-      refuse(kNoMemoryToAnswer);
+    } catch (const std::exception& e) {
+      refuse(unanswered(e));
     }
   });
 }

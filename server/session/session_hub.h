@@ -46,9 +46,9 @@ class SessionHub {
   void open(v1::Hello hello, std::string address, std::shared_ptr<ViewerSink> sink,
             std::function<void(Opened)> done);
   // Snapshots, for GetSnapshot (either of the session's keys) and PutSnapshot (its control key),
-  // each in its session's line (SideWork); `done` runs on the worker's thread, once, whatever
-  // fails (it must throw nothing: it is how the call is answered). A call whose `given_up` says
-  // so when its turn comes is not carried out (CANCELLED).
+  // each in its session's line (SideWork); `done` runs on the worker's thread (the caller's once
+  // the hub has stopped), once, whatever fails (it must throw nothing: it is how the call is
+  // answered). A call whose `given_up` says so when its turn comes is not carried out (CANCELLED).
   void snapshot(std::string key,
                 std::function<void(std::optional<v1::Snapshot>, std::optional<Refusal>)> done,
                 std::function<bool()> given_up = {});

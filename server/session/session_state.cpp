@@ -62,16 +62,16 @@ Particles checked_particles(const v1::Snapshot& snapshot, std::uint32_t count,
       p[axis] = snapshot.positions(static_cast<int>(3 * k) + axis);
       v[axis] = snapshot.velocities(static_cast<int>(3 * k) + axis);
     }
-    const std::string particle = "Snapshot: particle " + std::to_string(k) + "'s ";
+    const auto particle = [k] { return "Snapshot: particle " + std::to_string(k) + "'s "; };
     if (!std::isfinite(p.x + p.y + p.z) || glm::any(glm::lessThan(p, tank.min)) ||
         glm::any(glm::greaterThan(p, tank.max))) {
       throw Refusal(RefusalCode::invalid_argument,
-                    particle + "position " + text(p) + " is not inside the tank, " +
+                    particle() + "position " + text(p) + " is not inside the tank, " +
                         text(tank.min) + " to " + text(tank.max) + " m (SessionState.tank)");
     }
     if (!std::isfinite(v.x + v.y + v.z) || !sim::within_limit(v, sim::kMaxSpeed)) {
       throw Refusal(RefusalCode::invalid_argument,
-                    particle + "velocity " + text(v) + " is faster than " +
+                    particle() + "velocity " + text(v) + " is faster than " +
                         sim::format_number(sim::kMaxSpeed) + " m/s, or not finite");
     }
   }
@@ -165,9 +165,11 @@ std::uint32_t Session::replace_fluid(const v1::Snapshot& snapshot) {
   std::optional<glm::vec3> gravity;
   if (snapshot.has_gravity()) {
     gravity = glm::vec3(snapshot.gravity().x(), snapshot.gravity().y(), snapshot.gravity().z());
-    // What a Tilt may set, the one gravity a session's fluid can have had.
+    // What a Tilt may set, the one gravity a session's fluid can have had: turned into the
+    // tank's axes, its length may come out an ulp or two past either end (within_limit).
     const float magnitude = glm::length(*gravity);
-    if (!(magnitude >= kMinTiltGravity && magnitude <= kMaxTiltGravity)) {
+    if (!(magnitude >= kMinTiltGravity * (1.0f - 1e-6f) &&
+          sim::within_limit(*gravity, kMaxTiltGravity))) {
       throw Refusal(RefusalCode::invalid_argument,
                     "Snapshot.gravity " + text(*gravity) + " must be finite with a magnitude of " +
                         sim::format_number(kMinTiltGravity) + " to " +

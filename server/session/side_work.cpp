@@ -5,7 +5,13 @@
 namespace fluidcast::server {
 
 void SideWork::add(const std::string& session, Job job) {
-  lines_[session].push_back(std::move(job));
+  const auto [line, made] = lines_.try_emplace(session);
+  try {
+    line->second.push_back(std::move(job));
+  } catch (...) {  // no memory: no empty line left behind for run_due to take from
+    if (made) lines_.erase(line);
+    throw;
+  }
 }
 
 void SideWork::run_due(const std::function<Clock::time_point()>& now) {

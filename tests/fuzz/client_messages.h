@@ -114,7 +114,7 @@ inline v1::Snapshot handed_back(Bytes& in, v1::Snapshot snapshot) {
       }
       break;
     case 2:
-      snapshot.mutable_gravity()->set_y(value_around(in, -sim::kMaxGravity, sim::kMaxGravity));
+      snapshot.mutable_gravity()->set_y(-value_around(in, kMinTiltGravity, kMaxTiltGravity));
       break;
     case 3:
       snapshot.set_time(value_around(in, 0.0f, static_cast<float>(kMaxSnapshotSeconds)));

@@ -453,8 +453,12 @@ TEST(HandoffStream, TheFluidHandedBackWaitsWarmForTheNextHandoff) {
   f.set(&FakeServer::up, false);
   read_until(stream, [&] { return stream.simulating_here(); });
   const std::shared_ptr<FakeFluid> warm = f.local_fluid();
+  stream.pointer(3, v1::PointerEvent::DOWN, 0.4f, 0.5f);  // held down across the handback
   f.set(&FakeServer::up, true);
   read_until(stream, [&] { return !stream.simulating_here(); });
+  ASSERT_FALSE(warm->pointers().empty());
+  EXPECT_EQ(warm->pointers().back().phase(), v1::PointerEvent::CANCEL)
+      << "the finger stays down in the waiting fluid";
   const int snapshots = f.snapshots_taken();
   const float streamed =
       read_until(stream, [&] { return f.snapshots_taken() >= snapshots + 3; }).back();
@@ -927,7 +931,9 @@ TEST(HandoffStream, WhatTheUserDoesDuringAHandbackReachesTheSessionItGoesTo) {
   read_until(stream, [&] { return !stream.simulating_here(); });
   const std::shared_ptr<FakeFluid> remote = f.remote_fluid();
   ASSERT_TRUE(remote);
-  EXPECT_EQ(local->pointers().size(), 1u) << "the paused fluid here took what was held back";
+  const std::vector<v1::PointerEvent> here = local->pointers();
+  ASSERT_EQ(here.size(), 2u) << "the paused fluid here took what was held back";
+  EXPECT_EQ(here[1].phase(), v1::PointerEvent::CANCEL) << "lifted as it waits for the next handoff";
   const std::vector<v1::PointerEvent> there = remote->pointers();
   ASSERT_EQ(there.size(), 2u) << "a finger's moves held back go as its newest";
   EXPECT_EQ(there[0].phase(), v1::PointerEvent::DOWN);
