@@ -8,6 +8,7 @@
 #include "fluidcast/command_line.h"
 #include "fluidcast/gpu/memory.h"
 #include "fluidcast/program_folder.h"
+#include "fluidcast/sim/particles.h"
 
 namespace fluidcast::server {
 
@@ -86,12 +87,12 @@ ServerOptions read_server_options(CLI::App& app, int argc, const char* const* ar
       ->check(CLI::Range(1u, 1024u));
   app.add_option("--max-particles", l.max_particles, "Most particles per session")
       ->envname("FLUIDCAST_MAX_PARTICLES")
-      ->check(CLI::Range(1u, 16u << 20));
+      ->check(CLI::Range(1u, sim::kMostParticles));
   app.add_option("--default-particles", o.default_particles,
                  "Particles of a session whose client names no count (default: the most that "
                  "this device keeps in real time, measured at start)")
       ->envname("FLUIDCAST_DEFAULT_PARTICLES")
-      ->check(CLI::Range(1u, 16u << 20));
+      ->check(CLI::Range(1u, sim::kMostParticles));
   app.add_option("--max-width", l.max_width,
                  "Widest frame drawn, pixels: a viewer asking for more gets frames scaled down, "
                  "its shape kept")

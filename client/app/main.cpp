@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "fluidcast/command_line.h"
+#include "fluidcast/sim/particles.h"
 #include "handoff_stream.h"
 #include "headless_client.h"
 #include "stream_client.h"
@@ -43,7 +44,7 @@ void add_flags(CLI::App& app, Flags& f) {
                      at_most + ")")
       ->check(CLI::Range(0u, 16384u));
   app.add_option("--particles", f.particles, "Particles of a new session (0: the default)")
-      ->check(CLI::Range(0u, 1u << 24));
+      ->check(CLI::Range(0u, fluidcast::sim::kMostParticles));
   app.add_option("--scene", f.scene, "Scene of a new session (server default when empty)");
   app.add_option("--solver", f.solver, "pbf or sph (server default when empty)");
   app.add_option("--renderer", f.renderer, "auto, ssfr, mc or points (local default: mc)");

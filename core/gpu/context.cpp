@@ -1,9 +1,12 @@
 #include "fluidcast/gpu/context.h"
 
 #include <algorithm>
+#include <cerrno>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <iostream>
+#include <limits>
 
 #include "fluidcast/gpu/handle.h"
 #include "fluidcast/gpu/memory.h"
@@ -246,8 +249,11 @@ std::string DeviceInfo::describe() const {
 ContextOptions options_from_environment(ContextOptions defaults) {
   if (const char* device = std::getenv("FLUIDCAST_DEVICE"); device && *device) {
     char* end = nullptr;
+    errno = 0;
     const unsigned long index = std::strtoul(device, &end, 10);
-    if (*end != '\0' || device[0] == '-') {
+    // 4294967296 wrapped to device 0.
+    if (*end != '\0' || device[0] == '-' || errno == ERANGE ||
+        index > std::numeric_limits<std::uint32_t>::max()) {
       throw GpuUnavailable(std::string("FLUIDCAST_DEVICE must be a device index, got '") + device +
                            "'");
     }

@@ -87,7 +87,7 @@ SceneKind parse_scene(std::string_view name) {
 const std::vector<ParamSpec<SceneParams>>& scene_param_specs() {
   using S = SceneParams;
   static const std::vector<ParamSpec<S>> specs = {
-      {"particles", "1", "Number of particles of the scene", &S::particles, 1, 1 << 24},
+      {"particles", "1", "Number of particles of the scene", &S::particles, 1, kMostParticles},
       {"tank-length", "m", "Inner length of the tank (x)", &S::tank_length, 0.05, 100},
       {"tank-height", "m", "Inner height of the tank (y): the lid", &S::tank_height, 0.05, 100},
       {"depth", "m", "Inner depth of the tank (z); dam-break columns fill all of it", &S::depth,

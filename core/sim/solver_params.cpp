@@ -28,7 +28,7 @@ const std::vector<ParamSpec<SolverParams>>& solver_param_specs() {
        "as many as at rest, 4 bytes each, and its length: 276 bytes a particle at 2)",
        &P::kernel_ratio, 1.5, 4},
       {"max-particles", "1", "Most particles a simulation may hold (add_particles refuses more)",
-       &P::max_particles, 1, 1 << 24},
+       &P::max_particles, 1, kMostParticles},
       {"threads", "1", "Worker threads; 0 means one per core", &P::threads, 0, 256},
       {"max-substeps", "1",
        "Most substeps one step may take; past it the CFL bound is exceeded rather than the "

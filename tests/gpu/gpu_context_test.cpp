@@ -42,8 +42,10 @@ TEST_F(GpuContextTest, AMissingDeviceIsAnErrorListingTheDevices) {
   }
 }
 
-TEST_F(GpuContextTest, DeviceFromTheEnvironmentMustBeANumber) {
+TEST_F(GpuContextTest, DeviceFromTheEnvironmentMustBeAnIndex) {
   ::setenv("FLUIDCAST_DEVICE", "first", 1);
+  EXPECT_THROW(options_from_environment(), GpuUnavailable);
+  ::setenv("FLUIDCAST_DEVICE", "4294967296", 1);  // it wrapped to device 0
   EXPECT_THROW(options_from_environment(), GpuUnavailable);
   ::setenv("FLUIDCAST_DEVICE", "0", 1);
   EXPECT_EQ(options_from_environment().device_index, 0u);

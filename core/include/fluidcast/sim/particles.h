@@ -9,6 +9,10 @@
 
 namespace fluidcast::sim {
 
+// The most particles a scene, a solver and so a session hold: every flag and field that asks for
+// a count keeps within it.
+inline constexpr std::uint32_t kMostParticles = 1u << 24;
+
 struct Box {
   glm::vec3 min{0.0f};
   glm::vec3 max{0.0f};

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "fluidcast/sim/param_spec.h"
+#include "fluidcast/sim/particles.h"
 
 namespace fluidcast::sim {
 
