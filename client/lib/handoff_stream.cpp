@@ -203,7 +203,13 @@ void HandoffStream::track(const v1::PointerEvent& event, bool sent) {
   const bool valid = (phase == v1::PointerEvent::DOWN || phase == v1::PointerEvent::MOVE) &&
                      (ids == 0 || event.pointer_id() < ids) && event.x() >= 0.0f &&
                      event.x() <= 1.0f && event.y() >= 0.0f && event.y() <= 1.0f;
-  if (sent && valid) held_pointers_[event.pointer_id()] = {event.x(), event.y()};
+  // While the fluid here starts nothing takes a finger: one pressed meanwhile goes down there
+  // once it has (press_held_pointers), where it was last.
+  const bool kept_for_the_start = starting_here_ && (phase == v1::PointerEvent::DOWN ||
+                                                     held_pointers_.contains(event.pointer_id()));
+  if ((sent || kept_for_the_start) && valid) {
+    held_pointers_[event.pointer_id()] = {event.x(), event.y()};
+  }
 }
 
 void HandoffStream::press_held_pointers() {

@@ -430,19 +430,31 @@ TEST(HandoffStream, AServerGoneBeforeTheWarmFluidStartedHoldsNoCallUp) {
   });
   auto longest = std::chrono::steady_clock::duration::zero();
   const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  bool pressed = false;
   while (!stream.simulating_here() && std::chrono::steady_clock::now() < end) {
     const auto call = std::chrono::steady_clock::now();
     stream.next_frame(milliseconds(2));
     longest = std::max(longest, std::chrono::steady_clock::now() - call);
+    if (!pressed && f.heard("starting the fluid here")) {  // a finger down while it starts
+      stream.pointer(2, v1::PointerEvent::DOWN, 0.3f, 0.6f);
+      stream.pointer(2, v1::PointerEvent::MOVE, 0.35f, 0.6f);
+      pressed = true;
+    }
   }
   starts.join();
   ASSERT_TRUE(stream.simulating_here()) << stream.status();
+  ASSERT_TRUE(pressed);
   EXPECT_LT(longest, milliseconds(400)) << "a call waited for the fluid's start (800 ms)";
   EXPECT_TRUE(f.heard("starting the fluid here"));
   EXPECT_TRUE(goes_on_after(stream, 0.0f));
   const std::shared_ptr<FakeFluid> here = f.local_fluid();
   ASSERT_TRUE(here);
   EXPECT_GT(here->loaded_from(), 0.0) << "it went on from the server's state";
+  const std::vector<v1::PointerEvent> pointers = here->pointers();
+  ASSERT_FALSE(pointers.empty()) << "the finger pressed while it started was lost";
+  EXPECT_EQ(pointers.back().phase(), v1::PointerEvent::DOWN);
+  EXPECT_EQ(pointers.back().pointer_id(), 2u);
+  EXPECT_FLOAT_EQ(pointers.back().x(), 0.35f) << "where it was last";
 }
 
 // The fluid handed back to the server waits warm for the next handoff: nothing starts again.
